@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Tangential slot: spring with history (the accumulated tangential displacement xi), dashpot
+// and Coulomb cap |F_t| <= mu F_n (Cundall & Strack 1979). The history is kept in the tangent
+// plane: each step it is projected onto the current tangent plane and rescaled to its old
+// length (rotation with the contact frame), then advanced by v_t dt.
+//   linear:  k_t = kt_ratio k_n                             (hooke)
+//   mindlin: k_t = 8 G* sqrt(R* delta)                       (Mindlin 1949, no-slip stiffness)
+// Damping uses the same zeta as the normal direction: c_t = 2 zeta sqrt(m* k_t).
+// When sliding, xi is reset so that the spring alone would give the capped force.
+#pragma once
+
+#include <cmath>
+
+#include "contact/laws/contact_io.hpp"
+
+namespace gf::contact {
+
+/// Shared update, given the tangential stiffness kt.
+GF_HOST_DEVICE inline Vec3 tangential_force(const PairCoeffs& c, const ContactKinematics& k, double kt,
+                                            double normal_force, double dt, Vec3& xi) {
+  const Vec3& n = k.normal;
+  const Vec3 vt = k.v_rel - dot(k.v_rel, n) * n;
+  // Rotate the history into the current tangent plane, keeping its magnitude.
+  const double len2_old = norm2(xi);
+  if (len2_old > 0) {
+    xi -= dot(xi, n) * n;
+    const double len2_new = norm2(xi);
+    if (len2_new > 0) xi *= std::sqrt(len2_old / len2_new);
+  }
+  xi += dt * vt;
+  const double ct = 2.0 * c.damping_ratio * std::sqrt(k.m_eff * kt);
+  Vec3 ft = -kt * xi - ct * vt;
+  const double cap = c.friction * normal_force;
+  const double ft2 = norm2(ft);
+  if (ft2 > cap * cap) {
+    if (ft2 > 0) {
+      ft *= cap / std::sqrt(ft2);
+      // Sliding: the spring carries the capped force on its own.
+      xi = (kt > 0) ? (-1.0 / kt) * ft : Vec3{};
+    }
+  }
+  return ft;
+}
+
+struct LinearTangential {
+  GF_HOST_DEVICE static Vec3 force(const PairCoeffs& c, const ContactKinematics& k, double fn, double dt, Vec3& xi) {
+    return tangential_force(c, k, c.kt_ratio * c.stiffness, fn, dt, xi);
+  }
+};
+
+struct MindlinTangential {
+  GF_HOST_DEVICE static Vec3 force(const PairCoeffs& c, const ContactKinematics& k, double fn, double dt, Vec3& xi) {
+    const double kt = 8.0 * c.shear_modulus * std::sqrt(k.r_eff * k.overlap);
+    return tangential_force(c, k, kt, fn, dt, xi);
+  }
+};
+
+}  // namespace gf::contact

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Execution back ends: the only place that owns loops over particles (serial or OpenMP).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
+namespace gf::exec {
+
+using index_t = std::int64_t;
+
+/// Number of threads the loops below use.
+inline int n_threads() {
+#if defined(_OPENMP)
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+
+/// Sets the number of threads (n <= 0 keeps the OMP_NUM_THREADS / runtime default).
+inline void set_threads(int n) {
+#if defined(_OPENMP)
+  if (n > 0) omp_set_num_threads(n);
+#else
+  (void)n;
+#endif
+}
+
+inline int thread_id() {
+#if defined(_OPENMP)
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+/// f(i) for i in [0, n); iterations must be independent.
+template <class F>
+void parallel_for(index_t n, F&& f) {
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) if (n > 4096)
+  for (index_t i = 0; i < n; ++i) f(i);
+#else
+  for (index_t i = 0; i < n; ++i) f(i);
+#endif
+}
+
+/// Sum of f(i) over [0, n), with a deterministic order for a given thread count.
+template <class T, class F>
+T parallel_sum(index_t n, T init, F&& f) {
+#if defined(_OPENMP)
+  const int nt = n > 4096 ? omp_get_max_threads() : 1;
+  if (nt == 1) {
+    for (index_t i = 0; i < n; ++i) init += f(i);
+    return init;
+  }
+  T partial[256];
+  for (int t = 0; t < nt && t < 256; ++t) partial[t] = T{};
+#pragma omp parallel num_threads(nt)
+  {
+    const int t = omp_get_thread_num();
+    T acc{};
+#pragma omp for schedule(static)
+    for (index_t i = 0; i < n; ++i) acc += f(i);
+    partial[t] = acc;
+  }
+  for (int t = 0; t < nt; ++t) init += partial[t];
+  return init;
+#else
+  for (index_t i = 0; i < n; ++i) init += f(i);
+  return init;
+#endif
+}
+
+}  // namespace gf::exec

@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Atomic writes: all output goes through here.
+#include "core/files.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace gf {
+
+namespace fs = std::filesystem;
+
+static fs::path temp_name(const fs::path& path) {
+  return path.parent_path() / fmt::format(".{}.tmp{}", path.filename().string(), ::getpid());
+}
+
+void write_atomically_path(const fs::path& path, const std::function<void(const fs::path&)>& write) {
+  const fs::path tmp = temp_name(path);
+  try {
+    write(tmp);
+    fs::rename(tmp, path);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+}
+
+void write_atomically(const fs::path& path, const std::function<void(std::ostream&)>& write) {
+  write_atomically_path(path, [&](const fs::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw IoError(fmt::format("cannot open '{}' for writing", tmp.string()));
+    write(out);
+    out.flush();
+    if (!out) throw IoError(fmt::format("error while writing '{}'", tmp.string()));
+  });
+}
+
+std::string read_text_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(fmt::format("cannot open '{}' for reading", path.string()));
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace gf

@@ -1,0 +1,22 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Atomic file writes (temporary file, then rename) so a failed run never leaves a half file.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace gf {
+
+/// Writes a file by calling `write` on a stream to `path.tmp`, then renames it over `path`.
+void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
+
+/// Writes a file through a callback that receives a temporary path, then renames it.
+void write_atomically_path(const std::filesystem::path& path,
+                           const std::function<void(const std::filesystem::path&)>& write);
+
+/// Full contents of a text file; throws IoError naming the file.
+std::string read_text_file(const std::filesystem::path& path);
+
+}  // namespace gf

@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The typed case configuration: what a validated case.yaml becomes (SI units throughout).
+//
+// The YAML reader (parse_case.cpp) fills these structs, fills in defaults, and checks types and
+// ranges with file:line:column locations; validate.cpp does the cross-checks that need several
+// blocks at once. Nothing downstream reads YAML.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/vec3.hpp"
+
+namespace gf::config {
+
+/// Where a value came from, for error messages raised after parsing.
+struct SourceLoc {
+  std::string file;
+  int line = 0;    ///< 1-based; 0 = unknown
+  int column = 0;  ///< 1-based
+  std::string key_path;  ///< e.g. "particles[0].fill.count"
+};
+
+struct Time {
+  double step = 0;  ///< s
+  double end = 0;   ///< s
+  SourceLoc loc;
+};
+
+struct DomainBox {
+  Vec3 min, max;  ///< m
+  std::array<bool, 3> periodic{false, false, false};
+  SourceLoc loc;
+};
+
+struct Material {
+  std::string name;
+  double density = 0;         ///< kg/m^3
+  double youngs_modulus = 0;  ///< Pa
+  double poisson_ratio = 0;   ///< 1
+  SourceLoc loc;
+};
+
+/// One entry of `contacts:`; `params` holds the model's parameters by schema name, defaults
+/// filled in (validated against the model's schema from the contact registry).
+struct Contact {
+  std::array<std::string, 2> between;
+  std::string model;  ///< registry key: hooke | hertz_mindlin
+  std::map<std::string, double> params;
+  SourceLoc loc;
+};
+
+/// Radius: a fixed value or a distribution with cut-offs (all in m).
+struct SizeDistribution {
+  enum class Kind { Fixed, Uniform, Normal, Lognormal };
+  Kind kind = Kind::Fixed;
+  double value = 0;      ///< Fixed
+  double min = 0;        ///< cut-off (Uniform: bounds; Normal / Lognormal: truncation)
+  double max = 0;
+  double mean = 0;       ///< Normal / Lognormal: mean of the radius
+  double std = 0;        ///< Normal / Lognormal: standard deviation of the radius
+  double largest() const { return kind == Kind::Fixed ? value : max; }
+  double smallest() const { return kind == Kind::Fixed ? value : min; }
+};
+
+struct Region {
+  enum class Kind { Box, Cylinder };
+  Kind kind = Kind::Box;
+  Vec3 min, max;          ///< Box
+  Vec3 center;            ///< Cylinder: a point on the axis (bottom end)
+  Vec3 axis{0, 0, 1};     ///< Cylinder: unit axis
+  double radius = 0;      ///< Cylinder
+  double height = 0;      ///< Cylinder: extent from `center` along `axis`
+};
+
+struct Fill {
+  Region region;
+  enum class Lattice { Cubic, Hcp, Random };
+  Lattice lattice = Lattice::Cubic;
+  std::optional<double> spacing;         ///< lattice spacing, m (default: 2 r_max * 1.01)
+  std::optional<std::int64_t> count;     ///< cap (lattice) or target (random)
+  std::uint64_t seed = 1;
+  Vec3 velocity;                         ///< initial velocity, m/s
+  double velocity_jitter = 0;            ///< uniform random perturbation amplitude, m/s
+  std::int64_t max_attempts = 0;         ///< random: insertion attempts (0 = 1000 * count)
+};
+
+/// Explicit particles; vectors have one entry per particle (velocities etc. may be empty = zero).
+struct Explicit {
+  std::vector<Vec3> positions;
+  std::vector<Vec3> velocities;
+  std::vector<Vec3> angular_velocities;
+  std::vector<double> radii;           ///< from a CSV 'radius' column; empty = the group's radius
+  std::filesystem::path file;          ///< CSV source, if any (already read into the vectors)
+};
+
+struct ParticleGroup {
+  std::string shape = "sphere";
+  SizeDistribution radius;
+  std::string material;
+  std::optional<Fill> fill;
+  std::optional<Explicit> explicit_particles;
+  SourceLoc loc;
+};
+
+struct Motion {
+  Vec3 velocity;             ///< translation, m/s
+  bool rotates = false;
+  Vec3 axis{0, 0, 1};        ///< unit rotation axis
+  Vec3 center;               ///< a point on the rotation axis at t = 0, m
+  double rate = 0;           ///< rad/s (from `rpm` or `rate`)
+};
+
+struct Wall {
+  std::string name;
+  enum class Kind { Plane, Box, Cylinder };
+  Kind kind = Kind::Plane;
+  // Plane
+  Vec3 point, normal{0, 0, 1};  ///< normal points to the side where particles are
+  // Box: inward-facing planes on the faces not listed in `open` (xmin, xmax, ymin, ...)
+  Vec3 min, max;
+  std::vector<std::string> open;
+  // Cylinder (infinite unless bounded)
+  Vec3 center;             ///< a point on the axis
+  Vec3 axis{0, 0, 1};      ///< unit axis
+  double radius = 0;
+  bool inside = true;      ///< particles inside the cylinder (drum) or outside (post)
+  std::string material;
+  Motion motion;
+  SourceLoc loc;
+};
+
+struct OutputEvery {
+  double every = 0;  ///< s; 0 = disabled
+};
+
+struct Output {
+  std::filesystem::path directory = "out";
+  OutputEvery vtk, particles_csv, checkpoint;
+  OutputEvery series{};
+  std::vector<std::string> quantities;  ///< series quantities, validated against the known list
+};
+
+struct Neighbor {
+  std::optional<double> skin;  ///< m; default 0.25 x the largest diameter
+};
+
+struct Case {
+  std::filesystem::path file;  ///< the case file as given
+  std::string name;
+  int dimension = 3;
+  Time time;
+  DomainBox domain;
+  Vec3 gravity{0, 0, -9.81};
+  std::vector<Material> materials;
+  std::vector<Contact> contacts;
+  std::vector<ParticleGroup> particles;
+  std::vector<Wall> walls;
+  Output output;
+  Neighbor neighbor;
+  std::string integrator = "velocity_verlet";
+};
+
+}  // namespace gf::config

@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// ParticleStore: the field table and the generic column operations.
+#include "particles/particle_store.hpp"
+
+#include <numbers>
+
+#include "core/error.hpp"
+
+namespace gf {
+
+ParticleStore::ParticleStore() {
+  constexpr unsigned RO = kRestart | kOutput | kGhost;
+  add_field("id", FieldType::Int64, "1", RO);
+  add_field("material", FieldType::Int32, "1", RO);
+  add_field("radius", FieldType::Real, "m", RO);
+  add_field("mass", FieldType::Real, "kg", kRestart | kGhost);
+  add_field("inertia", FieldType::Real, "kg m^2", kRestart | kGhost);
+  add_field("position", FieldType::Vec3, "m", RO);
+  add_field("velocity", FieldType::Vec3, "m/s", RO);
+  add_field("angular_velocity", FieldType::Vec3, "rad/s", RO);
+  add_field("force", FieldType::Vec3, "N", kRestart | kOutput);
+  add_field("torque", FieldType::Vec3, "N m", kRestart);
+}
+
+int ParticleStore::add_field(const std::string& name, FieldType type, const std::string& unit, unsigned flags) {
+  REQUIRE(find_field(name) < 0, "particle field '{}' registered twice", name);
+  info_.push_back({name, type, unit, flags});
+  switch (type) {
+    case FieldType::Real: cols_.emplace_back(std::vector<double>(n_)); break;
+    case FieldType::Vec3: cols_.emplace_back(std::vector<Vec3>(n_)); break;
+    case FieldType::Int64: cols_.emplace_back(std::vector<std::int64_t>(n_)); break;
+    case FieldType::Int32: cols_.emplace_back(std::vector<std::int32_t>(n_)); break;
+  }
+  return static_cast<int>(info_.size()) - 1;
+}
+
+int ParticleStore::find_field(const std::string& name) const {
+  for (std::size_t i = 0; i < info_.size(); ++i)
+    if (info_[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+void ParticleStore::resize(std::size_t n) {
+  for (auto& c : cols_) std::visit([n](auto& v) { v.resize(n); }, c);
+  n_ = n;
+}
+
+void ParticleStore::reserve(std::size_t n) {
+  for (auto& c : cols_) std::visit([n](auto& v) { v.reserve(n); }, c);
+}
+
+std::size_t ParticleStore::add_sphere(std::int64_t pid, int mat, double r, double density, const Vec3& pos,
+                                      const Vec3& vel, const Vec3& w) {
+  const std::size_t i = n_;
+  resize(n_ + 1);
+  const double m = density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  id()[i] = pid;
+  material()[i] = mat;
+  radius()[i] = r;
+  mass()[i] = m;
+  inertia()[i] = 0.4 * m * r * r;
+  x()[i] = pos;
+  v()[i] = vel;
+  omega()[i] = w;
+  return i;
+}
+
+void ParticleStore::permute(std::span<const std::int64_t> order) {
+  REQUIRE(order.size() == n_, "permutation of {} entries for {} particles", order.size(), n_);
+  for (auto& c : cols_) {
+    std::visit(
+        [&](auto& v) {
+          auto tmp = v;
+          for (std::size_t i = 0; i < n_; ++i) v[i] = tmp[static_cast<std::size_t>(order[i])];
+        },
+        c);
+  }
+}
+
+std::size_t ParticleStore::bytes() const {
+  std::size_t b = 0;
+  for (const auto& c : cols_)
+    std::visit([&](const auto& v) { b += v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type); }, c);
+  return b;
+}
+
+}  // namespace gf

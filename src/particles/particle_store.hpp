@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// ParticleStore: structure-of-arrays particle data driven by one field table.
+//
+// Every per-particle quantity is a column registered in the field table with its name, type,
+// unit and flags. Restart files, VTK/CSV output, ghost exchange and spatial re-ordering all walk
+// this table, so a new field is added in exactly one place (`add_field`).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/vec3.hpp"
+
+namespace gf {
+
+enum class FieldType { Real, Vec3, Int64, Int32 };
+
+/// Flags of a field: what the generic walkers do with it.
+enum FieldFlags : unsigned {
+  kRestart = 1u << 0,  ///< saved in checkpoints
+  kOutput = 1u << 1,   ///< written to VTK / particle CSV
+  kGhost = 1u << 2,    ///< copied to ghost particles (MPI halos)
+};
+
+struct FieldInfo {
+  std::string name;
+  FieldType type;
+  std::string unit;
+  unsigned flags;
+};
+
+using Column = std::variant<std::vector<double>, std::vector<Vec3>, std::vector<std::int64_t>,
+                            std::vector<std::int32_t>>;
+
+class ParticleStore {
+ public:
+  /// Built-in fields, in the order they are registered (their index in the table).
+  enum Builtin : int {
+    kId = 0,         ///< unique particle id, kept through re-ordering
+    kMaterial,       ///< material index
+    kRadius,         ///< m
+    kMass,           ///< kg
+    kInertia,        ///< moment of inertia, kg m^2 (spheres: 2/5 m r^2)
+    kPosition,       ///< m
+    kVelocity,       ///< m/s
+    kAngularVelocity,///< rad/s
+    kForce,          ///< N
+    kTorque,         ///< N m
+    kNumBuiltin
+  };
+
+  ParticleStore();
+
+  std::size_t size() const { return n_; }
+  void resize(std::size_t n);
+  void reserve(std::size_t n);
+
+  /// Registers a new per-particle field; returns its index. Names are unique.
+  int add_field(const std::string& name, FieldType type, const std::string& unit, unsigned flags);
+  int find_field(const std::string& name) const;  ///< -1 when absent
+
+  const std::vector<FieldInfo>& fields() const { return info_; }
+  Column& column(int f) { return cols_[f]; }
+  const Column& column(int f) const { return cols_[f]; }
+
+  template <class T>
+  std::span<T> get(int f) { return std::get<std::vector<T>>(cols_[f]); }
+  template <class T>
+  std::span<const T> get(int f) const { return std::get<std::vector<T>>(cols_[f]); }
+
+  // Typed shortcuts for the hot fields.
+  std::int64_t* id() { return std::get<std::vector<std::int64_t>>(cols_[kId]).data(); }
+  std::int32_t* material() { return std::get<std::vector<std::int32_t>>(cols_[kMaterial]).data(); }
+  double* radius() { return std::get<std::vector<double>>(cols_[kRadius]).data(); }
+  double* mass() { return std::get<std::vector<double>>(cols_[kMass]).data(); }
+  double* inertia() { return std::get<std::vector<double>>(cols_[kInertia]).data(); }
+  Vec3* x() { return std::get<std::vector<Vec3>>(cols_[kPosition]).data(); }
+  Vec3* v() { return std::get<std::vector<Vec3>>(cols_[kVelocity]).data(); }
+  Vec3* omega() { return std::get<std::vector<Vec3>>(cols_[kAngularVelocity]).data(); }
+  Vec3* f() { return std::get<std::vector<Vec3>>(cols_[kForce]).data(); }
+  Vec3* torque() { return std::get<std::vector<Vec3>>(cols_[kTorque]).data(); }
+  const std::int64_t* id() const { return std::get<std::vector<std::int64_t>>(cols_[kId]).data(); }
+  const std::int32_t* material() const { return std::get<std::vector<std::int32_t>>(cols_[kMaterial]).data(); }
+  const double* radius() const { return std::get<std::vector<double>>(cols_[kRadius]).data(); }
+  const double* mass() const { return std::get<std::vector<double>>(cols_[kMass]).data(); }
+  const double* inertia() const { return std::get<std::vector<double>>(cols_[kInertia]).data(); }
+  const Vec3* x() const { return std::get<std::vector<Vec3>>(cols_[kPosition]).data(); }
+  const Vec3* v() const { return std::get<std::vector<Vec3>>(cols_[kVelocity]).data(); }
+  const Vec3* omega() const { return std::get<std::vector<Vec3>>(cols_[kAngularVelocity]).data(); }
+  const Vec3* f() const { return std::get<std::vector<Vec3>>(cols_[kForce]).data(); }
+  const Vec3* torque() const { return std::get<std::vector<Vec3>>(cols_[kTorque]).data(); }
+
+  /// Appends one sphere; other fields are zero. Returns its index.
+  std::size_t add_sphere(std::int64_t id, int material, double radius, double density, const Vec3& x,
+                         const Vec3& v = {}, const Vec3& omega = {});
+
+  /// Re-orders every column: new[i] = old[order[i]].
+  void permute(std::span<const std::int64_t> order);
+
+  /// Bytes held by all columns (capacity), for memory reports.
+  std::size_t bytes() const;
+
+ private:
+  std::size_t n_ = 0;
+  std::vector<FieldInfo> info_;
+  std::vector<Column> cols_;
+};
+
+}  // namespace gf

@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Unit tests of core: vectors, domain minimum image, registry dispatch.
+#include <gtest/gtest.h>
+
+#include "core/domain.hpp"
+#include "core/registry.hpp"
+#include "core/vec3.hpp"
+
+using namespace gf;
+
+TEST(Vec3, CrossAndDot) {
+  const Vec3 a{1, 0, 0}, b{0, 1, 0};
+  EXPECT_EQ(cross(a, b), (Vec3{0, 0, 1}));
+  EXPECT_DOUBLE_EQ(dot(a + b, a + b), 2.0);
+}
+
+TEST(Domain, MinimumImageAndWrap) {
+  Domain d{{0, 0, 0}, {1, 2, 3}, {true, false, true}};
+  const Vec3 r = d.delta({0.95, 0.5, 0.1}, {0.05, 0.5, 2.9});
+  EXPECT_NEAR(r.x, -0.1, 1e-14);
+  EXPECT_NEAR(r.z, 0.2, 1e-14);
+  Vec3 p{1.25, 3.0, -0.5};
+  d.wrap(p);
+  EXPECT_NEAR(p.x, 0.25, 1e-14);
+  EXPECT_EQ(p.y, 3.0);  // not periodic: untouched
+  EXPECT_NEAR(p.z, 2.5, 1e-14);
+}
+
+struct KA { static constexpr std::string_view key = "a"; static int value() { return 1; } };
+struct KB { static constexpr std::string_view key = "b"; static int value() { return 2; } };
+
+TEST(Registry, LookupAndDispatch) {
+  using L = TypeList<KA, KB>;
+  EXPECT_EQ(index_of_key(L{}, "b"), 1);
+  EXPECT_EQ(index_of_key(L{}, "c"), -1);
+  EXPECT_EQ(dispatch_index(L{}, 1, []<class T>() { return T::value(); }), 2);
+}
