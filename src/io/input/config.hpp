@@ -88,6 +88,7 @@ struct Fill {
   Vec3 velocity;                         ///< initial velocity, m/s
   double velocity_jitter = 0;            ///< uniform random perturbation amplitude, m/s
   std::int64_t max_attempts = 0;         ///< random: insertion attempts (0 = 1000 * count)
+  SourceLoc loc;                         ///< the `fill:` block, for messages
 };
 
 /// Explicit particles; vectors have one entry per particle (velocities etc. may be empty = zero).
@@ -97,6 +98,7 @@ struct Explicit {
   std::vector<Vec3> angular_velocities;
   std::vector<double> radii;           ///< from a CSV 'radius' column; empty = the group's radius
   std::filesystem::path file;          ///< CSV source, if any (already read into the vectors)
+  std::vector<int> lines;              ///< 1-based line of each particle in the case file or CSV (messages)
 };
 
 struct ParticleGroup {

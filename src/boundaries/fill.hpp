@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Filling a region with spheres: cubic / hcp lattices, or random loose packing by sequential
+// insertion without overlaps; radii fixed or drawn from a truncated distribution.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "core/rng.hpp"
+#include "core/vec3.hpp"
+
+namespace gf {
+
+struct RadiusDistribution {
+  enum class Kind { Fixed, Uniform, Normal, Lognormal };
+  Kind kind = Kind::Fixed;
+  double value = 0;           ///< Fixed, m
+  double min = 0, max = 0;    ///< bounds / truncation, m
+  double mean = 0, std = 0;   ///< of the radius, m (Normal, Lognormal)
+  double largest() const { return kind == Kind::Fixed ? value : max; }
+  /// One radius; truncated distributions are sampled by rejection.
+  double sample(Rng& rng) const;
+};
+
+struct FillRegion {
+  enum class Kind { Box, Cylinder };
+  Kind kind = Kind::Box;
+  Vec3 min, max;            ///< box, m
+  Vec3 center, axis{0, 0, 1};
+  double radius = 0, height = 0;  ///< cylinder, m
+  /// Whether a sphere of radius r lies entirely inside the region.
+  bool contains(const Vec3& p, double r) const;
+  /// Axis-aligned bounds.
+  void bounds(Vec3& lo, Vec3& hi) const;
+};
+
+struct FillSpec {
+  FillRegion region;
+  enum class Lattice { Cubic, Hcp, Random };
+  Lattice lattice = Lattice::Cubic;
+  std::optional<double> spacing;      ///< m; default 2 r_max * 1.01
+  std::optional<std::int64_t> count;  ///< cap (lattice) or target (random)
+  std::int64_t max_attempts = 0;      ///< random insertion attempts; 0 = 1000 * count
+};
+
+struct FilledSphere {
+  Vec3 x;
+  double r;
+};
+
+/// Generates the spheres of one fill. `existing` spheres (already placed) are avoided by the
+/// random insertion. Throws gf::InputError if a random fill cannot reach its count.
+std::vector<FilledSphere> generate_fill(const FillSpec& spec, const RadiusDistribution& radius, Rng& rng,
+                                        const std::vector<FilledSphere>& existing = {});
+
+}  // namespace gf

@@ -1,0 +1,146 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Wall surfaces for output, the particle-wall contact list, and the wall force loop.
+#include "boundaries/wall.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "contact/registry.hpp"
+#include "core/error.hpp"
+
+namespace gf {
+
+namespace {
+
+/// Two unit vectors spanning the plane normal to n.
+void tangent_basis(const Vec3& n, Vec3& a, Vec3& b) {
+  a = std::abs(n.x) < 0.9 ? normalized(cross(n, Vec3{1, 0, 0})) : normalized(cross(n, Vec3{0, 1, 0}));
+  b = cross(n, a);
+}
+
+}  // namespace
+
+SurfaceMesh Wall::surface(const Domain& domain) const {
+  SurfaceMesh m;
+  m.name = name;
+  const Vec3 c = 0.5 * (domain.lo + domain.hi);
+  const double diag = norm(domain.hi - domain.lo);
+  Vec3 a, b;
+  tangent_basis(dir, a, b);
+  if (kind == WallKind::Plane) {
+    // The plane clipped to the domain's bounding box along the two tangent directions.
+    const Vec3 o = c - dot(c - point, dir) * dir;
+    double lo_a = 1e300, hi_a = -1e300, lo_b = 1e300, hi_b = -1e300;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Vec3 q{corner & 1 ? domain.hi.x : domain.lo.x, corner & 2 ? domain.hi.y : domain.lo.y,
+                   corner & 4 ? domain.hi.z : domain.lo.z};
+      lo_a = std::min(lo_a, dot(q - o, a));
+      hi_a = std::max(hi_a, dot(q - o, a));
+      lo_b = std::min(lo_b, dot(q - o, b));
+      hi_b = std::max(hi_b, dot(q - o, b));
+    }
+    m.points = {o + lo_a * a + lo_b * b, o + hi_a * a + lo_b * b, o + hi_a * a + hi_b * b, o + lo_a * a + hi_b * b};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    return m;
+  }
+  // Cylinder: axial extent of the domain's projection, 48 segments around.
+  double lo = 1e300, hi = -1e300;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Vec3 q{corner & 1 ? domain.hi.x : domain.lo.x, corner & 2 ? domain.hi.y : domain.lo.y,
+                 corner & 4 ? domain.hi.z : domain.lo.z};
+    lo = std::min(lo, dot(q - point, dir));
+    hi = std::max(hi, dot(q - point, dir));
+  }
+  if (!(hi > lo)) { lo = -diag; hi = diag; }
+  constexpr int seg = 48;
+  for (int s = 0; s < seg; ++s) {
+    const double phi = 2 * std::numbers::pi * s / seg;
+    const Vec3 rad = radius * (std::cos(phi) * a + std::sin(phi) * b);
+    m.points.push_back(point + lo * dir + rad);
+    m.points.push_back(point + hi * dir + rad);
+  }
+  for (int s = 0; s < seg; ++s) {
+    const int i0 = 2 * s, i1 = 2 * s + 1, j0 = 2 * ((s + 1) % seg), j1 = j0 + 1;
+    m.triangles.push_back({i0, j0, j1});
+    m.triangles.push_back({i0, j1, i1});
+  }
+  return m;
+}
+
+void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n, double skin) {
+  old_entries_.swap(entries_);
+  old_history_.swap(history_);
+  entries_.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t w = 0; w < walls.size(); ++w) {
+      Vec3 nrm;
+      if (walls[w].gap(x[i], r[i], nrm) < skin)
+        entries_.push_back({static_cast<std::int32_t>(i), static_cast<std::int32_t>(w)});
+    }
+  }
+  // Carry the history: both lists are sorted by (particle, wall).
+  history_.assign(entries_.size(), Vec3{});
+  std::size_t o = 0;
+  for (std::size_t k = 0; k < entries_.size() && o < old_entries_.size(); ++k) {
+    const auto key = [](const Entry& e) { return (static_cast<std::int64_t>(e.particle) << 32) | e.wall; };
+    while (o < old_entries_.size() && key(old_entries_[o]) < key(entries_[k])) ++o;
+    if (o < old_entries_.size() && key(old_entries_[o]) == key(entries_[k])) history_[k] = old_history_[o];
+  }
+}
+
+void WallContactList::restore(std::vector<Entry> entries, std::vector<Vec3> history) {
+  REQUIRE(entries.size() == history.size(), "inconsistent wall contact list in checkpoint");
+  entries_ = std::move(entries);
+  history_ = std::move(history);
+}
+
+std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
+                                 const PairTable<contact::PairCoeffs>& pairs, double t, double dt) {
+  for (auto& w : walls) {
+    w.force = {};
+    w.torque = {};
+  }
+  const auto entries = list.entries();
+  auto history = list.history();
+  Vec3* x = p.x();
+  Vec3* v = p.v();
+  Vec3* om = p.omega();
+  Vec3* f = p.f();
+  Vec3* tq = p.torque();
+  const double* r = p.radius();
+  const double* m = p.mass();
+  const std::int32_t* mat = p.material();
+  std::int64_t active = 0;
+  // Serial: a handful of walls receive reactions from many particles; the list is short
+  // compared with the particle pairs, so this loop is not the bottleneck.
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const int i = entries[k].particle;
+    Wall& w = walls[static_cast<std::size_t>(entries[k].wall)];
+    contact::ContactKinematics kin;
+    const double g = w.gap(x[i], r[i], kin.normal);
+    if (g >= 0) {
+      history[k] = {};
+      continue;
+    }
+    const contact::PairCoeffs& c = pairs(mat[i], w.material);
+    kin.overlap = -g;
+    const double arm = r[i] - 0.5 * kin.overlap;
+    const Vec3 cp = x[i] - arm * kin.normal;
+    kin.v_rel = v[i] - arm * cross(om[i], kin.normal) - w.motion.velocity_at(cp, t);
+    kin.omega_rel = om[i] - w.motion.omega();
+    kin.r_eff = r[i];
+    kin.m_eff = m[i];
+    const contact::ContactResult res = dispatch_index(contact::ContactModels{}, c.model, [&]<class M>() {
+      return M::Law::evaluate(c, kin, dt, history[k]);
+    });
+    f[i] += res.force;
+    tq[i] += -arm * cross(kin.normal, res.force) + res.rolling_torque;
+    w.force -= res.force;
+    w.torque -= cross(cp - w.torque_center(), res.force) + res.rolling_torque;
+    ++active;
+  }
+  return active;
+}
+
+}  // namespace gf

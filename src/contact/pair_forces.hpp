@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The particle-particle force stage: narrow phase + contact law over the Verlet list.
+#pragma once
+
+#include <cstdint>
+
+#include "contact/laws/contact_io.hpp"
+#include "core/domain.hpp"
+#include "neighbor/verlet_list.hpp"
+#include "particles/material.hpp"
+#include "particles/particle_store.hpp"
+
+namespace gf::contact {
+
+/// Sphere-sphere narrow phase: kinematics of the contact of i with j, false if they do not touch.
+/// `arm_i`, `arm_j` are the distances from the centres to the contact point, m.
+GF_HOST_DEVICE inline bool sphere_sphere(const Domain& dom, const Vec3& xi, const Vec3& xj, double ri, double rj,
+                                         ContactKinematics& k, double& arm_i, double& arm_j) {
+  const Vec3 d = dom.delta(xi, xj);
+  const double dist2 = norm2(d);
+  const double rs = ri + rj;
+  if (dist2 >= rs * rs) return false;
+  const double dist = std::sqrt(dist2);
+  k.overlap = rs - dist;
+  k.normal = dist > 0 ? d / dist : Vec3{0, 0, 1};
+  arm_i = ri - 0.5 * k.overlap;
+  arm_j = rj - 0.5 * k.overlap;
+  k.r_eff = ri * rj / rs;
+  return true;
+}
+
+/// Adds contact forces and torques of all touching pairs to f and torque; clears the history of
+/// pairs that are apart. Returns the number of touching pairs.
+std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
+                                 const PairTable<PairCoeffs>& pairs, double dt);
+
+/// Elastic energy stored in all contacts (J), for energy balances.
+double pair_elastic_energy(const ParticleStore& p, const Domain& domain, const VerletList& list,
+                           const PairTable<PairCoeffs>& pairs);
+
+}  // namespace gf::contact

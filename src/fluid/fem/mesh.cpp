@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Mesh utilities that do not need CGAL (kept out of mesh_cgal.cpp to keep rebuilds cheap).
+#include "fluid/fem/mesh.hpp"
+
+#include "fluid/fem/p2_element.hpp"
+
+namespace gf::fem {
+
+double mesh_area(const Mesh& mesh) {
+  const p2::Quadrature7 rule;
+  double area = 0;
+  for (const auto& cell : mesh.cells) {
+    std::array<Vec2, 6> x;
+    for (int k = 0; k < 6; ++k) x[k] = mesh.nodes[cell[k]];
+    for (int q = 0; q < rule.n; ++q) {
+      double phi[6], gx[6], gy[6];
+      area += rule.w[q] * p2::gradients(x, rule.xi[q], rule.eta[q], phi, gx, gy);
+    }
+  }
+  return area;
+}
+
+}  // namespace gf::fem

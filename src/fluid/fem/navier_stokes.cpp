@@ -1,0 +1,553 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// P2-P1 Navier-Stokes: pattern, assembly of residual and Jacobian, Newton, BDF steps, forces.
+#include "fluid/fem/navier_stokes.hpp"
+
+#include <Eigen/SparseCore>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "core/error.hpp"
+#include "fluid/fem/p2_element.hpp"
+
+namespace gf::fem {
+
+namespace {
+
+constexpr int kQ = p2::Quadrature7::n;
+constexpr int kGeo = 13;  // w*det, gx[6], gy[6]
+const p2::Quadrature7 kRule;
+
+struct RefShapes {
+  double phi[kQ][6];
+  double l[kQ][3];
+  RefShapes() {
+    for (int q = 0; q < kQ; ++q) {
+      double dxi[6], deta[6];
+      p2::shape(kRule.xi[q], kRule.eta[q], phi[q], dxi, deta);
+      l[q][0] = 1.0 - kRule.xi[q] - kRule.eta[q];
+      l[q][1] = kRule.xi[q];
+      l[q][2] = kRule.eta[q];
+    }
+  }
+};
+const RefShapes kRef;
+
+double seconds_now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+std::array<Vec2, 6> cell_nodes(const Mesh& m, int c) {
+  std::array<Vec2, 6> x;
+  for (int k = 0; k < 6; ++k) x[k] = m.nodes[m.cells[c][k]];
+  return x;
+}
+
+}  // namespace
+
+NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
+  const Mesh& m = problem_.mesh;
+  REQUIRE(problem_.outline_bc.size() == problem_.spec.outline.size(), "one boundary condition per outline edge");
+  problem_.body_motion.resize(problem_.spec.bodies.size());
+  REQUIRE(problem_.density > 0 && problem_.viscosity > 0, "density and viscosity must be positive");
+  n2_ = m.n_nodes();
+  n1_ = m.n_vertices;
+  n_dofs_ = 2 * n2_ + n1_;
+  x_.assign(n_dofs_, 0.0);
+
+  // Dirichlet nodes: walls override inflow (corners), bodies separate.
+  std::vector<int> node_src(n2_, -1);  // -1 free; 0 wall; 1 + k inflow edge k; -(2 + j) body j
+  for (const auto& e : m.boundary) {
+    int src = -1;
+    if (e.body >= 0) {
+      src = -(2 + e.body);
+    } else {
+      const auto& bc = problem_.outline_bc[e.outline_edge];
+      if (bc.kind == OutlineBcKind::Wall) src = 0;
+      else if (bc.kind == OutlineBcKind::Inflow) src = 1 + e.outline_edge;
+    }
+    if (src == -1) continue;
+    for (int v : {e.a, e.b, e.mid}) {
+      if (node_src[v] == 0) continue;  // wall wins
+      node_src[v] = src;
+    }
+  }
+  body_nodes_.assign(problem_.spec.bodies.size(), {});
+  for (const auto& e : m.boundary)
+    if (e.body >= 0)
+      for (int v : {e.a, e.b, e.mid}) body_nodes_[e.body].push_back(v);
+  for (auto& b : body_nodes_) {
+    std::sort(b.begin(), b.end());
+    b.erase(std::unique(b.begin(), b.end()), b.end());
+  }
+  dirichlet_.assign(n_dofs_, -1);
+  for (int v = 0; v < n2_; ++v) {
+    if (node_src[v] == -1) continue;
+    for (int d : {v, n2_ + v}) {
+      dirichlet_[d] = static_cast<int>(dirichlet_dofs_.size());
+      dirichlet_dofs_.push_back(d);
+    }
+  }
+  dirichlet_values_.assign(dirichlet_dofs_.size(), 0.0);
+  dir_src_ = std::move(node_src);
+  for (const auto& b : problem_.spec.bodies) {
+    double a = std::numbers::pi * b.radius * b.radius;
+    if (b.kind == BodyShape::Kind::Polygon) {
+      a = 0;
+      for (std::size_t i = 0; i < b.vertices.size(); ++i) {
+        const Vec2 p = b.vertices[i], q = b.vertices[(i + 1) % b.vertices.size()];
+        a += 0.5 * (p.x * q.y - q.x * p.y);
+      }
+      a = std::abs(a);
+    }
+    body_area_.push_back(a);
+  }
+
+  precompute_geometry();
+  build_pattern();
+  residual_.assign(n_dofs_, 0.0);
+  reaction_.assign(n_dofs_, 0.0);
+  hist_term_.assign(2 * n2_, 0.0);
+  set_time(0.0);
+}
+
+void NavierStokes::set_body_motion(int body, const BodyMotion& motion) {
+  problem_.body_motion.at(body) = motion;
+  set_time(t_);
+}
+
+void NavierStokes::set_time(double t) {
+  t_ = t;
+  const auto& spec = problem_.spec;
+  const Mesh& m = problem_.mesh;
+  for (std::size_t i = 0; i < dirichlet_dofs_.size(); i += 2) {
+    const int v = dirichlet_dofs_[i];
+    const int src = dir_src_[v];
+    Vec2 u{0, 0};
+    const Vec2 p = m.nodes[v];
+    if (src >= 1) {
+      const int k = src - 1;
+      const auto& bc = problem_.outline_bc[k];
+      const Vec2 a = spec.outline[k], b = spec.outline[(k + 1) % spec.outline.size()];
+      const double len = std::hypot(b.x - a.x, b.y - a.y);
+      const double s = std::clamp(((p.x - a.x) * (b.x - a.x) + (p.y - a.y) * (b.y - a.y)) / (len * len), 0.0, 1.0);
+      const double f = bc.time_function ? bc.time_function(t) : 1.0;
+      const double mag = bc.u_max * f * (bc.parabolic ? 4.0 * s * (1.0 - s) : 1.0);
+      // inward normal: the fluid is on the side of the outline's interior
+      double nx = -(b.y - a.y) / len, ny = (b.x - a.x) / len;
+      double area2 = 0;
+      for (std::size_t j = 0; j < spec.outline.size(); ++j) {
+        const Vec2 c = spec.outline[j], d = spec.outline[(j + 1) % spec.outline.size()];
+        area2 += c.x * d.y - d.x * c.y;
+      }
+      if (area2 < 0) { nx = -nx; ny = -ny; }
+      u = {mag * nx, mag * ny};
+    } else if (src <= -2) {
+      const int j = -(src + 2);
+      const auto& mo = problem_.body_motion[j];
+      const Vec2 c = spec.bodies[j].centre;
+      u = {mo.velocity.x - mo.angular_velocity * (p.y - c.y), mo.velocity.y + mo.angular_velocity * (p.x - c.x)};
+    }
+    dirichlet_values_[i] = u.x;
+    dirichlet_values_[i + 1] = u.y;
+  }
+  apply_dirichlet_to_solution();
+}
+
+void NavierStokes::apply_dirichlet_to_solution() {
+  for (std::size_t i = 0; i < dirichlet_dofs_.size(); ++i) x_[dirichlet_dofs_[i]] = dirichlet_values_[i];
+}
+
+void NavierStokes::precompute_geometry() {
+  const Mesh& m = problem_.mesh;
+  geo_.resize(static_cast<std::size_t>(m.n_cells()) * kQ * kGeo);
+  for (int c = 0; c < m.n_cells(); ++c) {
+    const auto x = cell_nodes(m, c);
+    for (int q = 0; q < kQ; ++q) {
+      double* g = &geo_[(static_cast<std::size_t>(c) * kQ + q) * kGeo];
+      double phi[6];
+      const double det = p2::gradients(x, kRule.xi[q], kRule.eta[q], phi, g + 1, g + 7);
+      REQUIRE(det > 0, "cell {} is inverted or degenerate (det J = {})", c, det);
+      g[0] = kRule.w[q] * det;
+    }
+  }
+}
+
+void NavierStokes::build_pattern() {
+  const Mesh& m = problem_.mesh;
+  auto dof = [&](int c, int r) {
+    if (r < 6) return m.cells[c][r];
+    if (r < 12) return n2_ + m.cells[c][r - 6];
+    return 2 * n2_ + m.cells[c][r - 12];
+  };
+  std::vector<Eigen::Triplet<double, int>> trip;
+  trip.reserve(static_cast<std::size_t>(m.n_cells()) * 216 + dirichlet_dofs_.size());
+  for (int c = 0; c < m.n_cells(); ++c)
+    for (int r = 0; r < 15; ++r) {
+      const int gr = dof(c, r);
+      if (dirichlet_[gr] >= 0) continue;
+      for (int s = 0; s < 15; ++s) {
+        if (r >= 12 && s >= 12) continue;
+        trip.emplace_back(gr, dof(c, s), 0.0);
+      }
+    }
+  for (int d : dirichlet_dofs_) trip.emplace_back(d, d, 0.0);
+  Eigen::SparseMatrix<double, Eigen::ColMajor, int> a(n_dofs_, n_dofs_);
+  a.setFromTriplets(trip.begin(), trip.end());
+  a.makeCompressed();
+  col_ptr_.assign(a.outerIndexPtr(), a.outerIndexPtr() + n_dofs_ + 1);
+  row_idx_.assign(a.innerIndexPtr(), a.innerIndexPtr() + a.nonZeros());
+  values_.assign(a.nonZeros(), 0.0);
+  auto pos = [&](int row, int col) {
+    const int* b = row_idx_.data() + col_ptr_[col];
+    const int* e = row_idx_.data() + col_ptr_[col + 1];
+    const int* it = std::lower_bound(b, e, row);
+    REQUIRE(it != e && *it == row, "pattern misses ({}, {})", row, col);
+    return static_cast<int>(it - row_idx_.data());
+  };
+  cell_map_.assign(static_cast<std::size_t>(m.n_cells()) * 225, -1);
+  for (int c = 0; c < m.n_cells(); ++c)
+    for (int r = 0; r < 15; ++r) {
+      const int gr = dof(c, r);
+      if (dirichlet_[gr] >= 0) continue;
+      for (int s = 0; s < 15; ++s) {
+        if (r >= 12 && s >= 12) continue;
+        cell_map_[static_cast<std::size_t>(c) * 225 + r * 15 + s] = pos(gr, dof(c, s));
+      }
+    }
+  diag_pos_.clear();
+  for (int d : dirichlet_dofs_) diag_pos_.push_back(pos(d, d));
+  lu_.analyze(n_dofs_, col_ptr_.data(), row_idx_.data(), values_.data());
+}
+
+void NavierStokes::assemble(bool with_jacobian, bool newton_terms) {
+  const double t0 = seconds_now();
+  const Mesh& m = problem_.mesh;
+  const double rho = problem_.density, mu = problem_.density * problem_.viscosity;
+  const double a0 = alpha0_;
+  std::fill(residual_.begin(), residual_.end(), 0.0);
+  if (with_jacobian) std::fill(values_.begin(), values_.end(), 0.0);
+  double ke[15][15];
+  double re[15];
+  for (int c = 0; c < m.n_cells(); ++c) {
+    const auto& cell = m.cells[c];
+    double ux[6], uy[6], wx[6], wy[6], p[3];
+    for (int k = 0; k < 6; ++k) {
+      ux[k] = x_[cell[k]];
+      uy[k] = x_[n2_ + cell[k]];
+      wx[k] = a0 * ux[k] + hist_term_[cell[k]];
+      wy[k] = a0 * uy[k] + hist_term_[n2_ + cell[k]];
+    }
+    for (int k = 0; k < 3; ++k) p[k] = x_[2 * n2_ + cell[k]];
+    std::fill(&re[0], &re[0] + 15, 0.0);
+    if (with_jacobian) std::fill(&ke[0][0], &ke[0][0] + 225, 0.0);
+    for (int q = 0; q < kQ; ++q) {
+      const double* g = &geo_[(static_cast<std::size_t>(c) * kQ + q) * kGeo];
+      const double w = g[0];
+      const double* gx = g + 1;
+      const double* gy = g + 7;
+      const double* phi = kRef.phi[q];
+      const double* l = kRef.l[q];
+      double vx = 0, vy = 0, tx = 0, ty = 0, g00 = 0, g01 = 0, g10 = 0, g11 = 0;
+      for (int k = 0; k < 6; ++k) {
+        vx += ux[k] * phi[k];
+        vy += uy[k] * phi[k];
+        tx += wx[k] * phi[k];
+        ty += wy[k] * phi[k];
+        g00 += ux[k] * gx[k];
+        g01 += ux[k] * gy[k];
+        g10 += uy[k] * gx[k];
+        g11 += uy[k] * gy[k];
+      }
+      const double pq = p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
+      const double fx = w * rho * (tx + vx * g00 + vy * g01);
+      const double fy = w * rho * (ty + vx * g10 + vy * g11);
+      const double sxx = w * (mu * g00 - pq), sxy = w * mu * g01, syx = w * mu * g10, syy = w * (mu * g11 - pq);
+      for (int a = 0; a < 6; ++a) {
+        re[a] += fx * phi[a] + sxx * gx[a] + sxy * gy[a];
+        re[6 + a] += fy * phi[a] + syx * gx[a] + syy * gy[a];
+      }
+      const double dv = -w * (g00 + g11);
+      for (int b = 0; b < 3; ++b) re[12 + b] += dv * l[b];
+      if (!with_jacobian) continue;
+      double adv[6];
+      for (int k = 0; k < 6; ++k) adv[k] = vx * gx[k] + vy * gy[k];
+      const double wr = w * rho, wm = w * mu;
+      const double n00 = newton_terms ? wr * g00 : 0.0, n01 = newton_terms ? wr * g01 : 0.0;
+      const double n10 = newton_terms ? wr * g10 : 0.0, n11 = newton_terms ? wr * g11 : 0.0;
+      for (int a = 0; a < 6; ++a) {
+        const double pa = phi[a];
+        for (int b = 0; b < 6; ++b) {
+          const double base = wr * (a0 * phi[b] + adv[b]) * pa + wm * (gx[b] * gx[a] + gy[b] * gy[a]);
+          const double pp = phi[b] * pa;
+          ke[a][b] += base + n00 * pp;
+          ke[a][6 + b] += n01 * pp;
+          ke[6 + a][b] += n10 * pp;
+          ke[6 + a][6 + b] += base + n11 * pp;
+        }
+        for (int d = 0; d < 3; ++d) {
+          ke[a][12 + d] -= w * l[d] * gx[a];
+          ke[6 + a][12 + d] -= w * l[d] * gy[a];
+          ke[12 + d][a] -= w * l[d] * gx[a];
+          ke[12 + d][6 + a] -= w * l[d] * gy[a];
+        }
+      }
+    }
+    for (int r = 0; r < 6; ++r) {
+      residual_[cell[r]] += re[r];
+      residual_[n2_ + cell[r]] += re[6 + r];
+    }
+    for (int r = 0; r < 3; ++r) residual_[2 * n2_ + cell[r]] += re[12 + r];
+    if (with_jacobian) {
+      const int* map = &cell_map_[static_cast<std::size_t>(c) * 225];
+      for (int r = 0; r < 15; ++r)
+        for (int s = 0; s < 15; ++s) {
+          const int at = map[r * 15 + s];
+          if (at >= 0) values_[at] += ke[r][s];
+        }
+    }
+  }
+  reaction_ = residual_;
+  for (std::size_t i = 0; i < dirichlet_dofs_.size(); ++i) {
+    const int d = dirichlet_dofs_[i];
+    residual_[d] = x_[d] - dirichlet_values_[i];
+    if (with_jacobian) values_[diag_pos_[i]] = 1.0;
+  }
+  assembly_seconds_ += seconds_now() - t0;
+}
+
+NewtonReport NavierStokes::newton(const NewtonOptions& opt) {
+  apply_dirichlet_to_solution();
+  NewtonReport rep;
+  std::vector<double> rhs(n_dofs_), dx(n_dofs_);
+  // A factorisation from an earlier step is kept while alpha0 (the BDF step) changed by < 20 %.
+  bool need_fresh = !opt.reuse_factorization || !lu_.has_factors() || !factor_newton_ ||
+                    std::abs(factor_alpha0_ - alpha0_) > 0.2 * std::abs(alpha0_) || (alpha0_ == 0) != (factor_alpha0_ == 0);
+  double prev = std::numeric_limits<double>::infinity();
+  for (int it = 0; it < opt.max_iterations; ++it) {
+    const bool newton_terms = it >= opt.picard_iterations;
+    const bool refactor = need_fresh || newton_terms != factor_newton_;
+    assemble(refactor, newton_terms);
+    if (refactor) {
+      lu_.factorize(values_.data());
+      factor_alpha0_ = alpha0_;
+      factor_newton_ = newton_terms;
+      ++rep.factorizations;
+      need_fresh = !opt.reuse_factorization;
+    }
+    for (int i = 0; i < n_dofs_; ++i) rhs[i] = -residual_[i];
+    lu_.solve(rhs.data(), dx.data());
+    double du = 0, umax = 0;
+    for (int i = 0; i < n_dofs_; ++i) x_[i] += dx[i];
+    for (int i = 0; i < 2 * n2_; ++i) {
+      du = std::max(du, std::abs(dx[i]));
+      umax = std::max(umax, std::abs(x_[i]));
+    }
+    const double update = du / std::max(umax, 1e-300);
+    rep.iterations = it + 1;
+    rep.last_update = update;
+    if (!std::isfinite(update)) break;
+    if (opt.reuse_factorization && update > opt.max_contraction * prev) need_fresh = true;
+    prev = update;
+    if (update <= opt.tolerance && newton_terms) {
+      rep.converged = true;
+      break;
+    }
+  }
+  assemble(false, true);  // residual at the final state: reaction forces
+  return rep;
+}
+
+NewtonReport NavierStokes::solve_steady(const NewtonOptions& opt) {
+  alpha0_ = 0.0;
+  std::fill(hist_term_.begin(), hist_term_.end(), 0.0);
+  return newton(opt);
+}
+
+StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt, double rtol, double atol) {
+  REQUIRE(dt > 0, "time step must be positive, got {}", dt);
+  if (hist_t_.empty()) {
+    hist_t_.push_back(t_);
+    hist_x_.push_back(x_);
+  }
+  const int k = std::clamp(order, 1, std::min(2, static_cast<int>(hist_t_.size())));
+  const double tn = hist_t_[0];
+  const auto& xn = hist_x_[0];
+  const int nv = 2 * n2_;
+  double h1 = 0, h2 = 0;
+  if (hist_t_.size() > 1) h1 = tn - hist_t_[1];
+  if (hist_t_.size() > 2) h2 = hist_t_[1] - hist_t_[2];
+  if (k == 1) {
+    alpha0_ = 1.0 / dt;
+    for (int i = 0; i < nv; ++i) hist_term_[i] = -xn[i] / dt;
+  } else {
+    const double om = dt / h1;
+    alpha0_ = (1 + 2 * om) / ((1 + om) * dt);
+    const double a1 = -(1 + om) / dt, a2 = om * om / ((1 + om) * dt);
+    const auto& xm = hist_x_[1];
+    for (int i = 0; i < nv; ++i) hist_term_[i] = a1 * xn[i] + a2 * xm[i];
+  }
+  // Predictor: extrapolation of degree k through the newest k+1 states (lower if fewer known).
+  const int deg = std::min(k, static_cast<int>(hist_t_.size()) - 1);
+  const double tp = tn + dt;
+  std::vector<double> xp(n_dofs_, 0.0);
+  for (int j = 0; j <= deg; ++j) {
+    double lj = 1;
+    for (int i = 0; i <= deg; ++i)
+      if (i != j) lj *= (tp - hist_t_[i]) / (hist_t_[j] - hist_t_[i]);
+    for (int i = 0; i < n_dofs_; ++i) xp[i] += lj * hist_x_[j][i];
+  }
+  x_ = xp;
+  set_time(tp);
+  StepResult res;
+  res.newton = newton(opt);
+  if (deg == k) {
+    double cc, cp;
+    if (k == 1) {
+      cc = dt * dt / 2;
+      cp = dt * (dt + h1) / 2;
+    } else {
+      cc = dt * (dt + h1) / (6 * alpha0_);
+      cp = dt * (dt + h1) * (dt + h1 + h2) / 6;
+    }
+    const double f = cc / (cc + cp);
+    double sum = 0;
+    int n = 0;
+    for (int i = 0; i < nv; ++i) {
+      if (dirichlet_[i] >= 0) continue;
+      const double e = f * (x_[i] - xp[i]) / (atol + rtol * std::abs(x_[i]));
+      sum += e * e;
+      ++n;
+    }
+    res.error = std::sqrt(sum / std::max(n, 1));
+  }
+  return res;
+}
+
+void NavierStokes::accept_step() {
+  hist_t_.insert(hist_t_.begin(), t_);
+  hist_x_.insert(hist_x_.begin(), x_);
+  if (hist_t_.size() > 3) {
+    hist_t_.pop_back();
+    hist_x_.pop_back();
+  }
+}
+
+void NavierStokes::reject_step() {
+  REQUIRE(!hist_t_.empty(), "reject_step without a step");
+  x_ = hist_x_[0];
+  set_time(hist_t_[0]);
+}
+
+std::vector<BodyForce> NavierStokes::reaction_forces() const {
+  std::vector<BodyForce> f(body_nodes_.size());
+  for (std::size_t j = 0; j < body_nodes_.size(); ++j) {
+    const Vec2 c = problem_.spec.bodies[j].centre;
+    for (int v : body_nodes_[j]) {
+      const double rx = -reaction_[v], ry = -reaction_[n2_ + v];
+      const Vec2 p = problem_.mesh.nodes[v];
+      f[j].force.x += rx;
+      f[j].force.y += ry;
+      f[j].torque += (p.x - c.x) * ry - (p.y - c.y) * rx;
+    }
+    // The Laplace form's reaction is the pseudo-traction (mu grad u - p I) n. For a rigid body
+    // velocity on the surface, (grad u)^T n = omega t, whose moment is 2 omega A: add it back.
+    f[j].torque -= 2.0 * problem_.density * problem_.viscosity * problem_.body_motion[j].angular_velocity * body_area_[j];
+  }
+  return f;
+}
+
+std::vector<BodyForce> NavierStokes::stress_forces() const {
+  const Mesh& m = problem_.mesh;
+  std::vector<BodyForce> f(body_nodes_.size());
+  const double mu = problem_.density * problem_.viscosity;
+  const double gs[3] = {0.5 - std::sqrt(0.15), 0.5, 0.5 + std::sqrt(0.15)};
+  const double gw[3] = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+  for (const auto& e : m.boundary) {
+    if (e.body < 0) continue;
+    const auto x = cell_nodes(m, e.cell);
+    const auto& cell = m.cells[e.cell];
+    const Vec2 c = problem_.spec.bodies[e.body].centre;
+    for (int q = 0; q < 3; ++q) {
+      const double s = gs[q];
+      double xi, eta, dxi_ds, deta_ds;
+      if (e.local_edge == 0) { xi = s; eta = 0; dxi_ds = 1; deta_ds = 0; }
+      else if (e.local_edge == 1) { xi = 1 - s; eta = s; dxi_ds = -1; deta_ds = 1; }
+      else { xi = 0; eta = 1 - s; dxi_ds = 0; deta_ds = -1; }
+      double phi[6], gx[6], gy[6], dxi[6], deta[6];
+      p2::gradients(x, xi, eta, phi, gx, gy);
+      p2::shape(xi, eta, phi, dxi, deta);
+      double tx = 0, ty = 0, px = 0, py = 0;
+      for (int k = 0; k < 6; ++k) {
+        tx += x[k].x * (dxi[k] * dxi_ds + deta[k] * deta_ds);
+        ty += x[k].y * (dxi[k] * dxi_ds + deta[k] * deta_ds);
+        px += x[k].x * phi[k];
+        py += x[k].y * phi[k];
+      }
+      double g00 = 0, g01 = 0, g10 = 0, g11 = 0;
+      for (int k = 0; k < 6; ++k) {
+        g00 += x_[cell[k]] * gx[k];
+        g01 += x_[cell[k]] * gy[k];
+        g10 += x_[n2_ + cell[k]] * gx[k];
+        g11 += x_[n2_ + cell[k]] * gy[k];
+      }
+      const double l0 = 1 - xi - eta;
+      const double p = x_[2 * n2_ + cell[0]] * l0 + x_[2 * n2_ + cell[1]] * xi + x_[2 * n2_ + cell[2]] * eta;
+      // fluid on the left of the edge direction; body normal (into the fluid) = left normal
+      const double nx = -ty, ny = tx;  // |t| ds_ref = ds, so n ds = (-ty, tx) ds_ref
+      const double sxx = -p + 2 * mu * g00, syy = -p + 2 * mu * g11, sxy = mu * (g01 + g10);
+      const double fx = gw[q] * (sxx * nx + sxy * ny), fy = gw[q] * (sxy * nx + syy * ny);
+      f[e.body].force.x += fx;
+      f[e.body].force.y += fy;
+      f[e.body].torque += (px - c.x) * fy - (py - c.y) * fx;
+    }
+  }
+  return f;
+}
+
+int NavierStokes::locate(Vec2 p, double& l1, double& l2) const {
+  const Mesh& m = problem_.mesh;
+  int best = -1;
+  double best_out = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < m.n_cells(); ++c) {
+    const Vec2 a = m.nodes[m.cells[c][0]], b = m.nodes[m.cells[c][1]], d = m.nodes[m.cells[c][2]];
+    const double det = (b.x - a.x) * (d.y - a.y) - (d.x - a.x) * (b.y - a.y);
+    const double s = ((p.x - a.x) * (d.y - a.y) - (d.x - a.x) * (p.y - a.y)) / det;
+    const double t = ((b.x - a.x) * (p.y - a.y) - (p.x - a.x) * (b.y - a.y)) / det;
+    const double out = std::max({-s, -t, s + t - 1.0});
+    if (out < best_out) {
+      best_out = out;
+      best = c;
+      l1 = s;
+      l2 = t;
+      if (out <= 0) break;
+    }
+  }
+  return best;
+}
+
+double NavierStokes::pressure_at(Vec2 p) const {
+  double s = 0, t = 0;
+  const int c = locate(p, s, t);
+  const auto& cell = problem_.mesh.cells[c];
+  return x_[2 * n2_ + cell[0]] * (1 - s - t) + x_[2 * n2_ + cell[1]] * s + x_[2 * n2_ + cell[2]] * t;
+}
+
+Vec2 NavierStokes::velocity_at(Vec2 p) const {
+  double s = 0, t = 0;
+  const int c = locate(p, s, t);
+  const auto& cell = problem_.mesh.cells[c];
+  double phi[6], dxi[6], deta[6];
+  p2::shape(s, t, phi, dxi, deta);
+  Vec2 u;
+  for (int k = 0; k < 6; ++k) {
+    u.x += x_[cell[k]] * phi[k];
+    u.y += x_[n2_ + cell[k]] * phi[k];
+  }
+  return u;
+}
+
+}  // namespace gf::fem

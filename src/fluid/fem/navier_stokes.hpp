@@ -1,0 +1,169 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Incompressible Navier-Stokes on P2-P1 Taylor-Hood elements: assembly, Newton, BDF, body forces.
+//
+// Model (rho, nu constant; mu = rho nu):
+//   rho (du/dt + (u . grad) u) - mu lap u + grad p = 0,   div u = 0   in the fluid region,
+// weak form with the gradient (Laplace) form of the viscous term, so that the natural boundary
+// condition is the "do-nothing" outflow  mu du/dn - p n = 0  (Heywood, Rannacher & Turek,
+// Int. J. Numer. Meth. Fluids 22 (1996) 325). Velocity P2, pressure P1 (Taylor-Hood, inf-sup
+// stable); the pressure is the Lagrange multiplier of the constraint div u = 0 and the system
+// is a differential-algebraic one of index 2, integrated by the method of lines with implicit
+// BDF1/BDF2 (variable step; error control on velocities only), each step solved monolithically
+// by Newton's method with a sparse LU (UMFPACK) -- the strategy of Matuttis, "Strategies for an
+// optimized simulation of granular particles in a Newtonian fluid" (seed 000 of grainflow).
+// Forces on bodies come from the residual of the discrete momentum equations on the body's
+// nodes (reaction forces), the technique validated on the benchmark of Schaefer & Turek,
+// "Benchmark computations of laminar flow around a cylinder", Notes Num. Fluid Mech. 52 (1996).
+#pragma once
+
+#include <functional>
+#include <vector>
+
+#include "fluid/fem/mesh.hpp"
+#include "fluid/fem/sparse_lu.hpp"
+
+namespace gf::fem {
+
+/// Kind of condition on one outline edge.
+enum class OutlineBcKind { Wall, Inflow, Outflow };
+
+/// Condition on one outline edge. Inflow: u = u_max f(t) 4 s (1 - s) n_in (parabolic) or
+/// u = u_max f(t) n_in (uniform), s in [0, 1] along the edge, n_in the inward normal.
+struct OutlineBc {
+  OutlineBcKind kind = OutlineBcKind::Wall;
+  bool parabolic = true;
+  double u_max = 0.0;                                  ///< [m/s]
+  std::function<double(double)> time_function;        ///< f(t) [-]; empty means 1
+};
+
+/// Rigid velocity of a body: u(x) = velocity + omega e_z x (x - centre).
+struct BodyMotion {
+  Vec2 velocity;                ///< [m/s]
+  double angular_velocity = 0;  ///< [rad/s]
+};
+
+/// Everything that defines the flow problem on a fixed mesh.
+struct FlowProblem {
+  MeshSpec spec;
+  Mesh mesh;
+  double density = 1.0;          ///< rho [kg/m^3]
+  double viscosity = 1e-3;       ///< kinematic nu [m^2/s]
+  std::vector<OutlineBc> outline_bc;   ///< one per outline edge
+  std::vector<BodyMotion> body_motion; ///< one per body (default: at rest)
+};
+
+/// Force [N/m] and torque about the body's centre [N] per unit depth, exerted by the fluid.
+struct BodyForce {
+  Vec2 force;
+  double torque = 0.0;
+};
+
+struct NewtonOptions {
+  int max_iterations = 25;
+  double tolerance = 1e-10;       ///< on max |du| / max |u| (velocity increment, relative)
+  int picard_iterations = 0;      ///< Oseen (Picard) iterations before Newton
+  bool reuse_factorization = false; ///< chord method: refactorise only when convergence is slow
+  double max_contraction = 0.3;   ///< refactorise when |du_k| / |du_{k-1}| exceeds this
+};
+
+struct NewtonReport {
+  bool converged = false;
+  int iterations = 0;
+  int factorizations = 0;
+  double last_update = 0.0;       ///< relative velocity increment of the last iteration
+};
+
+/// BDF integration state and step control.
+struct StepResult {
+  NewtonReport newton;
+  double error = 0.0;             ///< weighted RMS estimate of the local velocity error (<= 1: accept)
+};
+
+/// P2-P1 discretisation of FlowProblem with one monolithic unknown vector
+/// [u_x at P2 nodes, u_y at P2 nodes, p at vertices].
+class NavierStokes {
+ public:
+  explicit NavierStokes(FlowProblem problem);
+
+  [[nodiscard]] const FlowProblem& problem() const { return problem_; }
+  [[nodiscard]] const Mesh& mesh() const { return problem_.mesh; }
+  [[nodiscard]] int n_dofs() const { return n_dofs_; }
+  [[nodiscard]] double time() const { return t_; }
+  [[nodiscard]] const std::vector<double>& solution() const { return x_; }
+  /// Velocity [m/s] at P2 node k, pressure [Pa] at vertex k.
+  [[nodiscard]] Vec2 velocity(int node) const { return {x_[node], x_[n2_ + node]}; }
+  [[nodiscard]] double pressure(int vertex) const { return x_[2 * n2_ + vertex]; }
+
+  /// Sets the time t [s] at which boundary data are evaluated and imposes them on the solution.
+  void set_time(double t);
+  /// Changes a body's rigid velocity (takes effect at the next solve).
+  void set_body_motion(int body, const BodyMotion& m);
+
+  /// Steady solution at the current time by Newton's method (optionally after Picard steps).
+  NewtonReport solve_steady(const NewtonOptions& opt);
+
+  /// One BDF step of size dt [s] of order 1 or 2 (2 falls back to 1 without history).
+  /// The result is tentative until accept_step() or reject_step().
+  StepResult try_step(double dt, int order, const NewtonOptions& opt, double rtol, double atol);
+  void accept_step();
+  void reject_step();
+  /// Order actually usable for the next step (1 until two states are known).
+  [[nodiscard]] int available_order() const { return static_cast<int>(hist_t_.size()); }
+
+  /// Forces from the residual (reaction) of the momentum equations at the current state; the
+  /// torque includes the correction -2 mu omega A that turns the Laplace-form pseudo-traction
+  /// into the Cauchy traction for a rigidly moving surface (exact, see reaction_forces()).
+  [[nodiscard]] std::vector<BodyForce> reaction_forces() const;
+  /// Forces by integrating the stress -p n + mu (grad u + grad u^T) n over each body surface.
+  [[nodiscard]] std::vector<BodyForce> stress_forces() const;
+
+  /// Pressure [Pa] and velocity [m/s] at a point (point location over straight cells).
+  [[nodiscard]] double pressure_at(Vec2 p) const;
+  [[nodiscard]] Vec2 velocity_at(Vec2 p) const;
+
+  /// Timings [s] and counts for benchmarks.
+  [[nodiscard]] double assembly_seconds() const { return assembly_seconds_; }
+  [[nodiscard]] const SparseLu& lu() const { return lu_; }
+
+ private:
+  void build_pattern();
+  void precompute_geometry();
+  void assemble(bool with_jacobian, bool newton_terms);
+  void apply_dirichlet_to_solution();
+  NewtonReport newton(const NewtonOptions& opt);
+  [[nodiscard]] int locate(Vec2 p, double& l1, double& l2) const;
+
+  FlowProblem problem_;
+  int n2_ = 0, n1_ = 0, n_dofs_ = 0;
+  double t_ = 0.0;
+  std::vector<double> x_;             // current unknowns
+  std::vector<int> dirichlet_;        // dof -> index into dirichlet_values_, or -1
+  std::vector<int> dirichlet_dofs_;
+  std::vector<double> dirichlet_values_;
+  std::vector<int> dir_src_;          // per P2 node: -1 free, 0 wall, 1+k inflow edge k, -(2+j) body j
+  std::vector<std::vector<int>> body_nodes_;
+  std::vector<double> body_area_;     // [m^2]
+
+  // Sparse Jacobian in compressed-column form with a fixed pattern.
+  std::vector<int> col_ptr_, row_idx_;
+  std::vector<double> values_;
+  std::vector<int> cell_map_;         // per cell 15x15 positions into values_ (-1: skipped)
+  std::vector<int> diag_pos_;         // per Dirichlet dof: position of its diagonal
+  std::vector<double> residual_;      // with Dirichlet rows replaced by u - g
+  std::vector<double> reaction_;      // full momentum residual (for forces)
+  SparseLu lu_;
+  double factor_alpha0_ = -1.0;
+  bool factor_newton_ = false;
+
+  // Geometry at quadrature points: per cell and point: weight*det, dphi/dx[6], dphi/dy[6].
+  std::vector<double> geo_;
+
+  // BDF: time derivative ~ alpha0 u + hist_term_; history newest first.
+  double alpha0_ = 0.0;
+  std::vector<double> hist_term_;
+  std::vector<double> hist_t_;
+  std::vector<std::vector<double>> hist_x_;
+  double assembly_seconds_ = 0.0;
+};
+
+}  // namespace gf::fem

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Time loop over NavierStokes::try_step: fixed or adaptive BDF1/BDF2 steps with rejection.
+//
+// Variable-step BDF2 (e.g. Hairer & Wanner, Solving ODEs II, sec. III.5): with omega = dt_n/dt_{n-1},
+//   du/dt(t_{n+1}) ~ [(1+2 omega) u_{n+1} - (1+omega)^2 u_n + omega^2 u_{n-1}] / ((1+omega) dt_n).
+// Local error estimated from the difference to the extrapolating predictor (Milne's device),
+// on the velocities only (the pressure is an algebraic variable); the step is chosen as
+// dt_new = dt 0.9 err^{-1/(k+1)}, limited so that omega <= 2 (BDF2 zero-stability needs < 2.414).
+#pragma once
+
+#include <functional>
+#include <limits>
+
+#include "fluid/fem/navier_stokes.hpp"
+
+namespace gf::fem {
+
+struct TimeControl {
+  int order = 2;                 ///< 1 (implicit Euler) or 2 (BDF2)
+  double dt = 1e-2;              ///< (initial) step [s]
+  double t_end = 1.0;            ///< [s]
+  bool adaptive = false;         ///< error control on velocities
+  double rtol = 1e-3, atol = 1e-4;  ///< relative [-], absolute [m/s] velocity tolerances
+  double dt_min = 1e-9;          ///< [s]; a smaller step needed is an error
+  double dt_max = std::numeric_limits<double>::infinity();  ///< [s]
+};
+
+struct TimeStats {
+  int steps = 0, rejected = 0, newton_iterations = 0, factorizations = 0;
+};
+
+/// Integrates from ns.time() to tc.t_end; calls observe after every accepted step.
+TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions& opt,
+                    const std::function<void(const NavierStokes&, double dt)>& observe);
+
+}  // namespace gf::fem

@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Velocity Verlet loops, run through core/exec.
+#include "integrators/velocity_verlet.hpp"
+
+#include "core/exec.hpp"
+
+namespace gf {
+
+void VelocityVerlet::pre_force(ParticleStore& p, const Domain& domain, double dt) {
+  Vec3* x = p.x();
+  Vec3* v = p.v();
+  Vec3* w = p.omega();
+  const Vec3* f = p.f();
+  const Vec3* t = p.torque();
+  const double* m = p.mass();
+  const double* in = p.inertia();
+  const double h = 0.5 * dt;
+  exec::parallel_for(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
+    v[i] += (h / m[i]) * f[i];
+    w[i] += (h / in[i]) * t[i];
+    x[i] += dt * v[i];
+    domain.wrap(x[i]);
+  });
+}
+
+void VelocityVerlet::post_force(ParticleStore& p, double dt) {
+  Vec3* v = p.v();
+  Vec3* w = p.omega();
+  const Vec3* f = p.f();
+  const Vec3* t = p.torque();
+  const double* m = p.mass();
+  const double* in = p.inertia();
+  const double h = 0.5 * dt;
+  exec::parallel_for(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
+    v[i] += (h / m[i]) * f[i];
+    w[i] += (h / in[i]) * t[i];
+  });
+}
+
+void reset_forces(ParticleStore& p, const Vec3& gravity) {
+  Vec3* f = p.f();
+  Vec3* t = p.torque();
+  const double* m = p.mass();
+  exec::parallel_for(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
+    f[i] = m[i] * gravity;
+    t[i] = {};
+  });
+}
+
+}  // namespace gf

@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// CSV writers: particle snapshots (atomic) and appended time series.
+#include "io/csv/csv.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <array>
+#include <iterator>
+#include <ostream>
+#include <variant>
+
+#include "core/error.hpp"
+#include "core/files.hpp"
+
+namespace gf::io {
+
+namespace {
+
+/// Column names of one Vec3 field.
+std::array<std::string, 3> vec3_columns(const std::string& name) {
+  if (name == "position") return {"x", "y", "z"};
+  if (name == "velocity") return {"vx", "vy", "vz"};
+  if (name == "angular_velocity") return {"wx", "wy", "wz"};
+  if (name == "force") return {"fx", "fy", "fz"};
+  return {name + "_x", name + "_y", name + "_z"};
+}
+
+void require_plain_name(const std::string& name, const std::filesystem::path& path) {
+  REQUIRE(!name.empty() && name.find_first_of(",\"\r\n") == std::string::npos,
+          "CSV column name '{}' for '{}' is empty or holds a comma, quote or line break", name,
+          path.string());
+}
+
+}  // namespace
+
+std::vector<std::string> particle_csv_columns(const ParticleStore& store) {
+  std::vector<std::string> cols;
+  for (const FieldInfo& fi : store.fields()) {
+    if (!(fi.flags & kOutput)) continue;
+    if (fi.type == FieldType::Vec3) {
+      for (auto& c : vec3_columns(fi.name)) cols.push_back(std::move(c));
+    } else {
+      cols.push_back(fi.name);
+    }
+  }
+  return cols;
+}
+
+void write_particles_csv(const std::filesystem::path& path, const ParticleStore& store) {
+  const std::vector<std::string> cols = particle_csv_columns(store);
+  for (const auto& c : cols) require_plain_name(c, path);
+  std::vector<const Column*> out_cols;
+  const auto& fields = store.fields();
+  for (std::size_t f = 0; f < fields.size(); ++f)
+    if (fields[f].flags & kOutput) out_cols.push_back(&store.column(static_cast<int>(f)));
+
+  write_atomically(path, [&](std::ostream& out) {
+    fmt::memory_buffer buf;
+    auto it = std::back_inserter(buf);
+    fmt::format_to(it, "{}\n", fmt::join(cols, ","));
+    for (std::size_t i = 0; i < store.size(); ++i) {
+      bool first = true;
+      for (const Column* col : out_cols) {
+        std::visit(
+            [&](const auto& v) {
+              using T = typename std::decay_t<decltype(v)>::value_type;
+              if constexpr (std::is_same_v<T, Vec3>)
+                fmt::format_to(it, "{}{},{},{}", first ? "" : ",", v[i].x, v[i].y, v[i].z);
+              else
+                fmt::format_to(it, "{}{}", first ? "" : ",", v[i]);
+            },
+            *col);
+        first = false;
+      }
+      buf.push_back('\n');
+      if (buf.size() > (1u << 20)) {
+        out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+        buf.clear();
+      }
+    }
+    out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  });
+}
+
+SeriesCsv::SeriesCsv(std::filesystem::path path, std::vector<std::string> columns)
+    : path_(std::move(path)), columns_(std::move(columns)) {
+  for (const auto& c : columns_) require_plain_name(c, path_);
+  out_.open(path_, std::ios::binary | std::ios::trunc);
+  if (!out_) throw IoError(fmt::format("cannot open '{}' for writing", path_.string()));
+  out_ << "time";
+  for (const auto& c : columns_) out_ << ',' << c;
+  out_ << '\n';
+  flush();  // the header is on disk at once, and a full disk is noticed here
+}
+
+SeriesCsv::~SeriesCsv() {
+  if (out_.is_open()) out_.flush();  // errors cannot be reported from here; flush() reports them
+}
+
+void SeriesCsv::append(double time, std::span<const double> values) {
+  REQUIRE(values.size() == columns_.size(), "time series '{}': {} values for {} columns",
+          path_.string(), values.size(), columns_.size());
+  fmt::memory_buffer buf;
+  auto it = std::back_inserter(buf);
+  fmt::format_to(it, "{}", time);
+  for (double v : values) fmt::format_to(it, ",{}", v);
+  buf.push_back('\n');
+  out_.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  if (!out_) throw IoError(fmt::format("error while writing '{}'", path_.string()));
+}
+
+void SeriesCsv::flush() {
+  out_.flush();
+  if (!out_) throw IoError(fmt::format("error while writing '{}'", path_.string()));
+}
+
+}  // namespace gf::io

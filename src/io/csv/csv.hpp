@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// CSV output: particle snapshots from the field table, and time series appended row by row.
+//
+// Numbers are written in the shortest form that reads back to the same double (fmt "{}").
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "particles/particle_store.hpp"
+
+namespace gf::io {
+
+/// Column names of a particle CSV: every kOutput field in field-table order; Vec3 fields are
+/// split into three columns: position -> x,y,z; velocity -> vx,vy,vz; angular_velocity ->
+/// wx,wy,wz; force -> fx,fy,fz; any other NAME -> NAME_x,NAME_y,NAME_z.
+std::vector<std::string> particle_csv_columns(const ParticleStore& store);
+
+/// One row per particle under the header of particle_csv_columns (SI units). Atomic.
+void write_particles_csv(const std::filesystem::path& path, const ParticleStore& store);
+
+/// A time-series CSV: header `time,<columns>`, then one row per append. The file is created
+/// (truncated) by the constructor and kept open; rows are buffered and reach the disk at the
+/// latest on flush() or destruction.
+class SeriesCsv {
+ public:
+  SeriesCsv(std::filesystem::path path, std::vector<std::string> columns);
+  ~SeriesCsv();
+  SeriesCsv(SeriesCsv&&) noexcept = default;
+  SeriesCsv& operator=(SeriesCsv&&) noexcept = default;
+  SeriesCsv(const SeriesCsv&) = delete;
+  SeriesCsv& operator=(const SeriesCsv&) = delete;
+
+  /// One row: `time` in s, then one value per column (count must match).
+  void append(double time, std::span<const double> values);
+  void append(double time, std::initializer_list<double> values) {
+    append(time, std::span<const double>(values.begin(), values.size()));
+  }
+  /// Pushes buffered rows to the file; throws IoError when the write failed.
+  void flush();
+
+  const std::filesystem::path& path() const { return path_; }
+  const std::vector<std::string>& columns() const { return columns_; }
+
+ private:
+  std::filesystem::path path_;
+  std::vector<std::string> columns_;
+  std::ofstream out_;
+};
+
+}  // namespace gf::io

@@ -1,0 +1,282 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Echo of the resolved case as YAML through YAML::Emitter.
+#include "io/input/echo.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+
+#include "contact/registry.hpp"
+#include "io/input/yaml_reader.hpp"
+
+namespace gf::input {
+
+namespace {
+
+void emit_number(YAML::Emitter& out, double v) {
+  out << number_text(v);
+}
+
+void emit_vec(YAML::Emitter& out, const Vec3& v) {
+  out << YAML::Flow << YAML::BeginSeq;
+  emit_number(out, v.x);
+  emit_number(out, v.y);
+  emit_number(out, v.z);
+  out << YAML::EndSeq;
+}
+
+void key_number(YAML::Emitter& out, const char* key, double v) {
+  out << YAML::Key << key << YAML::Value;
+  emit_number(out, v);
+}
+
+void key_vec(YAML::Emitter& out, const char* key, const Vec3& v) {
+  out << YAML::Key << key << YAML::Value;
+  emit_vec(out, v);
+}
+
+void emit_vec_list(YAML::Emitter& out, const char* key, const std::vector<Vec3>& list) {
+  out << YAML::Key << key << YAML::Value << YAML::BeginSeq;
+  for (const auto& v : list) emit_vec(out, v);
+  out << YAML::EndSeq;
+}
+
+void emit_radius(YAML::Emitter& out, const config::SizeDistribution& d) {
+  using K = config::SizeDistribution::Kind;
+  out << YAML::Key << "radius" << YAML::Value;
+  if (d.kind == K::Fixed) {
+    emit_number(out, d.value);
+    return;
+  }
+  out << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "distribution" << YAML::Value
+      << (d.kind == K::Uniform  ? "uniform"
+          : d.kind == K::Normal ? "normal"
+                                : "lognormal");
+  if (d.kind != K::Uniform) {
+    key_number(out, "mean", d.mean);
+    key_number(out, "std", d.std);
+  }
+  key_number(out, "min", d.min);
+  key_number(out, "max", d.max);
+  out << YAML::EndMap;
+}
+
+void emit_fill(YAML::Emitter& out, const config::Fill& f, const config::SizeDistribution& radius) {
+  out << YAML::Key << "fill" << YAML::Value << YAML::BeginMap;
+  if (f.region.kind == config::Region::Kind::Box) {
+    out << YAML::Key << "box" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    key_vec(out, "min", f.region.min);
+    key_vec(out, "max", f.region.max);
+    out << YAML::EndMap;
+  } else {
+    out << YAML::Key << "cylinder" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    key_vec(out, "center", f.region.center);
+    key_vec(out, "axis", f.region.axis);
+    key_number(out, "radius", f.region.radius);
+    key_number(out, "height", f.region.height);
+    out << YAML::EndMap;
+  }
+  const bool random = f.lattice == config::Fill::Lattice::Random;
+  out << YAML::Key << "lattice" << YAML::Value
+      << (f.lattice == config::Fill::Lattice::Cubic ? "cubic"
+          : f.lattice == config::Fill::Lattice::Hcp ? "hcp"
+                                                    : "random");
+  if (!random) {
+    if (f.spacing) {
+      key_number(out, "spacing", *f.spacing);
+    } else {
+      key_number(out, "spacing", 2 * radius.largest() * 1.01);
+      out << YAML::Comment("default: 2.02 x the largest radius");
+    }
+  }
+  if (f.count) out << YAML::Key << "count" << YAML::Value << *f.count;
+  out << YAML::Key << "seed" << YAML::Value << f.seed;
+  key_vec(out, "velocity", f.velocity);
+  key_number(out, "velocity_jitter", f.velocity_jitter);
+  if (random) {
+    const std::int64_t attempts = f.max_attempts > 0 ? f.max_attempts : 1000 * f.count.value_or(0);
+    out << YAML::Key << "max_attempts" << YAML::Value << attempts;
+    if (f.max_attempts == 0) out << YAML::Comment("default: 1000 x count");
+  }
+  out << YAML::EndMap;
+}
+
+void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config::Case& c) {
+  out << YAML::BeginMap;
+  out << YAML::Key << "shape" << YAML::Value << g.shape;
+  const bool radius_from_file = g.explicit_particles && !g.explicit_particles->radii.empty();
+  if (!radius_from_file) emit_radius(out, g.radius);
+  out << YAML::Key << "material" << YAML::Value << g.material;
+  if (g.fill) emit_fill(out, *g.fill, g.radius);
+  if (g.explicit_particles) {
+    const auto& ex = *g.explicit_particles;
+    const std::size_t n = ex.positions.size();
+    if (!ex.file.empty()) {
+      out << YAML::Key << "file" << YAML::Value
+          << std::filesystem::absolute(ex.file).lexically_normal().string();
+      out << YAML::Comment(fmt::format(
+          "{} particles{}", n, radius_from_file ? ", radii from the file's radius column" : ""));
+    } else if (n > echo_max_listed_particles) {
+      out << YAML::Key << "positions" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      out << YAML::Key << "count" << YAML::Value << n;
+      out << YAML::Key << "source" << YAML::Value << c.file.string();
+      out << YAML::EndMap << YAML::Comment("summarised: the list is in the source file");
+    } else {
+      emit_vec_list(out, "positions", ex.positions);
+      if (!ex.velocities.empty()) emit_vec_list(out, "velocities", ex.velocities);
+      if (!ex.angular_velocities.empty())
+        emit_vec_list(out, "angular_velocities", ex.angular_velocities);
+    }
+  }
+  out << YAML::EndMap;
+}
+
+void emit_wall(YAML::Emitter& out, const config::Wall& w) {
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << w.name;
+  switch (w.kind) {
+    case config::Wall::Kind::Plane:
+      out << YAML::Key << "plane" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      key_vec(out, "point", w.point);
+      key_vec(out, "normal", w.normal);
+      out << YAML::EndMap;
+      break;
+    case config::Wall::Kind::Box:
+      out << YAML::Key << "box" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      key_vec(out, "min", w.min);
+      key_vec(out, "max", w.max);
+      out << YAML::Key << "open" << YAML::Value << YAML::Flow << w.open;
+      out << YAML::EndMap;
+      break;
+    case config::Wall::Kind::Cylinder:
+      out << YAML::Key << "cylinder" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      key_vec(out, "center", w.center);
+      key_vec(out, "axis", w.axis);
+      key_number(out, "radius", w.radius);
+      out << YAML::Key << "inside" << YAML::Value << w.inside;
+      out << YAML::EndMap;
+      break;
+  }
+  out << YAML::Key << "material" << YAML::Value << w.material;
+  const bool translates = !(w.motion.velocity == Vec3{});
+  if (translates || w.motion.rotates) {
+    out << YAML::Key << "motion" << YAML::Value << YAML::BeginMap;
+    if (translates) {
+      out << YAML::Key << "translate" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      key_vec(out, "velocity", w.motion.velocity);
+      out << YAML::EndMap;
+    }
+    if (w.motion.rotates) {
+      out << YAML::Key << "rotate" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      key_vec(out, "axis", w.motion.axis);
+      key_vec(out, "center", w.motion.center);
+      key_number(out, "rate", w.motion.rate);
+      out << YAML::EndMap << YAML::Comment("rate in rad/s");
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+}
+
+void emit_every(YAML::Emitter& out, const char* key, const config::OutputEvery& e) {
+  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap;
+  key_number(out, "every", e.every);
+  out << YAML::EndMap;
+  if (e.every == 0) out << YAML::Comment("off");
+}
+
+}  // namespace
+
+std::string echo_yaml(const config::Case& c, std::string_view program_version) {
+  YAML::Emitter out;
+  out.SetIndent(2);
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << c.name;
+  out << YAML::Key << "dimension" << YAML::Value << c.dimension;
+  out << YAML::Key << "time" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  key_number(out, "step", c.time.step);
+  key_number(out, "end", c.time.end);
+  out << YAML::EndMap << YAML::Comment("s");
+  out << YAML::Key << "domain" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  key_vec(out, "min", c.domain.min);
+  key_vec(out, "max", c.domain.max);
+  out << YAML::Key << "periodic" << YAML::Value << YAML::Flow << YAML::BeginSeq
+      << c.domain.periodic[0] << c.domain.periodic[1] << c.domain.periodic[2] << YAML::EndSeq;
+  out << YAML::EndMap << YAML::Comment("m");
+  key_vec(out, "gravity", c.gravity);
+  out << YAML::Comment("m/s^2");
+  out << YAML::Key << "integrator" << YAML::Value << c.integrator;
+
+  out << YAML::Key << "materials" << YAML::Value << YAML::BeginMap;
+  for (const auto& m : c.materials) {
+    out << YAML::Key << m.name << YAML::Value << YAML::Flow << YAML::BeginMap;
+    key_number(out, "density", m.density);
+    key_number(out, "youngs_modulus", m.youngs_modulus);
+    key_number(out, "poisson_ratio", m.poisson_ratio);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+
+  out << YAML::Key << "contacts" << YAML::Value << YAML::BeginSeq;
+  for (const auto& ct : c.contacts) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "between" << YAML::Value << YAML::Flow << YAML::BeginSeq << ct.between[0]
+        << ct.between[1] << YAML::EndSeq;
+    out << YAML::Key << "model" << YAML::Value << ct.model;
+    // Parameters in the order of the model's schema, then any others.
+    std::vector<std::string> done;
+    if (const auto* info = contact::find_model(ct.model)) {
+      for (const auto& p : info->params) {
+        auto it = ct.params.find(std::string(p.name));
+        if (it == ct.params.end()) continue;
+        key_number(out, it->first.c_str(), it->second);
+        done.push_back(it->first);
+      }
+    }
+    for (const auto& [k, v] : ct.params)
+      if (std::find(done.begin(), done.end(), k) == done.end()) key_number(out, k.c_str(), v);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+
+  out << YAML::Key << "particles" << YAML::Value << YAML::BeginSeq;
+  for (const auto& g : c.particles) emit_group(out, g, c);
+  out << YAML::EndSeq;
+
+  if (!c.walls.empty()) {
+    out << YAML::Key << "walls" << YAML::Value << YAML::BeginSeq;
+    for (const auto& w : c.walls) emit_wall(out, w);
+    out << YAML::EndSeq;
+  }
+
+  out << YAML::Key << "output" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "directory" << YAML::Value << c.output.directory.string();
+  emit_every(out, "vtk", c.output.vtk);
+  emit_every(out, "particles_csv", c.output.particles_csv);
+  out << YAML::Key << "series" << YAML::Value << YAML::BeginMap;
+  key_number(out, "every", c.output.series.every);
+  out << YAML::Key << "quantities" << YAML::Value << YAML::Flow << c.output.quantities;
+  out << YAML::EndMap;
+  emit_every(out, "checkpoint", c.output.checkpoint);
+  out << YAML::EndMap;
+
+  if (c.neighbor.skin) {
+    out << YAML::Key << "neighbor" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    key_number(out, "skin", *c.neighbor.skin);
+    out << YAML::EndMap << YAML::Comment("m");
+  }
+  out << YAML::EndMap;
+
+  std::string text =
+      fmt::format("# grainflow {}: resolved configuration of {} (defaults filled in; SI units)\n",
+                  program_version, c.file.string());
+  if (!c.neighbor.skin)
+    text += "# neighbor.skin: not set (default: 0.25 x the largest grain diameter)\n";
+  text += out.c_str();
+  text += "\n";
+  return text;
+}
+
+}  // namespace gf::input

@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Reading a case.yaml into a gf::config::Case: every key typed, range-checked and located.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "io/input/config.hpp"
+
+namespace gf::input {
+
+/// Reads and checks a case file (see docs/case-file.md). Relative CSV paths are taken from the
+/// case file's folder. Throws gf::InputError "FILE:LINE:COLUMN: error: KEY.PATH: ..." on the first
+/// problem. Cross-checks that need the whole case (domain bounds of particles, overlaps, time
+/// step) are done by validate() (validate.hpp).
+config::Case load_case(const std::filesystem::path& file);
+
+/// Same as load_case, from text; `file` names the text in messages and locates relative paths.
+config::Case load_case_text(const std::string& yaml_text, const std::filesystem::path& file);
+
+/// Names accepted in `output.series.quantities` besides wall_force.WALL and wall_torque.WALL
+/// (each also with a .x, .y or .z component suffix).
+const std::vector<std::string>& series_quantity_names();
+
+/// Whether `quantity` is an accepted series quantity for a case with walls named `wall_names`.
+bool is_series_quantity(std::string_view quantity, const std::vector<std::string>& wall_names);
+
+}  // namespace gf::input

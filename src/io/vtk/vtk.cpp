@@ -1,0 +1,292 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// VTK XML PolyData writers with appended raw binary data, and the .pvd collection.
+#include "io/vtk/vtk.hpp"
+
+#include <fmt/format.h>
+
+#include <bit>
+#include <cstdint>
+#include <deque>
+#include <ostream>
+
+#include "core/error.hpp"
+#include "core/files.hpp"
+
+namespace gf::io {
+
+namespace {
+
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
+static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big,
+              "mixed-endian machines are not supported");
+
+constexpr const char* kByteOrder =
+    std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
+
+template <class T>
+constexpr const char* vtk_type();
+template <>
+constexpr const char* vtk_type<double>() {
+  return "Float64";
+}
+template <>
+constexpr const char* vtk_type<std::int64_t>() {
+  return "Int64";
+}
+template <>
+constexpr const char* vtk_type<std::int32_t>() {
+  return "Int32";
+}
+
+/// Collects the arrays of one .vtp file: each becomes a <DataArray format="appended"> tag in the
+/// header and a block (UInt64 byte count, raw bytes) in <AppendedData>.
+class AppendedArrays {
+ public:
+  struct Array {
+    std::string name;
+    const char* type;
+    int n_components;
+    const void* data;
+    std::uint64_t n_bytes;
+    std::uint64_t offset;
+  };
+
+  /// Registers an array that lives elsewhere until write() is done.
+  template <class T>
+  const Array& add(const std::string& name, int n_components, std::span<const T> values) {
+    arrays_.push_back(
+        {name, vtk_type<T>(), n_components, values.data(), values.size_bytes(), offset_});
+    offset_ += sizeof(std::uint64_t) + values.size_bytes();
+    return arrays_.back();
+  }
+  const Array& add(const std::string& name, std::span<const Vec3> values) {
+    const auto* p = reinterpret_cast<const double*>(values.data());
+    return add(name, 3, std::span<const double>(p, 3 * values.size()));
+  }
+  /// Registers an array owned by this object.
+  template <class T>
+  const Array& add_owned(const std::string& name, int n_components, std::vector<T> values) {
+    auto& kept = owned<T>().emplace_back(std::move(values));
+    return add(name, n_components, std::span<const T>(kept));
+  }
+
+  /// The <DataArray .../> tag of an array.
+  static std::string tag(const Array& a) {
+    return fmt::format(
+        "<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"appended\" "
+        "offset=\"{}\"/>",
+        a.type, xml_escape(a.name), a.n_components, a.offset);
+  }
+
+  /// Writes the <AppendedData> element with every block, in registration order.
+  void write_appended(std::ostream& out) const {
+    out << "  <AppendedData encoding=\"raw\">\n   _";
+    for (const Array& a : arrays_) {
+      const std::uint64_t n = a.n_bytes;
+      out.write(reinterpret_cast<const char*>(&n), sizeof n);
+      if (n > 0) out.write(static_cast<const char*>(a.data), static_cast<std::streamsize>(n));
+    }
+    out << "\n  </AppendedData>\n";
+  }
+
+ private:
+  template <class T>
+  std::deque<std::vector<T>>& owned() {
+    if constexpr (std::is_same_v<T, double>)
+      return owned_double_;
+    else if constexpr (std::is_same_v<T, std::int64_t>)
+      return owned_int64_;
+    else
+      return owned_int32_;
+  }
+
+  std::deque<Array> arrays_;  // deque: references returned by add() stay valid
+  std::uint64_t offset_ = 0;
+  std::deque<std::vector<double>> owned_double_;
+  std::deque<std::vector<std::int64_t>> owned_int64_;
+  std::deque<std::vector<std::int32_t>> owned_int32_;
+};
+
+const char* kHeader = "<?xml version=\"1.0\"?>\n";
+
+std::string vtkfile_open(const char* type) {
+  return fmt::format(
+      "<VTKFile type=\"{}\" version=\"1.0\" byte_order=\"{}\" header_type=\"UInt64\">\n", type,
+      kByteOrder);
+}
+
+/// Vertex cells 0..n-1 (connectivity and end offsets).
+void add_vertex_cells(AppendedArrays& arrays, std::size_t n, std::string& xml) {
+  std::vector<std::int64_t> conn(n), offsets(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    conn[i] = static_cast<std::int64_t>(i);
+    offsets[i] = static_cast<std::int64_t>(i + 1);
+  }
+  // One statement per array: blocks are laid out in the order they are added.
+  const std::string conn_tag =
+      AppendedArrays::tag(arrays.add_owned("connectivity", 1, std::move(conn)));
+  const std::string offsets_tag =
+      AppendedArrays::tag(arrays.add_owned("offsets", 1, std::move(offsets)));
+  xml += "      <Verts>\n        " + conn_tag + "\n        " + offsets_tag + "\n      </Verts>\n";
+}
+
+}  // namespace
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+void write_particles_vtp(const std::filesystem::path& path, const ParticleStore& store) {
+  const std::size_t n = store.size();
+  AppendedArrays arrays;
+  const auto& fields = store.fields();
+
+  std::string point_data;
+  bool has_radius = false, has_velocity = false;
+  for (std::size_t f = 0; f < fields.size(); ++f) {
+    const FieldInfo& fi = fields[f];
+    if (!(fi.flags & kOutput) || static_cast<int>(f) == ParticleStore::kPosition) continue;
+    has_radius |= fi.name == "radius";
+    has_velocity |= fi.name == "velocity";
+    const auto& a = std::visit(
+        [&](const auto& col) -> const AppendedArrays::Array& {
+          using T = typename std::decay_t<decltype(col)>::value_type;
+          if constexpr (std::is_same_v<T, Vec3>)
+            return arrays.add(fi.name, std::span<const Vec3>(col));
+          else
+            return arrays.add(fi.name, 1, std::span<const T>(col));
+        },
+        store.column(static_cast<int>(f)));
+    point_data += "        " + AppendedArrays::tag(a) + "\n";
+  }
+  std::vector<double> speed(n);
+  for (std::size_t i = 0; i < n; ++i) speed[i] = norm(store.v()[i]);
+  const std::string speed_tag = AppendedArrays::tag(arrays.add_owned("speed", 1, std::move(speed)));
+  point_data += "        " + speed_tag + "\n";
+
+  std::string xml = kHeader;
+  xml += vtkfile_open("PolyData");
+  xml += "  <PolyData>\n";
+  xml += fmt::format(
+      "    <Piece NumberOfPoints=\"{0}\" NumberOfVerts=\"{0}\" NumberOfLines=\"0\" "
+      "NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n",
+      n);
+  xml += "      <PointData";
+  if (has_radius) xml += " Scalars=\"radius\"";
+  if (has_velocity) xml += " Vectors=\"velocity\"";
+  xml += ">\n" + point_data + "      </PointData>\n";
+  const std::string points_tag =
+      AppendedArrays::tag(arrays.add("position", std::span<const Vec3>(store.x(), n)));
+  xml += "      <Points>\n        " + points_tag + "\n      </Points>\n";
+  add_vertex_cells(arrays, n, xml);
+  xml += "    </Piece>\n  </PolyData>\n";
+
+  write_atomically(path, [&](std::ostream& out) {
+    out << xml;
+    arrays.write_appended(out);
+    out << "</VTKFile>\n";
+  });
+}
+
+void write_surfaces_vtp(const std::filesystem::path& path, std::span<const SurfaceMesh> meshes,
+                        std::span<const Vec3> force_per_mesh) {
+  REQUIRE(force_per_mesh.size() == meshes.size(), "{} wall forces given for {} wall meshes",
+          force_per_mesh.size(), meshes.size());
+  std::vector<Vec3> points;
+  std::vector<std::int64_t> conn, offsets;
+  std::vector<std::int32_t> wall_id;
+  std::vector<Vec3> force;
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    const SurfaceMesh& mesh = meshes[m];
+    const auto base = static_cast<std::int64_t>(points.size());
+    const auto n_points = static_cast<int>(mesh.points.size());
+    points.insert(points.end(), mesh.points.begin(), mesh.points.end());
+    for (const auto& tri : mesh.triangles) {
+      for (int k : tri) {
+        REQUIRE(k >= 0 && k < n_points, "wall '{}': triangle vertex {} outside [0, {})", mesh.name,
+                k, n_points);
+        conn.push_back(base + k);
+      }
+      offsets.push_back(static_cast<std::int64_t>(conn.size()));
+      wall_id.push_back(static_cast<std::int32_t>(m));
+      force.push_back(force_per_mesh[m]);
+    }
+  }
+  const std::size_t n_points = points.size(), n_cells = wall_id.size();
+
+  AppendedArrays arrays;
+  std::string xml = kHeader;
+  xml += vtkfile_open("PolyData");
+  xml += "  <PolyData>\n";
+  xml += fmt::format(
+      "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
+      "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
+      n_points, n_cells);
+  // One statement per array: blocks are laid out in the order they are added.
+  const std::string id_tag =
+      AppendedArrays::tag(arrays.add_owned("wall_id", 1, std::move(wall_id)));
+  const std::string force_tag =
+      AppendedArrays::tag(arrays.add("wall_force", std::span<const Vec3>(force)));
+  const std::string points_tag =
+      AppendedArrays::tag(arrays.add("position", std::span<const Vec3>(points)));
+  const std::string conn_tag =
+      AppendedArrays::tag(arrays.add_owned("connectivity", 1, std::move(conn)));
+  const std::string offsets_tag =
+      AppendedArrays::tag(arrays.add_owned("offsets", 1, std::move(offsets)));
+  xml += "      <CellData Scalars=\"wall_id\" Vectors=\"wall_force\">\n        " + id_tag +
+         "\n        " + force_tag + "\n      </CellData>\n";
+  xml += "      <Points>\n        " + points_tag + "\n      </Points>\n";
+  xml += "      <Polys>\n        " + conn_tag + "\n        " + offsets_tag + "\n      </Polys>\n";
+  xml += "    </Piece>\n  </PolyData>\n";
+
+  write_atomically(path, [&](std::ostream& out) {
+    out << xml;
+    arrays.write_appended(out);
+    out << "</VTKFile>\n";
+  });
+}
+
+PvdSeries::PvdSeries(std::filesystem::path pvd_file) : path_(std::move(pvd_file)) {}
+
+void PvdSeries::add(double time, const std::string& relative_file, int part) {
+  entries_.push_back({time, relative_file, part});
+  std::string xml = kHeader;
+  xml +=
+      fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n", kByteOrder);
+  xml += "  <Collection>\n";
+  for (const Entry& e : entries_)
+    xml += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"{}\" file=\"{}\"/>\n",
+                       e.time, e.part, xml_escape(e.file));
+  xml += "  </Collection>\n</VTKFile>\n";
+  try {
+    write_atomically(path_, [&](std::ostream& out) { out << xml; });
+  } catch (...) {
+    entries_.pop_back();  // keep memory and disk in step
+    throw;
+  }
+}
+
+}  // namespace gf::io

@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Checkpoints (HDF5): the whole state, including neighbour lists, contact histories and the
+// random-generator state, so that a restart continues bit-identically.
+#include <fmt/format.h>
+
+#include "core/error.hpp"
+#include "core/version.hpp"
+#include "io/restart/h5.hpp"
+#include "simulation/simulation.hpp"
+
+namespace gf {
+
+void Simulation::save_checkpoint(const std::filesystem::path& file) const {
+  io::write_checkpoint_atomically(file, [&](io::h5::File& h) {
+    h.set_attribute("/", "program", "grainflow");
+    h.set_attribute("/", "version", version_string);
+    h.set_attribute("/", "case", cfg_.name);
+    h.set_attribute("/", "step", static_cast<std::int64_t>(step_));
+    h.set_attribute("/", "dt", dt_);
+    h.set_attribute("/", "time", time());
+    h.set_attribute("/", "skin", skin_);
+    h.set_attribute("/", "rng_state", rng_.state());
+    h.set_attribute("/", "n_contacts", static_cast<std::int64_t>(n_contacts_));
+    h.set_attribute("/", "n_wall_contacts", static_cast<std::int64_t>(n_wall_contacts_));
+    io::save_particles(h, particles_);
+
+    h.create_group("neighbor");
+    h.write("neighbor/offsets", nlist_.offsets());
+    h.write("neighbor/neighbors", nlist_.neighbors());
+    h.write("neighbor/history", nlist_.history());
+    h.write("neighbor/reference_positions", nlist_.reference_positions());
+    h.set_attribute("neighbor", "n_builds", static_cast<std::int64_t>(nlist_.n_builds()));
+
+    h.create_group("walls");
+    const auto entries = wlist_.entries();
+    std::vector<std::int32_t> ep(entries.size()), ew(entries.size());
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      ep[k] = entries[k].particle;
+      ew[k] = entries[k].wall;
+    }
+    h.write("walls/contact_particle", std::span<const std::int32_t>(ep));
+    h.write("walls/contact_wall", std::span<const std::int32_t>(ew));
+    h.write("walls/contact_history", wlist_.history());
+    h.write("walls/point_at_build", std::span<const Vec3>(wall_point_at_build_));
+    h.write("walls/dir_at_build", std::span<const Vec3>(wall_dir_at_build_));
+    std::vector<Vec3> wf, wt;
+    for (const auto& w : walls_) {
+      wf.push_back(w.force);
+      wt.push_back(w.torque);
+    }
+    h.write("walls/force", std::span<const Vec3>(wf));
+    h.write("walls/torque", std::span<const Vec3>(wt));
+  });
+}
+
+void Simulation::load_checkpoint(const std::filesystem::path& file) {
+  auto h = io::h5::File::open_read(file);
+  if (!h.has_attribute("/", "program") || h.read_string_attribute("/", "program") != "grainflow")
+    throw InputError(fmt::format("{}: not a grainflow checkpoint", file.string()));
+  const double dt = h.read_double_attribute("/", "dt");
+  if (dt != dt_)
+    throw InputError(fmt::format("{}: checkpoint time step {} s differs from the case's time.step {} s", file.string(),
+                                 dt, dt_));
+  step_ = h.read_int_attribute("/", "step");
+  skin_ = h.read_double_attribute("/", "skin");
+  rng_.set_state(h.read_string_attribute("/", "rng_state"));
+  n_contacts_ = h.read_int_attribute("/", "n_contacts");
+  n_wall_contacts_ = h.read_int_attribute("/", "n_wall_contacts");
+  io::load_particles(h, particles_);
+
+  nlist_.restore(h.read_int64("neighbor/offsets"), h.read_int32("neighbor/neighbors"), h.read_vec3("neighbor/history"),
+                 h.read_vec3("neighbor/reference_positions"), skin_, h.read_int_attribute("neighbor", "n_builds"));
+  if (nlist_.n_particles() != particles_.size())
+    throw InputError(fmt::format("{}: neighbour list does not match the particle count", file.string()));
+
+  const auto ep = h.read_int32("walls/contact_particle");
+  const auto ew = h.read_int32("walls/contact_wall");
+  std::vector<WallContactList::Entry> entries(ep.size());
+  for (std::size_t k = 0; k < ep.size(); ++k) entries[k] = {ep[k], ew[k]};
+  wlist_.restore(std::move(entries), h.read_vec3("walls/contact_history"));
+  wall_point_at_build_ = h.read_vec3("walls/point_at_build");
+  wall_dir_at_build_ = h.read_vec3("walls/dir_at_build");
+  const auto wf = h.read_vec3("walls/force");
+  const auto wt = h.read_vec3("walls/torque");
+  if (wf.size() != walls_.size() || wall_point_at_build_.size() != walls_.size())
+    throw InputError(fmt::format("{}: checkpoint has {} walls, the case {}", file.string(), wf.size(), walls_.size()));
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    walls_[w].update_geometry(time());
+    walls_[w].force = wf[w];
+    walls_[w].torque = wt[w];
+  }
+}
+
+}  // namespace gf

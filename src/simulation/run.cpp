@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The run: output folder policy, scheduled outputs (VTK, CSV, series, checkpoints), progress,
+// and the end-of-run timing summary.
+#include <fmt/format.h>
+#include <sys/resource.h>
+
+#include <cmath>
+#include <memory>
+
+#include "core/error.hpp"
+#include "core/exec.hpp"
+#include "core/files.hpp"
+#include "core/log.hpp"
+#include "core/progress.hpp"
+#include "core/version.hpp"
+#include "io/csv/csv.hpp"
+#include "io/input/echo.hpp"
+#include "io/vtk/vtk.hpp"
+#include "simulation/simulation.hpp"
+
+namespace gf {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Steps between events for an interval in seconds (0 = never).
+std::int64_t every_steps(double every, double dt) {
+  if (every <= 0) return 0;
+  return std::max<std::int64_t>(1, std::llround(every / dt));
+}
+
+bool due(std::int64_t step, std::int64_t every) { return every > 0 && step % every == 0; }
+
+std::int64_t peak_rss_bytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<std::int64_t>(u.ru_maxrss) * 1024;
+}
+
+/// Refuses to reuse a non-empty folder unless asked; creates it.
+void prepare_output_dir(const fs::path& dir, bool overwrite) {
+  if (fs::exists(dir)) {
+    if (!fs::is_directory(dir)) throw InputError(fmt::format("output path '{}' exists and is not a folder", dir.string()));
+    if (!fs::is_empty(dir)) {
+      if (!overwrite)
+        throw InputError(fmt::format("output folder '{}' exists and is not empty; choose another with --output, or "
+                                     "pass --overwrite to replace it",
+                                     dir.string()));
+      for (const auto& e : fs::directory_iterator(dir)) fs::remove_all(e.path());
+    }
+  }
+  fs::create_directories(dir);
+}
+
+}  // namespace
+
+RunSummary Simulation::run(const RunOptions& opts) {
+  const fs::path dir = opts.output.empty() ? cfg_.output.directory : opts.output;
+  if (opts.restart) load_checkpoint(*opts.restart);
+  prepare_output_dir(dir, opts.overwrite);
+
+  write_atomically(dir / "resolved_case.yaml",
+                   [&](std::ostream& o) { o << input::echo_yaml(cfg_, version_string); });
+
+  const std::int64_t first = step_;
+  std::int64_t last = std::llround(cfg_.time.end / dt_);
+  if (opts.steps) last = first + *opts.steps;
+  const auto& out = cfg_.output;
+  const std::int64_t vtk_every = every_steps(out.vtk.every, dt_);
+  const std::int64_t csv_every = every_steps(out.particles_csv.every, dt_);
+  const std::int64_t series_every = every_steps(out.series.every, dt_);
+  const std::int64_t ckpt_every = every_steps(out.checkpoint.every, dt_);
+
+  std::unique_ptr<io::PvdSeries> pvd_particles, pvd_walls;
+  if (vtk_every > 0) {
+    pvd_particles = std::make_unique<io::PvdSeries>(dir / "particles.pvd");
+    if (!walls_.empty()) pvd_walls = std::make_unique<io::PvdSeries>(dir / "walls.pvd");
+  }
+  std::unique_ptr<io::SeriesCsv> series;
+  std::vector<std::string> columns;
+  if (series_every > 0) {
+    columns = series_columns();
+    series = std::make_unique<io::SeriesCsv>(dir / "series.csv", columns);
+  }
+
+  auto write_outputs = [&](bool force_all) {
+    StageTimers::Scope timer(timers_, Stage::Output);
+    const double t = time();
+    if (due(step_, vtk_every) || (force_all && vtk_every > 0)) {
+      const std::string pf = fmt::format("particles_{:09d}.vtp", step_);
+      io::write_particles_vtp(dir / pf, particles_);
+      pvd_particles->add(t, pf);
+      if (pvd_walls) {
+        std::vector<SurfaceMesh> meshes;
+        std::vector<Vec3> forces;
+        for (auto& w : walls_) {
+          meshes.push_back(w.surface(domain_));
+          forces.push_back(w.force);
+        }
+        const std::string wf = fmt::format("walls_{:09d}.vtp", step_);
+        io::write_surfaces_vtp(dir / wf, meshes, forces);
+        pvd_walls->add(t, wf);
+      }
+    }
+    if (due(step_, csv_every) || (force_all && csv_every > 0))
+      io::write_particles_csv(dir / fmt::format("particles_{:09d}.csv", step_), particles_);
+    if (series && (due(step_, series_every) || force_all)) {
+      std::vector<double> row;
+      row.reserve(columns.size());
+      for (const auto& c : columns) row.push_back(quantity(c));
+      series->append(t, row);
+    }
+    if (due(step_, ckpt_every) && step_ != first) save_checkpoint(dir / fmt::format("checkpoint_{:09d}.h5", step_));
+  };
+
+  log::info("run: {} particles, {} walls, steps {} -> {} (dt = {} s), output in '{}'", particles_.size(),
+            walls_.size(), first, last, dt_, dir.string());
+  write_outputs(false);
+
+  Progress progress(time(), static_cast<double>(last) * dt_, stderr, 5.0);
+  const auto t_start = StageTimers::clock::now();
+  const double loop_before = timers_.loop_seconds() - timers_.seconds(Stage::Output);
+  while (step_ < last) {
+    step();
+    write_outputs(false);
+    if (!opts.quiet)
+      progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first), n_contacts_);
+  }
+  const std::int64_t steps = step_ - first;
+  const std::int64_t pstep = static_cast<std::int64_t>(particles_.size()) * steps;
+  if (!opts.quiet) progress.finish(time(), pstep, n_contacts_);
+  {
+    // The final state is always kept, whatever the output intervals.
+    StageTimers::Scope timer(timers_, Stage::Output);
+    if (series && !due(step_, series_every)) {
+      std::vector<double> row;
+      for (const auto& c : columns) row.push_back(quantity(c));
+      series->append(time(), row);
+    }
+    if (series) series->flush();
+    save_checkpoint(dir / "checkpoint_final.h5");
+  }
+  const double wall = std::chrono::duration<double>(StageTimers::clock::now() - t_start).count();
+  const double loop = timers_.loop_seconds() - timers_.seconds(Stage::Output) - loop_before;
+
+  RunSummary s;
+  s.n_particles = static_cast<std::int64_t>(particles_.size());
+  s.steps = steps;
+  s.loop_seconds = loop;
+  s.particle_steps_per_second = loop > 0 ? static_cast<double>(pstep) / loop : 0.0;
+  s.peak_rss_bytes = peak_rss_bytes();
+
+  std::string stages;
+  for (int k = 0; k < static_cast<int>(Stage::Setup); ++k) {
+    const auto st = static_cast<Stage>(k);
+    stages += fmt::format("{}\"{}\": {:.6f}", k ? ", " : "", stage_names[k], timers_.seconds(st));
+  }
+  write_atomically(dir / "summary.json", [&](std::ostream& o) {
+    o << fmt::format(
+        "{{\n  \"program\": \"grainflow {}\",\n  \"n_particles\": {},\n  \"steps\": {},\n  \"threads\": {},\n"
+        "  \"loop_seconds\": {:.6f},\n  \"wall_seconds\": {:.6f},\n  \"particle_steps_per_second\": {:.6g},\n"
+        "  \"peak_rss_bytes\": {},\n  \"neighbor_builds\": {},\n  \"stages\": {{{}}}\n}}\n",
+        version_string, s.n_particles, s.steps, exec::n_threads(), s.loop_seconds, wall, s.particle_steps_per_second,
+        s.peak_rss_bytes, nlist_.n_builds(), stages);
+  });
+
+  log::info("timing summary ({} steps, {} thread{}):", steps, exec::n_threads(), exec::n_threads() > 1 ? "s" : "");
+  const double total = timers_.loop_seconds();
+  for (int k = 0; k < static_cast<int>(Stage::Setup); ++k) {
+    const double sec = timers_.seconds(static_cast<Stage>(k));
+    log::info("  {:<10} {:10.3f} s  {:5.1f} %", stage_names[k], sec, total > 0 ? 100 * sec / total : 0.0);
+  }
+  log::info("  {:<10} {:10.3f} s  ({:.3g} particle-steps/s without output, {} neighbour builds, peak memory {:.1f} MiB)",
+            "total", total, s.particle_steps_per_second, nlist_.n_builds(), s.peak_rss_bytes / 1048576.0);
+  return s;
+}
+
+}  // namespace gf

@@ -1,0 +1,329 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Building the DEM state from the case configuration, and one time step as timed stages.
+#include "simulation/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "analysis/measures.hpp"
+#include "boundaries/fill.hpp"
+#include "contact/pair_forces.hpp"
+#include "contact/registry.hpp"
+#include "core/error.hpp"
+#include "core/log.hpp"
+#include "integrators/velocity_verlet.hpp"
+
+namespace gf {
+
+namespace {
+
+std::string where(const config::SourceLoc& loc) {
+  if (loc.line > 0) return fmt::format("{}:{}:{}: {}", loc.file, loc.line, loc.column, loc.key_path);
+  return loc.key_path.empty() ? loc.file : fmt::format("{}: {}", loc.file, loc.key_path);
+}
+
+RadiusDistribution to_distribution(const config::SizeDistribution& s) {
+  RadiusDistribution d;
+  d.kind = static_cast<RadiusDistribution::Kind>(static_cast<int>(s.kind));
+  d.value = s.value;
+  d.min = s.min;
+  d.max = s.max;
+  d.mean = s.mean;
+  d.std = s.std;
+  return d;
+}
+
+FillSpec to_fill(const config::Fill& f) {
+  FillSpec s;
+  s.region.kind = f.region.kind == config::Region::Kind::Box ? FillRegion::Kind::Box : FillRegion::Kind::Cylinder;
+  s.region.min = f.region.min;
+  s.region.max = f.region.max;
+  s.region.center = f.region.center;
+  s.region.axis = f.region.axis;
+  s.region.radius = f.region.radius;
+  s.region.height = f.region.height;
+  s.lattice = static_cast<FillSpec::Lattice>(static_cast<int>(f.lattice));
+  s.spacing = f.spacing;
+  s.count = f.count;
+  s.max_attempts = f.max_attempts;
+  return s;
+}
+
+}  // namespace
+
+Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
+  REQUIRE(cfg.dimension == 3, "only 3D runs are available");
+  domain_.lo = cfg.domain.min;
+  domain_.hi = cfg.domain.max;
+  domain_.periodic = cfg.domain.periodic;
+  gravity_ = cfg.gravity;
+  dt_ = cfg.time.step;
+  std::uint64_t seed = 1;
+  for (const auto& g : cfg.particles)
+    if (g.fill) { seed = g.fill->seed; break; }
+  rng_ = Rng(seed);
+  build_particles();
+  build_materials_and_pairs();
+  build_walls();
+
+  double r_max = 0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) r_max = std::max(r_max, particles_.radius()[i]);
+  skin_ = cfg.neighbor.skin.value_or(0.5 * r_max > 0 ? 0.5 * r_max : 1e-3);
+  const Vec3 L = domain_.length();
+  for (int k = 0; k < 3; ++k) {
+    if (domain_.periodic[k] && L[k] <= 2 * (2 * r_max + skin_))
+      throw InputError(fmt::format("{}: the periodic length along {} ({} m) must exceed twice the neighbour cutoff "
+                                   "2 (2 r_max + skin) = {} m",
+                                   where(cfg.domain.loc), "xyz"[k], L[k], 2 * (2 * r_max + skin_)));
+  }
+  const double t0 = 0.0;
+  for (auto& w : walls_) w.update_geometry(t0);
+  update_neighbors(true);
+  compute_forces();
+}
+
+void Simulation::build_particles() {
+  std::map<std::string, int> mat_index;
+  for (std::size_t m = 0; m < cfg_.materials.size(); ++m) mat_index[cfg_.materials[m].name] = static_cast<int>(m);
+  std::vector<FilledSphere> placed;
+  std::int64_t next_id = 1;
+  for (const auto& g : cfg_.particles) {
+    auto it = mat_index.find(g.material);
+    if (it == mat_index.end())
+      throw InputError(fmt::format("{}: unknown material '{}'", where(g.loc), g.material));
+    const int mat = it->second;
+    const double rho = cfg_.materials[static_cast<std::size_t>(mat)].density;
+    const RadiusDistribution dist = to_distribution(g.radius);
+    if (g.fill) {
+      Rng rng(g.fill->seed);
+      const auto spheres = generate_fill(to_fill(*g.fill), dist, rng, placed);
+      if (spheres.empty())
+        throw InputError(fmt::format("{}: the fill region holds no sphere of radius {} m", where(g.loc),
+                                     dist.largest()));
+      for (const auto& s : spheres) {
+        Vec3 v = g.fill->velocity;
+        if (g.fill->velocity_jitter > 0)
+          for (int k = 0; k < 3; ++k) v[k] += rng.uniform(-g.fill->velocity_jitter, g.fill->velocity_jitter);
+        particles_.add_sphere(next_id++, mat, s.r, rho, s.x, v);
+        placed.push_back(s);
+      }
+    }
+    if (g.explicit_particles) {
+      const auto& e = *g.explicit_particles;
+      for (std::size_t k = 0; k < e.positions.size(); ++k) {
+        const double r = e.radii.empty() ? dist.largest() : e.radii[k];
+        const Vec3 v = e.velocities.empty() ? Vec3{} : e.velocities[k];
+        const Vec3 w = e.angular_velocities.empty() ? Vec3{} : e.angular_velocities[k];
+        particles_.add_sphere(next_id++, mat, r, rho, e.positions[k], v, w);
+        placed.push_back({e.positions[k], r});
+      }
+    }
+  }
+  log::info("{} particles", particles_.size());
+}
+
+void Simulation::build_materials_and_pairs() {
+  const int nm = static_cast<int>(cfg_.materials.size());
+  std::map<std::string, int> mat_index;
+  for (int m = 0; m < nm; ++m) {
+    const auto& c = cfg_.materials[static_cast<std::size_t>(m)];
+    materials_.push_back({c.name, c.density, c.youngs_modulus, c.poisson_ratio});
+    mat_index[c.name] = m;
+  }
+  // Largest grain radius of each material: the reference size of derived stiffnesses.
+  std::vector<double> r_ref(static_cast<std::size_t>(nm), 0.0);
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    auto& rr = r_ref[static_cast<std::size_t>(particles_.material()[i])];
+    rr = std::max(rr, particles_.radius()[i]);
+  }
+  pairs_ = PairTable<contact::PairCoeffs>(nm);
+  for (const auto& c : cfg_.contacts) {
+    const auto a = mat_index.find(c.between[0]), b = mat_index.find(c.between[1]);
+    if (a == mat_index.end() || b == mat_index.end())
+      throw InputError(fmt::format("{}: unknown material in 'between'", where(c.loc)));
+    contact::PairContext ctx{&materials_[static_cast<std::size_t>(a->second)],
+                             &materials_[static_cast<std::size_t>(b->second)],
+                             std::max(r_ref[static_cast<std::size_t>(a->second)],
+                                      r_ref[static_cast<std::size_t>(b->second)])};
+    try {
+      pairs_.set(a->second, b->second, contact::prepare_pair(c.model, ctx, c.params));
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      throw InputError(fmt::format("{}: {}", where(c.loc), e.what()));
+    }
+  }
+  // Every pair of materials that can meet needs a law.
+  std::vector<bool> used(static_cast<std::size_t>(nm), false);
+  for (std::size_t i = 0; i < particles_.size(); ++i) used[static_cast<std::size_t>(particles_.material()[i])] = true;
+  for (int a = 0; a < nm; ++a)
+    for (int b = a; b < nm; ++b)
+      if (used[static_cast<std::size_t>(a)] && used[static_cast<std::size_t>(b)] && pairs_(a, b).model < 0)
+        throw InputError(fmt::format("{}: no entry in 'contacts' for the material pair [{}, {}]", cfg_.file.string(),
+                                     materials_[static_cast<std::size_t>(a)].name,
+                                     materials_[static_cast<std::size_t>(b)].name));
+}
+
+void Simulation::build_walls() {
+  std::map<std::string, int> mat_index;
+  for (std::size_t m = 0; m < materials_.size(); ++m) mat_index[materials_[m].name] = static_cast<int>(m);
+  std::vector<bool> used(materials_.size(), false);
+  for (std::size_t i = 0; i < particles_.size(); ++i) used[static_cast<std::size_t>(particles_.material()[i])] = true;
+  for (const auto& wc : cfg_.walls) {
+    auto it = mat_index.find(wc.material);
+    if (it == mat_index.end()) throw InputError(fmt::format("{}: unknown material '{}'", where(wc.loc), wc.material));
+    for (std::size_t m = 0; m < materials_.size(); ++m)
+      if (used[m] && pairs_(static_cast<int>(m), it->second).model < 0)
+        throw InputError(fmt::format("{}: no entry in 'contacts' for the material pair [{}, {}]", where(wc.loc),
+                                     materials_[m].name, wc.material));
+    Wall w;
+    w.name = wc.name;
+    w.group = wc.name;
+    w.material = it->second;
+    w.motion.velocity = wc.motion.velocity;
+    if (wc.motion.rotates) {
+      w.motion.axis = wc.motion.axis;
+      w.motion.center = wc.motion.center;
+      w.motion.rate = wc.motion.rate;
+    } else {
+      w.motion.center = wc.kind == config::Wall::Kind::Cylinder ? wc.center : wc.point;
+    }
+    switch (wc.kind) {
+      case config::Wall::Kind::Plane:
+        w.kind = WallKind::Plane;
+        w.point0 = wc.point;
+        w.dir0 = wc.normal;
+        walls_.push_back(w);
+        break;
+      case config::Wall::Kind::Cylinder:
+        w.kind = WallKind::Cylinder;
+        w.point0 = wc.center;
+        w.dir0 = wc.axis;
+        w.radius = wc.radius;
+        w.inside = wc.inside;
+        walls_.push_back(w);
+        break;
+      case config::Wall::Kind::Box: {
+        static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+        for (int f = 0; f < 6; ++f) {
+          if (std::find(wc.open.begin(), wc.open.end(), faces[f]) != wc.open.end()) continue;
+          Wall p = w;
+          p.kind = WallKind::Plane;
+          p.name = wc.name + "." + faces[f];
+          const int axis = f / 2;
+          const bool lo = (f % 2) == 0;
+          p.point0 = lo ? wc.min : wc.max;
+          p.dir0 = {};
+          p.dir0[axis] = lo ? 1.0 : -1.0;
+          if (!wc.motion.rotates) p.motion.center = p.point0;
+          walls_.push_back(p);
+        }
+        break;
+      }
+    }
+  }
+}
+
+void Simulation::update_neighbors(bool force) {
+  StageTimers::Scope timer(timers_, Stage::Neighbor);
+  const std::size_t n = particles_.size();
+  bool rebuild = force || nlist_.needs_rebuild(domain_, particles_.x(), n);
+  if (!rebuild && !walls_.empty()) {
+    const double diag = norm(domain_.length());
+    for (std::size_t w = 0; w < walls_.size() && !rebuild; ++w) {
+      const double moved = norm(walls_[w].point - wall_point_at_build_[w]) +
+                           diag * norm(walls_[w].dir - wall_dir_at_build_[w]);
+      rebuild = moved > 0.5 * skin_;
+    }
+  }
+  if (!rebuild) return;
+  nlist_.build(domain_, particles_.x(), particles_.radius(), n, skin_);
+  wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_);
+  wall_point_at_build_.resize(walls_.size());
+  wall_dir_at_build_.resize(walls_.size());
+  for (std::size_t w = 0; w < walls_.size(); ++w) {
+    wall_point_at_build_[w] = walls_[w].point;
+    wall_dir_at_build_[w] = walls_[w].dir;
+  }
+}
+
+void Simulation::compute_forces() {
+  {
+    StageTimers::Scope timer(timers_, Stage::Force);
+    reset_forces(particles_, gravity_);
+    n_contacts_ = contact::compute_pair_forces(particles_, domain_, nlist_, pairs_, dt_);
+  }
+  StageTimers::Scope timer(timers_, Stage::Walls);
+  n_wall_contacts_ = compute_wall_forces(particles_, walls_, wlist_, pairs_, time(), dt_);
+}
+
+void Simulation::step() {
+  {
+    StageTimers::Scope timer(timers_, Stage::Integrate);
+    VelocityVerlet::pre_force(particles_, domain_, dt_);
+  }
+  ++step_;
+  for (auto& w : walls_) w.update_geometry(time());
+  update_neighbors(false);
+  compute_forces();
+  StageTimers::Scope timer(timers_, Stage::Integrate);
+  VelocityVerlet::post_force(particles_, dt_);
+}
+
+double Simulation::total_energy() const {
+  const auto e = analysis::energy_and_heights(particles_, gravity_);
+  return e.kinetic_translational + e.kinetic_rotational + e.potential +
+         contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_);
+}
+
+std::vector<std::string> Simulation::series_columns() const {
+  // wall_force.NAME and wall_torque.NAME are vectors (three columns); NAME.x/.y/.z one component.
+  std::vector<std::string> cols;
+  for (const auto& q : cfg_.output.quantities) {
+    const bool wall = q.starts_with("wall_force.") || q.starts_with("wall_torque.");
+    const bool component = q.size() > 2 && q[q.size() - 2] == '.' && (q.back() >= 'x' && q.back() <= 'z');
+    if (wall && !component) {
+      for (const char* c : {".x", ".y", ".z"}) cols.push_back(q + c);
+    } else {
+      cols.push_back(q);
+    }
+  }
+  return cols;
+}
+
+double Simulation::quantity(const std::string& name) const {
+  if (name.starts_with("wall_force.") || name.starts_with("wall_torque.")) {
+    const bool force = name.starts_with("wall_force.");
+    std::string rest = name.substr(force ? 11 : 12);
+    int comp = 2;
+    if (rest.size() > 2 && rest[rest.size() - 2] == '.' && rest.back() >= 'x' && rest.back() <= 'z') {
+      comp = rest.back() - 'x';
+      rest.resize(rest.size() - 2);
+    }
+    Vec3 sum{};
+    bool found = false;
+    for (const auto& w : walls_)
+      if (w.group == rest || w.name == rest) {
+        sum += force ? w.force : w.torque;
+        found = true;
+      }
+    REQUIRE(found, "no wall named '{}'", rest);
+    return sum[comp];
+  }
+  const auto e = analysis::energy_and_heights(particles_, gravity_);
+  if (name == "kinetic_energy") return e.kinetic_translational + e.kinetic_rotational;
+  if (name == "translational_kinetic_energy") return e.kinetic_translational;
+  if (name == "rotational_kinetic_energy") return e.kinetic_rotational;
+  if (name == "potential_energy") return e.potential;
+  if (name == "elastic_energy") return contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_);
+  if (name == "total_energy") return total_energy();
+  if (name == "max_z") return e.max_z;
+  if (name == "mean_z") return e.mean_z;
+  if (name == "contact_count") return static_cast<double>(n_contacts_);
+  if (name == "wall_contact_count") return static_cast<double>(n_wall_contacts_);
+  if (name == "coordination_number") return analysis::coordination_number(n_contacts_, particles_.size());
+  throw InputError(fmt::format("unknown series quantity '{}'", name));
+}
+
+}  // namespace gf

@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Tests of the `fluid_fem:` case block: strict parsing with located errors, and a tiny run.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/error.hpp"
+#include "fluid/fem/case.hpp"
+
+using namespace gf::fem;
+
+namespace {
+
+const char* kGood = R"(fluid_fem:
+  fluid: {density: 1.0, viscosity: 0.01}
+  domain:
+    outline: [[0, 0], [1, 0], [1, 0.4], [0, 0.4]]
+    boundaries:
+      - {edges: [0, 2], type: wall}
+      - {edges: [1], type: outflow}
+      - {edges: [3], type: inflow, u_max: 0.5, time_function: {type: ramp, duration: 0.1}}
+  bodies:
+    - {name: disk, circle: {centre: [0.3, 0.2], radius: 0.05}, angular_velocity: 1.0}
+    - {name: tri, polygon: [[0.6, 0.15], [0.7, 0.15], [0.65, 0.25]]}
+  mesh: {h_max: 0.08, h_body: 0.03, grading: 0.3}
+  time: {mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2}
+  output: {vtk_every: 0.1, probes: [[0.9, 0.2]], coefficients: {velocity: 0.33, length: 0.1}}
+)";
+
+std::string error_of(const std::string& yaml) {
+  try {
+    parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml");
+  } catch (const gf::InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return s.replace(at, from.size(), to);
+}
+
+}  // namespace
+
+TEST(FemCase, ParsesAGoodBlock) {
+  const auto cfg = parse_fluid_fem(YAML::Load(kGood)["fluid_fem"], "case.yaml");
+  EXPECT_FALSE(cfg.steady);
+  EXPECT_EQ(cfg.time.order, 2);
+  EXPECT_DOUBLE_EQ(cfg.time.dt, 0.05);
+  ASSERT_EQ(cfg.mesh.bodies.size(), 2u);
+  EXPECT_EQ(cfg.body_names[1], "tri");
+  EXPECT_EQ(cfg.outline_bc[1].kind, OutlineBcKind::Outflow);
+  EXPECT_EQ(cfg.outline_bc[3].kind, OutlineBcKind::Inflow);
+  EXPECT_DOUBLE_EQ(cfg.inflow_time[3](0.05), 0.5);
+  EXPECT_DOUBLE_EQ(cfg.body_motion[0].angular_velocity, 1.0);
+  EXPECT_NEAR(cfg.mesh.bodies[1].centre.x, 0.65, 1e-15);
+}
+
+TEST(FemCase, ErrorsNameLocationKeyExpectedAndFound) {
+  auto e = error_of(replaced(kGood, "viscosity: 0.01", "viscosity: -1"));
+  EXPECT_NE(e.find("case.yaml:2:"), std::string::npos) << e;
+  EXPECT_NE(e.find("fluid_fem.fluid.viscosity"), std::string::npos) << e;
+  EXPECT_NE(e.find("found '-1'"), std::string::npos) << e;
+  e = error_of(replaced(kGood, "grading: 0.3", "grading: 0.3, colour: red"));
+  EXPECT_NE(e.find("case.yaml:12:"), std::string::npos) << e;
+  EXPECT_NE(e.find("fluid_fem.mesh.colour"), std::string::npos) << e;
+  e = error_of(replaced(kGood, "type: outflow", "type: outlet"));
+  EXPECT_NE(e.find("fluid_fem.domain.boundaries[1].type"), std::string::npos) << e;
+  EXPECT_NE(e.find("wall | inflow | outflow"), std::string::npos) << e;
+  e = error_of(replaced(kGood, "mode: unsteady, scheme: bdf2, step: 0.05,", "mode: unsteady, scheme: bdf2,"));
+  EXPECT_NE(e.find("fluid_fem.time.step"), std::string::npos) << e;
+  EXPECT_NE(e.find("required"), std::string::npos) << e;
+  e = error_of(replaced(kGood, "edges: [1]", "edges: [7]"));
+  EXPECT_NE(e.find("edges[0]"), std::string::npos) << e;
+  e = error_of(replaced(kGood, "edges: [1]", "edges: [0]"));
+  EXPECT_NE(e.find("not listed before"), std::string::npos) << e;
+  e = error_of(replaced(kGood, "radius: 0.05", "radius: [1]"));
+  EXPECT_NE(e.find("a list of 1 items"), std::string::npos) << e;
+}
+
+TEST(FemCase, RunWritesSeriesAndCsv) {
+  const auto cfg = parse_fluid_fem(YAML::Load(kGood)["fluid_fem"], "case.yaml");
+  const auto dir = std::filesystem::temp_directory_path() / "gf_fem_case_test";
+  std::filesystem::remove_all(dir);
+  run_fluid_fem(cfg, dir);
+  for (const char* f : {"fem_mesh.vtu", "fem_fields.pvd", "fem_fields_00000.vtu", "fem_fields_00002.vtu",
+                        "fem_forces.csv", "fem_probes.csv", "fem_summary.txt"})
+    EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
+  std::ifstream in(dir / "fem_forces.csv");
+  std::string header, line;
+  std::getline(in, header);
+  EXPECT_NE(header.find("disk.torque"), std::string::npos);
+  EXPECT_NE(header.find("tri.cd"), std::string::npos);
+  int rows = 0;
+  while (std::getline(in, line)) ++rows;
+  EXPECT_EQ(rows, 4);  // t = 0.05 .. 0.2
+  std::filesystem::remove_all(dir);
+}

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Builds small config::Case objects in code for tests (no YAML involved).
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include "io/input/config.hpp"
+
+namespace gf::test {
+
+inline config::Case base_case(double dt, double end, Vec3 lo, Vec3 hi, std::array<bool, 3> periodic = {}) {
+  config::Case c;
+  c.file = "test.yaml";
+  c.name = "test";
+  c.time.step = dt;
+  c.time.end = end;
+  c.domain.min = lo;
+  c.domain.max = hi;
+  c.domain.periodic = periodic;
+  c.gravity = {0, 0, 0};
+  c.output.directory = "";
+  return c;
+}
+
+inline void add_material(config::Case& c, const std::string& name, double rho, double e, double nu) {
+  config::Material m;
+  m.name = name;
+  m.density = rho;
+  m.youngs_modulus = e;
+  m.poisson_ratio = nu;
+  c.materials.push_back(m);
+}
+
+inline void add_contact(config::Case& c, const std::string& a, const std::string& b, const std::string& model,
+                        std::map<std::string, double> params) {
+  config::Contact k;
+  k.between = {a, b};
+  k.model = model;
+  if (!params.count("friction")) params["friction"] = 0.5;
+  if (!params.count("rolling_friction")) params["rolling_friction"] = 0.0;
+  if (model == "hooke" && !params.count("tangential_stiffness_ratio")) params["tangential_stiffness_ratio"] = 2.0 / 7.0;
+  k.params = params;
+  c.contacts.push_back(k);
+}
+
+inline void add_spheres(config::Case& c, const std::string& material, double radius, std::vector<Vec3> x,
+                        std::vector<Vec3> v = {}, std::vector<Vec3> w = {}) {
+  config::ParticleGroup g;
+  g.material = material;
+  g.radius.value = radius;
+  config::Explicit e;
+  e.positions = std::move(x);
+  e.velocities = std::move(v);
+  e.angular_velocities = std::move(w);
+  g.explicit_particles = e;
+  c.particles.push_back(g);
+}
+
+inline void add_plane(config::Case& c, const std::string& name, Vec3 point, Vec3 normal, const std::string& material) {
+  config::Wall w;
+  w.name = name;
+  w.kind = config::Wall::Kind::Plane;
+  w.point = point;
+  w.normal = normal;
+  w.material = material;
+  c.walls.push_back(w);
+}
+
+}  // namespace gf::test

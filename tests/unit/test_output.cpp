@@ -1,0 +1,685 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Unit tests of io output: HDF5 checkpoints (bit-exact), CSV, VTK .vtp/.pvd, atomic writes.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/files.hpp"
+#include "io/csv/csv.hpp"
+#include "io/restart/h5.hpp"
+#include "io/vtk/vtk.hpp"
+
+using namespace gf;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// A fresh directory per test, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ =
+        fs::temp_directory_path() /
+        fmt::format("gf_test_output_{}_{}_{}", info->test_suite_name(), info->name(), ::getpid());
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+  fs::path operator/(const std::string& name) const { return path_ / name; }
+  /// Names of the entries in the directory, sorted.
+  std::vector<std::string> entries() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path_))
+      names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+ private:
+  fs::path path_;
+};
+
+std::string slurp(const fs::path& p) {
+  return read_text_file(p);
+}
+
+/// A store with random values in every column, special doubles included, and custom fields.
+ParticleStore random_store(std::size_t n, std::uint64_t seed) {
+  ParticleStore s;
+  s.add_field("temperature", FieldType::Real, "K", kRestart | kOutput);
+  s.add_field("orientation_axis", FieldType::Vec3, "1", kRestart | kOutput);
+  s.add_field("n_contacts", FieldType::Int32, "1", kRestart);
+  s.add_field("scratch", FieldType::Real, "1", kOutput);  // not in checkpoints
+  s.resize(n);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-10.0, 10.0);
+  const double specials[] = {-0.0,
+                             std::numeric_limits<double>::denorm_min(),
+                             std::numeric_limits<double>::max(),
+                             -std::numeric_limits<double>::infinity(),
+                             std::numeric_limits<double>::quiet_NaN(),
+                             1.0 / 3.0};
+  auto value = [&](std::size_t i) {
+    return i < std::size(specials) ? specials[i]
+                                   : u(rng) * std::pow(10.0, static_cast<int>(rng() % 40) - 20);
+  };
+  for (std::size_t f = 0; f < s.fields().size(); ++f) {
+    std::visit(
+        [&](auto& v) {
+          using T = typename std::decay_t<decltype(v)>::value_type;
+          for (std::size_t i = 0; i < n; ++i) {
+            if constexpr (std::is_same_v<T, double>)
+              v[i] = value(i);
+            else if constexpr (std::is_same_v<T, Vec3>)
+              v[i] = {value(i), u(rng), value(n - 1 - i)};
+            else
+              v[i] = static_cast<T>(rng());
+          }
+        },
+        s.column(static_cast<int>(f)));
+  }
+  for (std::size_t i = 0; i < n; ++i) s.id()[i] = static_cast<std::int64_t>(1000 + 7 * i);
+  return s;
+}
+
+/// Byte-wise equality of two columns.
+bool same_bits(const Column& a, const Column& b) {
+  if (a.index() != b.index()) return false;
+  return std::visit(
+      [&](const auto& va) {
+        const auto& vb = std::get<std::decay_t<decltype(va)>>(b);
+        return va.size() == vb.size() &&
+               (va.empty() || std::memcmp(va.data(), vb.data(), va.size() * sizeof(va[0])) == 0);
+      },
+      a);
+}
+
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "<no IoError>";
+}
+
+}  // namespace
+
+// ---- HDF5 -----------------------------------------------------------------------------------
+
+TEST(H5, ParticleStoreRoundTripIsBitExact) {
+  TempDir dir;
+  const ParticleStore saved = random_store(257, 42);
+  io::write_checkpoint_atomically(dir / "ck.h5",
+                                  [&](io::h5::File& f) { io::save_particles(f, saved); });
+
+  ParticleStore loaded;
+  loaded.add_field("temperature", FieldType::Real, "K", kRestart | kOutput);
+  loaded.add_field("orientation_axis", FieldType::Vec3, "1", kRestart | kOutput);
+  loaded.add_field("n_contacts", FieldType::Int32, "1", kRestart);
+  const int scratch = loaded.add_field("scratch", FieldType::Real, "1", kOutput);
+  loaded.resize(3);
+  loaded.get<double>(scratch)[0] = 5.0;
+  auto f = io::h5::File::open_read(dir / "ck.h5");
+  io::load_particles(f, loaded);
+
+  ASSERT_EQ(loaded.size(), saved.size());
+  for (std::size_t k = 0; k < saved.fields().size(); ++k) {
+    if (!(saved.fields()[k].flags & kRestart)) continue;
+    EXPECT_TRUE(same_bits(saved.column(static_cast<int>(k)), loaded.column(static_cast<int>(k))))
+        << saved.fields()[k].name;
+  }
+  for (double x : loaded.get<double>(scratch)) EXPECT_EQ(x, 0.0);  // not restarted: zero
+  EXPECT_EQ(f.read_string_attribute("particles/radius", "unit"), "m");
+  EXPECT_EQ(f.read_string_attribute("particles/temperature", "unit"), "K");
+  EXPECT_EQ(f.read_string_attribute("particles/position", "type"), "vec3");
+  EXPECT_EQ(f.read_int_attribute("particles", "count"), 257);
+  EXPECT_FALSE(f.exists("particles/scratch"));
+}
+
+TEST(H5, EmptyStoreRoundTrip) {
+  TempDir dir;
+  ParticleStore plain;
+  {
+    auto f = io::h5::File::create(dir / "e.h5");
+    io::save_particles(f, plain, "state/particles");
+    f.close();
+  }
+  ParticleStore target;
+  target.resize(10);
+  auto f = io::h5::File::open_read(dir / "e.h5");
+  io::load_particles(f, target, "state/particles");
+  EXPECT_EQ(target.size(), 0u);
+}
+
+TEST(H5, DatasetsAttributesAndGroups) {
+  TempDir dir;
+  const std::vector<double> d = {1.5, -0.0, 1e-310, std::numeric_limits<double>::infinity()};
+  const std::vector<std::int64_t> i64 = {std::numeric_limits<std::int64_t>::min(), 0, 42};
+  const std::vector<std::int32_t> i32 = {-7, std::numeric_limits<std::int32_t>::max()};
+  const std::vector<std::uint8_t> u8 = {0, 1, 255};
+  const std::vector<Vec3> v3 = {{1, 2, 3}, {4, 5, 6}};
+  {
+    auto f = io::h5::File::create(dir / "a.h5");
+    f.write("d", std::span<const double>(d));
+    f.write("contacts/pairs/i64", std::span<const std::int64_t>(i64));  // creates the groups
+    f.write("contacts/i32", std::span<const std::int32_t>(i32));
+    f.write("flags", std::span<const std::uint8_t>(u8));
+    f.write("contacts/pairs/v3", std::span<const Vec3>(v3));
+    f.write("d", std::span<const double>(d).first(2));  // replaces
+    f.create_group("empty/inner");
+    f.create_group("empty/inner");  // existing: fine
+    f.set_attribute("", "program", "grainflow");
+    f.set_attribute("/", "time", 0.125);
+    f.set_attribute("contacts", "count", std::int64_t{3});
+    f.set_attribute("contacts/pairs/v3", "unit", std::string("m"));
+    f.set_attribute("contacts", "step", 17);
+    f.set_attribute("contacts", "step", 18);  // replaces
+    f.set_attribute("empty", "note", std::string());
+    f.close();
+    f.close();  // idempotent
+  }
+  auto f = io::h5::File::open_read(dir / "a.h5");
+  EXPECT_TRUE(f.exists("contacts/pairs"));
+  EXPECT_TRUE(f.exists("/contacts/pairs/v3"));
+  EXPECT_TRUE(f.exists(""));
+  EXPECT_FALSE(f.exists("contacts/nothing/deeper"));
+  EXPECT_FALSE(f.exists("d/below_a_dataset"));
+  EXPECT_TRUE(f.is_group("empty/inner"));
+  EXPECT_FALSE(f.is_group("d"));
+  EXPECT_EQ(f.list("contacts"), (std::vector<std::string>{"i32", "pairs"}));
+  EXPECT_EQ(f.read_double("d"), std::vector<double>(d.begin(), d.begin() + 2));
+  EXPECT_EQ(f.read_int64("contacts/pairs/i64"), i64);
+  EXPECT_EQ(f.read_int32("contacts/i32"), i32);
+  EXPECT_EQ(f.read_uint8("flags"), u8);
+  EXPECT_EQ(f.read_vec3("contacts/pairs/v3"), v3);
+  EXPECT_EQ(f.read_int64("flags"), (std::vector<std::int64_t>{0, 1, 255}));  // widening is fine
+  const auto info = f.info("contacts/pairs/v3");
+  EXPECT_EQ(info.shape, (std::vector<std::uint64_t>{2, 3}));
+  EXPECT_EQ(info.type_class, io::h5::DatasetInfo::Class::Float);
+  EXPECT_EQ(f.read_string_attribute("/", "program"), "grainflow");
+  EXPECT_EQ(f.read_double_attribute("", "time"), 0.125);
+  EXPECT_EQ(f.read_int_attribute("contacts", "count"), 3);
+  EXPECT_EQ(f.read_int_attribute("contacts", "step"), 18);
+  EXPECT_EQ(f.read_string_attribute("contacts/pairs/v3", "unit"), "m");
+  EXPECT_EQ(f.read_string_attribute("empty", "note"), "");
+  EXPECT_TRUE(f.has_attribute("contacts", "count"));
+  EXPECT_FALSE(f.has_attribute("contacts", "nope"));
+  EXPECT_FALSE(f.has_attribute("missing_group", "nope"));
+}
+
+TEST(H5, ErrorsNameTheFileAndTheDataset) {
+  TempDir dir;
+  const std::string missing = error_of([&] { io::h5::File::open_read(dir / "nope.h5"); });
+  EXPECT_NE(missing.find("nope.h5"), std::string::npos) << missing;
+
+  std::ofstream(dir / "text.h5") << "not hdf5\n";
+  const std::string not_h5 = error_of([&] { io::h5::File::open_read(dir / "text.h5"); });
+  EXPECT_NE(not_h5.find("text.h5"), std::string::npos) << not_h5;
+
+  {
+    auto f = io::h5::File::create(dir / "a.h5");
+    f.write("grp/x", std::span<const double>(std::vector<double>{1, 2}));
+    f.write("grp/i", std::span<const std::int64_t>(std::vector<std::int64_t>{1, 2}));
+  }
+  auto f = io::h5::File::open_read(dir / "a.h5");
+  std::string e = error_of([&] { f.read_double("grp/y"); });
+  EXPECT_NE(e.find("a.h5"), std::string::npos) << e;
+  EXPECT_NE(e.find("grp/y"), std::string::npos) << e;
+  e = error_of([&] { f.read_int64("grp/x"); });  // float read as integer
+  EXPECT_NE(e.find("grp/x"), std::string::npos) << e;
+  e = error_of([&] { f.read_vec3("grp/x"); });  // wrong shape
+  EXPECT_NE(e.find("shape"), std::string::npos) << e;
+  e = error_of([&] { f.read_int32("grp/i"); });  // narrowing
+  EXPECT_NE(e.find("grp/i"), std::string::npos) << e;
+  std::vector<double> three(3);
+  e = error_of([&] { f.read("grp/x", std::span<double>(three)); });
+  EXPECT_NE(e.find("rows"), std::string::npos) << e;
+  e = error_of([&] { f.write("grp/z", std::span<const double>(three)); });  // read-only
+  EXPECT_NE(e.find("grp/z"), std::string::npos) << e;
+  e = error_of([&] { f.read_string_attribute("grp", "missing"); });
+  EXPECT_NE(e.find("missing"), std::string::npos) << e;
+  f.close();
+  e = error_of([&] { f.exists("grp"); });
+  EXPECT_NE(e.find("closed"), std::string::npos) << e;
+}
+
+TEST(H5, MissingOrMistypedFieldIsAnError) {
+  TempDir dir;
+  ParticleStore saved = random_store(5, 3);
+  saved.add_field("old_field", FieldType::Int64, "1", kRestart);  // unknown to the loader: ignored
+  saved.add_field("clash", FieldType::Int64, "1", kRestart);
+  {
+    auto f = io::h5::File::create(dir / "ck.h5");
+    io::save_particles(f, saved);
+  }
+  auto f = io::h5::File::open_read(dir / "ck.h5");
+
+  {  // a restart field the file lacks
+    ParticleStore s = random_store(0, 1);
+    s.add_field("new_field", FieldType::Real, "1", kRestart);
+    s.resize(2);
+    const std::string e = error_of([&] { io::load_particles(f, s); });
+    EXPECT_NE(e.find("new_field"), std::string::npos) << e;
+    EXPECT_NE(e.find("missing"), std::string::npos) << e;
+    EXPECT_EQ(s.size(), 2u);  // untouched
+  }
+  {  // a restart field of another type
+    ParticleStore s = random_store(0, 1);
+    s.add_field("clash", FieldType::Vec3, "1", kRestart);
+    const std::string e = error_of([&] { io::load_particles(f, s); });
+    EXPECT_NE(e.find("clash"), std::string::npos) << e;
+  }
+  {  // an extra field in the file: ignored if it is not a store field ...
+    ParticleStore s = random_store(0, 1);
+    s.add_field("clash", FieldType::Int64, "1", kRestart);
+    EXPECT_NO_THROW(io::load_particles(f, s));
+    EXPECT_EQ(s.size(), 5u);
+  }
+  {  // ... and an error if a non-restart store field of that name has another type
+    ParticleStore s = random_store(0, 1);
+    s.add_field("clash", FieldType::Int64, "1", kRestart);
+    s.add_field("old_field", FieldType::Real, "1", kOutput);
+    const std::string e = error_of([&] { io::load_particles(f, s); });
+    EXPECT_NE(e.find("old_field"), std::string::npos) << e;
+  }
+  {  // no such group
+    ParticleStore s;
+    const std::string e = error_of([&] { io::load_particles(f, s, "elsewhere"); });
+    EXPECT_NE(e.find("elsewhere"), std::string::npos) << e;
+  }
+}
+
+TEST(OutputAtomic, ThrowingCheckpointLeavesNothingBehind) {
+  TempDir dir;
+  const ParticleStore s = random_store(10, 7);
+  EXPECT_THROW(io::write_checkpoint_atomically(dir / "new.h5",
+                                               [&](io::h5::File& f) {
+                                                 io::save_particles(f, s);
+                                                 throw IoError("disk full (simulated)");
+                                               }),
+               IoError);
+  EXPECT_TRUE(dir.entries().empty());
+
+  io::write_checkpoint_atomically(dir / "ck.h5",
+                                  [&](io::h5::File& f) { io::save_particles(f, s); });
+  const std::string before = slurp(dir / "ck.h5");
+  EXPECT_THROW(io::write_checkpoint_atomically(dir / "ck.h5",
+                                               [&](io::h5::File& f) {
+                                                 f.set_attribute("", "partial", 1);
+                                                 throw std::runtime_error("interrupted");
+                                               }),
+               std::runtime_error);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"ck.h5"});
+  EXPECT_EQ(slurp(dir / "ck.h5"), before);
+}
+
+TEST(OutputAtomic, FailedWritersLeaveExistingFilesUntouched) {
+  TempDir dir;
+  std::ofstream(dir / "walls.vtp") << "old";
+  std::ofstream(dir / "p.csv") << "old";
+  const SurfaceMesh bad{"bad", {{0, 0, 0}}, {{0, 1, 2}}};  // vertices out of range
+  const Vec3 force{};
+  EXPECT_THROW(io::write_surfaces_vtp(dir / "walls.vtp", std::span(&bad, 1), std::span(&force, 1)),
+               Error);
+  ParticleStore s = random_store(3, 1);
+  s.add_field("a,b", FieldType::Real, "1", kOutput);  // cannot be a CSV column
+  EXPECT_THROW(io::write_particles_csv(dir / "p.csv", s), Error);
+  EXPECT_EQ(slurp(dir / "walls.vtp"), "old");
+  EXPECT_EQ(slurp(dir / "p.csv"), "old");
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"p.csv", "walls.vtp"}));
+  // A folder that does not exist: IoError, nothing created.
+  EXPECT_THROW(io::write_particles_vtp(dir / "no_such_dir" / "p.vtp", s), IoError);
+  EXPECT_FALSE(fs::exists(dir / "no_such_dir"));
+}
+
+// ---- CSV ------------------------------------------------------------------------------------
+
+TEST(Csv, ParticleHeaderAndValuesRoundTrip) {
+  TempDir dir;
+  ParticleStore s;
+  s.add_sphere(7, 1, 0.005, 2500, {0.1, 0.2, 1.0 / 3.0}, {-1e-300, 0, 2.5}, {0, 0, 1});
+  s.add_sphere(9, 0, 0.0075, 2500, {1, 2, 3});
+  s.f()[1] = {1e20, -0.0, 123456789.123};
+  EXPECT_EQ(fmt::format("{}", fmt::join(io::particle_csv_columns(s), ",")),
+            "id,material,radius,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz");
+  const int extra = s.add_field("spin_axis", FieldType::Vec3, "1", kOutput);
+  s.add_field("hidden", FieldType::Real, "1", kRestart);
+  s.get<Vec3>(extra)[0] = {0.6, 0.8, 0};
+
+  io::write_particles_csv(dir / "p.csv", s);
+  std::istringstream in(slurp(dir / "p.csv"));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(
+      line,
+      "id,material,radius,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,spin_axis_x,spin_axis_y,spin_axis_z");
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    for (std::string c; std::getline(ls, c, ',');) cells.push_back(c);
+    rows.push_back(cells);
+  }
+  ASSERT_EQ(rows.size(), 2u);
+  ASSERT_EQ(rows[0].size(), 18u);
+  EXPECT_EQ(rows[0][0], "7");
+  EXPECT_EQ(rows[0][1], "1");
+  EXPECT_EQ(rows[0][2], "0.005");
+  EXPECT_EQ(std::strtod(rows[0][5].c_str(), nullptr), 1.0 / 3.0);  // shortest round-trip
+  EXPECT_EQ(std::strtod(rows[0][6].c_str(), nullptr), -1e-300);
+  EXPECT_EQ(rows[0][15], "0.6");
+  EXPECT_EQ(rows[1][0], "9");
+  EXPECT_EQ(rows[1][12], "1e+20");
+  EXPECT_EQ(rows[1][13], "-0");
+  EXPECT_EQ(std::strtod(rows[1][14].c_str(), nullptr), 123456789.123);
+}
+
+TEST(Csv, SeriesAppendsAndFlushes) {
+  TempDir dir;
+  {
+    io::SeriesCsv csv(dir / "series.csv", {"kinetic_energy", "wall_force.floor"});
+    EXPECT_EQ(slurp(dir / "series.csv"), "time,kinetic_energy,wall_force.floor\n");  // header now
+    csv.append(0.0, {1.0, 0.1});
+    const std::vector<double> row = {2.0 / 3.0, -4e-8};
+    csv.append(1e-3, row);
+    csv.flush();
+    EXPECT_EQ(slurp(dir / "series.csv"),
+              "time,kinetic_energy,wall_force.floor\n0,1,0.1\n0.001,0.6666666666666666,-4e-08\n");
+    csv.append(2e-3, {0, 0});
+    EXPECT_THROW(csv.append(3e-3, {1.0}), Error);
+  }  // destruction flushes
+  EXPECT_EQ(slurp(dir / "series.csv"),
+            "time,kinetic_energy,wall_force.floor\n0,1,0.1\n0.001,0.6666666666666666,-4e-08\n"
+            "0.002,0,0\n");
+  EXPECT_THROW(io::SeriesCsv(dir / "missing_dir" / "s.csv", {"a"}), IoError);
+}
+
+// ---- VTK ------------------------------------------------------------------------------------
+
+namespace {
+
+/// A parsed .vtp: the XML header, its DataArray tags, and the raw appended bytes.
+struct Vtp {
+  std::string header;
+  std::string appended;  // bytes after the '_' marker up to the closing tag
+  std::map<std::string, std::map<std::string, std::string>> arrays;  // "Section/Name" -> attrs
+
+  /// `name="value"` pairs of one tag's text (without the angle brackets).
+  static std::map<std::string, std::string> attributes(const std::string& tag) {
+    std::map<std::string, std::string> a;
+    std::size_t pos = tag.find(' ');
+    while (pos != std::string::npos) {
+      const std::size_t eq = tag.find("=\"", pos);
+      if (eq == std::string::npos) break;
+      const std::size_t end = tag.find('"', eq + 2);
+      const std::size_t start = tag.find_first_not_of(' ', pos);
+      a[tag.substr(start, eq - start)] = tag.substr(eq + 2, end - eq - 2);
+      pos = end + 1;
+    }
+    return a;
+  }
+
+  /// The text of every tag in the header, in document order ("DataArray type=... /").
+  std::vector<std::string> tags() const {
+    std::vector<std::string> out;
+    for (std::size_t pos = header.find('<'); pos != std::string::npos;
+         pos = header.find('<', pos + 1))
+      out.push_back(header.substr(pos + 1, header.find('>', pos) - pos - 1));
+    return out;
+  }
+
+  explicit Vtp(const fs::path& p) {
+    const std::string text = slurp(p);
+    const std::string open = "<AppendedData encoding=\"raw\">";
+    const std::size_t pos = text.find(open);
+    EXPECT_NE(pos, std::string::npos);
+    header = text.substr(0, pos);
+    const std::size_t mark = text.find('_', pos);
+    const std::string tail = "\n  </AppendedData>\n</VTKFile>\n";
+    EXPECT_EQ(text.substr(text.size() - tail.size()), tail);
+    appended = text.substr(mark + 1, text.size() - tail.size() - mark - 1);
+    // Each DataArray is keyed by its enclosing element (PointData, CellData, Points, Verts, Polys).
+    std::string section;
+    std::uint64_t last_offset = 0;
+    for (const std::string& t : tags()) {
+      const std::string name = t.substr(0, t.find_first_of(" />"));
+      if (name == "DataArray") {
+        auto a = attributes(t);
+        const std::uint64_t offset = std::stoull(a["offset"]);
+        EXPECT_TRUE(arrays.empty() || offset > last_offset) << "blocks out of document order";
+        last_offset = offset;
+        arrays[section + "/" + a["Name"]] = a;
+      } else if (name == "PointData" || name == "CellData" || name == "Points" || name == "Verts" ||
+                 name == "Polys") {
+        section = name;
+      }
+    }
+  }
+
+  std::string piece(const std::string& key) const {
+    for (const std::string& t : tags())
+      if (t.rfind("Piece ", 0) == 0) return attributes(t)[key];
+    return "";
+  }
+
+  /// The values of one array; checks its declared type and component count.
+  template <class T>
+  std::vector<T> get(const std::string& key, const char* type, int n_components) const {
+    auto it = arrays.find(key);
+    if (it == arrays.end()) {
+      ADD_FAILURE() << "no array " << key;
+      return {};
+    }
+    const auto& a = it->second;
+    EXPECT_EQ(a.at("type"), type) << key;
+    EXPECT_EQ(a.at("format"), "appended") << key;
+    EXPECT_EQ(std::stoi(a.at("NumberOfComponents")), n_components) << key;
+    const std::size_t off = std::stoull(a.at("offset"));
+    std::uint64_t n_bytes = 0;
+    std::memcpy(&n_bytes, appended.data() + off, sizeof n_bytes);
+    EXPECT_LE(off + sizeof n_bytes + n_bytes, appended.size()) << key;
+    EXPECT_EQ(n_bytes % sizeof(T), 0u) << key;
+    std::vector<T> v(n_bytes / sizeof(T));
+    if (n_bytes > 0) std::memcpy(v.data(), appended.data() + off + sizeof n_bytes, n_bytes);
+    return v;
+  }
+
+  /// Sum of the block sizes must equal the appended section: no stray or missing bytes.
+  std::uint64_t blocks_size() const {
+    std::uint64_t total = 0;
+    for (const auto& [key, a] : arrays) {
+      std::uint64_t n = 0;
+      std::memcpy(&n, appended.data() + std::stoull(a.at("offset")), sizeof n);
+      total += sizeof n + n;
+    }
+    return total;
+  }
+};
+
+std::vector<double> flat(std::span<const Vec3> v) {
+  std::vector<double> out;
+  for (const auto& p : v) out.insert(out.end(), {p.x, p.y, p.z});
+  return out;
+}
+
+}  // namespace
+
+TEST(Vtk, ParticlesFileStructureAndData) {
+  TempDir dir;
+  ParticleStore s = random_store(33, 11);
+  io::write_particles_vtp(dir / "p.vtp", s);
+  const Vtp vtp(dir / "p.vtp");
+
+  EXPECT_NE(vtp.header.find("type=\"PolyData\""), std::string::npos);
+  EXPECT_NE(vtp.header.find("header_type=\"UInt64\""), std::string::npos);
+  EXPECT_NE(vtp.header.find("byte_order=\"LittleEndian\""), std::string::npos);
+  EXPECT_EQ(vtp.piece("NumberOfPoints"), "33");
+  EXPECT_EQ(vtp.piece("NumberOfVerts"), "33");
+  EXPECT_EQ(vtp.blocks_size(), vtp.appended.size());
+
+  // Exactly the kOutput fields except position, plus speed; position as the points.
+  std::vector<std::string> keys;
+  for (const auto& [k, a] : vtp.arrays) keys.push_back(k);
+  EXPECT_EQ(keys,
+            (std::vector<std::string>{
+                "PointData/angular_velocity", "PointData/force", "PointData/id",
+                "PointData/material", "PointData/orientation_axis", "PointData/radius",
+                "PointData/scratch", "PointData/speed", "PointData/temperature",
+                "PointData/velocity", "Points/position", "Verts/connectivity", "Verts/offsets"}));
+
+  const std::size_t n = s.size();
+  auto same_doubles = [](const std::vector<double>& a, const std::vector<double>& b) {
+    return a.size() == b.size() &&
+           (a.empty() || std::memcmp(a.data(), b.data(), a.size() * 8) == 0);
+  };
+  EXPECT_TRUE(same_doubles(vtp.get<double>("Points/position", "Float64", 3), flat({s.x(), n})));
+  EXPECT_TRUE(same_doubles(vtp.get<double>("PointData/velocity", "Float64", 3), flat({s.v(), n})));
+  EXPECT_TRUE(same_doubles(vtp.get<double>("PointData/force", "Float64", 3), flat({s.f(), n})));
+  EXPECT_TRUE(same_doubles(vtp.get<double>("PointData/radius", "Float64", 1),
+                           std::vector<double>(s.radius(), s.radius() + n)));
+  EXPECT_EQ(vtp.get<std::int64_t>("PointData/id", "Int64", 1),
+            std::vector<std::int64_t>(s.id(), s.id() + n));
+  EXPECT_EQ(vtp.get<std::int32_t>("PointData/material", "Int32", 1),
+            std::vector<std::int32_t>(s.material(), s.material() + n));
+  const auto speed = vtp.get<double>("PointData/speed", "Float64", 1);
+  ASSERT_EQ(speed.size(), n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double expected = norm(s.v()[i]);
+    if (std::isnan(expected))
+      EXPECT_TRUE(std::isnan(speed[i]));
+    else
+      EXPECT_EQ(speed[i], expected);
+  }
+  const auto conn = vtp.get<std::int64_t>("Verts/connectivity", "Int64", 1);
+  const auto offs = vtp.get<std::int64_t>("Verts/offsets", "Int64", 1);
+  ASSERT_EQ(conn.size(), n);
+  ASSERT_EQ(offs.size(), n);
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_EQ(conn[i], static_cast<std::int64_t>(i));
+    EXPECT_EQ(offs[i], static_cast<std::int64_t>(i + 1));
+  }
+}
+
+TEST(Vtk, EmptyParticleStoreIsValid) {
+  TempDir dir;
+  io::write_particles_vtp(dir / "p.vtp", ParticleStore{});
+  const Vtp vtp(dir / "p.vtp");
+  EXPECT_EQ(vtp.piece("NumberOfPoints"), "0");
+  EXPECT_TRUE(vtp.get<double>("Points/position", "Float64", 3).empty());
+  EXPECT_EQ(vtp.blocks_size(), vtp.appended.size());
+}
+
+TEST(Vtk, SurfacesCarryWallIdAndForce) {
+  TempDir dir;
+  const std::vector<SurfaceMesh> meshes = {
+      {"floor", {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}, {{0, 1, 2}, {0, 2, 3}}},
+      {"lid", {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}}, {{0, 1, 2}}}};
+  const std::vector<Vec3> forces = {{0, 0, 9.81}, {1.5, -2, 0}};
+  io::write_surfaces_vtp(dir / "walls.vtp", meshes, forces);
+  const Vtp vtp(dir / "walls.vtp");
+  EXPECT_EQ(vtp.piece("NumberOfPoints"), "7");
+  EXPECT_EQ(vtp.piece("NumberOfPolys"), "3");
+  EXPECT_EQ(vtp.blocks_size(), vtp.appended.size());
+  EXPECT_EQ(vtp.get<double>("Points/position", "Float64", 3),
+            (std::vector<double>{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 0, 1, 1}));
+  EXPECT_EQ(vtp.get<std::int64_t>("Polys/connectivity", "Int64", 1),
+            (std::vector<std::int64_t>{0, 1, 2, 0, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(vtp.get<std::int64_t>("Polys/offsets", "Int64", 1),
+            (std::vector<std::int64_t>{3, 6, 9}));
+  EXPECT_EQ(vtp.get<std::int32_t>("CellData/wall_id", "Int32", 1),
+            (std::vector<std::int32_t>{0, 0, 1}));
+  EXPECT_EQ(vtp.get<double>("CellData/wall_force", "Float64", 3),
+            (std::vector<double>{0, 0, 9.81, 0, 0, 9.81, 1.5, -2, 0}));
+
+  EXPECT_THROW(io::write_surfaces_vtp(dir / "w2.vtp", meshes, std::span(forces).first(1)), Error);
+}
+
+TEST(Vtk, EmptySurfaceListIsValid) {
+  TempDir dir;
+  io::write_surfaces_vtp(dir / "walls.vtp", {}, {});
+  const Vtp vtp(dir / "walls.vtp");
+  EXPECT_EQ(vtp.piece("NumberOfPoints"), "0");
+  EXPECT_EQ(vtp.piece("NumberOfPolys"), "0");
+  EXPECT_TRUE(vtp.get<std::int32_t>("CellData/wall_id", "Int32", 1).empty());
+  EXPECT_TRUE(vtp.get<std::int64_t>("Polys/offsets", "Int64", 1).empty());
+  EXPECT_EQ(vtp.blocks_size(), vtp.appended.size());
+}
+
+TEST(Vtk, PvdSeriesIsRewrittenOnEveryAdd) {
+  TempDir dir;
+  io::PvdSeries pvd(dir / "particles.pvd");
+  EXPECT_FALSE(fs::exists(dir / "particles.pvd"));
+  pvd.add(0.0, "particles_000000.vtp");
+  const std::string head =
+      "<?xml version=\"1.0\"?>\n"
+      "<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      "  <Collection>\n";
+  const std::string foot = "  </Collection>\n</VTKFile>\n";
+  EXPECT_EQ(
+      slurp(dir / "particles.pvd"),
+      head + "    <DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"particles_000000.vtp\"/>\n" +
+          foot);
+  pvd.add(0.1, "vtk/particles_000001.vtp");
+  pvd.add(0.1, "a&b \"c\".vtp", 1);
+  EXPECT_EQ(pvd.size(), 3u);
+  EXPECT_EQ(
+      slurp(dir / "particles.pvd"),
+      head + "    <DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"particles_000000.vtp\"/>\n" +
+          "    <DataSet timestep=\"0.1\" group=\"\" part=\"0\" "
+          "file=\"vtk/particles_000001.vtp\"/>\n" +
+          "    <DataSet timestep=\"0.1\" group=\"\" part=\"1\" file=\"a&amp;b "
+          "&quot;c&quot;.vtp\"/>\n" +
+          foot);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"particles.pvd"});  // no temporary left
+
+  io::PvdSeries broken(dir / "missing_dir" / "x.pvd");
+  EXPECT_THROW(broken.add(0.0, "x.vtp"), IoError);
+  EXPECT_EQ(broken.size(), 0u);
+}
+
+// Writes a small sample series for tests/python/test_vtk_readback.py when GF_SAMPLE_OUTPUT_DIR
+// is set (until `grainflow run` produces output itself).
+TEST(OutputSample, WritesSeriesForPythonReadback) {
+  const char* out = std::getenv("GF_SAMPLE_OUTPUT_DIR");
+  if (!out || !*out) GTEST_SKIP() << "GF_SAMPLE_OUTPUT_DIR not set";
+  const fs::path dir(out);
+  fs::create_directories(dir);
+  io::PvdSeries particles(dir / "particles.pvd"), walls(dir / "walls.pvd");
+  ParticleStore s;
+  for (int i = 0; i < 4; ++i)
+    s.add_sphere(100 + i, 0, 0.005, 2500, {0.012 * i, 0, 0.006 + 0.01 * i}, {0, 0, -0.1 * i});
+  const std::vector<SurfaceMesh> meshes = {
+      {"floor",
+       {{-0.05, -0.05, 0}, {0.05, -0.05, 0}, {0.05, 0.05, 0}, {-0.05, 0.05, 0}},
+       {{0, 1, 2}, {0, 2, 3}}}};
+  for (int step = 0; step < 3; ++step) {
+    const double t = 0.005 * step;
+    for (std::size_t i = 0; i < s.size(); ++i) s.x()[i].z -= 0.001 * step;
+    const std::string p = fmt::format("particles_{:06d}.vtp", step),
+                      w = fmt::format("walls_{:06d}.vtp", step);
+    io::write_particles_vtp(dir / p, s);
+    particles.add(t, p);
+    const Vec3 force{0, 0, 0.5 * step};
+    io::write_surfaces_vtp(dir / w, meshes, std::span(&force, 1));
+    walls.add(t, w);
+  }
+  io::write_particles_csv(dir / "particles.csv", s);
+}
