@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -108,6 +110,7 @@ NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
 
   precompute_geometry();
   build_pattern();
+  build_locator();
   residual_.assign(n_dofs_, 0.0);
   reaction_.assign(n_dofs_, 0.0);
   hist_term_.assign(2 * n2_, 0.0);
@@ -349,6 +352,7 @@ NewtonReport NavierStokes::newton(const NewtonOptions& opt) {
     const double update = du / std::max(umax, 1e-300);
     rep.iterations = it + 1;
     rep.last_update = update;
+    if (std::getenv("GF_FEM_DEBUG") != nullptr) std::fprintf(stderr, "newton %d update %.3e refactor %d\n", it, update, refactor ? 1 : 0);
     if (!std::isfinite(update)) break;
     if (opt.reuse_factorization && update > opt.max_contraction * prev) need_fresh = true;
     prev = update;
@@ -508,11 +512,54 @@ std::vector<BodyForce> NavierStokes::stress_forces() const {
   return f;
 }
 
+void NavierStokes::build_locator() {
+  const Mesh& m = problem_.mesh;
+  Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
+  for (int v = 0; v < m.n_vertices; ++v) {
+    lo = {std::min(lo.x, m.nodes[v].x), std::min(lo.y, m.nodes[v].y)};
+    hi = {std::max(hi.x, m.nodes[v].x), std::max(hi.y, m.nodes[v].y)};
+  }
+  const double area = std::max((hi.x - lo.x) * (hi.y - lo.y), 1e-300);
+  grid_h_ = std::sqrt(area / std::max(1, m.n_cells() / 2));
+  grid_lo_ = lo;
+  grid_nx_ = std::max(1, static_cast<int>(std::ceil((hi.x - lo.x) / grid_h_)));
+  grid_ny_ = std::max(1, static_cast<int>(std::ceil((hi.y - lo.y) / grid_h_)));
+  auto range = [&](int c, int& i0, int& i1, int& j0, int& j1) {
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 p = m.nodes[m.cells[c][k]];
+      x0 = std::min(x0, p.x); x1 = std::max(x1, p.x); y0 = std::min(y0, p.y); y1 = std::max(y1, p.y);
+    }
+    i0 = std::clamp(static_cast<int>((x0 - lo.x) / grid_h_), 0, grid_nx_ - 1);
+    i1 = std::clamp(static_cast<int>((x1 - lo.x) / grid_h_), 0, grid_nx_ - 1);
+    j0 = std::clamp(static_cast<int>((y0 - lo.y) / grid_h_), 0, grid_ny_ - 1);
+    j1 = std::clamp(static_cast<int>((y1 - lo.y) / grid_h_), 0, grid_ny_ - 1);
+  };
+  grid_start_.assign(static_cast<std::size_t>(grid_nx_) * grid_ny_ + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<int> fill(grid_start_.begin(), grid_start_.end() - 1);
+    for (int c = 0; c < m.n_cells(); ++c) {
+      int i0, i1, j0, j1;
+      range(c, i0, i1, j0, j1);
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+          const std::size_t b = static_cast<std::size_t>(j) * grid_nx_ + i;
+          if (pass == 0) ++grid_start_[b + 1];
+          else grid_cells_[fill[b]++] = c;
+        }
+    }
+    if (pass == 0) {
+      for (std::size_t b = 1; b < grid_start_.size(); ++b) grid_start_[b] += grid_start_[b - 1];
+      grid_cells_.assign(grid_start_.back(), 0);
+    }
+  }
+}
+
 int NavierStokes::locate(Vec2 p, double& l1, double& l2) const {
   const Mesh& m = problem_.mesh;
   int best = -1;
   double best_out = std::numeric_limits<double>::infinity();
-  for (int c = 0; c < m.n_cells(); ++c) {
+  auto test = [&](int c) {
     const Vec2 a = m.nodes[m.cells[c][0]], b = m.nodes[m.cells[c][1]], d = m.nodes[m.cells[c][2]];
     const double det = (b.x - a.x) * (d.y - a.y) - (d.x - a.x) * (b.y - a.y);
     const double s = ((p.x - a.x) * (d.y - a.y) - (d.x - a.x) * (p.y - a.y)) / det;
@@ -523,10 +570,36 @@ int NavierStokes::locate(Vec2 p, double& l1, double& l2) const {
       best = c;
       l1 = s;
       l2 = t;
-      if (out <= 0) break;
     }
+    return out <= 0;
+  };
+  // search rings of buckets around p until a containing cell is found (or the grid is exhausted)
+  const int ci = static_cast<int>(std::floor((p.x - grid_lo_.x) / grid_h_));
+  const int cj = static_cast<int>(std::floor((p.y - grid_lo_.y) / grid_h_));
+  const int max_ring = std::max(grid_nx_, grid_ny_) + 1;
+  for (int ring = 0; ring <= max_ring; ++ring) {
+    for (int j = cj - ring; j <= cj + ring; ++j)
+      for (int i = ci - ring; i <= ci + ring; ++i) {
+        if (std::max(std::abs(i - ci), std::abs(j - cj)) != ring) continue;
+        if (i < 0 || j < 0 || i >= grid_nx_ || j >= grid_ny_) continue;
+        const std::size_t b = static_cast<std::size_t>(j) * grid_nx_ + i;
+        for (int k = grid_start_[b]; k < grid_start_[b + 1]; ++k)
+          if (test(grid_cells_[k])) return best;
+      }
+    if (best >= 0 && ring >= 1) break;  // outside the mesh: nearest cell nearby, extrapolate
   }
   return best;
+}
+
+void NavierStokes::interpolate_from(const NavierStokes& other) {
+  const Mesh& m = problem_.mesh;
+  for (int k = 0; k < n2_; ++k) {
+    const Vec2 u = other.velocity_at(m.nodes[k]);
+    x_[k] = u.x;
+    x_[n2_ + k] = u.y;
+  }
+  for (int v = 0; v < n1_; ++v) x_[2 * n2_ + v] = other.pressure_at(m.nodes[v]);
+  apply_dirichlet_to_solution();
 }
 
 double NavierStokes::pressure_at(Vec2 p) const {

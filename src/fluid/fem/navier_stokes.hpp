@@ -121,6 +121,10 @@ class NavierStokes {
   [[nodiscard]] double pressure_at(Vec2 p) const;
   [[nodiscard]] Vec2 velocity_at(Vec2 p) const;
 
+  /// Sets velocity and pressure by interpolating another solution (e.g. from a coarser mesh):
+  /// the initial guess of nested iteration. Dirichlet values are re-imposed afterwards.
+  void interpolate_from(const NavierStokes& other);
+
   /// Timings [s] and counts for benchmarks.
   [[nodiscard]] double assembly_seconds() const { return assembly_seconds_; }
   [[nodiscard]] const SparseLu& lu() const { return lu_; }
@@ -132,6 +136,7 @@ class NavierStokes {
   void apply_dirichlet_to_solution();
   NewtonReport newton(const NewtonOptions& opt);
   [[nodiscard]] int locate(Vec2 p, double& l1, double& l2) const;
+  void build_locator();
 
   FlowProblem problem_;
   int n2_ = 0, n1_ = 0, n_dofs_ = 0;
@@ -154,6 +159,12 @@ class NavierStokes {
   SparseLu lu_;
   double factor_alpha0_ = -1.0;
   bool factor_newton_ = false;
+
+  // Point location: uniform grid of buckets listing the cells whose bounding box meets them.
+  Vec2 grid_lo_;
+  double grid_h_ = 1.0;
+  int grid_nx_ = 1, grid_ny_ = 1;
+  std::vector<int> grid_start_, grid_cells_;
 
   // Geometry at quadrature points: per cell and point: weight*det, dphi/dx[6], dphi/dy[6].
   std::vector<double> geo_;

@@ -98,7 +98,7 @@ struct Explicit {
   std::vector<Vec3> angular_velocities;
   std::vector<double> radii;           ///< from a CSV 'radius' column; empty = the group's radius
   std::filesystem::path file;          ///< CSV source, if any (already read into the vectors)
-  std::vector<int> lines;              ///< 1-based line of each particle in the case file or CSV (messages)
+  std::vector<int> lines;              ///< 1-based line of each particle in the case file or CSV
 };
 
 struct ParticleGroup {

@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Cross-checks of a whole case (domain, overlaps, time step vs Rayleigh / contact time) and derived
-// numbers.
+// Whole-case cross-checks (domain, overlaps, time step vs contact times) and derived numbers.
 #pragma once
 
 #include <string>

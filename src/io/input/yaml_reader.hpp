@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Strict reading of YAML over yaml-cpp: key paths, typed values, ranges, unknown keys, located
-// errors.
+// Strict YAML reading over yaml-cpp: key paths, typed values, ranges, unknown keys, located errors.
 //
 // Every error is a gf::InputError whose message reads
 //   FILE:LINE:COLUMN: error: KEY.PATH: expected WHAT, found 'VALUE'

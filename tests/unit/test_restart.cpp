@@ -1,0 +1,103 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Checkpoint / restart continues bit-identically to an uninterrupted run.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+
+#include "case_builder.hpp"
+#include "simulation/simulation.hpp"
+
+using namespace gf;
+
+namespace {
+
+config::Case settling_case() {
+  auto c = test::base_case(2e-5, 1.0, {0, 0, 0}, {0.05, 0.05, 0.1});
+  c.gravity = {0, 0, -9.81};
+  test::add_material(c, "glass", 2500, 1e7, 0.3);
+  test::add_material(c, "steel", 7800, 2e7, 0.28);
+  test::add_contact(c, "glass", "glass", "hertz_mindlin", {{"restitution", 0.5}, {"friction", 0.5}, {"rolling_friction", 0.02}});
+  test::add_contact(c, "glass", "steel", "hooke", {{"restitution", 0.6}, {"friction", 0.3}, {"stiffness", 2e3}});
+  config::ParticleGroup g;
+  g.material = "glass";
+  g.radius.kind = config::SizeDistribution::Kind::Uniform;
+  g.radius.min = 0.002;
+  g.radius.max = 0.003;
+  config::Fill f;
+  f.region.min = {0, 0, 0};
+  f.region.max = {0.05, 0.05, 0.06};
+  f.lattice = config::Fill::Lattice::Random;
+  f.count = 250;
+  f.seed = 11;
+  f.velocity_jitter = 0.2;
+  g.fill = f;
+  c.particles.push_back(g);
+  config::Wall box;
+  box.name = "box";
+  box.kind = config::Wall::Kind::Box;
+  box.min = {0, 0, 0};
+  box.max = {0.05, 0.05, 0.1};
+  box.open = {"zmax"};
+  box.material = "steel";
+  c.walls.push_back(box);
+  config::Wall lid;  // a moving, rotating plane
+  lid.name = "paddle";
+  lid.kind = config::Wall::Kind::Plane;
+  lid.point = {0.025, 0.025, 0.03};
+  lid.normal = {0, 0, -1};
+  lid.material = "steel";
+  lid.motion.velocity = {0, 0, -0.05};
+  c.walls.push_back(lid);
+  return c;
+}
+
+template <class T>
+bool same_bits(std::span<const T> a, std::span<const T> b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
+}
+
+}  // namespace
+
+TEST(Restart, ContinuesBitIdentically) {
+  const auto cfg = settling_case();
+  const auto file = std::filesystem::temp_directory_path() / "gf_restart_test.h5";
+  Simulation a(cfg);
+  for (int s = 0; s < 1500; ++s) a.step();
+  a.save_checkpoint(file);
+  for (int s = 0; s < 1500; ++s) a.step();
+
+  Simulation b(cfg);
+  b.load_checkpoint(file);
+  EXPECT_EQ(b.step_count(), 1500);
+  for (int s = 0; s < 1500; ++s) b.step();
+
+  ASSERT_EQ(a.particles().size(), b.particles().size());
+  EXPECT_GT(a.neighbor_list().n_builds(), 3);  // rebuilds happened after the checkpoint
+  EXPECT_GT(a.n_contacts(), 50);
+  for (const auto& f : a.particles().fields()) {
+    const int k = a.particles().find_field(f.name);
+    std::visit(
+        [&](const auto& va) {
+          using V = std::decay_t<decltype(va)>;
+          const auto& vb = std::get<V>(b.particles().column(k));
+          EXPECT_TRUE(same_bits(std::span(va), std::span(vb))) << "field " << f.name;
+        },
+        a.particles().column(k));
+  }
+  EXPECT_TRUE(same_bits(a.neighbor_list().history(), b.neighbor_list().history()));
+  for (std::size_t w = 0; w < a.walls().size(); ++w) EXPECT_EQ(a.walls()[w].force, b.walls()[w].force);
+  std::filesystem::remove(file);
+}
+
+TEST(Restart, RejectsForeignFileAndMismatchedTimeStep) {
+  auto cfg = settling_case();
+  const auto file = std::filesystem::temp_directory_path() / "gf_restart_test2.h5";
+  Simulation a(cfg);
+  a.step();
+  a.save_checkpoint(file);
+  cfg.time.step = 1e-5;
+  Simulation b(cfg);
+  EXPECT_THROW(b.load_checkpoint(file), InputError);
+  std::filesystem::remove(file);
+}
