@@ -50,6 +50,14 @@ int describe(const std::string& key) {
     fmt::print("  {:<28} {:<6} {:<10} {:<16} {}\n", p.name, p.unit,
                p.default_value ? fmt::format("{:.6g}", *p.default_value) : std::string("required"), param_range(p),
                p.description);
+  // The restitution -> damping mapping actually used (numerical inversion, restitution_map.hpp).
+  const auto kind = key == "hooke" ? gf::contact::NormalKind::Linear : gf::contact::NormalKind::Hertz;
+  fmt::print("\ndamping ratio zeta realising restitution e (dimensionless collision, clamped force):\n  e    ");
+  for (double e : {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0}) fmt::print(" {:>7.1f}", e);
+  fmt::print("\n  zeta ");
+  for (double e : {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0})
+    fmt::print(" {:>7.4f}", gf::contact::damping_ratio_for_restitution(kind, e));
+  fmt::print("\n");
   fmt::print("\nper-material parameters (materials:): density [kg/m^3], youngs_modulus [Pa], poisson_ratio [1]\n");
   return 0;
 }
@@ -128,7 +136,9 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("list-models")) return list_models();
     if (*desc) return describe(key);
   } catch (const gf::InputError& e) {
-    fmt::print(stderr, "error: {}\n", e.what());
+    // Messages from the case reader already read "file:line:col: error: ...".
+    const std::string msg = e.what();
+    fmt::print(stderr, "{}{}\n", msg.find("error: ") == std::string::npos ? "error: " : "", msg);
     return kExitInput;
   } catch (const std::exception& e) {
     fmt::print(stderr, "error: {}\n", e.what());

@@ -35,17 +35,7 @@ int main(int argc, char** argv) {
   NewtonOptions opt;
   opt.tolerance = 1e-10;
   opt.reuse_factorization = reuse;
-  NewtonReport rep;
-  int coarse_fac = 0;
-  if (nested) {  // nested iteration: solve on a mesh twice as coarse, interpolate, then Newton
-    NavierStokes coarse(st::make_problem({2 * h_max, 2 * h_body, grading}, 0.3));
-    NewtonOptions co = opt;
-    co.tolerance = 1e-6;
-    coarse_fac = coarse.solve_steady(co).factorizations;
-    ns.interpolate_from(coarse);
-  }
-  rep = ns.solve_steady(opt);
-  rep.factorizations += coarse_fac;
+  const NewtonReport rep = nested ? solve_steady_nested(ns, opt) : ns.solve_steady(opt);
   const double t_solve = sec();
   const auto f = ns.reaction_forces()[0];
   const auto fs = ns.stress_forces()[0];

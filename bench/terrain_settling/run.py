@@ -125,6 +125,22 @@ def choose_geometry(target: int) -> Geometry:
 # ---------------------------------------------------------------------------------------------
 # Measurement helpers
 # ---------------------------------------------------------------------------------------------
+QUIET = {"load": None, "max_wait": 0.0}
+
+
+def wait_quiet() -> None:
+    """With --wait-quiet L: wait (at most --wait-max s) until the 1-minute load is below L."""
+    if QUIET["load"] is None:
+        return
+    t0 = time.monotonic()
+    while os.getloadavg()[0] >= QUIET["load"] and time.monotonic() - t0 < QUIET["max_wait"]:
+        time.sleep(10)
+    waited = time.monotonic() - t0
+    if waited > 1:
+        print(f"    (waited {waited:.0f} s for load < {QUIET['load']:g}; now "
+              f"{os.getloadavg()[0]:.2f})", flush=True)
+
+
 class LoadSampler:
     """Samples the 1-minute load average while a run is going (mean / max over the run)."""
 
@@ -183,6 +199,7 @@ def run_timed(cmd: list[str], cwd: Path, tag: str, timeout: float,
     per_rank_time > 0: `cmd` is an mpirun command whose ranks are each wrapped in time -v
     (files <tag>.time.<rank>); the max RSS is then the sum over the ranks.
     """
+    wait_quiet()
     env = dict(os.environ, OMP_NUM_THREADS=os.environ.get("BENCH_OMP_NUM_THREADS", "1"))
     tfile = cwd / f"{tag}.time"
     full = cmd if per_rank_time else ["/usr/bin/time", "-v", "-o", str(tfile), *cmd]
@@ -299,7 +316,7 @@ def parse_liggghts_log(text: str) -> dict:
     version = re.search(r"LIGGGHTS \(Version ([^,)]+)", text)
     return {"loops": loops, "neighs_per_atom": neighs,
             "created": int(created.group(1)) if created else None,
-            "thermo_last": thermo[-1] if thermo else None,
+            "thermo": thermo,
             "version": version.group(1) if version else "unknown"}
 
 
@@ -335,8 +352,9 @@ def run_liggghts(exe: str, geo: Geometry, settle_steps: int, dense_steps: int, t
     res["maxrss"] = proc.maxrss_bytes
     res["cpu"] = proc.cpu_percent
     res["neighs"] = info["neighs_per_atom"][-1] if info["neighs_per_atom"] else None
-    if info["thermo_last"]:
-        res["ke_end"], res["zmax_end"] = float(info["thermo_last"][2]), float(info["thermo_last"][3])
+    at_settle = [t for t in info["thermo"] if int(t[0]) == settle_steps]
+    if at_settle:  # state at the end of the settling run, as grainflow's series reports it
+        res["ke_end"], res["zmax_end"] = float(at_settle[0][2]), float(at_settle[0][3])
     return res
 
 
@@ -455,10 +473,26 @@ def run_grainflow(exe: str | None, geo: Geometry, settle_steps: int, dense_steps
     res["summary_peak_rss"] = [s1.get("peak_rss_bytes"), s2.get("peak_rss_bytes")]
     res["stages"] = {"settle": s1.get("stages"), "dense": s2.get("stages")}
     res["threads_reported"] = s2.get("threads")
+    res["neighbor_builds"] = [s1.get("neighbor_builds"), s2.get("neighbor_builds")]
+    if res["version"] == "unknown" and s1.get("program"):
+        res["version"] = s1["program"]
+    last = _last_series_row(workdir / "settle" / "series.csv")
+    if last:
+        res["series_end"] = last
     if res["phases"]["dense"]["steps"] != dense_steps:
         res["note"] = (f"dense run did {res['phases']['dense']['steps']} steps "
                        f"(asked {dense_steps}; restart step counting?)")
     return res
+
+
+def _last_series_row(path: Path) -> dict | None:
+    """The last row of grainflow's series.csv as {column: value} (None if unreadable)."""
+    try:
+        lines = [l for l in path.read_text().splitlines() if l.strip()]
+        head, last = lines[0].split(","), lines[-1].split(",")
+        return {k: float(v) for k, v in zip(head, last)} if len(lines) > 1 else None
+    except (OSError, ValueError, IndexError):
+        return None
 
 
 def _tail(text: str, n: int = 3) -> str:
@@ -512,6 +546,11 @@ def parse_args(argv=None):
     ap.add_argument("--seed", type=int, default=1, help="random seed for the kick")
     ap.add_argument("--no-baseline", action="store_true",
                     help="skip the tiny-N memory baseline runs")
+    ap.add_argument("--wait-quiet", type=float, default=None, metavar="LOAD",
+                    help="before each process, wait until the 1-minute load average is below LOAD "
+                         "(at most --wait-max s)")
+    ap.add_argument("--wait-max", type=float, default=900.0,
+                    help="longest wait for --wait-quiet, s (default %(default)s)")
     ap.add_argument("--timeout", type=float, default=3600.0,
                     help="per-process time limit in s (default %(default)s)")
     ap.add_argument("--keep", action="store_true",
@@ -525,6 +564,7 @@ def parse_args(argv=None):
 
 def main(argv=None) -> int:
     args = parse_args(argv)
+    QUIET.update(load=args.wait_quiet, max_wait=args.wait_max)
     sizes = [int(float(s)) for s in args.sizes.split(",") if s.strip()]
     st = [float(s) for s in args.settle_time.split(",") if s.strip()]
     if len(st) not in (1, len(sizes)):
@@ -629,7 +669,8 @@ def main(argv=None) -> int:
         "liggghts": next((r["per"]["LIGGGHTS"].get("version") for r in results
                           if "LIGGGHTS" in r["per"]), "not run"),
         "grainflow": next((r["per"]["grainflow"].get("version") for r in results
-                           if "grainflow" in r["per"]), "not run"),
+                           if "grainflow" in r["per"] and r["per"]["grainflow"]["ok"]),
+                          "n/a" if "grainflow" in codes else "not run"),
         "baseline": baseline,
     }
     if args.keep:
@@ -686,8 +727,15 @@ def append_results(path: Path, meta: dict, args, results: list, table: str, gf) 
                 lines.append(f"- N {r['geo'].n} {name}: n/a — {x.get('why')}")
             elif x.get("neighs") is not None:
                 lines.append(f"- N {r['geo'].n} {name}: {x['neighs']:.2f} neighbours/atom at the "
-                             f"end, KE {x.get('ke_end', float('nan')):.2e} J, "
+                             f"end; after settling KE (translational) {x.get('ke_end', float('nan')):.2e} J, "
                              f"max z {x.get('zmax_end', float('nan')):.4f} m")
+            elif x.get("series_end"):
+                e = x["series_end"]
+                lines.append(f"- N {r['geo'].n} {name}: after settling KE "
+                             f"{e.get('kinetic_energy', float('nan')):.2e} J, max z "
+                             f"{e.get('max_z', float('nan')):.4f} m; neighbour builds "
+                             f"(settle, dense as reported) {x.get('neighbor_builds')}; "
+                             f"summary peak RSS {x.get('summary_peak_rss')}")
     if args.note:
         lines.append(f"- Note: {args.note}")
     lines += ["", table, ""]

@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <numbers>
 
 #include "case_builder.hpp"
@@ -13,6 +15,33 @@
 using namespace gf;
 
 namespace {
+
+/// When GF_VALIDATION_OUT is set, validation tests write their curves there as CSV for the
+/// plots of docs/validation/ (make_plots.py); otherwise nothing is written.
+class Dump {
+ public:
+  Dump(const std::string& name, const std::string& header) {
+    if (const char* dir = std::getenv("GF_VALIDATION_OUT")) {
+      f_ = std::fopen((std::string(dir) + "/" + name + ".csv").c_str(), "w");
+      if (f_) std::fprintf(f_, "%s\n", header.c_str());
+    }
+  }
+  ~Dump() {
+    if (f_) std::fclose(f_);
+  }
+  Dump(const Dump&) = delete;
+  Dump& operator=(const Dump&) = delete;
+  template <class... T>
+  void row(T... v) {
+    if (!f_) return;
+    int k = 0;
+    ((std::fprintf(f_, k++ ? ",%.10g" : "%.10g", static_cast<double>(v))), ...);
+    std::fprintf(f_, "\n");
+  }
+
+ private:
+  std::FILE* f_ = nullptr;
+};
 
 /// Outcome of a head-on binary collision (sphere-sphere or sphere-wall).
 struct Collision {
@@ -23,7 +52,7 @@ struct Collision {
 };
 
 /// Runs until the pair separates; particle 0 moves with +v0 along z towards particle 1 (or the wall).
-Collision collide(Simulation& sim, bool wall, double v0) {
+Collision collide(Simulation& sim, bool wall, double v0, Dump* trace = nullptr) {
   Collision out;
   auto& p = sim.particles();
   const double dt = sim.dt();
@@ -39,6 +68,7 @@ Collision collide(Simulation& sim, bool wall, double v0) {
       ++in_contact;
       out.overlap_max = std::max(out.overlap_max, overlap);
       out.f_max = std::max(out.f_max, std::abs(p.f()[0].z));
+      if (trace) trace->row(sim.time(), overlap, std::abs(p.f()[0].z));
     } else if (touched) {
       break;
     }
@@ -63,13 +93,14 @@ TEST(ValidationChungOoi, HertzNormalImpactTest1) {
   test::add_contact(c, "glass", "glass", "hertz_mindlin", {{"restitution", 1.0}, {"friction", 0.0}});
   test::add_spheres(c, "glass", 0.010, {{0, 0, -0.0101}, {0, 0, 0.0101}}, {{0, 0, 10}, {0, 0, -10}});
   Simulation sim(c);
-  const Collision r = collide(sim, false, 20.0);
+  Dump trace("chung_ooi_test1", "t,overlap,force");
+  const Collision r = collide(sim, false, 20.0, &trace);
   EXPECT_NEAR(r.f_max, 10.70e3, 0.01 * 10.70e3);
   EXPECT_NEAR(r.overlap_max, 274.1e-6, 0.01 * 274.1e-6);
   EXPECT_NEAR(r.duration, 40.3e-6, 0.01 * 40.3e-6);
   RecordProperty("F_max_N", std::to_string(r.f_max));
-  RecordProperty("delta_max_m", std::to_string(r.overlap_max));
-  RecordProperty("t_c_s", std::to_string(r.duration));
+  RecordProperty("delta_max_um", std::to_string(r.overlap_max * 1e6));
+  RecordProperty("t_c_us", std::to_string(r.duration * 1e6));
 }
 
 // Realised restitution equals the requested one. The damping ratio comes from a numerical
@@ -110,6 +141,9 @@ TEST_P(ValidationRestitution, RealisedEqualsRequested) {
   const Collision out = collide(sim, prm.wall, v_rel);
   EXPECT_NEAR(out.restitution, prm.e, 0.01 * prm.e) << prm.model << (prm.wall ? " wall" : " pair");
   RecordProperty("realised_restitution", std::to_string(out.restitution));
+  Dump d(std::string("restitution_") + prm.model + (prm.wall ? "_wall_" : "_pair_") + std::to_string(std::lround(prm.e * 10)),
+         "requested,realised");
+  d.row(prm.e, out.restitution);
   std::printf("restitution %s %s requested %.3f realised %.5f (%.3f %%)\n", prm.model, prm.wall ? "wall" : "pair", prm.e,
               out.restitution, 100 * (out.restitution / prm.e - 1));
 }
@@ -154,13 +188,18 @@ TEST(ValidationEnergy, ElasticGasConservesEnergy) {
   Simulation sim(c);
   const double e0 = sim.total_energy();
   double worst = 0;
+  Dump d("energy_elastic_gas", "step,relative_error");
   for (int s = 0; s < 100000; ++s) {
     sim.step();
-    if (s % 1000 == 999) worst = std::max(worst, std::abs(sim.total_energy() - e0) / e0);
+    if (s % 1000 == 999) {
+      const double err = (sim.total_energy() - e0) / e0;
+      worst = std::max(worst, std::abs(err));
+      d.row(s + 1, err);
+    }
   }
   EXPECT_LT(worst, 1e-4);
   EXPECT_GT(sim.neighbor_list().n_builds(), 10);  // the gas really moved and collided
-  RecordProperty("max_relative_energy_error", std::to_string(worst));
+  RecordProperty("max_relative_energy_error", std::to_string(worst * 1e6) + "e-6");
 }
 
 // After settling, the floor carries the weight of the bed. Side boundaries are periodic, so no
@@ -190,8 +229,10 @@ TEST(ValidationStatics, FloorForceEqualsBedWeight) {
   const int avg_from = n_steps - static_cast<int>(std::lround(0.05 / 2e-5));
   double sum = 0;
   int count = 0;
+  Dump d("floor_force", "t,floor_over_weight");
   for (int s = 0; s < n_steps; ++s) {
     sim.step();
+    if (s % 50 == 0) d.row(sim.time(), -sim.walls()[0].force.z / weight);
     if (s >= avg_from) {
       sum += -sim.walls()[0].force.z;
       ++count;
@@ -221,8 +262,10 @@ TEST(ValidationFriction, SlidingToRolling) {
   auto& p = sim.particles();
   double t_roll = -1, v_roll = 0;
   double slip_prev = v0;
+  Dump d("sliding_rolling", "t,v,omega_r");
   for (int s = 0; s < 200000; ++s) {
     sim.step();
+    if (s % 200 == 0) d.row(sim.time(), p.v()[0].x, p.omega()[0].y * r);
     const double contact_speed = p.v()[0].x - p.omega()[0].y * r;  // slip speed of the contact point
     if (contact_speed <= 0 && slip_prev > 0) {
       const double w = slip_prev / (slip_prev - contact_speed);
@@ -236,4 +279,6 @@ TEST(ValidationFriction, SlidingToRolling) {
   ASSERT_GT(t_roll, 0) << "never reached rolling";
   EXPECT_NEAR(t_roll, t_ref, 0.01 * t_ref);
   EXPECT_NEAR(v_roll, v_ref, 0.01 * v_ref);
+  RecordProperty("t_roll_over_ref", std::to_string(t_roll / t_ref));
+  RecordProperty("v_roll_over_ref", std::to_string(v_roll / v_ref));
 }

@@ -283,7 +283,8 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   cfg.newton.reuse_factorization = !cfg.steady;  // measured: pays for time stepping (see docs)
   if (const auto nw = block["newton"]; nw.IsDefined()) {
     const std::string np = root + ".newton";
-    r.keys(nw, np, {"tolerance", "max_iterations", "picard_iterations", "reuse_factorization"});
+    r.keys(nw, np, {"tolerance", "max_iterations", "picard_iterations", "reuse_factorization", "nested"});
+    cfg.newton_nested = r.boolean_or(nw, "nested", np, cfg.newton_nested);
     cfg.newton.tolerance = r.number_or(nw, "tolerance", np, cfg.newton.tolerance, 0, 1, true);
     cfg.newton.max_iterations = r.integer_or(nw, "max_iterations", np, cfg.newton.max_iterations, 1, 1000);
     cfg.newton.picard_iterations = r.integer_or(nw, "picard_iterations", np, 0, 0, 1000);
@@ -366,7 +367,7 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
 
   std::string summary;
   if (cfg.steady) {
-    const auto rep = ns.solve_steady(cfg.newton);
+    const auto rep = cfg.newton_nested ? solve_steady_nested(ns, cfg.newton) : ns.solve_steady(cfg.newton);
     if (!rep.converged)
       throw Error(fmt::format("fluid_fem: steady Newton did not converge in {} iterations (last update {:.3g}); "
                               "try newton.picard_iterations or a finer mesh", rep.iterations, rep.last_update));

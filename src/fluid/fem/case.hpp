@@ -44,6 +44,7 @@ struct FemCaseConfig {
   bool steady = true;
   TimeControl time;
   NewtonOptions newton;
+  bool newton_nested = true;       ///< steady: start from a coarser mesh's solution
   FemOutputConfig output;
 };
 

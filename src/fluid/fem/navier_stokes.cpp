@@ -6,8 +6,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -352,7 +350,6 @@ NewtonReport NavierStokes::newton(const NewtonOptions& opt) {
     const double update = du / std::max(umax, 1e-300);
     rep.iterations = it + 1;
     rep.last_update = update;
-    if (std::getenv("GF_FEM_DEBUG") != nullptr) std::fprintf(stderr, "newton %d update %.3e refactor %d\n", it, update, refactor ? 1 : 0);
     if (!std::isfinite(update)) break;
     if (opt.reuse_factorization && update > opt.max_contraction * prev) need_fresh = true;
     prev = update;
@@ -621,6 +618,27 @@ Vec2 NavierStokes::velocity_at(Vec2 p) const {
     u.y += x_[n2_ + cell[k]] * phi[k];
   }
   return u;
+}
+
+NewtonReport solve_steady_nested(NavierStokes& ns, const NewtonOptions& opt, double coarsen) {
+  FlowProblem coarse_pb = ns.problem();
+  coarse_pb.spec.h_max *= coarsen;
+  coarse_pb.spec.h_body *= coarsen;
+  for (auto& b : coarse_pb.spec.boxes) b.h *= coarsen;
+  coarse_pb.mesh = build_mesh(coarse_pb.spec);
+  NavierStokes coarse(std::move(coarse_pb));
+  coarse.set_time(ns.time());
+  NewtonOptions co = opt;
+  co.tolerance = std::max(opt.tolerance, 1e-6);
+  co.reuse_factorization = true;
+  const NewtonReport cr = coarse.solve_steady(co);
+  NewtonOptions fo = opt;
+  fo.reuse_factorization = true;
+  fo.picard_iterations = 0;
+  if (cr.converged) ns.interpolate_from(coarse);
+  NewtonReport r = ns.solve_steady(fo);
+  r.factorizations += cr.factorizations;
+  return r;
 }
 
 }  // namespace gf::fem

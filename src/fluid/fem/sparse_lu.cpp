@@ -5,7 +5,6 @@
 #include <suitesparse/umfpack.h>
 
 #include <chrono>
-#include <cstdlib>
 #include <cstring>
 
 #include "core/error.hpp"
@@ -35,10 +34,8 @@ void SparseLu::analyze(int n, const int* col_ptr, const int* row_idx, const doub
   values_.assign(values, values + col_ptr[n]);
   control_.assign(UMFPACK_CONTROL, 0.0);
   umfpack_di_defaults(control_.data());
-  control_[UMFPACK_IRSTEP] = 0;
+  control_[UMFPACK_IRSTEP] = 0;  // no iterative refinement: Newton corrects the residual anyway
   control_[UMFPACK_STRATEGY] = UMFPACK_STRATEGY_SYMMETRIC;  // measured faster on Taylor-Hood saddle points
-  if (const char* e = std::getenv("GF_UMF_STRATEGY")) control_[UMFPACK_STRATEGY] = std::atof(e);
-  if (const char* e = std::getenv("GF_UMF_ORDERING")) control_[UMFPACK_ORDERING] = std::atof(e);  // no iterative refinement: Newton corrects the residual anyway
   double info[UMFPACK_INFO];
   const int status = umfpack_di_symbolic(n, n, col_ptr_.data(), row_idx_.data(), values_.data(), &symbolic_,
                                          control_.data(), info);

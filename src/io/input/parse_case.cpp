@@ -625,7 +625,14 @@ void Reader::read_output(const YamlMap& root) {
     YamlMap sm(*s, {"every", "quantities"});
     c.output.series.every = every(sm);
     std::vector<std::string> walls;
-    for (const auto& w : c.walls) walls.push_back(w.name);
+    for (const auto& w : c.walls) {
+      walls.push_back(w.name);
+      // The faces of a box report on their own too: NAME.xmin ... NAME.zmax.
+      if (w.kind == config::Wall::Kind::Box)
+        for (const char* face : {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"})
+          if (std::find(w.open.begin(), w.open.end(), face) == w.open.end())
+            walls.push_back(w.name + "." + face);
+    }
     if (auto q = sm.find("quantities")) {
       for (const auto& item : q->as_list()) {
         const std::string name = item.as_string();

@@ -1,0 +1,119 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+# Runs the DEM validation tests with curve output switched on and plots them against the references.
+"""Usage: /usr/bin/python3 docs/validation/make_plots.py [BUILD_DIR]   (default build/release)
+
+Writes docs/validation/dem_*.png. Uses Debian's python3-numpy and python3-matplotlib."""
+import glob
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+build = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "release")
+binary = os.path.join(build, "tests", "gf_validation_tests")
+
+
+def load(path):
+    return np.genfromtxt(path, delimiter=",", names=True)
+
+
+with tempfile.TemporaryDirectory() as out:
+    env = dict(os.environ, GF_VALIDATION_OUT=out)
+    subprocess.run([binary, "--gtest_filter=Validation*:AllLaws*"], env=env, check=True,
+                   stdout=subprocess.DEVNULL)
+
+    # Chung & Ooi test 1: force against overlap, with Hertz theory and the published extrema.
+    d = load(os.path.join(out, "chung_ooi_test1.csv"))
+    E, nu, R = 48e9, 0.2, 0.010
+    e_star, r_eff = E / (2 * (1 - nu * nu)), R / 2
+    delta = np.linspace(0, d["overlap"].max(), 200)
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    ax[0].plot(d["overlap"] * 1e6, d["force"] / 1e3, ".", ms=2, label="grainflow (hertz_mindlin)")
+    ax[0].plot(delta * 1e6, 4 / 3 * e_star * math.sqrt(r_eff) * delta ** 1.5 / 1e3, "k-", lw=0.8,
+               label="Hertz theory")
+    ax[0].plot([274.1], [10.70], "r*", ms=12, label="Chung & Ooi (2011): 274.1 um, 10.70 kN")
+    ax[0].set_xlabel("overlap (um)")
+    ax[0].set_ylabel("normal force (kN)")
+    ax[0].legend(fontsize=8)
+    t0 = d["t"][0]
+    ax[1].plot((d["t"] - t0) * 1e6, d["force"] / 1e3, "-")
+    ax[1].axvline(40.3, color="r", ls="--", label="contact time 40.3 us")
+    ax[1].set_xlabel("time in contact (us)")
+    ax[1].set_ylabel("normal force (kN)")
+    ax[1].legend(fontsize=8)
+    fig.suptitle("Two glass spheres, 10 m/s head-on (Chung & Ooi 2011, test 1)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(HERE, "dem_chung_ooi_test1.png"), dpi=120)
+
+    # Realised restitution.
+    fig, ax = plt.subplots(figsize=(5.5, 4.5))
+    for model, marker in (("hooke", "o"), ("hertz_mindlin", "s")):
+        for where, fill in (("pair", "full"), ("wall", "none")):
+            rows = [load(f) for f in sorted(glob.glob(os.path.join(out, f"restitution_{model}_{where}_*.csv")))]
+            req = np.array([float(r["requested"]) for r in rows])
+            got = np.array([float(r["realised"]) for r in rows])
+            ax.plot(req, (got / req - 1) * 100, marker, fillstyle=fill, label=f"{model}, sphere-{where}")
+    ax.axhspan(-1, 1, color="0.9", label="required: 1 %")
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel("requested restitution e")
+    ax.set_ylabel("realised / requested - 1 (%)")
+    ax.set_ylim(-1.5, 1.5)
+    ax.legend(fontsize=8)
+    ax.set_title("Realised restitution of binary collisions (dt = t_c/1000)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(HERE, "dem_restitution.png"), dpi=120)
+
+    # Energy of an elastic, frictionless gas.
+    d = load(os.path.join(out, "energy_elastic_gas.csv"))
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(d["step"], d["relative_error"], "-")
+    ax.axhline(1e-4, color="r", ls="--", label="required bound 1e-4")
+    ax.axhline(-1e-4, color="r", ls="--")
+    ax.set_xlabel("step")
+    ax.set_ylabel("(E - E0) / E0")
+    ax.set_title("Elastic frictionless Hertz gas, 300 spheres, periodic box")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(HERE, "dem_energy_conservation.png"), dpi=120)
+
+    # Floor force over bed weight during settling.
+    d = load(os.path.join(out, "floor_force.csv"))
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(d["t"], d["floor_over_weight"], "-", lw=0.8)
+    ax.axhspan(0.99, 1.01, color="0.85", label="1 % band")
+    ax.set_ylim(0, 2)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("floor force / bed weight")
+    ax.set_title("Settling bed, periodic sides")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(HERE, "dem_floor_force.png"), dpi=120)
+
+    # Sliding to rolling.
+    d = load(os.path.join(out, "sliding_rolling.csv"))
+    mu, g, v0 = 0.3, 9.81, 1.0
+    t = np.linspace(0, d["t"].max(), 200)
+    t_roll = 2 * v0 / (7 * mu * g)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    ax.plot(d["t"], d["v"], ".", ms=3, label="v (grainflow)")
+    ax.plot(d["t"], d["omega_r"], ".", ms=3, label="omega r (grainflow)")
+    ax.plot(t, np.where(t < t_roll, v0 - mu * g * t, 5 * v0 / 7), "k-", lw=0.8, label="theory")
+    ax.plot(t, np.where(t < t_roll, 2.5 * mu * g * t, 5 * v0 / 7), "k-", lw=0.8)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("m/s")
+    ax.set_title("Sphere launched sliding, mu = 0.3: rolling at t = 2 v0 / (7 mu g)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(HERE, "dem_sliding_rolling.png"), dpi=120)
+
+print("plots written to", HERE)
