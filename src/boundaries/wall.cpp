@@ -68,7 +68,8 @@ SurfaceMesh Wall::surface(const Domain& domain) const {
   return m;
 }
 
-void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n, double skin) {
+void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n, double skin,
+                            std::span<const std::int64_t> perm) {
   old_entries_.swap(entries_);
   old_history_.swap(history_);
   entries_.clear();
@@ -79,13 +80,16 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
         entries_.push_back({static_cast<std::int32_t>(i), static_cast<std::int32_t>(w)});
     }
   }
-  // Carry the history: both lists are sorted by (particle, wall).
+  // Carry the history: the old list is sorted by (old particle index, wall).
   history_.assign(entries_.size(), Vec3{});
-  std::size_t o = 0;
-  for (std::size_t k = 0; k < entries_.size() && o < old_entries_.size(); ++k) {
-    const auto key = [](const Entry& e) { return (static_cast<std::int64_t>(e.particle) << 32) | e.wall; };
-    while (o < old_entries_.size() && key(old_entries_[o]) < key(entries_[k])) ++o;
-    if (o < old_entries_.size() && key(old_entries_[o]) == key(entries_[k])) history_[k] = old_history_[o];
+  const auto key = [](std::int64_t particle, std::int32_t wall) { return (particle << 32) | wall; };
+  for (std::size_t k = 0; k < entries_.size(); ++k) {
+    const std::int64_t old_i = perm.empty() ? entries_[k].particle : perm[static_cast<std::size_t>(entries_[k].particle)];
+    const std::int64_t want = key(old_i, entries_[k].wall);
+    const auto it = std::lower_bound(old_entries_.begin(), old_entries_.end(), want,
+                                     [&](const Entry& e, std::int64_t v) { return key(e.particle, e.wall) < v; });
+    if (it != old_entries_.end() && key(it->particle, it->wall) == want)
+      history_[k] = old_history_[static_cast<std::size_t>(it - old_entries_.begin())];
   }
 }
 

@@ -74,7 +74,10 @@ class WallContactList {
     std::int32_t particle;
     std::int32_t wall;
   };
-  void build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n, double skin);
+  /// Pairs with a gap below the skin. `perm` maps new particle indices to those of the previous
+  /// build (empty: unchanged order), so that histories follow re-ordered particles.
+  void build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n, double skin,
+             std::span<const std::int64_t> perm = {});
   std::span<const Entry> entries() const { return entries_; }
   std::span<Vec3> history() { return history_; }
   std::span<const Vec3> history() const { return history_; }

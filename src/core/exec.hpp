@@ -50,6 +50,31 @@ void parallel_for(index_t n, F&& f) {
 #endif
 }
 
+/// f(i) for i in [0, n) with dynamic scheduling (uneven work per iteration, e.g. slabs of
+/// particles); iterations must be independent. Always threaded when n > 1.
+template <class F>
+void parallel_for_dynamic(index_t n, F&& f) {
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1) if (n > 1)
+  for (index_t i = 0; i < n; ++i) f(i);
+#else
+  for (index_t i = 0; i < n; ++i) f(i);
+#endif
+}
+
+/// True if pred(i) holds for some i in [0, n).
+template <class P>
+bool parallel_any(index_t n, P&& pred) {
+  bool any = false;
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) reduction(|| : any) if (n > 4096)
+  for (index_t i = 0; i < n; ++i) any = any || pred(i);
+#else
+  for (index_t i = 0; i < n && !any; ++i) any = pred(i);
+#endif
+  return any;
+}
+
 /// Sum of f(i) over [0, n), with a deterministic order for a given thread count.
 template <class T, class F>
 T parallel_sum(index_t n, T init, F&& f) {

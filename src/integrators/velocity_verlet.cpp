@@ -6,7 +6,11 @@
 
 namespace gf {
 
-void VelocityVerlet::pre_force(ParticleStore& p, const Domain& domain, double dt) {
+namespace {
+
+/// Half kick v += h f / m, omega += h torque / I, optionally followed by the drift x += dt v.
+template <bool Drift>
+void kick(ParticleStore& p, const Domain* domain, double h, double dt) {
   Vec3* x = p.x();
   Vec3* v = p.v();
   Vec3* w = p.omega();
@@ -14,28 +18,23 @@ void VelocityVerlet::pre_force(ParticleStore& p, const Domain& domain, double dt
   const Vec3* t = p.torque();
   const double* m = p.mass();
   const double* in = p.inertia();
-  const double h = 0.5 * dt;
   exec::parallel_for(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
     v[i] += (h / m[i]) * f[i];
     w[i] += (h / in[i]) * t[i];
-    x[i] += dt * v[i];
-    domain.wrap(x[i]);
+    if constexpr (Drift) {
+      x[i] += dt * v[i];
+      domain->wrap(x[i]);
+    }
   });
 }
 
-void VelocityVerlet::post_force(ParticleStore& p, double dt) {
-  Vec3* v = p.v();
-  Vec3* w = p.omega();
-  const Vec3* f = p.f();
-  const Vec3* t = p.torque();
-  const double* m = p.mass();
-  const double* in = p.inertia();
-  const double h = 0.5 * dt;
-  exec::parallel_for(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
-    v[i] += (h / m[i]) * f[i];
-    w[i] += (h / in[i]) * t[i];
-  });
+}  // namespace
+
+void VelocityVerlet::pre_force(ParticleStore& p, const Domain& domain, double dt) {
+  kick<true>(p, &domain, 0.5 * dt, dt);
 }
+
+void VelocityVerlet::post_force(ParticleStore& p, double dt) { kick<false>(p, nullptr, 0.5 * dt, dt); }
 
 void reset_forces(ParticleStore& p, const Vec3& gravity) {
   Vec3* f = p.f();

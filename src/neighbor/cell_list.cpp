@@ -5,55 +5,64 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/exec.hpp"
+
 namespace gf {
 
 void CellList::build(const Domain& domain, const Vec3* x, std::size_t n, double cutoff) {
   domain_ = domain;
   const Vec3 L = domain.length();
   for (int k = 0; k < 3; ++k) {
-    // Cap the grid so that memory stays O(N) even with a tiny cutoff in a huge box.
+    // Cap the grid so that memory stays bounded even with a tiny cutoff in a huge box.
     nc_[k] = std::max(1, static_cast<int>(std::floor(L[k] / cutoff)));
     nc_[k] = std::min(nc_[k], 1 << 10);
     inv_size_[k] = nc_[k] / L[k];
   }
+  // Slab axis: the one with the most layers (most parallel slabs); ties keep the later axis.
+  axis_ = {0, 1, 2};
+  std::stable_sort(axis_.begin(), axis_.end(), [&](int a, int b) { return nc_[a] < nc_[b]; });
   const int nct = n_cells();
   start_.assign(static_cast<std::size_t>(nct) + 1, 0);
   cell_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    cell_[i] = cell_of(x[i]);
-    ++start_[cell_[i] + 1];
-  }
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) { cell_[i] = cell_of(x[i]); });
+  for (std::size_t i = 0; i < n; ++i) ++start_[static_cast<std::size_t>(cell_[i]) + 1];
   for (int c = 0; c < nct; ++c) start_[c + 1] += start_[c];
   order_.resize(n);
-  std::vector<std::int64_t> fill(start_.begin(), start_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) order_[fill[cell_[i]]++] = static_cast<std::int32_t>(i);
+  fill_.assign(start_.begin(), start_.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) order_[static_cast<std::size_t>(fill_[cell_[i]]++)] = static_cast<std::int32_t>(i);
 }
 
 int CellList::cell_of(const Vec3& p) const {
-  int idx[3];
+  int q[3];
   for (int k = 0; k < 3; ++k) {
-    int c = static_cast<int>(std::floor((p[k] - domain_.lo[k]) * inv_size_[k]));
-    idx[k] = std::clamp(c, 0, nc_[k] - 1);
+    const int c = static_cast<int>(std::floor((p[k] - domain_.lo[k]) * inv_size_[k]));
+    q[k] = std::clamp(c, 0, nc_[k] - 1);
   }
-  return (idx[2] * nc_[1] + idx[1]) * nc_[0] + idx[0];
+  return index(q);
 }
 
 int CellList::stencil(int c, int* out) const {
-  const int cx = c % nc_[0], cy = (c / nc_[0]) % nc_[1], cz = c / (nc_[0] * nc_[1]);
+  int cq[3];
+  cq[axis_[0]] = c % nc_[axis_[0]];
+  cq[axis_[1]] = (c / nc_[axis_[0]]) % nc_[axis_[1]];
+  cq[axis_[2]] = c / (nc_[axis_[0]] * nc_[axis_[1]]);
   int count = 0;
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {
-        int q[3] = {cx + dx, cy + dy, cz + dz};
+        int q[3] = {cq[0] + dx, cq[1] + dy, cq[2] + dz};
         bool ok = true;
         for (int k = 0; k < 3; ++k) {
           if (q[k] < 0 || q[k] >= nc_[k]) {
-            if (!domain_.periodic[k]) { ok = false; break; }
+            if (!domain_.periodic[k]) {
+              ok = false;
+              break;
+            }
             q[k] = (q[k] + nc_[k]) % nc_[k];
           }
         }
         if (!ok) continue;
-        const int id = (q[2] * nc_[1] + q[1]) * nc_[0] + q[0];
+        const int id = index(q);
         if (std::find(out, out + count, id) == out + count) out[count++] = id;
       }
   return count;

@@ -1,91 +1,161 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Verlet list build from the cell list, skin criterion, and history transfer.
+// Verlet list build from the cell list (threaded, two passes), skin criterion, slabs, and
+// history transfer through re-orderings.
 #include "neighbor/verlet_list.hpp"
 
 #include <algorithm>
+#include <numeric>
 
 #include "core/error.hpp"
+#include "core/exec.hpp"
 
 namespace gf {
 
+std::span<const std::int64_t> VerletList::sort_and_build(ParticleStore& p, const Domain& domain, double skin) {
+  const std::size_t n = p.size();
+  REQUIRE(n < (std::size_t{1} << 31), "{} particles exceed the 32-bit neighbour index", n);
+  double r_max = 0;
+  for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, p.radius()[i]);
+  cells_.build(domain, p.x(), n, 2 * r_max + skin);
+  const auto& order = cells_.order();
+  perm_.assign(order.begin(), order.end());
+  p.permute(perm_);
+  build_rows(domain, p.x(), p.radius(), n, skin, true);
+  carry_history(perm_);
+
+  // Slabs: cell layers across the slab axis. With a periodic slab axis the first and the last
+  // slab interact, so three phases are used and the slab count must be a multiple of 3.
+  const int layers = cells_.n_layers();
+  const bool periodic = domain.periodic[static_cast<std::size_t>(cells_.slab_axis())];
+  int n_slabs = periodic ? 3 * (layers / 3) : layers;
+  n_phases_ = periodic ? 3 : 2;
+  if (n_slabs < n_phases_) {
+    n_slabs = 1;
+    n_phases_ = 1;
+  }
+  slab_starts_.assign(static_cast<std::size_t>(n_slabs) + 1, static_cast<std::int64_t>(n));
+  const int per_layer = cells_.cells_per_layer();
+  for (int s = 0; s < n_slabs; ++s) {
+    const int first_layer = static_cast<int>((static_cast<std::int64_t>(s) * layers + n_slabs - 1) / n_slabs);
+    slab_starts_[static_cast<std::size_t>(s)] = cells_.begin(first_layer * per_layer);
+  }
+  slab_starts_[0] = 0;
+  return perm_;
+}
+
 void VerletList::build(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin) {
   REQUIRE(n < (std::size_t{1} << 31), "{} particles exceed the 32-bit neighbour index", n);
-  skin_ = skin;
   double r_max = 0;
   for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, r[i]);
-  const double cutoff = 2 * r_max + skin;
-  cells_.build(domain, x, n, cutoff);
+  cells_.build(domain, x, n, 2 * r_max + skin);
+  build_rows(domain, x, r, n, skin, false);
+  perm_.resize(n);
+  std::iota(perm_.begin(), perm_.end(), std::int64_t{0});
+  carry_history(perm_);
+  slab_starts_.clear();
+  n_phases_ = 1;
+}
 
-  // Keep the old list for the history transfer.
-  const bool had_list = n_particles() == n;
+void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin,
+                            bool sorted) {
+  skin_ = skin;
   old_offsets_.swap(offsets_);
   old_neighbors_.swap(neighbors_);
   old_history_.swap(history_);
-
-  offsets_.assign(n + 1, 0);
-  neighbors_.clear();
-  int stencil[27];
   const auto& order = cells_.order();
-  for (std::size_t i = 0; i < n; ++i) {
-    const int c = cells_.cell_of(x[i]);
-    const int ns = cells_.stencil(c, stencil);
-    const std::size_t first = neighbors_.size();
+  // In a sorted store the members of a cell are a contiguous index range.
+  auto member = [&](std::int64_t k) { return sorted ? static_cast<std::int32_t>(k) : order[static_cast<std::size_t>(k)]; };
+  auto cell_of = [&](std::size_t i) {
+    return sorted ? cells_.cell_of_particle(static_cast<std::size_t>(perm_[i])) : cells_.cell_of_particle(i);
+  };
+  // Visits the neighbours j > i of i in ascending order when sorted (stencil cells ascending).
+  auto for_neighbours = [&](std::size_t i, auto&& emit) {
+    int stencil[27];
+    const int ns = cells_.stencil(cell_of(i), stencil);
+    std::sort(stencil, stencil + ns);
+    const Vec3 xi = x[i];
+    const double ri = r[i] + skin;
     for (int s = 0; s < ns; ++s) {
-      const int cc = stencil[s];
-      for (std::int64_t k = cells_.begin(cc); k < cells_.begin(cc + 1); ++k) {
-        const std::int32_t j = order[static_cast<std::size_t>(k)];
+      for (std::int64_t k = cells_.begin(stencil[s]); k < cells_.begin(stencil[s] + 1); ++k) {
+        const std::int32_t j = member(k);
         if (static_cast<std::size_t>(j) <= i) continue;
-        const Vec3 d = domain.delta(x[i], x[j]);
-        const double cut = r[i] + r[j] + skin;
-        if (norm2(d) < cut * cut) neighbors_.push_back(j);
+        const double cut = ri + r[j];
+        if (norm2(domain.delta(xi, x[j])) < cut * cut) emit(j);
       }
     }
-    // Sorted neighbours: deterministic force summation order and fast history lookup.
-    std::sort(neighbors_.begin() + static_cast<std::ptrdiff_t>(first), neighbors_.end());
-    offsets_[i + 1] = static_cast<std::int64_t>(neighbors_.size());
-  }
-
-  history_.assign(neighbors_.size(), Vec3{});
-  if (had_list) {
-    for (std::size_t i = 0; i < n; ++i) {
-      std::int64_t o = old_offsets_[i];
-      const std::int64_t o_end = old_offsets_[i + 1];
-      for (std::int64_t k = offsets_[i]; k < offsets_[i + 1] && o < o_end; ++k) {
-        const std::int32_t j = neighbors_[k];
-        while (o < o_end && old_neighbors_[o] < j) ++o;
-        if (o < o_end && old_neighbors_[o] == j) history_[k] = old_history_[o];
-      }
-    }
-  }
+  };
+  counts_.resize(n);
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    std::int32_t c = 0;
+    for_neighbours(static_cast<std::size_t>(i), [&](std::int32_t) { ++c; });
+    counts_[static_cast<std::size_t>(i)] = c;
+  });
+  offsets_.resize(n + 1);
+  offsets_[0] = 0;
+  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts_[i];
+  neighbors_.resize(static_cast<std::size_t>(offsets_[n]));
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    std::int64_t k = offsets_[static_cast<std::size_t>(i)];
+    for_neighbours(static_cast<std::size_t>(i), [&](std::int32_t j) { neighbors_[static_cast<std::size_t>(k++)] = j; });
+    if (!sorted)
+      std::sort(neighbors_.begin() + offsets_[static_cast<std::size_t>(i)],
+                neighbors_.begin() + offsets_[static_cast<std::size_t>(i) + 1]);
+  });
   x_ref_.assign(x, x + n);
   ++n_builds_;
+}
+
+void VerletList::carry_history(std::span<const std::int64_t> perm) {
+  const std::size_t n = n_particles();
+  history_.assign(neighbors_.size(), Vec3{});
+  if (old_offsets_.size() != n + 1) return;  // first build, or the particle count changed
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const std::int64_t oi = perm[i];
+    for (std::int64_t k = offsets_[i]; k < offsets_[i + 1]; ++k) {
+      const std::int64_t oj = perm[static_cast<std::size_t>(neighbors_[static_cast<std::size_t>(k)])];
+      // The old list stored the pair in the row of its smaller (old) index.
+      const std::int64_t a = std::min(oi, oj), b = std::max(oi, oj);
+      const auto first = old_neighbors_.begin() + old_offsets_[static_cast<std::size_t>(a)];
+      const auto last = old_neighbors_.begin() + old_offsets_[static_cast<std::size_t>(a) + 1];
+      const auto it = std::lower_bound(first, last, static_cast<std::int32_t>(b));
+      if (it == last || *it != b) continue;
+      const Vec3 h = old_history_[static_cast<std::size_t>(it - old_neighbors_.begin())];
+      // History is the displacement of the row particle relative to the other one.
+      history_[static_cast<std::size_t>(k)] = oi < oj ? h : -h;
+    }
+  });
 }
 
 bool VerletList::needs_rebuild(const Domain& domain, const Vec3* x, std::size_t n) const {
   if (x_ref_.size() != n) return true;
   const double lim2 = 0.25 * skin_ * skin_;
-  for (std::size_t i = 0; i < n; ++i)
-    if (norm2(domain.delta(x[i], x_ref_[i])) > lim2) return true;
-  return false;
+  return exec::parallel_any(static_cast<exec::index_t>(n),
+                            [&](exec::index_t i) { return norm2(domain.delta(x[i], x_ref_[i])) > lim2; });
 }
 
 void VerletList::restore(std::vector<std::int64_t> offsets, std::vector<std::int32_t> neighbors,
-                         std::vector<Vec3> history, std::vector<Vec3> x_ref, double skin, std::int64_t n_builds) {
+                         std::vector<Vec3> history, std::vector<Vec3> x_ref, double skin, std::int64_t n_builds,
+                         std::vector<std::int64_t> slab_starts, int n_phases) {
   REQUIRE(!offsets.empty() && static_cast<std::size_t>(offsets.back()) == neighbors.size() &&
               history.size() == neighbors.size() && x_ref.size() + 1 == offsets.size(),
           "inconsistent neighbour list in checkpoint");
+  REQUIRE(n_phases >= 1 && n_phases <= 3, "inconsistent slab phases in checkpoint");
   offsets_ = std::move(offsets);
   neighbors_ = std::move(neighbors);
   history_ = std::move(history);
   x_ref_ = std::move(x_ref);
   skin_ = skin;
   n_builds_ = n_builds;
+  slab_starts_ = std::move(slab_starts);
+  n_phases_ = n_phases;
 }
 
 std::size_t VerletList::bytes() const {
   return offsets_.capacity() * 8 + neighbors_.capacity() * 4 + history_.capacity() * sizeof(Vec3) +
          x_ref_.capacity() * sizeof(Vec3) + old_offsets_.capacity() * 8 + old_neighbors_.capacity() * 4 +
-         old_history_.capacity() * sizeof(Vec3);
+         old_history_.capacity() * sizeof(Vec3) + perm_.capacity() * 8 + counts_.capacity() * 4 +
+         slab_starts_.capacity() * 8;
 }
 
 }  // namespace gf

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Verlet (neighbour) list with skin: a half list in CSR form, the tangential contact history
-// stored next to each entry and carried across rebuilds.
+// stored next to each entry and carried across rebuilds (and across re-ordering).
 #pragma once
 
 #include <cstdint>
@@ -9,13 +9,19 @@
 
 #include "core/domain.hpp"
 #include "neighbor/cell_list.hpp"
+#include "particles/particle_store.hpp"
 
 namespace gf {
 
 class VerletList {
  public:
-  /// Builds the list of pairs i < j with |x_i - x_j| < r_i + r_j + skin (minimum image), and
-  /// carries the contact history of pairs present in the previous list.
+  /// Re-orders every column of the store by cell (slab-major, see CellList), then builds the
+  /// list of pairs i < j with |x_i - x_j| < r_i + r_j + skin (minimum image); histories of
+  /// pairs already in the list are carried over (negated when the pair's orientation flips).
+  /// Returns the permutation: new index k holds the particle that had index perm[k].
+  std::span<const std::int64_t> sort_and_build(ParticleStore& p, const Domain& domain, double skin);
+
+  /// Builds without re-ordering (the particle order is kept; no slabs for threading).
   void build(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin);
 
   /// True when some particle moved more than skin/2 since the last build (or the count changed).
@@ -26,28 +32,43 @@ class VerletList {
   std::int64_t n_builds() const { return n_builds_; }
   double skin() const { return skin_; }
 
-  // CSR: the neighbours of i are neighbors()[offsets()[i] .. offsets()[i+1]).
+  // CSR: the neighbours of i are neighbors()[offsets()[i] .. offsets()[i+1]), ascending.
   std::span<const std::int64_t> offsets() const { return offsets_; }
   std::span<const std::int32_t> neighbors() const { return neighbors_; }
   std::span<Vec3> history() { return history_; }
   std::span<const Vec3> history() const { return history_; }
   std::span<const Vec3> reference_positions() const { return x_ref_; }
 
-  /// Replaces the whole state (restart).
+  /// Slabs of consecutive particle indices for race-free threaded force loops: the rows of
+  /// slab s write only to particles of slabs s and s+1, and of slab 0 also to the last slab.
+  /// Slabs of the same phase (s % n_phases) can run concurrently. Empty: no slabs (serial).
+  std::span<const std::int64_t> slab_starts() const { return slab_starts_; }
+  int n_slabs() const { return slab_starts_.empty() ? 0 : static_cast<int>(slab_starts_.size()) - 1; }
+  int n_phases() const { return n_phases_; }
+
+  /// Replaces the whole state (restart); slabs are re-derived from the stored ones.
   void restore(std::vector<std::int64_t> offsets, std::vector<std::int32_t> neighbors, std::vector<Vec3> history,
-               std::vector<Vec3> x_ref, double skin, std::int64_t n_builds);
+               std::vector<Vec3> x_ref, double skin, std::int64_t n_builds, std::vector<std::int64_t> slab_starts,
+               int n_phases);
 
   std::size_t bytes() const;
 
  private:
+  void build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin, bool sorted);
+  void carry_history(std::span<const std::int64_t> perm);
+
   double skin_ = 0;
   std::int64_t n_builds_ = 0;
   std::vector<std::int64_t> offsets_;
   std::vector<std::int32_t> neighbors_;
   std::vector<Vec3> history_;
   std::vector<Vec3> x_ref_;
+  std::vector<std::int64_t> slab_starts_;
+  int n_phases_ = 1;
   CellList cells_;
-  // Scratch for the history transfer (kept to avoid re-allocation).
+  std::vector<std::int64_t> perm_;
+  std::vector<std::int32_t> counts_;
+  // The previous list, for the history transfer (kept to avoid re-allocation).
   std::vector<std::int64_t> old_offsets_;
   std::vector<std::int32_t> old_neighbors_;
   std::vector<Vec3> old_history_;

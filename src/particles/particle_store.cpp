@@ -8,7 +8,8 @@
 
 namespace gf {
 
-ParticleStore::ParticleStore() {
+ParticleStore::ParticleStore()
+    : scratch_{std::vector<double>{}, std::vector<Vec3>{}, std::vector<std::int64_t>{}, std::vector<std::int32_t>{}} {
   constexpr unsigned RO = kRestart | kOutput | kGhost;
   add_field("id", FieldType::Int64, "1", RO);
   add_field("material", FieldType::Int32, "1", RO);
@@ -67,11 +68,16 @@ std::size_t ParticleStore::add_sphere(std::int64_t pid, int mat, double r, doubl
 
 void ParticleStore::permute(std::span<const std::int64_t> order) {
   REQUIRE(order.size() == n_, "permutation of {} entries for {} particles", order.size(), n_);
+  // Gathers through a scratch column of the same type, kept between calls (no allocation in the
+  // time loop once the scratch has grown), then swaps it in.
   for (auto& c : cols_) {
     std::visit(
         [&](auto& v) {
-          auto tmp = v;
-          for (std::size_t i = 0; i < n_; ++i) v[i] = tmp[static_cast<std::size_t>(order[i])];
+          using V = std::decay_t<decltype(v)>;
+          V& tmp = std::get<V>(scratch_[c.index()]);
+          tmp.resize(n_);
+          for (std::size_t i = 0; i < n_; ++i) tmp[i] = v[static_cast<std::size_t>(order[i])];
+          v.swap(tmp);
         },
         c);
   }

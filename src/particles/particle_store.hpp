@@ -6,6 +6,7 @@
 // this table, so a new field is added in exactly one place (`add_field`).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -107,6 +108,7 @@ class ParticleStore {
   std::size_t n_ = 0;
   std::vector<FieldInfo> info_;
   std::vector<Column> cols_;
+  std::array<Column, 4> scratch_;  ///< one reusable column per type, for permute()
 };
 
 }  // namespace gf

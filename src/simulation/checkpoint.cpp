@@ -30,6 +30,8 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
     h.write("neighbor/history", nlist_.history());
     h.write("neighbor/reference_positions", nlist_.reference_positions());
     h.set_attribute("neighbor", "n_builds", static_cast<std::int64_t>(nlist_.n_builds()));
+    h.write("neighbor/slab_starts", nlist_.slab_starts());
+    h.set_attribute("neighbor", "n_phases", static_cast<std::int64_t>(nlist_.n_phases()));
 
     h.create_group("walls");
     const auto entries = wlist_.entries();
@@ -69,7 +71,8 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   io::load_particles(h, particles_);
 
   nlist_.restore(h.read_int64("neighbor/offsets"), h.read_int32("neighbor/neighbors"), h.read_vec3("neighbor/history"),
-                 h.read_vec3("neighbor/reference_positions"), skin_, h.read_int_attribute("neighbor", "n_builds"));
+                 h.read_vec3("neighbor/reference_positions"), skin_, h.read_int_attribute("neighbor", "n_builds"),
+                 h.read_int64("neighbor/slab_starts"), static_cast<int>(h.read_int_attribute("neighbor", "n_phases")));
   if (nlist_.n_particles() != particles_.size())
     throw InputError(fmt::format("{}: neighbour list does not match the particle count", file.string()));
 

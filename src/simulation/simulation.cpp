@@ -238,8 +238,10 @@ void Simulation::update_neighbors(bool force) {
     }
   }
   if (!rebuild) return;
-  nlist_.build(domain_, particles_.x(), particles_.radius(), n, skin_);
-  wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_);
+  // Re-ordering the particles by cell at every rebuild keeps neighbours close in memory and
+  // gives the slabs the threaded force loop needs.
+  const auto perm = nlist_.sort_and_build(particles_, domain_, skin_);
+  wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_, perm);
   wall_point_at_build_.resize(walls_.size());
   wall_dir_at_build_.resize(walls_.size());
   for (std::size_t w = 0; w < walls_.size(); ++w) {
