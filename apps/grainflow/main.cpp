@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
   std::int64_t steps = -1;
   run->add_option("case", run_file, "case file (YAML)")->required();
   run->add_option("-o,--output", output, "output folder (default: output.directory of the case)");
-  run->add_option("-t,--threads", threads, "OpenMP threads (default: OMP_NUM_THREADS, else 1)")
+  run->add_option("-t,--threads", threads, "OpenMP threads (default: OMP_NUM_THREADS, else all cores)")
       ->check(CLI::Range(1, 4096));
   run->add_option("-r,--restart", restart, "continue from a checkpoint file")->check(CLI::ExistingFile);
   run->add_option("--steps", steps, "run this many steps instead of up to time.end")->check(CLI::Range(0L, 1L << 50));
@@ -118,9 +118,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*run) {
-      // Until every stage is threaded (force loop included), one thread unless asked otherwise.
-      if (threads == 0 && std::getenv("OMP_NUM_THREADS") == nullptr) threads = 1;
-      gf::exec::set_threads(threads);
+      gf::exec::set_threads(threads);  // 0: OMP_NUM_THREADS, else all cores
       const auto cfg = gf::input::load_case(run_file);
       const auto report = gf::input::validate(cfg);
       for (const auto& w : report.warnings) gf::log::warn("{}", w);

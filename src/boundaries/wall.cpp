@@ -8,6 +8,7 @@
 
 #include "contact/registry.hpp"
 #include "core/error.hpp"
+#include "core/exec.hpp"
 
 namespace gf {
 
@@ -80,6 +81,11 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
         entries_.push_back({static_cast<std::int32_t>(i), static_cast<std::int32_t>(w)});
     }
   }
+  groups_.clear();
+  for (std::size_t k = 0; k < entries_.size(); ++k)
+    if (k == 0 || entries_[k].particle != entries_[k - 1].particle) groups_.push_back(static_cast<std::int64_t>(k));
+  groups_.push_back(static_cast<std::int64_t>(entries_.size()));
+  reactions_.assign(2 * entries_.size(), Vec3{});
   // Carry the history: the old list is sorted by (old particle index, wall).
   history_.assign(entries_.size(), Vec3{});
   const auto key = [](std::int64_t particle, std::int32_t wall) { return (particle << 32) | wall; };
@@ -97,16 +103,18 @@ void WallContactList::restore(std::vector<Entry> entries, std::vector<Vec3> hist
   REQUIRE(entries.size() == history.size(), "inconsistent wall contact list in checkpoint");
   entries_ = std::move(entries);
   history_ = std::move(history);
+  groups_.clear();
+  for (std::size_t k = 0; k < entries_.size(); ++k)
+    if (k == 0 || entries_[k].particle != entries_[k - 1].particle) groups_.push_back(static_cast<std::int64_t>(k));
+  groups_.push_back(static_cast<std::int64_t>(entries_.size()));
+  reactions_.assign(2 * entries_.size(), Vec3{});
 }
 
 std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
                                  const PairTable<contact::PairCoeffs>& pairs, double t, double dt) {
-  for (auto& w : walls) {
-    w.force = {};
-    w.torque = {};
-  }
   const auto entries = list.entries();
   auto history = list.history();
+  auto reaction = list.reactions();
   Vec3* x = p.x();
   Vec3* v = p.v();
   Vec3* om = p.omega();
@@ -115,34 +123,50 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   const double* r = p.radius();
   const double* m = p.mass();
   const std::int32_t* mat = p.material();
-  std::int64_t active = 0;
-  // Serial: a handful of walls receive reactions from many particles; the list is short
-  // compared with the particle pairs, so this loop is not the bottleneck.
-  for (std::size_t k = 0; k < entries.size(); ++k) {
-    const int i = entries[k].particle;
-    Wall& w = walls[static_cast<std::size_t>(entries[k].wall)];
-    contact::ContactKinematics kin;
-    const double g = w.gap(x[i], r[i], kin.normal);
-    if (g >= 0) {
-      history[k] = {};
-      continue;
+  // Entries are sorted by particle: one group per particle, so threads never share a particle.
+  const auto groups = list.particle_groups();
+  const std::int64_t n_groups = static_cast<std::int64_t>(groups.size()) - 1;
+  const std::int64_t active = exec::parallel_sum(n_groups, std::int64_t{0}, [&](exec::index_t g) {
+    std::int64_t touching = 0;
+    for (std::int64_t k = groups[static_cast<std::size_t>(g)]; k < groups[static_cast<std::size_t>(g) + 1]; ++k) {
+      const int i = entries[static_cast<std::size_t>(k)].particle;
+      const Wall& w = walls[static_cast<std::size_t>(entries[static_cast<std::size_t>(k)].wall)];
+      contact::ContactKinematics kin;
+      const double gap = w.gap(x[i], r[i], kin.normal);
+      if (gap >= 0) {
+        history[static_cast<std::size_t>(k)] = {};
+        reaction[static_cast<std::size_t>(2 * k)] = {};
+        reaction[static_cast<std::size_t>(2 * k + 1)] = {};
+        continue;
+      }
+      const contact::PairCoeffs& c = pairs(mat[i], w.material);
+      kin.overlap = -gap;
+      const double arm = r[i] - 0.5 * kin.overlap;
+      const Vec3 cp = x[i] - arm * kin.normal;
+      kin.v_rel = v[i] - arm * cross(om[i], kin.normal) - w.motion.velocity_at(cp, t);
+      kin.omega_rel = om[i] - w.motion.omega();
+      kin.r_eff = r[i];
+      kin.m_eff = m[i];
+      const contact::ContactResult res = dispatch_index(contact::ContactModels{}, c.model, [&]<class M>() {
+        return M::Law::evaluate(c, kin, dt, history[static_cast<std::size_t>(k)]);
+      });
+      f[i] += res.force;
+      tq[i] += -arm * cross(kin.normal, res.force) + res.rolling_torque;
+      reaction[static_cast<std::size_t>(2 * k)] = -res.force;
+      reaction[static_cast<std::size_t>(2 * k + 1)] = -(cross(cp - w.torque_center(), res.force) + res.rolling_torque);
+      ++touching;
     }
-    const contact::PairCoeffs& c = pairs(mat[i], w.material);
-    kin.overlap = -g;
-    const double arm = r[i] - 0.5 * kin.overlap;
-    const Vec3 cp = x[i] - arm * kin.normal;
-    kin.v_rel = v[i] - arm * cross(om[i], kin.normal) - w.motion.velocity_at(cp, t);
-    kin.omega_rel = om[i] - w.motion.omega();
-    kin.r_eff = r[i];
-    kin.m_eff = m[i];
-    const contact::ContactResult res = dispatch_index(contact::ContactModels{}, c.model, [&]<class M>() {
-      return M::Law::evaluate(c, kin, dt, history[k]);
-    });
-    f[i] += res.force;
-    tq[i] += -arm * cross(kin.normal, res.force) + res.rolling_torque;
-    w.force -= res.force;
-    w.torque -= cross(cp - w.torque_center(), res.force) + res.rolling_torque;
-    ++active;
+    return touching;
+  });
+  // Reactions summed in entry order: the same bits whatever the thread count.
+  for (auto& w : walls) {
+    w.force = {};
+    w.torque = {};
+  }
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    Wall& w = walls[static_cast<std::size_t>(entries[k].wall)];
+    w.force += reaction[2 * k];
+    w.torque += reaction[2 * k + 1];
   }
   return active;
 }

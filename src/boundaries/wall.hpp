@@ -82,11 +82,20 @@ class WallContactList {
   std::span<Vec3> history() { return history_; }
   std::span<const Vec3> history() const { return history_; }
   void restore(std::vector<Entry> entries, std::vector<Vec3> history);
-  std::size_t bytes() const { return entries_.capacity() * sizeof(Entry) + history_.capacity() * sizeof(Vec3); }
+  /// Start of each particle's run of entries (plus the end): the unit of threading.
+  std::span<const std::int64_t> particle_groups() const { return groups_; }
+  /// Per entry: reaction force on the wall and its torque (2 per entry), of the last evaluation.
+  std::span<Vec3> reactions() { return reactions_; }
+  std::size_t bytes() const {
+    return (entries_.capacity() + old_entries_.capacity()) * sizeof(Entry) +
+           (history_.capacity() + old_history_.capacity() + reactions_.capacity()) * sizeof(Vec3) +
+           groups_.capacity() * 8;
+  }
 
  private:
   std::vector<Entry> entries_, old_entries_;
-  std::vector<Vec3> history_, old_history_;
+  std::vector<Vec3> history_, old_history_, reactions_;
+  std::vector<std::int64_t> groups_{0};
 };
 
 /// Adds the wall contact forces and torques to the particles and accumulates the reactions on
