@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Unit quaternions for the orientation of rigid bodies (body frame -> world frame).
+//
+// q = (w, x, y, z) = (cos(phi/2), sin(phi/2) e) rotates by the angle phi about the unit axis e;
+// a body-frame vector b has the world image R(q) b = q (0, b) q^*. Kinematics:
+// dq/dt = 1/2 q (0, omega_body) = 1/2 (0, omega_world) q  (e.g. Evans, Mol. Phys. 34 (1977) 317).
+#pragma once
+
+#include <cmath>
+
+#include "core/host_device.hpp"
+#include "core/mat3.hpp"
+#include "core/vec3.hpp"
+
+namespace gf {
+
+struct Quat {
+  real w = 1, x = 0, y = 0, z = 0;
+  GF_HOST_DEVICE constexpr Vec3 vec() const { return {x, y, z}; }
+};
+
+GF_HOST_DEVICE constexpr Quat operator*(const Quat& a, const Quat& b) {
+  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+GF_HOST_DEVICE constexpr Quat operator*(real s, const Quat& q) { return {s * q.w, s * q.x, s * q.y, s * q.z}; }
+GF_HOST_DEVICE constexpr Quat operator+(const Quat& a, const Quat& b) {
+  return {a.w + b.w, a.x + b.x, a.y + b.y, a.z + b.z};
+}
+GF_HOST_DEVICE constexpr Quat conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
+GF_HOST_DEVICE constexpr real norm2(const Quat& q) { return q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z; }
+GF_HOST_DEVICE inline Quat normalized(const Quat& q) { return (1.0 / std::sqrt(norm2(q))) * q; }
+
+/// Rotation by `angle` (rad) about the unit vector `axis`.
+GF_HOST_DEVICE inline Quat quat_from_axis_angle(const Vec3& axis, real angle) {
+  const real s = std::sin(0.5 * angle);
+  return {std::cos(0.5 * angle), s * axis.x, s * axis.y, s * axis.z};
+}
+
+/// World image R(q) b of a body-frame vector b (q a unit quaternion).
+GF_HOST_DEVICE constexpr Vec3 rotate(const Quat& q, const Vec3& b) {
+  // R b = b + 2 w (u x b) + 2 u x (u x b), u = vector part.
+  const Vec3 u = q.vec();
+  const Vec3 t = 2.0 * cross(u, b);
+  return b + q.w * t + cross(u, t);
+}
+/// Body-frame image R(q)^T v of a world vector v.
+GF_HOST_DEVICE constexpr Vec3 rotate_inverse(const Quat& q, const Vec3& v) { return rotate(conjugate(q), v); }
+
+/// Rotation matrix R(q) (body -> world) of a unit quaternion.
+GF_HOST_DEVICE constexpr Mat3 to_matrix(const Quat& q) {
+  return Mat3::from_columns(rotate(q, {1, 0, 0}), rotate(q, {0, 1, 0}), rotate(q, {0, 0, 1}));
+}
+
+/// dq/dt = 1/2 q (0, omega_body), omega_body in rad/s (body frame).
+GF_HOST_DEVICE constexpr Quat quat_derivative(const Quat& q, const Vec3& omega_body) {
+  return 0.5 * (q * Quat{0, omega_body.x, omega_body.y, omega_body.z});
+}
+
+}  // namespace gf
