@@ -44,7 +44,7 @@ inline constexpr ParamSpec rolling_param{"rolling_friction", "1", 0.0, 0.0, 1e3,
                                          "rolling resistance coefficient mu_r (torque mu_r R* F_n)"};
 
 struct Hooke {
-  using Law = ContactLaw<HookeNormal, ViscousDamping, LinearTangential, ConstantTorqueRolling>;
+  using Law = ContactLaw<HookeNormal, ViscousDamping, HistoryTangential, ConstantTorqueRolling>;
   static constexpr std::string_view key = "hooke";
   static constexpr std::string_view summary =
       "linear spring-dashpot with tangential history spring, Coulomb friction, rolling resistance";
@@ -74,6 +74,7 @@ struct Hooke {
     c.friction = get("friction").value_or(0.5);
     c.rolling_friction = get("rolling_friction").value_or(0.0);
     c.kt_ratio = get("tangential_stiffness_ratio").value_or(2.0 / 7.0);
+    c.sqrt_kt_ratio = std::sqrt(c.kt_ratio);
     if (auto k = get("stiffness")) {
       c.stiffness = *k;
     } else {
@@ -92,7 +93,7 @@ struct Hooke {
 };
 
 struct HertzMindlin {
-  using Law = ContactLaw<HertzNormal, ViscousDamping, MindlinTangential, ConstantTorqueRolling>;
+  using Law = ContactLaw<HertzNormal, ViscousDamping, HistoryTangential, ConstantTorqueRolling>;
   static constexpr std::string_view key = "hertz_mindlin";
   static constexpr std::string_view summary =
       "Hertz normal force, Mindlin no-slip tangential stiffness with history, Coulomb friction, rolling resistance";
@@ -112,6 +113,9 @@ struct HertzMindlin {
     c.rolling_friction = get("rolling_friction").value_or(0.0);
     c.stiffness = effective_modulus(*ctx.a, *ctx.b);
     c.shear_modulus = effective_shear_modulus(*ctx.a, *ctx.b);
+    // Mindlin k_t = 8 G* sqrt(R* delta) = (4 G*/E*) S_n.
+    c.kt_ratio = 4.0 * c.shear_modulus / c.stiffness;
+    c.sqrt_kt_ratio = std::sqrt(c.kt_ratio);
     return c;
   }
 };

@@ -12,7 +12,8 @@ struct PairCoeffs {
   int model = -1;             ///< index of the law in ContactModels; -1 = no interaction
   double stiffness = 0;       ///< hooke: k_n, N/m; hertz: E* (effective modulus), Pa
   double shear_modulus = 0;   ///< hertz_mindlin: G*, Pa
-  double kt_ratio = 0;        ///< hooke: k_t / k_n
+  double kt_ratio = 0;        ///< k_t / S_n: hooke: given; hertz_mindlin: 8G*/(2E*) = 4G*/E*
+  double sqrt_kt_ratio = 0;   ///< sqrt(kt_ratio): tangential over normal damping coefficient
   double damping_ratio = 0;   ///< zeta: damping over critical damping of the tangent stiffness
   double friction = 0;        ///< Coulomb coefficient mu
   double rolling_friction = 0;///< rolling resistance coefficient mu_r

@@ -23,11 +23,12 @@ struct ContactLaw {
     double fe, s;
     Normal::elastic(c, k, fe, s);
     const double vn = dot(k.v_rel, k.normal);  // < 0 when approaching
-    double fn = fe - Damping::coefficient(c, k, s) * vn;
+    const double cn = Damping::coefficient(c, k, s);
+    double fn = fe - cn * vn;
     fn = fn > 0 ? fn : 0.0;
     ContactResult r;
     r.normal_force = fn;
-    r.force = fn * k.normal + Tangential::force(c, k, fn, dt, xi);
+    r.force = fn * k.normal + Tangential::force(c, k, s, cn, fn, dt, xi);
     r.rolling_torque = Rolling::torque(c, k, fn);
     return r;
   }

@@ -5,7 +5,10 @@
 // length (rotation with the contact frame), then advanced by v_t dt.
 //   linear:  k_t = kt_ratio k_n                             (hooke)
 //   mindlin: k_t = 8 G* sqrt(R* delta)                       (Mindlin 1949, no-slip stiffness)
-// Damping uses the same zeta as the normal direction: c_t = 2 zeta sqrt(m* k_t).
+// Both are k_t = kt_ratio S_n with the normal tangent stiffness S_n (for Hertz, S_n = 2E* sqrt(R*
+// delta), so kt_ratio = 4G*/E*): one per-pair constant, no extra square root per contact.
+// Damping uses the same zeta as the normal direction: c_t = 2 zeta sqrt(m* k_t)
+// = c_n sqrt(kt_ratio).
 // When sliding, xi is reset so that the spring alone would give the capped force.
 #pragma once
 
@@ -15,8 +18,8 @@
 
 namespace gf::contact {
 
-/// Shared update, given the tangential stiffness kt.
-GF_HOST_DEVICE inline Vec3 tangential_force(const PairCoeffs& c, const ContactKinematics& k, double kt,
+/// Tangential force for tangential stiffness kt and damping coefficient ct; updates xi.
+GF_HOST_DEVICE inline Vec3 tangential_force(const PairCoeffs& c, const ContactKinematics& k, double kt, double ct,
                                             double normal_force, double dt, Vec3& xi) {
   const Vec3& n = k.normal;
   const Vec3 vt = k.v_rel - dot(k.v_rel, n) * n;
@@ -28,30 +31,22 @@ GF_HOST_DEVICE inline Vec3 tangential_force(const PairCoeffs& c, const ContactKi
     if (len2_new > 0) xi *= std::sqrt(len2_old / len2_new);
   }
   xi += dt * vt;
-  const double ct = 2.0 * c.damping_ratio * std::sqrt(k.m_eff * kt);
   Vec3 ft = -kt * xi - ct * vt;
   const double cap = c.friction * normal_force;
   const double ft2 = norm2(ft);
   if (ft2 > cap * cap) {
-    if (ft2 > 0) {
-      ft *= cap / std::sqrt(ft2);
-      // Sliding: the spring carries the capped force on its own.
-      xi = (kt > 0) ? (-1.0 / kt) * ft : Vec3{};
-    }
+    ft *= cap / std::sqrt(ft2);
+    // Sliding: the spring alone carries the capped force.
+    xi = (kt > 0) ? (-1.0 / kt) * ft : Vec3{};
   }
   return ft;
 }
 
-struct LinearTangential {
-  GF_HOST_DEVICE static Vec3 force(const PairCoeffs& c, const ContactKinematics& k, double fn, double dt, Vec3& xi) {
-    return tangential_force(c, k, c.kt_ratio * c.stiffness, fn, dt, xi);
-  }
-};
-
-struct MindlinTangential {
-  GF_HOST_DEVICE static Vec3 force(const PairCoeffs& c, const ContactKinematics& k, double fn, double dt, Vec3& xi) {
-    const double kt = 8.0 * c.shear_modulus * std::sqrt(k.r_eff * k.overlap);
-    return tangential_force(c, k, kt, fn, dt, xi);
+/// Linear (hooke) and Mindlin (hertz_mindlin) springs: k_t = kt_ratio S_n, c_t = c_n sqrt(kt_ratio).
+struct HistoryTangential {
+  GF_HOST_DEVICE static Vec3 force(const PairCoeffs& c, const ContactKinematics& k, double sn, double cn, double fn,
+                                   double dt, Vec3& xi) {
+    return tangential_force(c, k, c.kt_ratio * sn, c.sqrt_kt_ratio * cn, fn, dt, xi);
   }
 };
 
