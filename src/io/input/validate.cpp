@@ -463,7 +463,7 @@ void Validator::check_time_step() {
     for (int k = 0; k < 3; ++k) height += std::abs(c_.gravity[k] / g) * len[k];
   const double v_impact = std::max(0.1, v0 + std::sqrt(2 * g * height));
   report_.derived.emplace_back(
-      "impact speed used for the Hertz contact time",
+      "impact speed used for the Hertz contact time (grain-grain: twice this, head-on)",
       fmt::format("{:.4g} m/s (initial {:.4g} m/s + free fall over {:.4g} m)", v_impact, v0,
                   height));
 
@@ -501,7 +501,8 @@ void Validator::check_time_step() {
       throw_input_error(at(ct->loc, "contacts"),
                         fmt::format("contact model '{}': {}", ct->model, e.what()));
     }
-    const double tc = contact::contact_time(coeffs, r_eff, m_eff, v_impact);
+    // Two grains may meet head-on, each at the impact speed: twice that relative speed.
+    const double tc = contact::contact_time(coeffs, r_eff, m_eff, wall ? v_impact : 2 * v_impact);
     report_.derived.emplace_back(fmt::format("contact time, {} ({})", label, ct->model),
                                  seconds(tc));
     if (tc < tc_min) {
