@@ -84,6 +84,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
     series = std::make_unique<io::SeriesCsv>(dir / "series.csv", columns);
   }
 
+  auto last_flush = StageTimers::clock::now();
   auto write_outputs = [&](bool force_all) {
     StageTimers::Scope timer(timers_, Stage::Output);
     const double t = time();
@@ -110,6 +111,11 @@ RunSummary Simulation::run(const RunOptions& opts) {
       row.reserve(columns.size());
       for (const auto& c : columns) row.push_back(quantity(c));
       series->append(t, row);
+      // Someone may be watching the series of a long run: flush every few seconds.
+      if (std::chrono::duration<double>(StageTimers::clock::now() - last_flush).count() > 3.0) {
+        series->flush();
+        last_flush = StageTimers::clock::now();
+      }
     }
     if (due(step_, ckpt_every) && step_ != first) save_checkpoint(dir / fmt::format("checkpoint_{:09d}.h5", step_));
   };
