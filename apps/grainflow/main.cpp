@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -15,6 +16,7 @@
 #include "core/version.hpp"
 #include "io/input/parse_case.hpp"
 #include "io/input/validate.hpp"
+#include "simulation/fem_case.hpp"
 #include "simulation/simulation.hpp"
 
 namespace {
@@ -63,6 +65,15 @@ int describe(const std::string& key) {
 }
 
 int check(const std::string& file) {
+  std::filesystem::path fem_dir;
+  if (const auto fem_cfg = gf::load_fem_case(file, fem_dir)) {
+    fmt::print("{}: OK (fluid_fem case)\n", file);
+    fmt::print("  {:<40} {}\n", "bodies", fem_cfg->body_names.size());
+    fmt::print("  {:<40} {}\n", "density (kg/m^3), viscosity (m^2/s)",
+               fmt::format("{}, {}", fem_cfg->density, fem_cfg->viscosity));
+    fmt::print("  {:<40} {}\n", "time stepping", fem_cfg->steady ? "steady (Newton)" : "unsteady (BDF)");
+    return 0;
+  }
   const auto cfg = gf::input::load_case(file);
   const auto report = gf::input::validate(cfg);
   gf::Simulation sim(cfg);
@@ -123,13 +134,18 @@ int main(int argc, char** argv) {
   try {
     if (*run) {
       gf::exec::set_threads(threads);  // 0: OMP_NUM_THREADS, else all cores
+      opts.output = output;
+      if (steps >= 0) opts.steps = steps;
+      opts.quiet = quiet;
+      std::filesystem::path fem_dir;
+      if (const auto fem_cfg = gf::load_fem_case(run_file, fem_dir)) {
+        gf::run_fem_case(*fem_cfg, fem_dir, opts);
+        return 0;
+      }
       const auto cfg = gf::input::load_case(run_file);
       const auto report = gf::input::validate(cfg);
       for (const auto& w : report.warnings) gf::log::warn("{}", w);
-      opts.output = output;
       if (!restart.empty()) opts.restart = restart;
-      if (steps >= 0) opts.steps = steps;
-      opts.quiet = quiet;
       gf::Simulation sim(cfg);
       sim.run(opts);
       return 0;

@@ -1,16 +1,17 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Standalone runner of a `fluid_fem:` case until the grainflow command wires it in.
-// Usage: gf_fem_run <case.yaml> <output dir>; exit code 2 on input errors.
+// Usage: gf_fem_run <case.yaml> <output dir> [max steps]; exit code 2 on input errors.
 #include <yaml-cpp/yaml.h>
 
 #include <cstdio>
+#include <cstdlib>
 
 #include "core/error.hpp"
 #include "fluid/fem/case.hpp"
 
 int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::fprintf(stderr, "usage: gf_fem_run <case.yaml> <output dir>\n");
+  if (argc != 3 && argc != 4) {
+    std::fprintf(stderr, "usage: gf_fem_run <case.yaml> <output dir> [max steps]\n");
     return 2;
   }
   try {
@@ -23,7 +24,7 @@ int main(int argc, char** argv) {
     }
     if (!doc["fluid_fem"].IsDefined()) throw gf::InputError(std::string(argv[1]) + ": no 'fluid_fem' block");
     const auto cfg = gf::fem::parse_fluid_fem(doc["fluid_fem"], argv[1]);
-    gf::fem::run_fluid_fem(cfg, argv[2]);
+    gf::fem::run_fluid_fem(cfg, argv[2], argc == 4 ? std::atoi(argv[3]) : -1);
   } catch (const gf::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;

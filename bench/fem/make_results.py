@@ -46,23 +46,29 @@ def main(src, dst):
                          f"{x / f:.2f} | {x / u:.2f} | {x / n:.2f} |")
         except KeyError:
             pass
+    lines.append("")
+    lines.append("Plot: `bench/fem/accuracy_vs_time_2d1.png`. Regenerate: `bench/fem/run_2d1_comparison.sh build/fem 2`.")
+    lines.append("Unsteady runs (2D-2, 2D-3) and the effect of reusing the LU across BDF steps:")
+    lines.append("`docs/models/fluid_fem_status.md`.")
     open(dst, "w").write("\n".join(lines) + "\n")
     try:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(6, 4))
-        for key, style in ((("grainflow", "full"), "o-"), (("grainflow", "reuse"), "s-"), (("grainflow", "nested"), "D-"),
-                           (("dolfinx", "newton_mumps"), "^--")):
-            sel = [r for r in rows if (r["code"], r["variant"]) == key]
-            ax.loglog([float(r["t_total"]) for r in sel], [abs(float(r["cd_err"])) for r in sel], style, label=" ".join(key))
-        ax.set_xlabel("time to solution [s]")
-        ax.set_ylabel("|C_D error| (relative)")
-        ax.set_title("Schaefer-Turek 2D-1: accuracy vs time")
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend()
+        fig, axs = plt.subplots(1, 3, figsize=(12, 3.8))
+        for ax, q, name in zip(axs, ("cd_err", "cl_err", "dp_err"), ("C_D", "C_L", "dp")):
+            for key, style in ((("grainflow", "full"), "o-"), (("grainflow", "reuse"), "s-"),
+                               (("grainflow", "nested"), "D-"), (("dolfinx", "newton_mumps"), "^--")):
+                sel = [r for r in rows if (r["code"], r["variant"]) == key]
+                ax.loglog([float(r["t_total"]) for r in sel], [abs(float(r[q])) for r in sel], style,
+                          label=" ".join(key))
+            ax.set_xlabel("time to solution [s]")
+            ax.set_ylabel(f"|{name} error| (relative)")
+            ax.grid(True, which="both", alpha=0.3)
+        axs[0].legend(fontsize=8)
+        fig.suptitle("Schaefer-Turek 2D-1: accuracy vs time (4 meshes, 9k-228k unknowns)")
         fig.tight_layout()
-        fig.savefig(os.path.join(os.path.dirname(os.path.abspath(src)), "accuracy_vs_time_2d1.png"), dpi=120)
+        fig.savefig(os.path.join(os.path.dirname(os.path.abspath(src)), "accuracy_vs_time_2d1.png"), dpi=110)
     except ImportError:
         pass
 

@@ -20,7 +20,7 @@ first=1
 for lv in "${levels[@]}"; do
   set -- $lv
   hb=$1; hm=$2
-  for variant in full reuse; do
+  for variant in full reuse nested; do
     best=""
     for r in $(seq "$reps"); do
       line=$("$exe" "$hb" "$hm" 0.2 "$variant" "$tmp/mesh.txt" | tail -1)

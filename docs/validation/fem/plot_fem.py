@@ -27,7 +27,7 @@ def plot_2d1(path):
         n = [int(r["dofs"]) for r in sel]
         for q, c in (("cd_err", "C0"), ("cl_err", "C1"), ("dp_err", "C2")):
             ax.loglog(n, [max(abs(float(r[q])), 1e-9) for r in sel], mk, color=c,
-                      label=f"{code} {q.split('_')[0].upper().replace('CD', 'C_D').replace('CL', 'C_L')}")
+                      label=f"{code} {dict(cd_err='C_D', cl_err='C_L', dp_err='dp')[q]}")
     ax.axhline(1e-3, color="k", lw=0.8, ls=":", label="0.1 %")
     ax.set_xlabel("unknowns")
     ax.set_ylabel("relative error vs reference")

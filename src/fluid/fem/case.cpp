@@ -306,7 +306,7 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   return cfg;
 }
 
-void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir) {
+void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir, int max_steps) {
   const auto t_start = std::chrono::steady_clock::now();
   std::filesystem::create_directories(output_dir);
   FlowProblem pb;
@@ -377,7 +377,9 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
   } else {
     write_fields(ns);
     double next_vtk = cfg.output.vtk_every, next_csv = 0.0;
-    const auto st = integrate(ns, cfg.time, cfg.newton, [&](const NavierStokes& s, double h) {
+    TimeControl tc = cfg.time;
+    tc.max_steps = max_steps;
+    const auto st = integrate(ns, tc, cfg.newton, [&](const NavierStokes& s, double h) {
       const double eps = 1e-9 * h;
       if (s.time() >= next_csv - eps) {
         record(s);

@@ -16,7 +16,7 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
   TimeStats st;
   double dt = std::min(tc.dt, tc.dt_max);
   const double eps = 1e-12 * std::max(1.0, std::abs(tc.t_end));
-  while (ns.time() < tc.t_end - eps) {
+  while (ns.time() < tc.t_end - eps && (tc.max_steps < 0 || st.steps < tc.max_steps)) {
     const double t = ns.time();
     double h = std::min(dt, tc.t_end - t);
     if (tc.t_end - t - h < 0.01 * h) h = tc.t_end - t;  // avoid a sliver step at the end

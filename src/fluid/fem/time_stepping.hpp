@@ -23,6 +23,7 @@ struct TimeControl {
   double rtol = 1e-3, atol = 1e-4;  ///< relative [-], absolute [m/s] velocity tolerances
   double dt_min = 1e-9;          ///< [s]; a smaller step needed is an error
   double dt_max = std::numeric_limits<double>::infinity();  ///< [s]
+  int max_steps = -1;            ///< stop after this many accepted steps (< 0: no limit)
 };
 
 struct TimeStats {

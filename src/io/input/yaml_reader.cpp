@@ -317,7 +317,9 @@ YamlMap::YamlMap(const YamlNode& node, const std::vector<std::string>* keys) : n
     node.fail_expected(keys ? fmt::format("a map with keys among: {}", join(*keys))
                             : "a map of 'key: value' entries");
   for (auto it = node.raw().begin(); it != node.raw().end(); ++it) {
-    const YAML::Node& k = it->first;
+    // Copies: yaml-cpp's iterator returns a temporary, a reference to its member would dangle.
+    const YAML::Node k = it->first;
+    const YAML::Node v = it->second;
     if (!k.IsScalar()) {
       YamlNode(k, node.path(), std::make_shared<const std::string>(node.file()), k.Mark())
           .fail_expected("a plain key");
@@ -329,7 +331,7 @@ YamlMap::YamlMap(const YamlNode& node, const std::vector<std::string>* keys) : n
                                       e.key_node.Mark().line + 1));
       }
     }
-    entries_.push_back({k.Scalar(), k, it->second});
+    entries_.push_back({k.Scalar(), k, v});
   }
 }
 

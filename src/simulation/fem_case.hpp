@@ -1,0 +1,23 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Cases whose physics is the resolved 2D FEM flow (a `fluid_fem:` block): detection and run.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+
+#include "fluid/fem/case.hpp"
+#include "simulation/simulation.hpp"
+
+namespace gf {
+
+/// Reads the case file; if it holds a `fluid_fem:` block, returns the parsed FEM case (strict:
+/// the only other top-level keys allowed are `name` and `output: {directory}`), else nothing.
+/// YAML syntax errors and wrong keys throw gf::InputError with file:line:column.
+std::optional<fem::FemCaseConfig> load_fem_case(const std::filesystem::path& file,
+                                                std::filesystem::path& output_dir);
+
+/// Runs a FEM case with the same output-folder policy as DEM runs (refuses a non-empty folder
+/// without --overwrite); opts.steps limits the number of time steps.
+void run_fem_case(const fem::FemCaseConfig& cfg, const std::filesystem::path& default_dir, const RunOptions& opts);
+
+}  // namespace gf
