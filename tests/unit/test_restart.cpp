@@ -4,6 +4,9 @@
 
 #include <cstring>
 #include <filesystem>
+#include <string>
+
+#include <unistd.h>
 
 #include "case_builder.hpp"
 #include "simulation/simulation.hpp"
@@ -61,7 +64,7 @@ bool same_bits(std::span<const T> a, std::span<const T> b) {
 
 TEST(Restart, ContinuesBitIdentically) {
   const auto cfg = settling_case();
-  const auto file = std::filesystem::temp_directory_path() / "gf_restart_test.h5";
+  const auto file = std::filesystem::temp_directory_path() / ("gf_restart_test_" + std::to_string(::getpid()) + ".h5");
   Simulation a(cfg);
   for (int s = 0; s < 1500; ++s) a.step();
   a.save_checkpoint(file);
@@ -92,7 +95,7 @@ TEST(Restart, ContinuesBitIdentically) {
 
 TEST(Restart, RejectsForeignFileAndMismatchedTimeStep) {
   auto cfg = settling_case();
-  const auto file = std::filesystem::temp_directory_path() / "gf_restart_test2.h5";
+  const auto file = std::filesystem::temp_directory_path() / ("gf_restart_test2_" + std::to_string(::getpid()) + ".h5");
   Simulation a(cfg);
   a.step();
   a.save_checkpoint(file);
