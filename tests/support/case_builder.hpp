@@ -68,4 +68,39 @@ inline void add_plane(config::Case& c, const std::string& name, Vec3 point, Vec3
   c.walls.push_back(w);
 }
 
+/// A fill of a box region, uniform radii in [r_min, r_max] (equal: monodisperse); returns the
+/// fill for further settings (spacing, count, seed, ...), valid until the next push_back.
+inline config::Fill& add_box_fill(config::Case& c, const std::string& material, double r_min, double r_max, Vec3 lo,
+                                  Vec3 hi, config::Fill::Lattice lattice) {
+  config::ParticleGroup g;
+  g.material = material;
+  if (r_min == r_max) {
+    g.radius.value = r_min;
+  } else {
+    g.radius.kind = config::SizeDistribution::Kind::Uniform;
+    g.radius.min = r_min;
+    g.radius.max = r_max;
+  }
+  config::Fill f;
+  f.region.kind = config::Region::Kind::Box;
+  f.region.min = lo;
+  f.region.max = hi;
+  f.lattice = lattice;
+  g.fill = f;
+  c.particles.push_back(g);
+  return *c.particles.back().fill;
+}
+
+inline void add_box(config::Case& c, const std::string& name, Vec3 lo, Vec3 hi, std::vector<std::string> open,
+                    const std::string& material) {
+  config::Wall w;
+  w.name = name;
+  w.kind = config::Wall::Kind::Box;
+  w.min = lo;
+  w.max = hi;
+  w.open = std::move(open);
+  w.material = material;
+  c.walls.push_back(w);
+}
+
 }  // namespace gf::test

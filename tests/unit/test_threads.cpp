@@ -20,29 +20,16 @@ config::Case dense_case(bool periodic_long_axis) {
   c.gravity = {0, 0, -9.81};
   test::add_material(c, "glass", 2500, 1e7, 0.3);
   test::add_contact(c, "glass", "glass", "hertz_mindlin", {{"restitution", 0.5}, {"friction", 0.5}, {"rolling_friction", 0.01}});
-  config::ParticleGroup g;
-  g.material = "glass";
-  g.radius.kind = config::SizeDistribution::Kind::Uniform;
-  g.radius.min = 0.0018;
-  g.radius.max = 0.0022;
-  config::Fill f;
-  f.region.min = {0, 0, 0};
-  f.region.max = periodic_long_axis ? Vec3{0.4, 0.1, 0.08} : Vec3{0.1, 0.1, 0.32};
-  f.lattice = config::Fill::Lattice::Cubic;
+  auto& f = test::add_box_fill(c, "glass", 0.0018, 0.0022, {0, 0, 0},
+                               periodic_long_axis ? Vec3{0.4, 0.1, 0.08} : Vec3{0.1, 0.1, 0.32},
+                               config::Fill::Lattice::Cubic);
   f.spacing = 0.0046;
   f.count = 10000;
   f.velocity_jitter = 0.3;
   f.seed = 2;
-  g.fill = f;
-  c.particles.push_back(g);
-  config::Wall box;
-  box.name = "box";
-  box.kind = config::Wall::Kind::Box;
-  box.min = {0, 0, 0};
-  box.max = hi;
-  box.open = periodic_long_axis ? std::vector<std::string>{"xmin", "xmax", "zmax"} : std::vector<std::string>{"zmax"};
-  box.material = "glass";
-  c.walls.push_back(box);
+  test::add_box(c, "box", {0, 0, 0}, hi,
+                periodic_long_axis ? std::vector<std::string>{"xmin", "xmax", "zmax"} : std::vector<std::string>{"zmax"},
+                "glass");
   return c;
 }
 
