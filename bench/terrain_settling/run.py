@@ -16,8 +16,8 @@ Per code and per size N it measures
   (3) peak memory: "Maximum resident set size" from /usr/bin/time -v, raw and minus a baseline
       run of the same code with a tiny N, per particle,
 and prints particle-steps/s (N x steps / loop wall time), the grainflow/LIGGGHTS ratio and
-bytes/particle, noting the machine load during each run. Unless --no-record is given it
-appends a dated section to bench/RESULTS.md.
+bytes/particle, with the machine load and the CPU share each process got (the machine is
+shared). Unless --no-record is given it appends a dated section to bench/RESULTS.md.
 
 If the grainflow binary is missing or fails, its rows are reported as n/a and the LIGGGHTS
 figures are still produced.
@@ -44,7 +44,7 @@ import sys
 import tempfile
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -70,7 +70,7 @@ BASELINE_STEPS = 200
 
 
 def F(x: float) -> str:
-    """A short, unambiguous decimal for input files: 0.0105, 1.0e+07, 0.0 (never "1e7" or "0")."""
+    """A float for input files, always with a decimal point: 0.0105, 10000000.0, 2.0e-05, 0.0."""
     text = f"{float(x):.10g}"
     mant, _, exp = text.partition("e")
     if "." not in mant:
@@ -177,19 +177,36 @@ class Proc:
     wall: float
     maxrss_bytes: int | None
     cpu_percent: str
+    cpu_share: float | None  # CPU seconds / (wall seconds x ranks), from time -v
     load: dict
     stdout: str
     stderr: str
 
 
-def parse_time_v(path: Path) -> tuple[int | None, str]:
-    """(max RSS in bytes, 'Percent of CPU this job got') from a /usr/bin/time -v report."""
+def parse_time_v(path: Path) -> tuple[int | None, str, float | None, float | None]:
+    """From a /usr/bin/time -v report: (max RSS in bytes, 'Percent of CPU this job got',
+    user + system CPU seconds, elapsed wall seconds)."""
     if not path.exists():
-        return None, "?"
+        return None, "?", None, None
     text = path.read_text(errors="replace")
     m = re.search(r"Maximum resident set size \(kbytes\): (\d+)", text)
     c = re.search(r"Percent of CPU this job got: (\S+)", text)
-    return (int(m.group(1)) * 1024 if m else None), (c.group(1) if c else "?")
+    u = re.search(r"User time \(seconds\): (\S+)", text)
+    k = re.search(r"System time \(seconds\): (\S+)", text)
+    e = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): (\S+)", text)
+    cpu_s = float(u.group(1)) + float(k.group(1)) if u and k else None
+    wall_s = None
+    if e:
+        wall_s = 0.0
+        for part in e.group(1).split(":"):
+            wall_s = wall_s * 60 + float(part)
+    return (int(m.group(1)) * 1024 if m else None), (c.group(1) if c else "?"), cpu_s, wall_s
+
+
+def _share(cpu_s, wall_s, ranks=1):
+    if cpu_s is None or not wall_s:
+        return None
+    return min(1.0, cpu_s / (wall_s * ranks))
 
 
 def run_timed(cmd: list[str], cwd: Path, tag: str, timeout: float,
@@ -217,15 +234,18 @@ def run_timed(cmd: list[str], cwd: Path, tag: str, timeout: float,
     (cwd / f"{tag}.stdout").write_text(out or "")
     (cwd / f"{tag}.stderr").write_text(err or "")
     if per_rank_time:
-        rss, cpus = 0, []
+        rss, cpus, cpu_s, wall_s = 0, [], 0.0, 0.0
         for r in range(per_rank_time):
-            b, c = parse_time_v(cwd / f"{tag}.time.{r}")
+            b, c, cs, ws = parse_time_v(cwd / f"{tag}.time.{r}")
             rss = None if (b is None or rss is None) else rss + b
+            cpu_s = None if (cs is None or cpu_s is None) else cpu_s + cs
+            wall_s = None if (ws is None or wall_s is None) else max(wall_s, ws)
             cpus.append(c)
-        cpu = "+".join(cpus)
+        cpu, share = "+".join(cpus), _share(cpu_s, wall_s, per_rank_time)
     else:
-        rss, cpu = parse_time_v(tfile)
-    return Proc(rc, wall, rss, cpu, load.summary(), out or "", err or "")
+        rss, cpu, cpu_s, wall_s = parse_time_v(tfile)
+        share = _share(cpu_s, wall_s)
+    return Proc(rc, wall, rss, cpu, share, load.summary(), out or "", err or "")
 
 
 # ---------------------------------------------------------------------------------------------
@@ -286,7 +306,10 @@ set group all diameter {F(2 * RADIUS)} density {F(DENSITY)}
 {kick}
 fix integr all nve/sphere
 compute zmax all reduce max z
-thermo_style custom step atoms ke c_zmax
+compute cpa all contact/atom
+compute ncon all reduce sum c_cpa
+variable coord equal c_ncon/atoms
+thermo_style custom step atoms ke c_zmax v_coord
 thermo {thermo}
 thermo_modify lost ignore norm no
 
@@ -312,7 +335,7 @@ def parse_liggghts_log(text: str) -> dict:
                   atoms=int(m.group(4))) for m in LOOP_RE.finditer(text)]
     neighs = [float(x) for x in re.findall(r"Ave neighs/atom = (\S+)", text)]
     created = re.search(r"Created (\d+) atoms", text)
-    thermo = re.findall(r"^\s+(\d+)\s+(\d+)\s+(\S+)\s+(\S+)\s*$", text, re.M)
+    thermo = re.findall(r"^\s+(\d+)\s+(\d+)\s+(\S+)\s+(\S+)\s+(\S+)\s*$", text, re.M)
     version = re.search(r"LIGGGHTS \(Version ([^,)]+)", text)
     return {"loops": loops, "neighs_per_atom": neighs,
             "created": int(created.group(1)) if created else None,
@@ -344,9 +367,14 @@ def run_liggghts(exe: str, geo: Geometry, settle_steps: int, dense_steps: int, t
         return res
     settle, dense = info["loops"][0], info["loops"][1]
     res["phases"] = {
-        "settle": {"steps": settle["steps"], "seconds": settle["seconds"], "load": proc.load},
-        "dense": {"steps": dense["steps"], "seconds": dense["seconds"], "load": proc.load},
+        "settle": {"steps": settle["steps"], "seconds": settle["seconds"], "load": proc.load,
+                   "cpu_share": proc.cpu_share},
+        "dense": {"steps": dense["steps"], "seconds": dense["seconds"], "load": proc.load,
+                  "cpu_share": proc.cpu_share},
     }
+    frac = (settle["seconds"] + dense["seconds"]) / proc.wall if proc.wall > 0 else 0.0
+    for ph in res["phases"].values():
+        ph["loop_fraction"] = frac
     res["n"] = info["created"]
     res["n_end"] = dense["atoms"]
     res["maxrss"] = proc.maxrss_bytes
@@ -355,6 +383,7 @@ def run_liggghts(exe: str, geo: Geometry, settle_steps: int, dense_steps: int, t
     at_settle = [t for t in info["thermo"] if int(t[0]) == settle_steps]
     if at_settle:  # state at the end of the settling run, as grainflow's series reports it
         res["ke_end"], res["zmax_end"] = float(at_settle[0][2]), float(at_settle[0][3])
+        res["coord_end"] = float(at_settle[0][4])
     return res
 
 
@@ -395,7 +424,7 @@ walls:
 neighbor: {{skin: {F(SKIN)}}}
 output:
   directory: {outdir}
-  series: {{every: {F(SERIES_EVERY)}, quantities: [kinetic_energy, max_z]}}
+  series: {{every: {F(SERIES_EVERY)}, quantities: [kinetic_energy, max_z, coordination_number]}}
   checkpoint: {{every: {F(checkpoint_every)}}}
 """
 
@@ -462,10 +491,14 @@ def run_grainflow(exe: str | None, geo: Geometry, settle_steps: int, dense_steps
     res.update(ok=True, n=int(s1.get("n_particles", geo.n)), n_end=int(s2.get("n_particles", 0)))
     res["phases"] = {
         "settle": {"steps": int(s1["steps"]), "seconds": float(s1["loop_seconds"]),
-                   "load": p1.load, "reported_rate": s1.get("particle_steps_per_second")},
+                   "load": p1.load, "cpu_share": p1.cpu_share,
+                   "reported_rate": s1.get("particle_steps_per_second")},
         "dense": {"steps": int(s2["steps"]), "seconds": float(s2["loop_seconds"]),
-                  "load": p2.load, "reported_rate": s2.get("particle_steps_per_second")},
+                  "load": p2.load, "cpu_share": p2.cpu_share,
+                  "reported_rate": s2.get("particle_steps_per_second")},
     }
+    res["phases"]["settle"]["loop_fraction"] = float(s1["loop_seconds"]) / max(p1.wall, 1e-9)
+    res["phases"]["dense"]["loop_fraction"] = float(s2["loop_seconds"]) / max(p2.wall, 1e-9)
     # Peak memory: the larger of the two processes (the restart one holds the dense state).
     rss = [x for x in (p1.maxrss_bytes, p2.maxrss_bytes) if x]
     res["maxrss"] = max(rss) if rss else None
@@ -629,8 +662,15 @@ def main(argv=None) -> int:
         for name, r in per.items():
             if r["ok"]:
                 extra = ""
-                if "neighs" in r:
-                    extra = f", {r['neighs']:.2f} neighbours/atom, KE {r.get('ke_end', 0):.2e} J"
+                if "coord_end" in r:
+                    extra = (f", after settling: coordination {r['coord_end']:.3f}, "
+                             f"KE {r['ke_end']:.2e} J, max z {r['zmax_end']:.4f} m")
+                elif r.get("series_end"):
+                    e = r["series_end"]
+                    extra = (f", after settling: coordination "
+                             f"{e.get('coordination_number', float('nan')):.3f}, "
+                             f"KE {e.get('kinetic_energy', float('nan')):.2e} J, "
+                             f"max z {e.get('max_z', float('nan')):.4f} m")
                 if r.get("n_end") and r["n_end"] != r["n"]:
                     extra += f", LOST {r['n'] - r['n_end']} particles"
                 print(f"  {name}: ok{extra}" + (f" ({r['note']})" if r.get("note") else ""))
@@ -646,11 +686,14 @@ def main(argv=None) -> int:
                     continue
                 row = {"N": geo.n, "code": name, "phase": phase, "steps": None, "seconds": None,
                        "rate": None, "ratio": None, "bpp_raw": None, "bpp_net": None,
-                       "load": None, "cpu": r.get("cpu")}
+                       "load": None, "cpu": r.get("cpu"), "share": None, "rate_cpu": None}
                 if r["ok"]:
                     ph = r["phases"][phase]
                     row.update(steps=ph["steps"], seconds=ph["seconds"], rate=rate(r["n"], ph),
-                               load=ph["load"])
+                               load=ph["load"], share=ph.get("cpu_share"))
+                    # Only meaningful when the time loop is most of the process's life.
+                    if row["share"] and ph.get("loop_fraction", 0) >= 0.8:
+                        row["rate_cpu"] = row["rate"] / row["share"]
                     if name == "grainflow" and ref_rate:
                         row["ratio"] = row["rate"] / ref_rate
                     elif name == "LIGGGHTS":
@@ -686,7 +729,8 @@ def main(argv=None) -> int:
 
 def format_table(rows: list[dict]) -> str:
     head = ("| N | code | phase | steps | loop s | particle-steps/s | gf/LIGGGHTS | "
-            "bytes/particle raw | bytes/particle net | load (start/mean/max) | CPU % |")
+            "bytes/particle raw | bytes/particle net | load (start/mean/max) | CPU share | "
+            "particle-steps/CPU-s (approx.) |")
     out = [head, "|" + "---|" * head.count(" | ") + "---|"]
     for r in rows:
         ld = r["load"]
@@ -699,7 +743,8 @@ def format_table(rows: list[dict]) -> str:
             f"{r['ratio']:.2f}" if r["ratio"] else "n/a",
             f"{r['bpp_raw']:.0f}" if r["bpp_raw"] else "n/a",
             f"{r['bpp_net']:.0f}" if r["bpp_net"] else "n/a",
-            load, str(r["cpu"] or "n/a")]) + " |")
+            load, f"{r['share']:.2f}" if r["share"] else "n/a",
+            fmt_rate(r["rate_cpu"])]) + " |")
     return "\n".join(out)
 
 
@@ -713,7 +758,7 @@ def append_results(path: Path, meta: dict, args, results: list, table: str, gf) 
         f"- Threads/ranks: {args.threads} ("
         + ("serial, OMP_NUM_THREADS=1" if args.threads == 1 else
            f"grainflow --threads {args.threads} vs mpirun -np {args.threads} liggghts") + "); "
-        f"double precision; Hertz-Mindlin with tangential history, no rolling friction",
+        "double precision; Hertz-Mindlin with tangential history, no rolling friction",
         f"- dt {DT:g} s ({DT / rayleigh_time():.3f} t_R), skin {SKIN:g} m, "
         f"kick +-{args.jitter:g} m/s, dense phase {args.dense_steps} steps; settle times: "
         + ", ".join(f"N {r['geo'].n}: {r['settle_time']:g} s" for r in results),
@@ -728,12 +773,14 @@ def append_results(path: Path, meta: dict, args, results: list, table: str, gf) 
             elif x.get("neighs") is not None:
                 lines.append(f"- N {r['geo'].n} {name}: {x['neighs']:.2f} neighbours/atom at the "
                              f"end; after settling KE (translational) {x.get('ke_end', float('nan')):.2e} J, "
-                             f"max z {x.get('zmax_end', float('nan')):.4f} m")
+                             f"max z {x.get('zmax_end', float('nan')):.4f} m, "
+                             f"coordination {x.get('coord_end', float('nan')):.3f}")
             elif x.get("series_end"):
                 e = x["series_end"]
                 lines.append(f"- N {r['geo'].n} {name}: after settling KE "
                              f"{e.get('kinetic_energy', float('nan')):.2e} J, max z "
-                             f"{e.get('max_z', float('nan')):.4f} m; neighbour builds "
+                             f"{e.get('max_z', float('nan')):.4f} m, coordination "
+                             f"{e.get('coordination_number', float('nan')):.3f}; neighbour builds "
                              f"(settle, dense as reported) {x.get('neighbor_builds')}; "
                              f"summary peak RSS {x.get('summary_peak_rss')}")
     if args.note:
