@@ -210,11 +210,12 @@ def _share(cpu_s, wall_s, ranks=1):
 
 
 def run_timed(cmd: list[str], cwd: Path, tag: str, timeout: float,
-              per_rank_time: int = 0) -> Proc:
+              per_rank_time: int = 0, threads: int = 1) -> Proc:
     """Run `cmd` in `cwd` under /usr/bin/time -v (written to <tag>.time).
 
     per_rank_time > 0: `cmd` is an mpirun command whose ranks are each wrapped in time -v
     (files <tag>.time.<rank>); the max RSS is then the sum over the ranks.
+    threads: threads of a single process (for the CPU share).
     """
     wait_quiet()
     env = dict(os.environ, OMP_NUM_THREADS=os.environ.get("BENCH_OMP_NUM_THREADS", "1"))
@@ -244,7 +245,7 @@ def run_timed(cmd: list[str], cwd: Path, tag: str, timeout: float,
         cpu, share = "+".join(cpus), _share(cpu_s, wall_s, per_rank_time)
     else:
         rss, cpu, cpu_s, wall_s = parse_time_v(tfile)
-        share = _share(cpu_s, wall_s)
+        share = _share(cpu_s, wall_s, threads)
     return Proc(rc, wall, rss, cpu, share, load.summary(), out or "", err or "")
 
 
@@ -443,7 +444,7 @@ def _grainflow_one(exe: str, case: Path, out: Path, threads: int, restart: Path 
     cmd = [exe, "run", case.name, "--output", out.name, "--overwrite", "--threads", str(threads)]
     if restart is not None:
         cmd += ["--restart", str(restart)]
-    proc = run_timed(cmd, case.parent, tag, args.timeout)
+    proc = run_timed(cmd, case.parent, tag, args.timeout, threads=threads)
     summ = out / "summary.json"
     if proc.rc != 0:
         return proc, None, f"exit {proc.rc}: " + _tail(proc.stderr or proc.stdout)
@@ -461,7 +462,9 @@ def run_grainflow(exe: str | None, geo: Geometry, settle_steps: int, dense_steps
     if exe is None:
         res["why"] = f"binary not found ({args.grainflow})"
         return res
+    built = _dt.datetime.fromtimestamp(Path(exe).stat().st_mtime).strftime("%Y-%m-%d %H:%M")
     res["version"] = grainflow_version(exe)
+    res["built"] = built
     workdir.mkdir(parents=True, exist_ok=True)
     settle_end = settle_steps * DT
     dense_end = (settle_steps + dense_steps) * DT
@@ -509,6 +512,7 @@ def run_grainflow(exe: str | None, geo: Geometry, settle_steps: int, dense_steps
     res["neighbor_builds"] = [s1.get("neighbor_builds"), s2.get("neighbor_builds")]
     if res["version"] == "unknown" and s1.get("program"):
         res["version"] = s1["program"]
+    res["version"] += f" (binary of {built})"
     last = _last_series_row(workdir / "settle" / "series.csv")
     if last:
         res["series_end"] = last
