@@ -64,6 +64,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
                    [&](std::ostream& o) { o << input::echo_yaml(cfg_, version_string); });
 
   const std::int64_t first = step_;
+  const std::int64_t builds_before = nlist_.n_builds();  // a restart carries the count over
   std::int64_t last = std::llround(cfg_.time.end / dt_);
   if (opts.steps) last = first + *opts.steps;
   const auto& out = cfg_.output;
@@ -168,7 +169,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
         "  \"loop_seconds\": {:.6f},\n  \"wall_seconds\": {:.6f},\n  \"particle_steps_per_second\": {:.6g},\n"
         "  \"peak_rss_bytes\": {},\n  \"neighbor_builds\": {},\n  \"stages\": {{{}}}\n}}\n",
         version_string, s.n_particles, s.steps, exec::n_threads(), s.loop_seconds, wall, s.particle_steps_per_second,
-        s.peak_rss_bytes, nlist_.n_builds(), stages);
+        s.peak_rss_bytes, nlist_.n_builds() - builds_before, stages);
   });
 
   log::info("timing summary ({} steps, {} thread{}):", steps, exec::n_threads(), exec::n_threads() > 1 ? "s" : "");
@@ -178,7 +179,8 @@ RunSummary Simulation::run(const RunOptions& opts) {
     log::info("  {:<10} {:10.3f} s  {:5.1f} %", stage_names[k], sec, total > 0 ? 100 * sec / total : 0.0);
   }
   log::info("  {:<10} {:10.3f} s  ({:.3g} particle-steps/s without output, {} neighbour builds, peak memory {:.1f} MiB)",
-            "total", total, s.particle_steps_per_second, nlist_.n_builds(), s.peak_rss_bytes / 1048576.0);
+            "total", total, s.particle_steps_per_second, nlist_.n_builds() - builds_before,
+            s.peak_rss_bytes / 1048576.0);
   return s;
 }
 
