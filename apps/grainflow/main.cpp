@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The grainflow command line: run | check | list-models | describe <key>.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -24,7 +24,9 @@ namespace {
 constexpr int kExitInput = 2;
 
 std::string param_range(const gf::ParamSpec& p) {
-  const auto bound = [](double v) { return std::isinf(v) ? std::string(v < 0 ? "-inf" : "inf") : fmt::format("{}", v); };
+  const auto bound = [](double v) {
+    return std::isinf(v) ? std::string(v < 0 ? "-inf" : "inf") : fmt::format("{}", v);
+  };
   return fmt::format("{}{}, {}]", p.min_exclusive ? "(" : "[", bound(p.min), bound(p.max));
 }
 
@@ -45,22 +47,29 @@ int describe(const std::string& key) {
     fmt::print(stderr, "error: unknown model key '{}'; known keys:{}\n", key, keys);
     return kExitInput;
   }
-  fmt::print("{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters (per material pair, in contacts[]):\n",
-             m->key, m->summary, m->equation, m->reference);
+  fmt::print(
+      "{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters (per material pair, in "
+      "contacts[]):\n",
+      m->key, m->summary, m->equation, m->reference);
   fmt::print("  {:<28} {:<6} {:<10} {:<16} {}\n", "name", "unit", "default", "range", "meaning");
   for (const auto& p : m->params)
     fmt::print("  {:<28} {:<6} {:<10} {:<16} {}\n", p.name, p.unit,
-               p.default_value ? fmt::format("{:.6g}", *p.default_value) : std::string("required"), param_range(p),
-               p.description);
+               p.default_value ? fmt::format("{:.6g}", *p.default_value) : std::string("required"),
+               param_range(p), p.description);
   // The restitution -> damping mapping actually used (numerical inversion, restitution_map.hpp).
-  const auto kind = key == "hooke" ? gf::contact::NormalKind::Linear : gf::contact::NormalKind::Hertz;
-  fmt::print("\ndamping ratio zeta realising restitution e (dimensionless collision, clamped force):\n  e    ");
+  const auto kind =
+      key == "hooke" ? gf::contact::NormalKind::Linear : gf::contact::NormalKind::Hertz;
+  fmt::print(
+      "\ndamping ratio zeta realising restitution e (dimensionless collision, clamped force):\n  e "
+      "   ");
   for (double e : {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0}) fmt::print(" {:>7.1f}", e);
   fmt::print("\n  zeta ");
   for (double e : {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0})
     fmt::print(" {:>7.4f}", gf::contact::damping_ratio_for_restitution(kind, e));
   fmt::print("\n");
-  fmt::print("\nper-material parameters (materials:): density [kg/m^3], youngs_modulus [Pa], poisson_ratio [1]\n");
+  fmt::print(
+      "\nper-material parameters (materials:): density [kg/m^3], youngs_modulus [Pa], "
+      "poisson_ratio [1]\n");
   return 0;
 }
 
@@ -71,7 +80,8 @@ int check(const std::string& file) {
     fmt::print("  {:<40} {}\n", "bodies", fem_cfg->body_names.size());
     fmt::print("  {:<40} {}\n", "density (kg/m^3), viscosity (m^2/s)",
                fmt::format("{}, {}", fem_cfg->density, fem_cfg->viscosity));
-    fmt::print("  {:<40} {}\n", "time stepping", fem_cfg->steady ? "steady (Newton)" : "unsteady (BDF)");
+    fmt::print("  {:<40} {}\n", "time stepping",
+               fem_cfg->steady ? "steady (Newton)" : "unsteady (BDF)");
     return 0;
   }
   const auto cfg = gf::input::load_case(file);
@@ -107,14 +117,18 @@ int main(int argc, char** argv) {
   std::int64_t steps = -1;
   run->add_option("case", run_file, "case file (YAML)")->required();
   run->add_option("-o,--output", output, "output folder (default: output.directory of the case)");
-  run->add_option("-t,--threads", threads, "OpenMP threads (default: OMP_NUM_THREADS, else all cores)")
+  run->add_option("-t,--threads", threads,
+                  "OpenMP threads (default: OMP_NUM_THREADS, else all cores)")
       ->check(CLI::Range(1, 4096));
-  run->add_option("-r,--restart", restart, "continue from a checkpoint file")->check(CLI::ExistingFile);
-  run->add_option("--steps", steps, "run this many steps instead of up to time.end")->check(CLI::Range(0L, 1L << 50));
+  run->add_option("-r,--restart", restart, "continue from a checkpoint file")
+      ->check(CLI::ExistingFile);
+  run->add_option("--steps", steps, "run this many steps instead of up to time.end")
+      ->check(CLI::Range(0L, 1L << 50));
   run->add_flag("--overwrite", opts.overwrite, "replace the contents of an existing output folder");
   run->add_flag("-q,--quiet", quiet, "no progress output, warnings only");
 
-  auto* chk = app.add_subcommand("check", "validate a case and print derived numbers, without running");
+  auto* chk =
+      app.add_subcommand("check", "validate a case and print derived numbers, without running");
   std::string check_file;
   chk->add_option("case", check_file, "case file (YAML)")->required();
 

@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
       throw gf::InputError(std::string(argv[1]) + ":" + std::to_string(e.mark.line + 1) + ":" +
                            std::to_string(e.mark.column + 1) + ": " + e.msg);
     }
-    if (!doc["fluid_fem"].IsDefined()) throw gf::InputError(std::string(argv[1]) + ": no 'fluid_fem' block");
+    if (!doc["fluid_fem"].IsDefined())
+      throw gf::InputError(std::string(argv[1]) + ": no 'fluid_fem' block");
     const auto cfg = gf::fem::parse_fluid_fem(doc["fluid_fem"], argv[1]);
     gf::fem::run_fluid_fem(cfg, argv[2], argc == 4 ? std::atoi(argv[3]) : -1);
   } catch (const gf::InputError& e) {

@@ -16,7 +16,9 @@ namespace st = schaefer_turek;
 
 int main(int argc, char** argv) {
   if (argc < 7) {
-    std::fprintf(stderr, "usage: st_unsteady <2|3> h_body h_max dt t_end out.csv [reuse] [adaptive rtol] [wake h]\n");
+    std::fprintf(stderr,
+                 "usage: st_unsteady <2|3> h_body h_max dt t_end out.csv [reuse] [adaptive rtol] "
+                 "[wake h]\n");
     return 2;
   }
   const int which = std::atoi(argv[1]);
@@ -28,11 +30,16 @@ int main(int argc, char** argv) {
   double rtol = 1e-3;
   for (int i = 7; i < argc; ++i) {
     if (std::string(argv[i]) == "reuse") reuse = true;
-    if (std::string(argv[i]) == "adaptive" && i + 1 < argc) { adaptive = true; rtol = std::atof(argv[++i]); }
+    if (std::string(argv[i]) == "adaptive" && i + 1 < argc) {
+      adaptive = true;
+      rtol = std::atof(argv[++i]);
+    }
     if (std::string(argv[i]) == "wake" && i + 1 < argc) h_wake = std::atof(argv[++i]);
   }
   auto t0 = std::chrono::steady_clock::now();
-  auto sec = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  auto sec = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
   std::function<double(double)> f;
   double u_max = 1.5;
   if (which == 3) {
@@ -59,11 +66,14 @@ int main(int argc, char** argv) {
     const double ubar = 2.0 / 3.0 * 1.5;  // coefficients use the peak mean velocity 1 m/s
     const auto c = st::coefficients(s, s.reaction_forces()[0], ubar);
     const auto cs = st::coefficients(s, s.stress_forces()[0], ubar);
-    std::fprintf(fp, "%.8f,%.3e,%.10f,%.10f,%.10f,%.10f,%.10f\n", s.time(), h, c.cd, c.cl, c.dp, cs.cd, cs.cl);
+    std::fprintf(fp, "%.8f,%.3e,%.10f,%.10f,%.10f,%.10f,%.10f\n", s.time(), h, c.cd, c.cl, c.dp,
+                 cs.cd, cs.cl);
   });
   std::fclose(fp);
-  std::printf("steps %d rejected %d newton %d factorizations %d wall %.1f s (factor %.1f s, assembly %.1f s, solve %.1f s)\n",
-              stats.steps, stats.rejected, stats.newton_iterations, stats.factorizations, sec(),
-              ns.lu().factor_seconds(), ns.assembly_seconds(), ns.lu().solve_seconds());
+  std::printf(
+      "steps %d rejected %d newton %d factorizations %d wall %.1f s (factor %.1f s, assembly %.1f "
+      "s, solve %.1f s)\n",
+      stats.steps, stats.rejected, stats.newton_iterations, stats.factorizations, sec(),
+      ns.lu().factor_seconds(), ns.assembly_seconds(), ns.lu().solve_seconds());
   return 0;
 }

@@ -21,7 +21,8 @@ EnergyHeights energy_and_heights(const ParticleStore& p, const Vec3& gravity);
 
 /// Mean number of contacts per particle, 2 C / N (particle-particle contacts only).
 inline double coordination_number(std::int64_t n_contacts, std::size_t n_particles) {
-  return n_particles ? 2.0 * static_cast<double>(n_contacts) / static_cast<double>(n_particles) : 0.0;
+  return n_particles ? 2.0 * static_cast<double>(n_contacts) / static_cast<double>(n_particles)
+                     : 0.0;
 }
 
 }  // namespace gf::analysis

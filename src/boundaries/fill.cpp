@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <array>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <unordered_map>
 
 #include "core/error.hpp"
@@ -14,8 +14,10 @@ namespace gf {
 
 double RadiusDistribution::sample(Rng& rng) const {
   switch (kind) {
-    case Kind::Fixed: return value;
-    case Kind::Uniform: return rng.uniform(min, max);
+    case Kind::Fixed:
+      return value;
+    case Kind::Uniform:
+      return rng.uniform(min, max);
     case Kind::Normal:
       for (int k = 0; k < 100000; ++k) {
         const double r = rng.normal(mean, std);
@@ -65,7 +67,8 @@ void FillRegion::bounds(Vec3& lo, Vec3& hi) const {
 
 namespace {
 
-std::vector<FilledSphere> lattice_fill(const FillSpec& spec, const RadiusDistribution& rad, Rng& rng) {
+std::vector<FilledSphere> lattice_fill(const FillSpec& spec, const RadiusDistribution& rad,
+                                       Rng& rng) {
   const double rmax = rad.largest();
   const double a = spec.spacing.value_or(2 * rmax * 1.01);
   REQUIRE(a > 0, "lattice spacing must be positive");
@@ -76,7 +79,8 @@ std::vector<FilledSphere> lattice_fill(const FillSpec& spec, const RadiusDistrib
   const bool hcp = spec.lattice == FillSpec::Lattice::Hcp;
   // hcp: layers of a triangular lattice (row offset a/2, row pitch a sqrt(3)/2), ABAB stacking
   // with layer pitch a sqrt(2/3).
-  const double dx = a, dy = hcp ? a * std::sqrt(3.0) / 2 : a, dz = hcp ? a * std::sqrt(2.0 / 3.0) : a;
+  const double dx = a, dy = hcp ? a * std::sqrt(3.0) / 2 : a,
+               dz = hcp ? a * std::sqrt(2.0 / 3.0) : a;
   const Vec3 start = lo + Vec3{rmax, rmax, rmax};
   for (int iz = 0;; ++iz) {
     const double z = start.z + iz * dz;
@@ -126,7 +130,8 @@ class OverlapGrid {
 
  private:
   std::array<std::int64_t, 3> cell_index(const Vec3& p) const {
-    return {static_cast<std::int64_t>(std::floor(p.x / cell_)), static_cast<std::int64_t>(std::floor(p.y / cell_)),
+    return {static_cast<std::int64_t>(std::floor(p.x / cell_)),
+            static_cast<std::int64_t>(std::floor(p.y / cell_)),
             static_cast<std::int64_t>(std::floor(p.z / cell_))};
   }
   static std::int64_t key(const std::array<std::int64_t, 3>& c) {
@@ -141,7 +146,8 @@ std::vector<FilledSphere> random_fill(const FillSpec& spec, const RadiusDistribu
                                       const std::vector<FilledSphere>& existing) {
   REQUIRE(spec.count.has_value(), "a random fill needs a count");
   const std::int64_t target = *spec.count;
-  const std::int64_t attempts = spec.max_attempts > 0 ? spec.max_attempts : 1000 * std::max<std::int64_t>(target, 1);
+  const std::int64_t attempts =
+      spec.max_attempts > 0 ? spec.max_attempts : 1000 * std::max<std::int64_t>(target, 1);
   double r_max = rad.largest();
   for (const auto& s : existing) r_max = std::max(r_max, s.r);
   OverlapGrid grid(2 * r_max);
@@ -153,22 +159,24 @@ std::vector<FilledSphere> random_fill(const FillSpec& spec, const RadiusDistribu
   while (static_cast<std::int64_t>(out.size()) < target && tries < attempts) {
     ++tries;
     const double r = rad.sample(rng);
-    const Vec3 p{rng.uniform(lo.x + r, hi.x - r), rng.uniform(lo.y + r, hi.y - r), rng.uniform(lo.z + r, hi.z - r)};
+    const Vec3 p{rng.uniform(lo.x + r, hi.x - r), rng.uniform(lo.y + r, hi.y - r),
+                 rng.uniform(lo.z + r, hi.z - r)};
     if (!spec.region.contains(p, r) || grid.overlaps(p, r, r_max)) continue;
     grid.insert({p, r});
     out.push_back({p, r});
   }
   if (static_cast<std::int64_t>(out.size()) < target)
-    throw InputError(fmt::format("random fill placed only {} of {} spheres in {} attempts: the region is too small "
-                                 "for a loose random packing (enlarge it, reduce count, or use a lattice)",
-                                 out.size(), target, attempts));
+    throw InputError(fmt::format(
+        "random fill placed only {} of {} spheres in {} attempts: the region is too small "
+        "for a loose random packing (enlarge it, reduce count, or use a lattice)",
+        out.size(), target, attempts));
   return out;
 }
 
 }  // namespace
 
-std::vector<FilledSphere> generate_fill(const FillSpec& spec, const RadiusDistribution& radius, Rng& rng,
-                                        const std::vector<FilledSphere>& existing) {
+std::vector<FilledSphere> generate_fill(const FillSpec& spec, const RadiusDistribution& radius,
+                                        Rng& rng, const std::vector<FilledSphere>& existing) {
   if (spec.lattice == FillSpec::Lattice::Random) return random_fill(spec, radius, rng, existing);
   return lattice_fill(spec, radius, rng);
 }

@@ -15,9 +15,9 @@ namespace gf {
 struct RadiusDistribution {
   enum class Kind { Fixed, Uniform, Normal, Lognormal };
   Kind kind = Kind::Fixed;
-  double value = 0;           ///< Fixed, m
-  double min = 0, max = 0;    ///< bounds / truncation, m
-  double mean = 0, std = 0;   ///< of the radius, m (Normal, Lognormal)
+  double value = 0;          ///< Fixed, m
+  double min = 0, max = 0;   ///< bounds / truncation, m
+  double mean = 0, std = 0;  ///< of the radius, m (Normal, Lognormal)
   double largest() const { return kind == Kind::Fixed ? value : max; }
   /// One radius; truncated distributions are sampled by rejection.
   double sample(Rng& rng) const;
@@ -26,7 +26,7 @@ struct RadiusDistribution {
 struct FillRegion {
   enum class Kind { Box, Cylinder };
   Kind kind = Kind::Box;
-  Vec3 min, max;            ///< box, m
+  Vec3 min, max;  ///< box, m
   Vec3 center, axis{0, 0, 1};
   double radius = 0, height = 0;  ///< cylinder, m
   /// Whether a sphere of radius r lies entirely inside the region.
@@ -51,7 +51,7 @@ struct FilledSphere {
 
 /// Generates the spheres of one fill. `existing` spheres (already placed) are avoided by the
 /// random insertion. Throws gf::InputError if a random fill cannot reach its count.
-std::vector<FilledSphere> generate_fill(const FillSpec& spec, const RadiusDistribution& radius, Rng& rng,
-                                        const std::vector<FilledSphere>& existing = {});
+std::vector<FilledSphere> generate_fill(const FillSpec& spec, const RadiusDistribution& radius,
+                                        Rng& rng, const std::vector<FilledSphere>& existing = {});
 
 }  // namespace gf

@@ -11,10 +11,10 @@ namespace gf {
 
 /// x(t) = c0 + V t + R(Omega t)(x0 - c0), Omega = rate * axis.
 struct RigidMotion {
-  Vec3 velocity;          ///< m/s
-  Vec3 axis{0, 0, 1};     ///< unit
-  Vec3 center;            ///< point on the rotation axis at t = 0, m
-  double rate = 0;        ///< rad/s
+  Vec3 velocity;       ///< m/s
+  Vec3 axis{0, 0, 1};  ///< unit
+  Vec3 center;         ///< point on the rotation axis at t = 0, m
+  double rate = 0;     ///< rad/s
 
   GF_HOST_DEVICE Vec3 omega() const { return rate * axis; }
   GF_HOST_DEVICE Vec3 center_at(double t) const { return center + t * velocity; }
@@ -25,7 +25,9 @@ struct RigidMotion {
     const double a = rate * t, c = std::cos(a), s = std::sin(a);
     return c * d + s * cross(axis, d) + (1 - c) * dot(axis, d) * axis;
   }
-  GF_HOST_DEVICE Vec3 point_at(const Vec3& p0, double t) const { return center_at(t) + rotate(p0 - center, t); }
+  GF_HOST_DEVICE Vec3 point_at(const Vec3& p0, double t) const {
+    return center_at(t) + rotate(p0 - center, t);
+  }
   /// Velocity of the wall material at point p (world) at time t.
   GF_HOST_DEVICE Vec3 velocity_at(const Vec3& p, double t) const {
     return velocity + cross(omega(), p - center_at(t));

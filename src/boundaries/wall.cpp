@@ -16,7 +16,8 @@ namespace {
 
 /// Two unit vectors spanning the plane normal to n.
 void tangent_basis(const Vec3& n, Vec3& a, Vec3& b) {
-  a = std::abs(n.x) < 0.9 ? normalized(cross(n, Vec3{1, 0, 0})) : normalized(cross(n, Vec3{0, 1, 0}));
+  a = std::abs(n.x) < 0.9 ? normalized(cross(n, Vec3{1, 0, 0}))
+                          : normalized(cross(n, Vec3{0, 1, 0}));
   b = cross(n, a);
 }
 
@@ -41,7 +42,8 @@ SurfaceMesh Wall::surface(const Domain& domain) const {
       lo_b = std::min(lo_b, dot(q - o, b));
       hi_b = std::max(hi_b, dot(q - o, b));
     }
-    m.points = {o + lo_a * a + lo_b * b, o + hi_a * a + lo_b * b, o + hi_a * a + hi_b * b, o + lo_a * a + hi_b * b};
+    m.points = {o + lo_a * a + lo_b * b, o + hi_a * a + lo_b * b, o + hi_a * a + hi_b * b,
+                o + lo_a * a + hi_b * b};
     m.triangles = {{0, 1, 2}, {0, 2, 3}};
     return m;
   }
@@ -53,7 +55,10 @@ SurfaceMesh Wall::surface(const Domain& domain) const {
     lo = std::min(lo, dot(q - point, dir));
     hi = std::max(hi, dot(q - point, dir));
   }
-  if (!(hi > lo)) { lo = -diag; hi = diag; }
+  if (!(hi > lo)) {
+    lo = -diag;
+    hi = diag;
+  }
   constexpr int seg = 48;
   for (int s = 0; s < seg; ++s) {
     const double phi = 2 * std::numbers::pi * s / seg;
@@ -69,8 +74,8 @@ SurfaceMesh Wall::surface(const Domain& domain) const {
   return m;
 }
 
-void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n, double skin,
-                            std::span<const std::int64_t> perm) {
+void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const double* r,
+                            std::size_t n, double skin, std::span<const std::int64_t> perm) {
   old_entries_.swap(entries_);
   old_history_.swap(history_);
   entries_.clear();
@@ -83,17 +88,20 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
   }
   groups_.clear();
   for (std::size_t k = 0; k < entries_.size(); ++k)
-    if (k == 0 || entries_[k].particle != entries_[k - 1].particle) groups_.push_back(static_cast<std::int64_t>(k));
+    if (k == 0 || entries_[k].particle != entries_[k - 1].particle)
+      groups_.push_back(static_cast<std::int64_t>(k));
   groups_.push_back(static_cast<std::int64_t>(entries_.size()));
   reactions_.assign(2 * entries_.size(), Vec3{});
   // Carry the history: the old list is sorted by (old particle index, wall).
   history_.assign(entries_.size(), Vec3{});
   const auto key = [](std::int64_t particle, std::int32_t wall) { return (particle << 32) | wall; };
   for (std::size_t k = 0; k < entries_.size(); ++k) {
-    const std::int64_t old_i = perm.empty() ? entries_[k].particle : perm[static_cast<std::size_t>(entries_[k].particle)];
+    const std::int64_t old_i =
+        perm.empty() ? entries_[k].particle : perm[static_cast<std::size_t>(entries_[k].particle)];
     const std::int64_t want = key(old_i, entries_[k].wall);
-    const auto it = std::lower_bound(old_entries_.begin(), old_entries_.end(), want,
-                                     [&](const Entry& e, std::int64_t v) { return key(e.particle, e.wall) < v; });
+    const auto it = std::lower_bound(
+        old_entries_.begin(), old_entries_.end(), want,
+        [&](const Entry& e, std::int64_t v) { return key(e.particle, e.wall) < v; });
     if (it != old_entries_.end() && key(it->particle, it->wall) == want)
       history_[k] = old_history_[static_cast<std::size_t>(it - old_entries_.begin())];
   }
@@ -105,7 +113,8 @@ void WallContactList::restore(std::vector<Entry> entries, std::vector<Vec3> hist
   history_ = std::move(history);
   groups_.clear();
   for (std::size_t k = 0; k < entries_.size(); ++k)
-    if (k == 0 || entries_[k].particle != entries_[k - 1].particle) groups_.push_back(static_cast<std::int64_t>(k));
+    if (k == 0 || entries_[k].particle != entries_[k - 1].particle)
+      groups_.push_back(static_cast<std::int64_t>(k));
   groups_.push_back(static_cast<std::int64_t>(entries_.size()));
   reactions_.assign(2 * entries_.size(), Vec3{});
 }
@@ -128,7 +137,8 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   const std::int64_t n_groups = static_cast<std::int64_t>(groups.size()) - 1;
   const std::int64_t active = exec::parallel_sum(n_groups, std::int64_t{0}, [&](exec::index_t g) {
     std::int64_t touching = 0;
-    for (std::int64_t k = groups[static_cast<std::size_t>(g)]; k < groups[static_cast<std::size_t>(g) + 1]; ++k) {
+    for (std::int64_t k = groups[static_cast<std::size_t>(g)];
+         k < groups[static_cast<std::size_t>(g) + 1]; ++k) {
       const int i = entries[static_cast<std::size_t>(k)].particle;
       const Wall& w = walls[static_cast<std::size_t>(entries[static_cast<std::size_t>(k)].wall)];
       contact::ContactKinematics kin;
@@ -147,13 +157,15 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
       kin.omega_rel = om[i] - w.motion.omega();
       kin.r_eff = r[i];
       kin.m_eff = m[i];
-      const contact::ContactResult res = dispatch_index(contact::ContactModels{}, c.model, [&]<class M>() {
-        return M::Law::evaluate(c, kin, dt, history[static_cast<std::size_t>(k)]);
-      });
+      const contact::ContactResult res =
+          dispatch_index(contact::ContactModels{}, c.model, [&]<class M>() {
+            return M::Law::evaluate(c, kin, dt, history[static_cast<std::size_t>(k)]);
+          });
       f[i] += res.force;
       tq[i] += -arm * cross(kin.normal, res.force) + res.rolling_torque;
       reaction[static_cast<std::size_t>(2 * k)] = -res.force;
-      reaction[static_cast<std::size_t>(2 * k + 1)] = -(cross(cp - w.torque_center(), res.force) + res.rolling_torque);
+      reaction[static_cast<std::size_t>(2 * k + 1)] =
+          -(cross(cp - w.torque_center(), res.force) + res.rolling_torque);
       ++touching;
     }
     return touching;

@@ -20,15 +20,15 @@ enum class WallKind : std::int32_t { Plane, Cylinder };
 
 /// One wall surface. A `box` of the case file becomes several planes sharing a group.
 struct Wall {
-  std::string name;     ///< e.g. "floor", or "box.zmin" for a face of a box
-  std::string group;    ///< the case-file name it reports under (equal to name for single walls)
+  std::string name;   ///< e.g. "floor", or "box.zmin" for a face of a box
+  std::string group;  ///< the case-file name it reports under (equal to name for single walls)
   WallKind kind = WallKind::Plane;
   int material = 0;
   // Geometry at t = 0.
-  Vec3 point0;          ///< plane: a point; cylinder: a point on the axis (m)
-  Vec3 dir0{0, 0, 1};   ///< plane: unit normal towards the particles; cylinder: unit axis
-  double radius = 0;    ///< cylinder radius, m
-  bool inside = true;   ///< cylinder: particles inside
+  Vec3 point0;         ///< plane: a point; cylinder: a point on the axis (m)
+  Vec3 dir0{0, 0, 1};  ///< plane: unit normal towards the particles; cylinder: unit axis
+  double radius = 0;   ///< cylinder radius, m
+  bool inside = true;  ///< cylinder: particles inside
   RigidMotion motion;
   // Current geometry (update_geometry).
   Vec3 point, dir;
@@ -52,8 +52,11 @@ struct Wall {
     const Vec3 d = x - point;
     Vec3 radial = d - dot(d, dir) * dir;
     const double rho = norm(radial);
-    if (rho > 0) radial = radial / rho;
-    else radial = std::abs(dir.x) < 0.9 ? normalized(cross(dir, Vec3{1, 0, 0})) : normalized(cross(dir, Vec3{0, 1, 0}));
+    if (rho > 0)
+      radial = radial / rho;
+    else
+      radial = std::abs(dir.x) < 0.9 ? normalized(cross(dir, Vec3{1, 0, 0}))
+                                     : normalized(cross(dir, Vec3{0, 1, 0}));
     if (inside) {
       n = -radial;
       return radius - rho - r;
@@ -76,8 +79,8 @@ class WallContactList {
   };
   /// Pairs with a gap below the skin. `perm` maps new particle indices to those of the previous
   /// build (empty: unchanged order), so that histories follow re-ordered particles.
-  void build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n, double skin,
-             std::span<const std::int64_t> perm = {});
+  void build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n,
+             double skin, std::span<const std::int64_t> perm = {});
   std::span<const Entry> entries() const { return entries_; }
   std::span<Vec3> history() { return history_; }
   std::span<const Vec3> history() const { return history_; }

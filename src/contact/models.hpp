@@ -36,12 +36,32 @@ inline double effective_shear_modulus(const Material& a, const Material& b) {
                 2 * (2 - b.poisson_ratio) * (1 + b.poisson_ratio) / b.youngs_modulus);
 }
 
-inline constexpr ParamSpec restitution_param{"restitution", "1", std::nullopt, 0.0, 1.0, true, ParamScope::PerPair,
-                                             "coefficient of normal restitution realised by a binary collision"};
-inline constexpr ParamSpec friction_param{"friction", "1", 0.5, 0.0, 1e3, false, ParamScope::PerPair,
+inline constexpr ParamSpec restitution_param{
+    "restitution",
+    "1",
+    std::nullopt,
+    0.0,
+    1.0,
+    true,
+    ParamScope::PerPair,
+    "coefficient of normal restitution realised by a binary collision"};
+inline constexpr ParamSpec friction_param{"friction",
+                                          "1",
+                                          0.5,
+                                          0.0,
+                                          1e3,
+                                          false,
+                                          ParamScope::PerPair,
                                           "Coulomb friction coefficient mu (|F_t| <= mu F_n)"};
-inline constexpr ParamSpec rolling_param{"rolling_friction", "1", 0.0, 0.0, 1e3, false, ParamScope::PerPair,
-                                         "rolling resistance coefficient mu_r (torque mu_r R* F_n)"};
+inline constexpr ParamSpec rolling_param{
+    "rolling_friction",
+    "1",
+    0.0,
+    0.0,
+    1e3,
+    false,
+    ParamScope::PerPair,
+    "rolling resistance coefficient mu_r (torque mu_r R* F_n)"};
 
 struct Hooke {
   using Law = ContactLaw<HookeNormal, ViscousDamping, HistoryTangential, ConstantTorqueRolling>;
@@ -49,10 +69,12 @@ struct Hooke {
   static constexpr std::string_view summary =
       "linear spring-dashpot with tangential history spring, Coulomb friction, rolling resistance";
   static constexpr std::string_view equation =
-      "F_n = k_n delta - 2 zeta sqrt(m* k_n) v_n (>= 0);  F_t = -k_t xi - 2 zeta sqrt(m* k_t) v_t, |F_t| <= mu F_n;  "
+      "F_n = k_n delta - 2 zeta sqrt(m* k_n) v_n (>= 0);  F_t = -k_t xi - 2 zeta sqrt(m* k_t) v_t, "
+      "|F_t| <= mu F_n;  "
       "k_n given or k_n = m*_ref v_ref^2 / delta_max^2;  zeta from the realised restitution";
   static constexpr std::string_view reference =
-      "Cundall & Strack, Geotechnique 29 (1979) 47; rolling: Ai et al., Powder Technol. 206 (2011) 269, model A";
+      "Cundall & Strack, Geotechnique 29 (1979) 47; rolling: Ai et al., Powder Technol. 206 (2011) "
+      "269, model A";
   static constexpr std::array<ParamSpec, 7> params{
       restitution_param,
       friction_param,
@@ -80,7 +102,8 @@ struct Hooke {
     } else {
       const auto dmax = get("max_overlap");
       const auto vref = get("reference_velocity");
-      REQUIRE(dmax && vref, "hooke needs 'stiffness' or both 'max_overlap' and 'reference_velocity'");
+      REQUIRE(dmax && vref,
+              "hooke needs 'stiffness' or both 'max_overlap' and 'reference_velocity'");
       // Energy balance of an undamped impact of two reference grains: m* v^2 = k delta_max^2.
       const double r = ctx.reference_radius;
       const double rho = 0.5 * (ctx.a->density + ctx.b->density);
@@ -96,15 +119,19 @@ struct HertzMindlin {
   using Law = ContactLaw<HertzNormal, ViscousDamping, HistoryTangential, ConstantTorqueRolling>;
   static constexpr std::string_view key = "hertz_mindlin";
   static constexpr std::string_view summary =
-      "Hertz normal force, Mindlin no-slip tangential stiffness with history, Coulomb friction, rolling resistance";
+      "Hertz normal force, Mindlin no-slip tangential stiffness with history, Coulomb friction, "
+      "rolling resistance";
   static constexpr std::string_view equation =
-      "F_n = 4/3 E* sqrt(R*) delta^(3/2) - 2 zeta sqrt(m* S_n) v_n (>= 0), S_n = 2 E* sqrt(R* delta);  "
+      "F_n = 4/3 E* sqrt(R*) delta^(3/2) - 2 zeta sqrt(m* S_n) v_n (>= 0), S_n = 2 E* sqrt(R* "
+      "delta);  "
       "F_t = -k_t xi - 2 zeta sqrt(m* k_t) v_t, k_t = 8 G* sqrt(R* delta), |F_t| <= mu F_n;  "
       "zeta from the realised restitution";
   static constexpr std::string_view reference =
-      "Hertz (1882); Mindlin, J. Appl. Mech. 16 (1949) 259; Tsuji et al., Powder Technol. 71 (1992) 239; "
+      "Hertz (1882); Mindlin, J. Appl. Mech. 16 (1949) 259; Tsuji et al., Powder Technol. 71 "
+      "(1992) 239; "
       "Johnson, Contact Mechanics (1985) eq. 4.22";
-  static constexpr std::array<ParamSpec, 3> params{restitution_param, friction_param, rolling_param};
+  static constexpr std::array<ParamSpec, 3> params{restitution_param, friction_param,
+                                                   rolling_param};
   template <class Get>
   static PairCoeffs prepare(const PairContext& ctx, Get&& get) {
     PairCoeffs c;

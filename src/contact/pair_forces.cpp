@@ -50,8 +50,8 @@ std::int64_t for_rows_in_slabs(const VerletList& list, Row&& row) {
 }
 
 template <class Eval>
-std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list, const PairTable<PairCoeffs>& pairs,
-                       double dt, Eval&& eval) {
+std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
+                       const PairTable<PairCoeffs>& pairs, double dt, Eval&& eval) {
   const Vec3* x = p.x();
   const Vec3* v = p.v();
   const Vec3* om = p.omega();
@@ -114,13 +114,18 @@ std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletL
   int model;
   if (uniform_model(pairs, model)) {
     return dispatch_index(ContactModels{}, model, [&]<class M>() {
-      return pair_loop(p, domain, list, pairs, dt, [](const PairCoeffs& c, const ContactKinematics& k, double h,
-                                                      Vec3& xi) { return M::Law::evaluate(c, k, h, xi); });
+      return pair_loop(p, domain, list, pairs, dt,
+                       [](const PairCoeffs& c, const ContactKinematics& k, double h, Vec3& xi) {
+                         return M::Law::evaluate(c, k, h, xi);
+                       });
     });
   }
-  return pair_loop(p, domain, list, pairs, dt, [](const PairCoeffs& c, const ContactKinematics& k, double h, Vec3& xi) {
-    return dispatch_index(ContactModels{}, c.model, [&]<class M>() { return M::Law::evaluate(c, k, h, xi); });
-  });
+  return pair_loop(p, domain, list, pairs, dt,
+                   [](const PairCoeffs& c, const ContactKinematics& k, double h, Vec3& xi) {
+                     return dispatch_index(ContactModels{}, c.model, [&]<class M>() {
+                       return M::Law::evaluate(c, k, h, xi);
+                     });
+                   });
 }
 
 double pair_elastic_energy(const ParticleStore& p, const Domain& domain, const VerletList& list,
@@ -138,8 +143,9 @@ double pair_elastic_energy(const ParticleStore& p, const Domain& domain, const V
       double ai, aj;
       if (!sphere_sphere(domain, x[i], x[j], r[i], r[j], kin, ai, aj)) continue;
       const PairCoeffs& c = pairs(mat[i], mat[j]);
-      e += dispatch_index(ContactModels{}, c.model,
-                          [&]<class M>() { return M::Law::elastic_energy(c, kin.overlap, kin.r_eff); });
+      e += dispatch_index(ContactModels{}, c.model, [&]<class M>() {
+        return M::Law::elastic_energy(c, kin.overlap, kin.r_eff);
+      });
     }
   return e;
 }

@@ -14,8 +14,9 @@ namespace gf::contact {
 
 /// Sphere-sphere narrow phase: kinematics of the contact of i with j, false if they do not touch.
 /// `arm_i`, `arm_j` are the distances from the centres to the contact point, m.
-GF_HOST_DEVICE inline bool sphere_sphere(const Domain& dom, const Vec3& xi, const Vec3& xj, double ri, double rj,
-                                         ContactKinematics& k, double& arm_i, double& arm_j) {
+GF_HOST_DEVICE inline bool sphere_sphere(const Domain& dom, const Vec3& xi, const Vec3& xj,
+                                         double ri, double rj, ContactKinematics& k, double& arm_i,
+                                         double& arm_j) {
   const Vec3 d = dom.delta(xi, xj);
   const double dist2 = norm2(d);
   const double rs = ri + rj;

@@ -10,12 +10,15 @@ namespace gf::contact {
 std::vector<ModelInfo> model_infos() {
   std::vector<ModelInfo> out;
   for_each_type(ContactModels{}, [&]<class M>() {
-    out.push_back({M::key, M::summary, M::equation, M::reference, std::span<const ParamSpec>(M::params)});
+    out.push_back(
+        {M::key, M::summary, M::equation, M::reference, std::span<const ParamSpec>(M::params)});
   });
   return out;
 }
 
-int model_index(std::string_view key) { return index_of_key(ContactModels{}, key); }
+int model_index(std::string_view key) {
+  return index_of_key(ContactModels{}, key);
+}
 
 const ModelInfo* find_model(std::string_view key) {
   static const std::vector<ModelInfo> infos = model_infos();
@@ -24,7 +27,8 @@ const ModelInfo* find_model(std::string_view key) {
   return nullptr;
 }
 
-PairCoeffs prepare_pair(std::string_view key, const PairContext& ctx, const std::map<std::string, double>& params) {
+PairCoeffs prepare_pair(std::string_view key, const PairContext& ctx,
+                        const std::map<std::string, double>& params) {
   const int idx = model_index(key);
   REQUIRE(idx >= 0, "unknown contact model '{}'", key);
   auto get = [&](std::string_view name) -> std::optional<double> {
@@ -32,7 +36,8 @@ PairCoeffs prepare_pair(std::string_view key, const PairContext& ctx, const std:
     if (it == params.end()) return std::nullopt;
     return it->second;
   };
-  PairCoeffs c = dispatch_index(ContactModels{}, idx, [&]<class M>() { return M::prepare(ctx, get); });
+  PairCoeffs c =
+      dispatch_index(ContactModels{}, idx, [&]<class M>() { return M::prepare(ctx, get); });
   c.model = idx;
   return c;
 }

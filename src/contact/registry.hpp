@@ -29,9 +29,11 @@ int model_index(std::string_view key);
 const ModelInfo* find_model(std::string_view key);
 
 /// Derives the pair constants of model `key` from parameter values (defaults already filled).
-PairCoeffs prepare_pair(std::string_view key, const PairContext& ctx, const std::map<std::string, double>& params);
+PairCoeffs prepare_pair(std::string_view key, const PairContext& ctx,
+                        const std::map<std::string, double>& params);
 
-/// Contact duration (s) of a binary elastic collision at impact speed v (Hertz) or any speed (hooke).
+/// Contact duration (s) of a binary elastic collision at impact speed v (Hertz) or any speed
+/// (hooke).
 double contact_time(const PairCoeffs& c, double r_eff, double m_eff, double v);
 
 /// Rayleigh time t_R = pi r sqrt(rho / G) / (0.1631 nu + 0.8766), s (Li et al. 2005).

@@ -11,7 +11,7 @@
 namespace gf {
 
 struct Domain {
-  Vec3 lo, hi;                          ///< box corners, m
+  Vec3 lo, hi;  ///< box corners, m
   std::array<bool, 3> periodic{false, false, false};
 
   GF_HOST_DEVICE Vec3 length() const { return hi - lo; }
@@ -22,8 +22,10 @@ struct Domain {
     const Vec3 L = length();
     for (int k = 0; k < 3; ++k) {
       if (periodic[k]) {
-        if (d[k] > 0.5 * L[k]) d[k] -= L[k];
-        else if (d[k] < -0.5 * L[k]) d[k] += L[k];
+        if (d[k] > 0.5 * L[k])
+          d[k] -= L[k];
+        else if (d[k] < -0.5 * L[k])
+          d[k] += L[k];
       }
     }
     return d;
@@ -34,8 +36,10 @@ struct Domain {
     const Vec3 L = length();
     for (int k = 0; k < 3; ++k) {
       if (!periodic[k]) continue;
-      if (p[k] >= hi[k]) p[k] -= L[k] * std::floor((p[k] - lo[k]) / L[k]);
-      else if (p[k] < lo[k]) p[k] += L[k] * std::ceil((lo[k] - p[k]) / L[k]);
+      if (p[k] >= hi[k])
+        p[k] -= L[k] * std::floor((p[k] - lo[k]) / L[k]);
+      else if (p[k] < lo[k])
+        p[k] += L[k] * std::ceil((lo[k] - p[k]) / L[k]);
       if (p[k] >= hi[k]) p[k] = lo[k];  // guard rounding at the upper face
     }
   }

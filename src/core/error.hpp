@@ -28,14 +28,15 @@ class IoError : public Error {
 };
 
 namespace detail {
-[[noreturn]] void throw_require(const char* cond, const char* file, int line, const std::string& msg);
+[[noreturn]] void throw_require(const char* cond, const char* file, int line,
+                                const std::string& msg);
 }
 
 }  // namespace gf
 
 /// Always-on check: throws gf::Error naming the condition, the source location and the message.
-#define REQUIRE(cond, ...)                                                                  \
-  do {                                                                                      \
+#define REQUIRE(cond, ...)                                                                         \
+  do {                                                                                             \
     if (!(cond)) ::gf::detail::throw_require(#cond, __FILE__, __LINE__, fmt::format(__VA_ARGS__)); \
   } while (0)
 

@@ -18,7 +18,8 @@ static fs::path temp_name(const fs::path& path) {
   return path.parent_path() / fmt::format(".{}.tmp{}", path.filename().string(), ::getpid());
 }
 
-void write_atomically_path(const fs::path& path, const std::function<void(const fs::path&)>& write) {
+void write_atomically_path(const fs::path& path,
+                           const std::function<void(const fs::path&)>& write) {
   const fs::path tmp = temp_name(path);
   try {
     write(tmp);

@@ -10,7 +10,8 @@
 namespace gf {
 
 /// Writes a file by calling `write` on a stream to `path.tmp`, then renames it over `path`.
-void write_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& write);
+void write_atomically(const std::filesystem::path& path,
+                      const std::function<void(std::ostream&)>& write);
 
 /// Writes a file through a callback that receives a temporary path, then renames it.
 void write_atomically_path(const std::filesystem::path& path,

@@ -9,7 +9,8 @@ namespace gf::log {
 void init(bool verbose, bool quiet) {
   auto logger = spdlog::stderr_color_mt("grainflow");
   logger->set_pattern("%^[%l]%$ %v");
-  logger->set_level(quiet ? spdlog::level::warn : (verbose ? spdlog::level::debug : spdlog::level::info));
+  logger->set_level(quiet ? spdlog::level::warn
+                          : (verbose ? spdlog::level::debug : spdlog::level::info));
   spdlog::set_default_logger(logger);
 }
 

@@ -21,7 +21,8 @@ struct Mat3 {
     return m;
   }
   /// The matrix whose columns are c0, c1, c2.
-  GF_HOST_DEVICE static constexpr Mat3 from_columns(const Vec3& c0, const Vec3& c1, const Vec3& c2) {
+  GF_HOST_DEVICE static constexpr Mat3 from_columns(const Vec3& c0, const Vec3& c1,
+                                                    const Vec3& c2) {
     Mat3 m;
     for (int r = 0; r < 3; ++r) {
       m.a[r][0] = c0[r];
@@ -40,7 +41,8 @@ GF_HOST_DEVICE constexpr Vec3 operator*(const Mat3& m, const Vec3& v) {
 GF_HOST_DEVICE constexpr Mat3 operator*(const Mat3& p, const Mat3& q) {
   Mat3 m;
   for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) m.a[r][c] = p.a[r][0] * q.a[0][c] + p.a[r][1] * q.a[1][c] + p.a[r][2] * q.a[2][c];
+    for (int c = 0; c < 3; ++c)
+      m.a[r][c] = p.a[r][0] * q.a[0][c] + p.a[r][1] * q.a[1][c] + p.a[r][2] * q.a[2][c];
   return m;
 }
 GF_HOST_DEVICE constexpr Mat3 operator+(const Mat3& p, const Mat3& q) {
@@ -71,7 +73,8 @@ GF_HOST_DEVICE constexpr Mat3 outer(const Vec3& u, const Vec3& v) {
 /// Inverse of a symmetric matrix (e.g. an inertia tensor) by cofactors; the caller guarantees
 /// that it is non-singular (det != 0).
 GF_HOST_DEVICE constexpr Mat3 inverse_symmetric(const Mat3& m) {
-  const real a = m.a[0][0], b = m.a[0][1], c = m.a[0][2], d = m.a[1][1], e = m.a[1][2], f = m.a[2][2];
+  const real a = m.a[0][0], b = m.a[0][1], c = m.a[0][2], d = m.a[1][1], e = m.a[1][2],
+             f = m.a[2][2];
   const real c00 = d * f - e * e, c01 = c * e - b * f, c02 = b * e - c * d;
   const real c11 = a * f - c * c, c12 = b * c - a * e, c22 = a * d - b * b;
   const real inv_det = 1.0 / (a * c00 + b * c01 + c * c02);

@@ -12,7 +12,7 @@ enum class ParamScope { PerMaterial, PerPair };
 
 struct ParamSpec {
   std::string_view name;
-  std::string_view unit;            ///< SI unit, "1" for dimensionless
+  std::string_view unit;                ///< SI unit, "1" for dimensionless
   std::optional<double> default_value;  ///< empty: required (unless the model says otherwise)
   double min = -std::numeric_limits<double>::infinity();
   double max = std::numeric_limits<double>::infinity();

@@ -11,8 +11,13 @@
 namespace gf {
 
 Progress::Progress(double t_begin, double t_end, std::FILE* out, double line_interval_s)
-    : t0_(t_begin), t1_(t_end), out_(out), tty_(::isatty(::fileno(out)) != 0),
-      interval_(tty_ ? 0.2 : line_interval_s), start_(clock::now()), last_(start_) {}
+    : t0_(t_begin),
+      t1_(t_end),
+      out_(out),
+      tty_(::isatty(::fileno(out)) != 0),
+      interval_(tty_ ? 0.2 : line_interval_s),
+      start_(clock::now()),
+      last_(start_) {}
 
 void Progress::update(double t, std::int64_t particle_steps, std::int64_t n_contacts) {
   const auto now = clock::now();
@@ -37,8 +42,9 @@ void Progress::print(double t, std::int64_t particle_steps, std::int64_t n_conta
   const double frac = t1_ > t0_ ? std::clamp((t - t0_) / (t1_ - t0_), 0.0, 1.0) : 1.0;
   const double eta = frac > 0 ? wall * (1 - frac) / frac : -1;
   const double rate = wall > 0 ? static_cast<double>(particle_steps) / wall : 0.0;
-  const std::string tail = fmt::format("t = {:.4g} s  {:5.1f}%  ETA {}  {:.3g} particle-steps/s  {} contacts",
-                                       t, 100 * frac, final ? hms(0) : hms(eta), rate, n_contacts);
+  const std::string tail =
+      fmt::format("t = {:.4g} s  {:5.1f}%  ETA {}  {:.3g} particle-steps/s  {} contacts", t,
+                  100 * frac, final ? hms(0) : hms(eta), rate, n_contacts);
   if (tty_) {
     constexpr int width = 30;
     const int filled = static_cast<int>(frac * width);

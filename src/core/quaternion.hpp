@@ -20,16 +20,25 @@ struct Quat {
 };
 
 GF_HOST_DEVICE constexpr Quat operator*(const Quat& a, const Quat& b) {
-  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
-          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+  return {
+      a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+      a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
 }
-GF_HOST_DEVICE constexpr Quat operator*(real s, const Quat& q) { return {s * q.w, s * q.x, s * q.y, s * q.z}; }
+GF_HOST_DEVICE constexpr Quat operator*(real s, const Quat& q) {
+  return {s * q.w, s * q.x, s * q.y, s * q.z};
+}
 GF_HOST_DEVICE constexpr Quat operator+(const Quat& a, const Quat& b) {
   return {a.w + b.w, a.x + b.x, a.y + b.y, a.z + b.z};
 }
-GF_HOST_DEVICE constexpr Quat conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
-GF_HOST_DEVICE constexpr real norm2(const Quat& q) { return q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z; }
-GF_HOST_DEVICE inline Quat normalized(const Quat& q) { return (1.0 / std::sqrt(norm2(q))) * q; }
+GF_HOST_DEVICE constexpr Quat conjugate(const Quat& q) {
+  return {q.w, -q.x, -q.y, -q.z};
+}
+GF_HOST_DEVICE constexpr real norm2(const Quat& q) {
+  return q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+}
+GF_HOST_DEVICE inline Quat normalized(const Quat& q) {
+  return (1.0 / std::sqrt(norm2(q))) * q;
+}
 
 /// Rotation by `angle` (rad) about the unit vector `axis`.
 GF_HOST_DEVICE inline Quat quat_from_axis_angle(const Vec3& axis, real angle) {
@@ -45,7 +54,9 @@ GF_HOST_DEVICE constexpr Vec3 rotate(const Quat& q, const Vec3& b) {
   return b + q.w * t + cross(u, t);
 }
 /// Body-frame image R(q)^T v of a world vector v.
-GF_HOST_DEVICE constexpr Vec3 rotate_inverse(const Quat& q, const Vec3& v) { return rotate(conjugate(q), v); }
+GF_HOST_DEVICE constexpr Vec3 rotate_inverse(const Quat& q, const Vec3& v) {
+  return rotate(conjugate(q), v);
+}
 
 /// Rotation matrix R(q) (body -> world) of a unit quaternion.
 GF_HOST_DEVICE constexpr Mat3 to_matrix(const Quat& q) {

@@ -29,7 +29,8 @@ constexpr int index_of_key(TypeList<Ts...>, std::string_view key) {
   return idx;
 }
 
-/// Calls f.template operator()<T>() for the type at runtime index `idx` (a switch, no virtual call).
+/// Calls f.template operator()<T>() for the type at runtime index `idx` (a switch, no virtual
+/// call).
 template <class... Ts, class F>
 constexpr decltype(auto) dispatch_index(TypeList<Ts...>, int idx, F&& f) {
   using R = decltype(f.template operator()<std::tuple_element_t<0, std::tuple<Ts...>>>());

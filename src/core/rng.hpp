@@ -13,8 +13,12 @@ class Rng {
  public:
   explicit Rng(std::uint64_t seed = 5489u) : engine_(seed) {}
 
-  double uniform(double a = 0.0, double b = 1.0) { return std::uniform_real_distribution<double>(a, b)(engine_); }
-  double normal(double mean, double sd) { return std::normal_distribution<double>(mean, sd)(engine_); }
+  double uniform(double a = 0.0, double b = 1.0) {
+    return std::uniform_real_distribution<double>(a, b)(engine_);
+  }
+  double normal(double mean, double sd) {
+    return std::normal_distribution<double>(mean, sd)(engine_);
+  }
   std::mt19937_64& engine() { return engine_; }
 
   std::string state() const {

@@ -12,8 +12,8 @@ namespace gf {
 
 struct SurfaceMesh {
   std::string name;
-  std::vector<Vec3> points;                  ///< m
-  std::vector<std::array<int, 3>> triangles; ///< indices into points
+  std::vector<Vec3> points;                   ///< m
+  std::vector<std::array<int, 3>> triangles;  ///< indices into points
 };
 
 }  // namespace gf

@@ -29,9 +29,10 @@ struct Gear5Coefficients {
 };
 
 /// Gear's corrector coefficients for second-order equations, 6 values.
-GF_HOST_DEVICE constexpr Gear5Coefficients gear5_coefficients(GearForces kind = GearForces::VelocityDependent) {
-  return {{kind == GearForces::VelocityDependent ? 3.0 / 16.0 : 3.0 / 20.0, 251.0 / 360.0, 1.0, 11.0 / 18.0,
-           1.0 / 6.0, 1.0 / 60.0}};
+GF_HOST_DEVICE constexpr Gear5Coefficients gear5_coefficients(
+    GearForces kind = GearForces::VelocityDependent) {
+  return {{kind == GearForces::VelocityDependent ? 3.0 / 16.0 : 3.0 / 20.0, 251.0 / 360.0, 1.0,
+           11.0 / 18.0, 1.0 / 6.0, 1.0 / 60.0}};
 }
 
 /// Per-body state: d[0] = x (m), d[1] = v (m/s), d[2] = a (m/s^2), d[3..5] = third to fifth
@@ -43,7 +44,8 @@ struct Gear5State {
 /// Predictor: Taylor expansion of all six values over dt (s).
 GF_HOST_DEVICE inline void gear5_predict(Gear5State& s, double dt) {
   // Scaled values r_k = dt^k/k! d_k, Pascal triangle, unscale.
-  double scale[6] = {1, dt, dt * dt / 2, dt * dt * dt / 6, dt * dt * dt * dt / 24, dt * dt * dt * dt * dt / 120};
+  double scale[6] = {
+      1, dt, dt * dt / 2, dt * dt * dt / 6, dt * dt * dt * dt / 24, dt * dt * dt * dt * dt / 120};
   Vec3 r[6];
   for (int k = 0; k < 6; ++k) r[k] = scale[k] * s.d[k];
   for (int k = 0; k < 5; ++k)
@@ -52,7 +54,8 @@ GF_HOST_DEVICE inline void gear5_predict(Gear5State& s, double dt) {
 }
 
 /// Corrector with the acceleration a (m/s^2) evaluated at the predicted x, v.
-GF_HOST_DEVICE inline void gear5_correct(Gear5State& s, const Vec3& a, double dt, const Gear5Coefficients& c) {
+GF_HOST_DEVICE inline void gear5_correct(Gear5State& s, const Vec3& a, double dt,
+                                         const Gear5Coefficients& c) {
   const Vec3 da = a - s.d[2];
   // d_k += c_k k!/dt^k * dt^2/2 * da
   s.d[0] += (c.c[0] * 0.5 * dt * dt) * da;
@@ -80,8 +83,8 @@ void gear5_correct(std::size_t n, Gear5State* s, const Vec3* force, const double
 /// Small driver for tests and single-body studies: n_steps steps of dt from t0 with
 /// accel(x, v, t) -> Vec3; calls observe(state, t) after each step (may be omitted).
 template <class Accel, class Observe>
-void gear5_run(Gear5State& s, Accel&& accel, double t0, double dt, long n_steps, const Gear5Coefficients& c,
-               Observe&& observe) {
+void gear5_run(Gear5State& s, Accel&& accel, double t0, double dt, long n_steps,
+               const Gear5Coefficients& c, Observe&& observe) {
   double t = t0;
   for (long i = 0; i < n_steps; ++i) {
     gear5_predict(s, dt);
@@ -91,7 +94,8 @@ void gear5_run(Gear5State& s, Accel&& accel, double t0, double dt, long n_steps,
   }
 }
 template <class Accel>
-void gear5_run(Gear5State& s, Accel&& accel, double t0, double dt, long n_steps, const Gear5Coefficients& c) {
+void gear5_run(Gear5State& s, Accel&& accel, double t0, double dt, long n_steps,
+               const Gear5Coefficients& c) {
   gear5_run(s, accel, t0, dt, n_steps, c, [](const Gear5State&, double) {});
 }
 

@@ -6,8 +6,8 @@
 
 namespace gf {
 
-void rigid_rotation_pre_force(std::size_t n, Quat* q, Vec3* angular_momentum, Vec3* omega, const Vec3* torque,
-                              const Vec3* inertia, double dt) {
+void rigid_rotation_pre_force(std::size_t n, Quat* q, Vec3* angular_momentum, Vec3* omega,
+                              const Vec3* torque, const Vec3* inertia, double dt) {
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
     rigid_rotation_pre_force(q[i], angular_momentum[i], omega[i], torque[i], inertia[i], dt);
   });

@@ -34,7 +34,9 @@ void VelocityVerlet::pre_force(ParticleStore& p, const Domain& domain, double dt
   kick<true>(p, &domain, 0.5 * dt, dt);
 }
 
-void VelocityVerlet::post_force(ParticleStore& p, double dt) { kick<false>(p, nullptr, 0.5 * dt, dt); }
+void VelocityVerlet::post_force(ParticleStore& p, double dt) {
+  kick<false>(p, nullptr, 0.5 * dt, dt);
+}
 
 void reset_forces(ParticleStore& p, const Vec3& gravity) {
   Vec3* f = p.f();

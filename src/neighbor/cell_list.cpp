@@ -24,12 +24,14 @@ void CellList::build(const Domain& domain, const Vec3* x, std::size_t n, double 
   const int nct = n_cells();
   start_.assign(static_cast<std::size_t>(nct) + 1, 0);
   cell_.resize(n);
-  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) { cell_[i] = cell_of(x[i]); });
+  exec::parallel_for(static_cast<exec::index_t>(n),
+                     [&](exec::index_t i) { cell_[i] = cell_of(x[i]); });
   for (std::size_t i = 0; i < n; ++i) ++start_[static_cast<std::size_t>(cell_[i]) + 1];
   for (int c = 0; c < nct; ++c) start_[c + 1] += start_[c];
   order_.resize(n);
   fill_.assign(start_.begin(), start_.end() - 1);
-  for (std::size_t i = 0; i < n; ++i) order_[static_cast<std::size_t>(fill_[cell_[i]]++)] = static_cast<std::int32_t>(i);
+  for (std::size_t i = 0; i < n; ++i)
+    order_[static_cast<std::size_t>(fill_[cell_[i]]++)] = static_cast<std::int32_t>(i);
 }
 
 int CellList::cell_of(const Vec3& p) const {

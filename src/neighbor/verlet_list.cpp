@@ -11,7 +11,8 @@
 
 namespace gf {
 
-std::span<const std::int64_t> VerletList::sort_and_build(ParticleStore& p, const Domain& domain, double skin) {
+std::span<const std::int64_t> VerletList::sort_and_build(ParticleStore& p, const Domain& domain,
+                                                         double skin) {
   const std::size_t n = p.size();
   REQUIRE(n < (std::size_t{1} << 31), "{} particles exceed the 32-bit neighbour index", n);
   double r_max = 0;
@@ -36,14 +37,16 @@ std::span<const std::int64_t> VerletList::sort_and_build(ParticleStore& p, const
   slab_starts_.assign(static_cast<std::size_t>(n_slabs) + 1, static_cast<std::int64_t>(n));
   const int per_layer = cells_.cells_per_layer();
   for (int s = 0; s < n_slabs; ++s) {
-    const int first_layer = static_cast<int>((static_cast<std::int64_t>(s) * layers + n_slabs - 1) / n_slabs);
+    const int first_layer =
+        static_cast<int>((static_cast<std::int64_t>(s) * layers + n_slabs - 1) / n_slabs);
     slab_starts_[static_cast<std::size_t>(s)] = cells_.begin(first_layer * per_layer);
   }
   slab_starts_[0] = 0;
   return perm_;
 }
 
-void VerletList::build(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin) {
+void VerletList::build(const Domain& domain, const Vec3* x, const double* r, std::size_t n,
+                       double skin) {
   REQUIRE(n < (std::size_t{1} << 31), "{} particles exceed the 32-bit neighbour index", n);
   double r_max = 0;
   for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, r[i]);
@@ -56,17 +59,20 @@ void VerletList::build(const Domain& domain, const Vec3* x, const double* r, std
   n_phases_ = 1;
 }
 
-void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin,
-                            bool sorted) {
+void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n,
+                            double skin, bool sorted) {
   skin_ = skin;
   old_offsets_.swap(offsets_);
   old_neighbors_.swap(neighbors_);
   old_history_.swap(history_);
   const auto& order = cells_.order();
   // In a sorted store the members of a cell are a contiguous index range.
-  auto member = [&](std::int64_t k) { return sorted ? static_cast<std::int32_t>(k) : order[static_cast<std::size_t>(k)]; };
+  auto member = [&](std::int64_t k) {
+    return sorted ? static_cast<std::int32_t>(k) : order[static_cast<std::size_t>(k)];
+  };
   auto cell_of = [&](std::size_t i) {
-    return sorted ? cells_.cell_of_particle(static_cast<std::size_t>(perm_[i])) : cells_.cell_of_particle(i);
+    return sorted ? cells_.cell_of_particle(static_cast<std::size_t>(perm_[i]))
+                  : cells_.cell_of_particle(i);
   };
   // Visits the neighbours j > i of i in ascending order when sorted (stencil cells ascending).
   auto for_neighbours = [&](std::size_t i, auto&& emit) {
@@ -96,7 +102,8 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
   neighbors_.resize(static_cast<std::size_t>(offsets_[n]));
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
     std::int64_t k = offsets_[static_cast<std::size_t>(i)];
-    for_neighbours(static_cast<std::size_t>(i), [&](std::int32_t j) { neighbors_[static_cast<std::size_t>(k++)] = j; });
+    for_neighbours(static_cast<std::size_t>(i),
+                   [&](std::int32_t j) { neighbors_[static_cast<std::size_t>(k++)] = j; });
     if (!sorted)
       std::sort(neighbors_.begin() + offsets_[static_cast<std::size_t>(i)],
                 neighbors_.begin() + offsets_[static_cast<std::size_t>(i) + 1]);
@@ -113,7 +120,8 @@ void VerletList::carry_history(std::span<const std::int64_t> perm) {
     const auto i = static_cast<std::size_t>(ii);
     const std::int64_t oi = perm[i];
     for (std::int64_t k = offsets_[i]; k < offsets_[i + 1]; ++k) {
-      const std::int64_t oj = perm[static_cast<std::size_t>(neighbors_[static_cast<std::size_t>(k)])];
+      const std::int64_t oj =
+          perm[static_cast<std::size_t>(neighbors_[static_cast<std::size_t>(k)])];
       // The old list stored the pair in the row of its smaller (old) index.
       const std::int64_t a = std::min(oi, oj), b = std::max(oi, oj);
       const auto first = old_neighbors_.begin() + old_offsets_[static_cast<std::size_t>(a)];
@@ -130,13 +138,15 @@ void VerletList::carry_history(std::span<const std::int64_t> perm) {
 bool VerletList::needs_rebuild(const Domain& domain, const Vec3* x, std::size_t n) const {
   if (x_ref_.size() != n) return true;
   const double lim2 = 0.25 * skin_ * skin_;
-  return exec::parallel_any(static_cast<exec::index_t>(n),
-                            [&](exec::index_t i) { return norm2(domain.delta(x[i], x_ref_[i])) > lim2; });
+  return exec::parallel_any(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    return norm2(domain.delta(x[i], x_ref_[i])) > lim2;
+  });
 }
 
 void VerletList::restore(std::vector<std::int64_t> offsets, std::vector<std::int32_t> neighbors,
-                         std::vector<Vec3> history, std::vector<Vec3> x_ref, double skin, std::int64_t n_builds,
-                         std::vector<std::int64_t> slab_starts, int n_phases) {
+                         std::vector<Vec3> history, std::vector<Vec3> x_ref, double skin,
+                         std::int64_t n_builds, std::vector<std::int64_t> slab_starts,
+                         int n_phases) {
   REQUIRE(!offsets.empty() && static_cast<std::size_t>(offsets.back()) == neighbors.size() &&
               history.size() == neighbors.size() && x_ref.size() + 1 == offsets.size(),
           "inconsistent neighbour list in checkpoint");
@@ -153,9 +163,9 @@ void VerletList::restore(std::vector<std::int64_t> offsets, std::vector<std::int
 
 std::size_t VerletList::bytes() const {
   return offsets_.capacity() * 8 + neighbors_.capacity() * 4 + history_.capacity() * sizeof(Vec3) +
-         x_ref_.capacity() * sizeof(Vec3) + old_offsets_.capacity() * 8 + old_neighbors_.capacity() * 4 +
-         old_history_.capacity() * sizeof(Vec3) + perm_.capacity() * 8 + counts_.capacity() * 4 +
-         slab_starts_.capacity() * 8;
+         x_ref_.capacity() * sizeof(Vec3) + old_offsets_.capacity() * 8 +
+         old_neighbors_.capacity() * 4 + old_history_.capacity() * sizeof(Vec3) +
+         perm_.capacity() * 8 + counts_.capacity() * 4 + slab_starts_.capacity() * 8;
 }
 
 }  // namespace gf

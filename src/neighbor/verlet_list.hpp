@@ -43,18 +43,21 @@ class VerletList {
   /// slab s write only to particles of slabs s and s+1, and of slab 0 also to the last slab.
   /// Slabs of the same phase (s % n_phases) can run concurrently. Empty: no slabs (serial).
   std::span<const std::int64_t> slab_starts() const { return slab_starts_; }
-  int n_slabs() const { return slab_starts_.empty() ? 0 : static_cast<int>(slab_starts_.size()) - 1; }
+  int n_slabs() const {
+    return slab_starts_.empty() ? 0 : static_cast<int>(slab_starts_.size()) - 1;
+  }
   int n_phases() const { return n_phases_; }
 
   /// Replaces the whole state (restart); slabs are re-derived from the stored ones.
-  void restore(std::vector<std::int64_t> offsets, std::vector<std::int32_t> neighbors, std::vector<Vec3> history,
-               std::vector<Vec3> x_ref, double skin, std::int64_t n_builds, std::vector<std::int64_t> slab_starts,
-               int n_phases);
+  void restore(std::vector<std::int64_t> offsets, std::vector<std::int32_t> neighbors,
+               std::vector<Vec3> history, std::vector<Vec3> x_ref, double skin,
+               std::int64_t n_builds, std::vector<std::int64_t> slab_starts, int n_phases);
 
   std::size_t bytes() const;
 
  private:
-  void build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin, bool sorted);
+  void build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin,
+                  bool sorted);
   void carry_history(std::span<const std::int64_t> perm);
 
   double skin_ = 0;

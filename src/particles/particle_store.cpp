@@ -9,7 +9,8 @@
 namespace gf {
 
 ParticleStore::ParticleStore()
-    : scratch_{std::vector<double>{}, std::vector<Vec3>{}, std::vector<std::int64_t>{}, std::vector<std::int32_t>{}} {
+    : scratch_{std::vector<double>{}, std::vector<Vec3>{}, std::vector<std::int64_t>{},
+               std::vector<std::int32_t>{}} {
   constexpr unsigned RO = kRestart | kOutput | kGhost;
   add_field("id", FieldType::Int64, "1", RO);
   add_field("material", FieldType::Int32, "1", RO);
@@ -23,14 +24,23 @@ ParticleStore::ParticleStore()
   add_field("torque", FieldType::Vec3, "N m", kRestart);
 }
 
-int ParticleStore::add_field(const std::string& name, FieldType type, const std::string& unit, unsigned flags) {
+int ParticleStore::add_field(const std::string& name, FieldType type, const std::string& unit,
+                             unsigned flags) {
   REQUIRE(find_field(name) < 0, "particle field '{}' registered twice", name);
   info_.push_back({name, type, unit, flags});
   switch (type) {
-    case FieldType::Real: cols_.emplace_back(std::vector<double>(n_)); break;
-    case FieldType::Vec3: cols_.emplace_back(std::vector<Vec3>(n_)); break;
-    case FieldType::Int64: cols_.emplace_back(std::vector<std::int64_t>(n_)); break;
-    case FieldType::Int32: cols_.emplace_back(std::vector<std::int32_t>(n_)); break;
+    case FieldType::Real:
+      cols_.emplace_back(std::vector<double>(n_));
+      break;
+    case FieldType::Vec3:
+      cols_.emplace_back(std::vector<Vec3>(n_));
+      break;
+    case FieldType::Int64:
+      cols_.emplace_back(std::vector<std::int64_t>(n_));
+      break;
+    case FieldType::Int32:
+      cols_.emplace_back(std::vector<std::int32_t>(n_));
+      break;
   }
   return static_cast<int>(info_.size()) - 1;
 }
@@ -50,8 +60,8 @@ void ParticleStore::reserve(std::size_t n) {
   for (auto& c : cols_) std::visit([n](auto& v) { v.reserve(n); }, c);
 }
 
-std::size_t ParticleStore::add_sphere(std::int64_t pid, int mat, double r, double density, const Vec3& pos,
-                                      const Vec3& vel, const Vec3& w) {
+std::size_t ParticleStore::add_sphere(std::int64_t pid, int mat, double r, double density,
+                                      const Vec3& pos, const Vec3& vel, const Vec3& w) {
   const std::size_t i = n_;
   resize(n_ + 1);
   const double m = density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
@@ -86,7 +96,11 @@ void ParticleStore::permute(std::span<const std::int64_t> order) {
 std::size_t ParticleStore::bytes() const {
   std::size_t b = 0;
   for (const auto& c : cols_)
-    std::visit([&](const auto& v) { b += v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type); }, c);
+    std::visit(
+        [&](const auto& v) {
+          b += v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type);
+        },
+        c);
   return b;
 }
 

@@ -40,16 +40,16 @@ class ParticleStore {
  public:
   /// Built-in fields, in the order they are registered (their index in the table).
   enum Builtin : int {
-    kId = 0,         ///< unique particle id, kept through re-ordering
-    kMaterial,       ///< material index
-    kRadius,         ///< m
-    kMass,           ///< kg
-    kInertia,        ///< moment of inertia, kg m^2 (spheres: 2/5 m r^2)
-    kPosition,       ///< m
-    kVelocity,       ///< m/s
-    kAngularVelocity,///< rad/s
-    kForce,          ///< N
-    kTorque,         ///< N m
+    kId = 0,           ///< unique particle id, kept through re-ordering
+    kMaterial,         ///< material index
+    kRadius,           ///< m
+    kMass,             ///< kg
+    kInertia,          ///< moment of inertia, kg m^2 (spheres: 2/5 m r^2)
+    kPosition,         ///< m
+    kVelocity,         ///< m/s
+    kAngularVelocity,  ///< rad/s
+    kForce,            ///< N
+    kTorque,           ///< N m
     kNumBuiltin
   };
 
@@ -68,9 +68,13 @@ class ParticleStore {
   const Column& column(int f) const { return cols_[f]; }
 
   template <class T>
-  std::span<T> get(int f) { return std::get<std::vector<T>>(cols_[f]); }
+  std::span<T> get(int f) {
+    return std::get<std::vector<T>>(cols_[f]);
+  }
   template <class T>
-  std::span<const T> get(int f) const { return std::get<std::vector<T>>(cols_[f]); }
+  std::span<const T> get(int f) const {
+    return std::get<std::vector<T>>(cols_[f]);
+  }
 
   // Typed shortcuts for the hot fields.
   std::int64_t* id() { return std::get<std::vector<std::int64_t>>(cols_[kId]).data(); }
@@ -84,7 +88,9 @@ class ParticleStore {
   Vec3* f() { return std::get<std::vector<Vec3>>(cols_[kForce]).data(); }
   Vec3* torque() { return std::get<std::vector<Vec3>>(cols_[kTorque]).data(); }
   const std::int64_t* id() const { return std::get<std::vector<std::int64_t>>(cols_[kId]).data(); }
-  const std::int32_t* material() const { return std::get<std::vector<std::int32_t>>(cols_[kMaterial]).data(); }
+  const std::int32_t* material() const {
+    return std::get<std::vector<std::int32_t>>(cols_[kMaterial]).data();
+  }
   const double* radius() const { return std::get<std::vector<double>>(cols_[kRadius]).data(); }
   const double* mass() const { return std::get<std::vector<double>>(cols_[kMass]).data(); }
   const double* inertia() const { return std::get<std::vector<double>>(cols_[kInertia]).data(); }
@@ -95,8 +101,8 @@ class ParticleStore {
   const Vec3* torque() const { return std::get<std::vector<Vec3>>(cols_[kTorque]).data(); }
 
   /// Appends one sphere; other fields are zero. Returns its index.
-  std::size_t add_sphere(std::int64_t id, int material, double radius, double density, const Vec3& x,
-                         const Vec3& v = {}, const Vec3& omega = {});
+  std::size_t add_sphere(std::int64_t id, int material, double radius, double density,
+                         const Vec3& x, const Vec3& v = {}, const Vec3& omega = {});
 
   /// Re-orders every column: new[i] = old[order[i]].
   void permute(std::span<const std::int64_t> order);

@@ -61,8 +61,9 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
     throw InputError(fmt::format("{}: not a grainflow checkpoint", file.string()));
   const double dt = h.read_double_attribute("/", "dt");
   if (dt != dt_)
-    throw InputError(fmt::format("{}: checkpoint time step {} s differs from the case's time.step {} s", file.string(),
-                                 dt, dt_));
+    throw InputError(
+        fmt::format("{}: checkpoint time step {} s differs from the case's time.step {} s",
+                    file.string(), dt, dt_));
   step_ = h.read_int_attribute("/", "step");
   skin_ = h.read_double_attribute("/", "skin");
   rng_.set_state(h.read_string_attribute("/", "rng_state"));
@@ -70,11 +71,14 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   n_wall_contacts_ = h.read_int_attribute("/", "n_wall_contacts");
   io::load_particles(h, particles_);
 
-  nlist_.restore(h.read_int64("neighbor/offsets"), h.read_int32("neighbor/neighbors"), h.read_vec3("neighbor/history"),
-                 h.read_vec3("neighbor/reference_positions"), skin_, h.read_int_attribute("neighbor", "n_builds"),
-                 h.read_int64("neighbor/slab_starts"), static_cast<int>(h.read_int_attribute("neighbor", "n_phases")));
+  nlist_.restore(h.read_int64("neighbor/offsets"), h.read_int32("neighbor/neighbors"),
+                 h.read_vec3("neighbor/history"), h.read_vec3("neighbor/reference_positions"),
+                 skin_, h.read_int_attribute("neighbor", "n_builds"),
+                 h.read_int64("neighbor/slab_starts"),
+                 static_cast<int>(h.read_int_attribute("neighbor", "n_phases")));
   if (nlist_.n_particles() != particles_.size())
-    throw InputError(fmt::format("{}: neighbour list does not match the particle count", file.string()));
+    throw InputError(
+        fmt::format("{}: neighbour list does not match the particle count", file.string()));
 
   const auto ep = h.read_int32("walls/contact_particle");
   const auto ew = h.read_int32("walls/contact_wall");
@@ -86,7 +90,8 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   const auto wf = h.read_vec3("walls/force");
   const auto wt = h.read_vec3("walls/torque");
   if (wf.size() != walls_.size() || wall_point_at_build_.size() != walls_.size())
-    throw InputError(fmt::format("{}: checkpoint has {} walls, the case {}", file.string(), wf.size(), walls_.size()));
+    throw InputError(fmt::format("{}: checkpoint has {} walls, the case {}", file.string(),
+                                 wf.size(), walls_.size()));
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     walls_[w].update_geometry(time());
     walls_[w].force = wf[w];

@@ -19,38 +19,42 @@ std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& 
   } catch (const YAML::BadFile&) {
     throw InputError(fmt::format("{}: error: cannot open the case file", file.string()));
   } catch (const YAML::Exception& e) {
-    throw InputError(fmt::format("{}:{}:{}: error: YAML syntax: {}", file.string(), e.mark.line + 1, e.mark.column + 1,
-                                 e.msg));
+    throw InputError(fmt::format("{}:{}:{}: error: YAML syntax: {}", file.string(), e.mark.line + 1,
+                                 e.mark.column + 1, e.msg));
   }
   if (!doc.IsMap() || !doc["fluid_fem"]) return std::nullopt;
   for (const auto& kv : doc) {
     const auto key = kv.first.as<std::string>();
     if (key != "name" && key != "fluid_fem" && key != "output") {
       const auto m = kv.first.Mark();
-      throw InputError(fmt::format("{}:{}:{}: error: {}: unknown key in a fluid_fem case; expected one of: name, "
-                                   "fluid_fem, output",
-                                   file.string(), m.line + 1, m.column + 1, key));
+      throw InputError(fmt::format(
+          "{}:{}:{}: error: {}: unknown key in a fluid_fem case; expected one of: name, "
+          "fluid_fem, output",
+          file.string(), m.line + 1, m.column + 1, key));
     }
   }
   output_dir = fs::path("out") / file.parent_path().filename();
   if (const auto out = doc["output"]) {
     const auto m = out.Mark();
     if (!out.IsMap() || out.size() != 1 || !out["directory"] || !out["directory"].IsScalar())
-      throw InputError(fmt::format("{}:{}:{}: error: output: expected {{directory: FOLDER}} in a fluid_fem case "
-                                   "(the FEM outputs are configured in fluid_fem.output)",
-                                   file.string(), m.line + 1, m.column + 1));
+      throw InputError(
+          fmt::format("{}:{}:{}: error: output: expected {{directory: FOLDER}} in a fluid_fem case "
+                      "(the FEM outputs are configured in fluid_fem.output)",
+                      file.string(), m.line + 1, m.column + 1));
     output_dir = out["directory"].as<std::string>();
   }
   return fem::parse_fluid_fem(doc["fluid_fem"], file.string());
 }
 
-void run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir, const RunOptions& opts) {
+void run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
+                  const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? default_dir : opts.output;
   if (fs::exists(dir) && !fs::is_empty(dir)) {
     if (!opts.overwrite)
-      throw InputError(fmt::format("output folder '{}' exists and is not empty; choose another with --output, or "
-                                   "pass --overwrite to replace it",
-                                   dir.string()));
+      throw InputError(fmt::format(
+          "output folder '{}' exists and is not empty; choose another with --output, or "
+          "pass --overwrite to replace it",
+          dir.string()));
     for (const auto& e : fs::directory_iterator(dir)) fs::remove_all(e.path());
   }
   fs::create_directories(dir);

@@ -18,6 +18,7 @@ std::optional<fem::FemCaseConfig> load_fem_case(const std::filesystem::path& fil
 
 /// Runs a FEM case with the same output-folder policy as DEM runs (refuses a non-empty folder
 /// without --overwrite); opts.steps limits the number of time steps.
-void run_fem_case(const fem::FemCaseConfig& cfg, const std::filesystem::path& default_dir, const RunOptions& opts);
+void run_fem_case(const fem::FemCaseConfig& cfg, const std::filesystem::path& default_dir,
+                  const RunOptions& opts);
 
 }  // namespace gf

@@ -30,7 +30,9 @@ std::int64_t every_steps(double every, double dt) {
   return std::max<std::int64_t>(1, std::llround(every / dt));
 }
 
-bool due(std::int64_t step, std::int64_t every) { return every > 0 && step % every == 0; }
+bool due(std::int64_t step, std::int64_t every) {
+  return every > 0 && step % every == 0;
+}
 
 std::int64_t peak_rss_bytes() {
   rusage u{};
@@ -41,12 +43,14 @@ std::int64_t peak_rss_bytes() {
 /// Refuses to reuse a non-empty folder unless asked; creates it.
 void prepare_output_dir(const fs::path& dir, bool overwrite) {
   if (fs::exists(dir)) {
-    if (!fs::is_directory(dir)) throw InputError(fmt::format("output path '{}' exists and is not a folder", dir.string()));
+    if (!fs::is_directory(dir))
+      throw InputError(fmt::format("output path '{}' exists and is not a folder", dir.string()));
     if (!fs::is_empty(dir)) {
       if (!overwrite)
-        throw InputError(fmt::format("output folder '{}' exists and is not empty; choose another with --output, or "
-                                     "pass --overwrite to replace it",
-                                     dir.string()));
+        throw InputError(fmt::format(
+            "output folder '{}' exists and is not empty; choose another with --output, or "
+            "pass --overwrite to replace it",
+            dir.string()));
       for (const auto& e : fs::directory_iterator(dir)) fs::remove_all(e.path());
     }
   }
@@ -118,11 +122,12 @@ RunSummary Simulation::run(const RunOptions& opts) {
         last_flush = StageTimers::clock::now();
       }
     }
-    if (due(step_, ckpt_every) && step_ != first) save_checkpoint(dir / fmt::format("checkpoint_{:09d}.h5", step_));
+    if (due(step_, ckpt_every) && step_ != first)
+      save_checkpoint(dir / fmt::format("checkpoint_{:09d}.h5", step_));
   };
 
-  log::info("run: {} particles, {} walls, steps {} -> {} (dt = {} s), output in '{}'", particles_.size(),
-            walls_.size(), first, last, dt_, dir.string());
+  log::info("run: {} particles, {} walls, steps {} -> {} (dt = {} s), output in '{}'",
+            particles_.size(), walls_.size(), first, last, dt_, dir.string());
   write_outputs(false);
 
   Progress progress(time(), static_cast<double>(last) * dt_, stderr, 5.0);
@@ -132,7 +137,8 @@ RunSummary Simulation::run(const RunOptions& opts) {
     step();
     write_outputs(false);
     if (!opts.quiet)
-      progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first), n_contacts_);
+      progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first),
+                      n_contacts_);
   }
   const std::int64_t steps = step_ - first;
   const std::int64_t pstep = static_cast<std::int64_t>(particles_.size()) * steps;
@@ -165,22 +171,28 @@ RunSummary Simulation::run(const RunOptions& opts) {
   }
   write_atomically(dir / "summary.json", [&](std::ostream& o) {
     o << fmt::format(
-        "{{\n  \"program\": \"grainflow {}\",\n  \"n_particles\": {},\n  \"steps\": {},\n  \"threads\": {},\n"
-        "  \"loop_seconds\": {:.6f},\n  \"wall_seconds\": {:.6f},\n  \"particle_steps_per_second\": {:.6g},\n"
+        "{{\n  \"program\": \"grainflow {}\",\n  \"n_particles\": {},\n  \"steps\": {},\n  "
+        "\"threads\": {},\n"
+        "  \"loop_seconds\": {:.6f},\n  \"wall_seconds\": {:.6f},\n  "
+        "\"particle_steps_per_second\": {:.6g},\n"
         "  \"peak_rss_bytes\": {},\n  \"neighbor_builds\": {},\n  \"stages\": {{{}}}\n}}\n",
-        version_string, s.n_particles, s.steps, exec::n_threads(), s.loop_seconds, wall, s.particle_steps_per_second,
-        s.peak_rss_bytes, nlist_.n_builds() - builds_before, stages);
+        version_string, s.n_particles, s.steps, exec::n_threads(), s.loop_seconds, wall,
+        s.particle_steps_per_second, s.peak_rss_bytes, nlist_.n_builds() - builds_before, stages);
   });
 
-  log::info("timing summary ({} steps, {} thread{}):", steps, exec::n_threads(), exec::n_threads() > 1 ? "s" : "");
+  log::info("timing summary ({} steps, {} thread{}):", steps, exec::n_threads(),
+            exec::n_threads() > 1 ? "s" : "");
   const double total = timers_.loop_seconds();
   for (int k = 0; k < static_cast<int>(Stage::Setup); ++k) {
     const double sec = timers_.seconds(static_cast<Stage>(k));
-    log::info("  {:<10} {:10.3f} s  {:5.1f} %", stage_names[k], sec, total > 0 ? 100 * sec / total : 0.0);
+    log::info("  {:<10} {:10.3f} s  {:5.1f} %", stage_names[k], sec,
+              total > 0 ? 100 * sec / total : 0.0);
   }
-  log::info("  {:<10} {:10.3f} s  ({:.3g} particle-steps/s without output, {} neighbour builds, peak memory {:.1f} MiB)",
-            "total", total, s.particle_steps_per_second, nlist_.n_builds() - builds_before,
-            s.peak_rss_bytes / 1048576.0);
+  log::info(
+      "  {:<10} {:10.3f} s  ({:.3g} particle-steps/s without output, {} neighbour builds, peak "
+      "memory {:.1f} MiB)",
+      "total", total, s.particle_steps_per_second, nlist_.n_builds() - builds_before,
+      s.peak_rss_bytes / 1048576.0);
   return s;
 }
 

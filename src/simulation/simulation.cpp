@@ -19,7 +19,8 @@ namespace gf {
 namespace {
 
 std::string where(const config::SourceLoc& loc) {
-  if (loc.line > 0) return fmt::format("{}:{}:{}: {}", loc.file, loc.line, loc.column, loc.key_path);
+  if (loc.line > 0)
+    return fmt::format("{}:{}:{}: {}", loc.file, loc.line, loc.column, loc.key_path);
   return loc.key_path.empty() ? loc.file : fmt::format("{}: {}", loc.file, loc.key_path);
 }
 
@@ -36,7 +37,8 @@ RadiusDistribution to_distribution(const config::SizeDistribution& s) {
 
 FillSpec to_fill(const config::Fill& f) {
   FillSpec s;
-  s.region.kind = f.region.kind == config::Region::Kind::Box ? FillRegion::Kind::Box : FillRegion::Kind::Cylinder;
+  s.region.kind = f.region.kind == config::Region::Kind::Box ? FillRegion::Kind::Box
+                                                             : FillRegion::Kind::Cylinder;
   s.region.min = f.region.min;
   s.region.max = f.region.max;
   s.region.center = f.region.center;
@@ -61,21 +63,26 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   dt_ = cfg.time.step;
   std::uint64_t seed = 1;
   for (const auto& g : cfg.particles)
-    if (g.fill) { seed = g.fill->seed; break; }
+    if (g.fill) {
+      seed = g.fill->seed;
+      break;
+    }
   rng_ = Rng(seed);
   build_particles();
   build_materials_and_pairs();
   build_walls();
 
   double r_max = 0;
-  for (std::size_t i = 0; i < particles_.size(); ++i) r_max = std::max(r_max, particles_.radius()[i]);
+  for (std::size_t i = 0; i < particles_.size(); ++i)
+    r_max = std::max(r_max, particles_.radius()[i]);
   skin_ = cfg.neighbor.skin.value_or(0.5 * r_max > 0 ? 0.5 * r_max : 1e-3);
   const Vec3 L = domain_.length();
   for (int k = 0; k < 3; ++k) {
     if (domain_.periodic[k] && L[k] <= 2 * (2 * r_max + skin_))
-      throw InputError(fmt::format("{}: the periodic length along {} ({} m) must exceed twice the neighbour cutoff "
-                                   "2 (2 r_max + skin) = {} m",
-                                   where(cfg.domain.loc), "xyz"[k], L[k], 2 * (2 * r_max + skin_)));
+      throw InputError(fmt::format(
+          "{}: the periodic length along {} ({} m) must exceed twice the neighbour cutoff "
+          "2 (2 r_max + skin) = {} m",
+          where(cfg.domain.loc), "xyz"[k], L[k], 2 * (2 * r_max + skin_)));
   }
   const double t0 = 0.0;
   for (auto& w : walls_) w.update_geometry(t0);
@@ -85,7 +92,8 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
 
 void Simulation::build_particles() {
   std::map<std::string, int> mat_index;
-  for (std::size_t m = 0; m < cfg_.materials.size(); ++m) mat_index[cfg_.materials[m].name] = static_cast<int>(m);
+  for (std::size_t m = 0; m < cfg_.materials.size(); ++m)
+    mat_index[cfg_.materials[m].name] = static_cast<int>(m);
   std::vector<FilledSphere> placed;
   std::int64_t next_id = 1;
   for (const auto& g : cfg_.particles) {
@@ -99,12 +107,13 @@ void Simulation::build_particles() {
       Rng rng(g.fill->seed);
       const auto spheres = generate_fill(to_fill(*g.fill), dist, rng, placed);
       if (spheres.empty())
-        throw InputError(fmt::format("{}: the fill region holds no sphere of radius {} m", where(g.loc),
-                                     dist.largest()));
+        throw InputError(fmt::format("{}: the fill region holds no sphere of radius {} m",
+                                     where(g.loc), dist.largest()));
       for (const auto& s : spheres) {
         Vec3 v = g.fill->velocity;
         if (g.fill->velocity_jitter > 0)
-          for (int k = 0; k < 3; ++k) v[k] += rng.uniform(-g.fill->velocity_jitter, g.fill->velocity_jitter);
+          for (int k = 0; k < 3; ++k)
+            v[k] += rng.uniform(-g.fill->velocity_jitter, g.fill->velocity_jitter);
         particles_.add_sphere(next_id++, mat, s.r, rho, s.x, v);
         placed.push_back(s);
       }
@@ -156,27 +165,33 @@ void Simulation::build_materials_and_pairs() {
   }
   // Every pair of materials that can meet needs a law.
   std::vector<bool> used(static_cast<std::size_t>(nm), false);
-  for (std::size_t i = 0; i < particles_.size(); ++i) used[static_cast<std::size_t>(particles_.material()[i])] = true;
+  for (std::size_t i = 0; i < particles_.size(); ++i)
+    used[static_cast<std::size_t>(particles_.material()[i])] = true;
   for (int a = 0; a < nm; ++a)
     for (int b = a; b < nm; ++b)
-      if (used[static_cast<std::size_t>(a)] && used[static_cast<std::size_t>(b)] && pairs_(a, b).model < 0)
-        throw InputError(fmt::format("{}: no entry in 'contacts' for the material pair [{}, {}]", cfg_.file.string(),
+      if (used[static_cast<std::size_t>(a)] && used[static_cast<std::size_t>(b)] &&
+          pairs_(a, b).model < 0)
+        throw InputError(fmt::format("{}: no entry in 'contacts' for the material pair [{}, {}]",
+                                     cfg_.file.string(),
                                      materials_[static_cast<std::size_t>(a)].name,
                                      materials_[static_cast<std::size_t>(b)].name));
 }
 
 void Simulation::build_walls() {
   std::map<std::string, int> mat_index;
-  for (std::size_t m = 0; m < materials_.size(); ++m) mat_index[materials_[m].name] = static_cast<int>(m);
+  for (std::size_t m = 0; m < materials_.size(); ++m)
+    mat_index[materials_[m].name] = static_cast<int>(m);
   std::vector<bool> used(materials_.size(), false);
-  for (std::size_t i = 0; i < particles_.size(); ++i) used[static_cast<std::size_t>(particles_.material()[i])] = true;
+  for (std::size_t i = 0; i < particles_.size(); ++i)
+    used[static_cast<std::size_t>(particles_.material()[i])] = true;
   for (const auto& wc : cfg_.walls) {
     auto it = mat_index.find(wc.material);
-    if (it == mat_index.end()) throw InputError(fmt::format("{}: unknown material '{}'", where(wc.loc), wc.material));
+    if (it == mat_index.end())
+      throw InputError(fmt::format("{}: unknown material '{}'", where(wc.loc), wc.material));
     for (std::size_t m = 0; m < materials_.size(); ++m)
       if (used[m] && pairs_(static_cast<int>(m), it->second).model < 0)
-        throw InputError(fmt::format("{}: no entry in 'contacts' for the material pair [{}, {}]", where(wc.loc),
-                                     materials_[m].name, wc.material));
+        throw InputError(fmt::format("{}: no entry in 'contacts' for the material pair [{}, {}]",
+                                     where(wc.loc), materials_[m].name, wc.material));
     Wall w;
     w.name = wc.name;
     w.group = wc.name;
@@ -284,7 +299,8 @@ std::vector<std::string> Simulation::series_columns() const {
   std::vector<std::string> cols;
   for (const auto& q : cfg_.output.quantities) {
     const bool wall = q.starts_with("wall_force.") || q.starts_with("wall_torque.");
-    const bool component = q.size() > 2 && q[q.size() - 2] == '.' && (q.back() >= 'x' && q.back() <= 'z');
+    const bool component =
+        q.size() > 2 && q[q.size() - 2] == '.' && (q.back() >= 'x' && q.back() <= 'z');
     if (wall && !component) {
       for (const char* c : {".x", ".y", ".z"}) cols.push_back(q + c);
     } else {
@@ -299,7 +315,8 @@ double Simulation::quantity(const std::string& name) const {
     const bool force = name.starts_with("wall_force.");
     std::string rest = name.substr(force ? 11 : 12);
     int comp = 2;
-    if (rest.size() > 2 && rest[rest.size() - 2] == '.' && rest.back() >= 'x' && rest.back() <= 'z') {
+    if (rest.size() > 2 && rest[rest.size() - 2] == '.' && rest.back() >= 'x' &&
+        rest.back() <= 'z') {
       comp = rest.back() - 'x';
       rest.resize(rest.size() - 2);
     }
@@ -318,13 +335,15 @@ double Simulation::quantity(const std::string& name) const {
   if (name == "translational_kinetic_energy") return e.kinetic_translational;
   if (name == "rotational_kinetic_energy") return e.kinetic_rotational;
   if (name == "potential_energy") return e.potential;
-  if (name == "elastic_energy") return contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_);
+  if (name == "elastic_energy")
+    return contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_);
   if (name == "total_energy") return total_energy();
   if (name == "max_z") return e.max_z;
   if (name == "mean_z") return e.mean_z;
   if (name == "contact_count") return static_cast<double>(n_contacts_);
   if (name == "wall_contact_count") return static_cast<double>(n_wall_contacts_);
-  if (name == "coordination_number") return analysis::coordination_number(n_contacts_, particles_.size());
+  if (name == "coordination_number")
+    return analysis::coordination_number(n_contacts_, particles_.size());
   throw InputError(fmt::format("unknown series quantity '{}'", name));
 }
 

@@ -22,11 +22,11 @@
 namespace gf {
 
 struct RunOptions {
-  std::filesystem::path output;              ///< empty: the case's output.directory
-  bool overwrite = false;                    ///< allow writing into an existing, non-empty folder
+  std::filesystem::path output;  ///< empty: the case's output.directory
+  bool overwrite = false;        ///< allow writing into an existing, non-empty folder
   std::optional<std::filesystem::path> restart;
-  std::optional<std::int64_t> steps;         ///< run this many steps instead of up to time.end
-  bool quiet = false;                        ///< no progress output
+  std::optional<std::int64_t> steps;  ///< run this many steps instead of up to time.end
+  bool quiet = false;                 ///< no progress output
 };
 
 /// Summary of a finished run (also written as summary.json).

@@ -13,7 +13,8 @@ using namespace gf::fem;
 
 namespace {
 
-FlowProblem channel(double length, double height, double h, double u_max, std::function<double(double)> f = {}) {
+FlowProblem channel(double length, double height, double h, double u_max,
+                    std::function<double(double)> f = {}) {
   FlowProblem pb;
   pb.spec.outline = {{0, 0}, {length, 0}, {length, height}, {0, height}};
   pb.spec.h_max = h;
@@ -37,7 +38,9 @@ double min_angle_deg(const Mesh& m) {
     for (int i = 0; i < 3; ++i) {
       const Vec2 a = m.nodes[c[i]], b = m.nodes[c[(i + 1) % 3]], d = m.nodes[c[(i + 2) % 3]];
       const double ux = b.x - a.x, uy = b.y - a.y, vx = d.x - a.x, vy = d.y - a.y;
-      amin = std::min(amin, std::acos((ux * vx + uy * vy) / (std::hypot(ux, uy) * std::hypot(vx, vy))) * 180 / std::numbers::pi);
+      amin = std::min(
+          amin, std::acos((ux * vx + uy * vy) / (std::hypot(ux, uy) * std::hypot(vx, vy))) * 180 /
+                    std::numbers::pi);
     }
   return amin;
 }
@@ -103,7 +106,8 @@ TEST(FemFlow, PoiseuilleIsExact) {
     const Vec2 p = ns.mesh().nodes[k];
     const Vec2 u = ns.velocity(k);
     eu = std::max({eu, std::abs(u.x - 4 * um * p.y * (h - p.y) / (h * h)), std::abs(u.y)});
-    if (k < ns.mesh().n_vertices) ep = std::max(ep, std::abs(ns.pressure(k) - 8 * mu * um / (h * h) * (len - p.x)));
+    if (k < ns.mesh().n_vertices)
+      ep = std::max(ep, std::abs(ns.pressure(k) - 8 * mu * um / (h * h) * (len - p.x)));
   }
   EXPECT_LT(eu, 1e-10);
   EXPECT_LT(ep, 1e-10);
@@ -130,7 +134,8 @@ TEST(FemFlow, TaylorCouetteTorque) {
   pb.body_motion = {BodyMotion{{0, 0}, omega}};
   NavierStokes ns(std::move(pb));
   ASSERT_TRUE(ns.solve_steady({}).converged);
-  const double exact = -4 * std::numbers::pi * 0.1 * omega * r1 * r1 * r2 * r2 / (r2 * r2 - r1 * r1);
+  const double exact =
+      -4 * std::numbers::pi * 0.1 * omega * r1 * r1 * r2 * r2 / (r2 * r2 - r1 * r1);
   const auto f = ns.reaction_forces()[0];
   EXPECT_NEAR(f.torque / exact, 1.0, 1e-3);
   EXPECT_NEAR(ns.stress_forces()[0].torque / exact, 1.0, 1e-2);
@@ -185,8 +190,9 @@ TEST(FemFlow, AdaptiveStepMeetsTolerance) {
   const auto st = integrate(ns, tc, opt, {});
   EXPECT_NEAR(ns.time(), 0.4, 1e-12);
   double e = 0;
-  for (int i = 0; i < 2 * ns.mesh().n_nodes(); ++i) e = std::max(e, std::abs(ns.solution()[i] - ref.solution()[i]));
-  EXPECT_LT(e, 2e-3);   // global error ~ a few local tolerances
+  for (int i = 0; i < 2 * ns.mesh().n_nodes(); ++i)
+    e = std::max(e, std::abs(ns.solution()[i] - ref.solution()[i]));
+  EXPECT_LT(e, 2e-3);        // global error ~ a few local tolerances
   EXPECT_LT(st.steps, 200);  // far fewer than the fixed-step reference's 512
 }
 

@@ -72,7 +72,8 @@ TEST(FemCase, ErrorsNameLocationKeyExpectedAndFound) {
   e = error_of(replaced(kGood, "type: outflow", "type: outlet"));
   EXPECT_NE(e.find("fluid_fem.domain.boundaries[1].type"), std::string::npos) << e;
   EXPECT_NE(e.find("wall | inflow | outflow"), std::string::npos) << e;
-  e = error_of(replaced(kGood, "mode: unsteady, scheme: bdf2, step: 0.05,", "mode: unsteady, scheme: bdf2,"));
+  e = error_of(replaced(kGood, "mode: unsteady, scheme: bdf2, step: 0.05,",
+                        "mode: unsteady, scheme: bdf2,"));
   EXPECT_NE(e.find("fluid_fem.time.step"), std::string::npos) << e;
   EXPECT_NE(e.find("required"), std::string::npos) << e;
   e = error_of(replaced(kGood, "edges: [1]", "edges: [7]"));
@@ -88,8 +89,9 @@ TEST(FemCase, RunWritesSeriesAndCsv) {
   const auto dir = std::filesystem::temp_directory_path() / "gf_fem_case_test";
   std::filesystem::remove_all(dir);
   run_fluid_fem(cfg, dir);
-  for (const char* f : {"fem_mesh.vtu", "fem_fields.pvd", "fem_fields_00000.vtu", "fem_fields_00002.vtu",
-                        "fem_forces.csv", "fem_probes.csv", "fem_summary.txt"})
+  for (const char* f :
+       {"fem_mesh.vtu", "fem_fields.pvd", "fem_fields_00000.vtu", "fem_fields_00002.vtu",
+        "fem_forces.csv", "fem_probes.csv", "fem_summary.txt"})
     EXPECT_TRUE(std::filesystem::exists(dir / f)) << f;
   std::ifstream in(dir / "fem_forces.csv");
   std::string header, line;

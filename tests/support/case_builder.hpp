@@ -10,7 +10,8 @@
 
 namespace gf::test {
 
-inline config::Case base_case(double dt, double end, Vec3 lo, Vec3 hi, std::array<bool, 3> periodic = {}) {
+inline config::Case base_case(double dt, double end, Vec3 lo, Vec3 hi,
+                              std::array<bool, 3> periodic = {}) {
   config::Case c;
   c.file = "test.yaml";
   c.name = "test";
@@ -24,7 +25,8 @@ inline config::Case base_case(double dt, double end, Vec3 lo, Vec3 hi, std::arra
   return c;
 }
 
-inline void add_material(config::Case& c, const std::string& name, double rho, double e, double nu) {
+inline void add_material(config::Case& c, const std::string& name, double rho, double e,
+                         double nu) {
   config::Material m;
   m.name = name;
   m.density = rho;
@@ -33,20 +35,21 @@ inline void add_material(config::Case& c, const std::string& name, double rho, d
   c.materials.push_back(m);
 }
 
-inline void add_contact(config::Case& c, const std::string& a, const std::string& b, const std::string& model,
-                        std::map<std::string, double> params) {
+inline void add_contact(config::Case& c, const std::string& a, const std::string& b,
+                        const std::string& model, std::map<std::string, double> params) {
   config::Contact k;
   k.between = {a, b};
   k.model = model;
   if (!params.count("friction")) params["friction"] = 0.5;
   if (!params.count("rolling_friction")) params["rolling_friction"] = 0.0;
-  if (model == "hooke" && !params.count("tangential_stiffness_ratio")) params["tangential_stiffness_ratio"] = 2.0 / 7.0;
+  if (model == "hooke" && !params.count("tangential_stiffness_ratio"))
+    params["tangential_stiffness_ratio"] = 2.0 / 7.0;
   k.params = params;
   c.contacts.push_back(k);
 }
 
-inline void add_spheres(config::Case& c, const std::string& material, double radius, std::vector<Vec3> x,
-                        std::vector<Vec3> v = {}, std::vector<Vec3> w = {}) {
+inline void add_spheres(config::Case& c, const std::string& material, double radius,
+                        std::vector<Vec3> x, std::vector<Vec3> v = {}, std::vector<Vec3> w = {}) {
   config::ParticleGroup g;
   g.material = material;
   g.radius.value = radius;
@@ -58,7 +61,8 @@ inline void add_spheres(config::Case& c, const std::string& material, double rad
   c.particles.push_back(g);
 }
 
-inline void add_plane(config::Case& c, const std::string& name, Vec3 point, Vec3 normal, const std::string& material) {
+inline void add_plane(config::Case& c, const std::string& name, Vec3 point, Vec3 normal,
+                      const std::string& material) {
   config::Wall w;
   w.name = name;
   w.kind = config::Wall::Kind::Plane;
@@ -70,8 +74,8 @@ inline void add_plane(config::Case& c, const std::string& name, Vec3 point, Vec3
 
 /// A fill of a box region, uniform radii in [r_min, r_max] (equal: monodisperse); returns the
 /// fill for further settings (spacing, count, seed, ...), valid until the next push_back.
-inline config::Fill& add_box_fill(config::Case& c, const std::string& material, double r_min, double r_max, Vec3 lo,
-                                  Vec3 hi, config::Fill::Lattice lattice) {
+inline config::Fill& add_box_fill(config::Case& c, const std::string& material, double r_min,
+                                  double r_max, Vec3 lo, Vec3 hi, config::Fill::Lattice lattice) {
   config::ParticleGroup g;
   g.material = material;
   if (r_min == r_max) {
@@ -91,8 +95,8 @@ inline config::Fill& add_box_fill(config::Case& c, const std::string& material, 
   return *c.particles.back().fill;
 }
 
-inline void add_box(config::Case& c, const std::string& name, Vec3 lo, Vec3 hi, std::vector<std::string> open,
-                    const std::string& material) {
+inline void add_box(config::Case& c, const std::string& name, Vec3 lo, Vec3 hi,
+                    std::vector<std::string> open, const std::string& material) {
   config::Wall w;
   w.name = name;
   w.kind = config::Wall::Kind::Box;

@@ -32,7 +32,8 @@ struct OracleResult {
 // section between the neighbours of the best sample. g is convex in s (the distance to a convex
 // set along a line), so the true minimum lies in that bracket: the oracle is exact up to the
 // golden-section resolution (~1e-16 in s after 80 halvings of 0.618).
-OracleResult oracle_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1, int n = 2000) {
+OracleResult oracle_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1,
+                             int n = 2000) {
   auto g = [&](double s) {
     const Vec3 p = p0 + s * (p1 - p0);
     return norm2(p - point_on_segment(p, q0, q1));
@@ -96,9 +97,11 @@ TEST(CapsuleSegments, RandomAgainstOracle) {
   double max_d2 = 0, max_dp = 0;
   for (int trial = 0; trial < 1500; ++trial) {
     const Vec3 c1{u(rng), u(rng), u(rng)}, c2{u(rng), u(rng), u(rng)};
-    const double l1 = trial % 50 == 0 ? 0.0 : 1.5 * u(rng), l2 = trial % 70 == 0 ? 0.0 : 1.5 * u(rng);
+    const double l1 = trial % 50 == 0 ? 0.0 : 1.5 * u(rng),
+                 l2 = trial % 70 == 0 ? 0.0 : 1.5 * u(rng);
     const Vec3 a1 = random_unit(rng), a2 = random_unit(rng);
-    const Vec3 p0 = c1 - 0.5 * l1 * a1, p1 = c1 + 0.5 * l1 * a1, q0 = c2 - 0.5 * l2 * a2, q1 = c2 + 0.5 * l2 * a2;
+    const Vec3 p0 = c1 - 0.5 * l1 * a1, p1 = c1 + 0.5 * l1 * a1, q0 = c2 - 0.5 * l2 * a2,
+               q1 = c2 + 0.5 * l2 * a2;
     const SegmentClosest k = closest_points_segments(p0, p1, q0, q1);
     const OracleResult o = oracle_segments(p0, p1, q0, q1);
     ASSERT_NEAR(k.dist2, o.dist2, 1e-12) << "trial " << trial;
@@ -111,7 +114,8 @@ TEST(CapsuleSegments, RandomAgainstOracle) {
       max_dp = std::max({max_dp, norm(k.p - o.p), norm(k.q - o.q)});
     }
   }
-  std::printf("[ measured ] random segments: max |d2 - oracle| = %.2e, max |p - oracle| = %.2e\n", max_d2, max_dp);
+  std::printf("[ measured ] random segments: max |d2 - oracle| = %.2e, max |p - oracle| = %.2e\n",
+              max_d2, max_dp);
 }
 
 // Near-parallel and parallel segments side by side (angles 0 to 1e-2 rad, overlapping or
@@ -132,8 +136,10 @@ TEST(CapsuleSegments, NearParallelAgainstOracle) {
     const Vec3 a2 = normalized(a1 + eps[trial % 8] * tilt);
     const double l1 = 0.5 + u(rng), l2 = 0.5 + u(rng);
     const Vec3 c1{u(rng), u(rng), u(rng)};
-    const Vec3 c2 = c1 + (0.3 * u(rng)) * w + (2.2 * (u(rng) - 0.5)) * a1;  // side by side, shifted along
-    const Vec3 p0 = c1 - 0.5 * l1 * a1, p1 = c1 + 0.5 * l1 * a1, q0 = c2 - 0.5 * l2 * a2, q1 = c2 + 0.5 * l2 * a2;
+    const Vec3 c2 =
+        c1 + (0.3 * u(rng)) * w + (2.2 * (u(rng) - 0.5)) * a1;  // side by side, shifted along
+    const Vec3 p0 = c1 - 0.5 * l1 * a1, p1 = c1 + 0.5 * l1 * a1, q0 = c2 - 0.5 * l2 * a2,
+               q1 = c2 + 0.5 * l2 * a2;
     const SegmentClosest k = closest_points_segments(p0, p1, q0, q1);
     const OracleResult o = oracle_segments(p0, p1, q0, q1, 4000);
     ASSERT_NEAR(k.dist2, o.dist2, 1e-12) << "trial " << trial << " eps " << eps[trial % 8];
@@ -184,7 +190,7 @@ TEST(CapsuleContact, RandomAgainstOracle) {
     Capsule ci{{u(rng), u(rng), u(rng)}, random_unit(rng), 0.5 * u(rng), 0.05 + 0.2 * u(rng)};
     Capsule cj{{u(rng), u(rng), u(rng)}, random_unit(rng), 0.5 * u(rng), 0.05 + 0.2 * u(rng)};
     if (trial % 5 == 0) cj.axis = normalized(ci.axis + 1e-7 * random_unit(rng));  // near-parallel
-    if (trial % 5 == 1) cj.axis = ci.axis;                                          // parallel
+    if (trial % 5 == 1) cj.axis = ci.axis;                                        // parallel
     const OracleResult o = oracle_segments(ci.end0(), ci.end1(), cj.end0(), cj.end1());
     const double d = std::sqrt(o.dist2);
     ShapeContact k;
@@ -209,13 +215,16 @@ TEST(CapsuleContact, RandomAgainstOracle) {
     if (d > 1e-6 && norm2(cross(ci.axis, cj.axis)) > 0.01) {
       const Vec3 n_oracle = (o.p - o.q) / d;
       EXPECT_GT(dot(k.normal, n_oracle), 1 - 1e-9) << "trial " << trial;
-      EXPECT_LT(norm(k.point - (o.q + (cj.radius - 0.5 * k.overlap) * n_oracle)), 1e-6) << "trial " << trial;
+      EXPECT_LT(norm(k.point - (o.q + (cj.radius - 0.5 * k.overlap) * n_oracle)), 1e-6)
+          << "trial " << trial;
       max_normal_err = std::max(max_normal_err, norm(k.normal - n_oracle));
     }
   }
   EXPECT_GT(n_contacts, 200);
-  std::printf("[ measured ] capsule-capsule: %d contacts, max |d^2 - oracle| %.2e m^2, max normal error %.2e\n",
-              n_contacts, max_overlap_err, max_normal_err);
+  std::printf(
+      "[ measured ] capsule-capsule: %d contacts, max |d^2 - oracle| %.2e m^2, max normal error "
+      "%.2e\n",
+      n_contacts, max_overlap_err, max_normal_err);
 }
 
 TEST(CapsuleContact, SphereAndFeatures) {
@@ -246,7 +255,8 @@ TEST(CapsuleContact, SphereAndFeatures) {
   ASSERT_TRUE(capsule_capsule(a, b, k));
   EXPECT_NEAR(k.normal.z, 1.0, 1e-15);
   // Coaxial capsules (parallel, distance 0): a normal perpendicular to the axis, no NaN.
-  ASSERT_TRUE(capsule_capsule(Capsule{{0, 0, 0}, {1, 0, 0}, 1.0, 0.2}, Capsule{{0.5, 0, 0}, {1, 0, 0}, 1.0, 0.2}, k));
+  ASSERT_TRUE(capsule_capsule(Capsule{{0, 0, 0}, {1, 0, 0}, 1.0, 0.2},
+                              Capsule{{0.5, 0, 0}, {1, 0, 0}, 1.0, 0.2}, k));
   EXPECT_NEAR(norm(k.normal), 1.0, 1e-12);
   EXPECT_NEAR(k.normal.x, 0.0, 1e-12);
 }
@@ -260,8 +270,8 @@ TEST(CapsuleWall, PlaneAgainstSampling) {
   const Vec3 p0{0.1, -0.2, 0.05};
   for (int trial = 0; trial < 500; ++trial) {
     const Vec3 n = random_unit(rng);
-    const Capsule c{p0 + (0.6 * u(rng) - 0.1) * n + Vec3{u(rng), u(rng), 0}, random_unit(rng), 0.5 * u(rng),
-                    0.05 + 0.2 * u(rng)};
+    const Capsule c{p0 + (0.6 * u(rng) - 0.1) * n + Vec3{u(rng), u(rng), 0}, random_unit(rng),
+                    0.5 * u(rng), 0.05 + 0.2 * u(rng)};
     double gmin = 1e300;
     for (int s = 0; s <= 1000; ++s) {
       const Vec3 x = c.end0() + (s / 1000.0) * (c.end1() - c.end0());
@@ -322,7 +332,8 @@ TEST(CapsuleWall, CylinderAgainstSampling) {
     const Vec3 w = random_unit(rng);
     const Vec3 radial = normalized(cross(w, random_unit(rng)));
     const double rho_c = inside ? R - 0.6 * u(rng) : R + 0.6 * u(rng) - 0.05;
-    Capsule c{a0 + rho_c * radial + (u(rng) - 0.5) * w, random_unit(rng), 0.4 * u(rng), 0.05 + 0.15 * u(rng)};
+    Capsule c{a0 + rho_c * radial + (u(rng) - 0.5) * w, random_unit(rng), 0.4 * u(rng),
+              0.05 + 0.15 * u(rng)};
     if (trial % 7 == 0) c.axis = w;  // parallel to the cylinder axis
     auto gap_at = [&](double s) {
       const Vec3 x = c.end0() + s * (c.end1() - c.end0());

@@ -32,7 +32,8 @@ TEST(ContactLaw, EffectiveModuli) {
 }
 
 TEST(ContactLaw, HertzElasticForceByHand) {
-  const PairCoeffs c = prepare_pair("hertz_mindlin", {&glass, &glass, 0.005}, {{"restitution", 1.0}});
+  const PairCoeffs c =
+      prepare_pair("hertz_mindlin", {&glass, &glass, 0.005}, {{"restitution", 1.0}});
   // R* = 2.5 mm, delta = 10 um: F = 4/3 * 5.4945e6 * sqrt(2.5e-3) * (1e-5)^1.5 = 0.0115843... N
   Vec3 xi{};
   const auto r = HertzMindlin::Law::evaluate(c, head_on(1e-5, 0.0, 2.5e-3, 1e-3), 1e-6, xi);
@@ -43,7 +44,8 @@ TEST(ContactLaw, HertzElasticForceByHand) {
 }
 
 TEST(ContactLaw, HookeForceAndDampingByHand) {
-  const PairCoeffs c = prepare_pair("hooke", {&glass, &glass, 0.005}, {{"restitution", 0.5}, {"stiffness", 1000.0}});
+  const PairCoeffs c =
+      prepare_pair("hooke", {&glass, &glass, 0.005}, {{"restitution", 0.5}, {"stiffness", 1000.0}});
   EXPECT_EQ(c.stiffness, 1000.0);
   const double zeta = c.damping_ratio;
   Vec3 xi{};
@@ -58,14 +60,16 @@ TEST(ContactLaw, HookeForceAndDampingByHand) {
 
 TEST(ContactLaw, HookeStiffnessFromMaxOverlap) {
   // m* v^2 = k delta^2 with m* of two reference grains (r = 5 mm, rho = 2500).
-  const PairCoeffs c = prepare_pair(
-      "hooke", {&glass, &glass, 0.005}, {{"restitution", 0.9}, {"max_overlap", 0.01}, {"reference_velocity", 2.0}});
+  const PairCoeffs c =
+      prepare_pair("hooke", {&glass, &glass, 0.005},
+                   {{"restitution", 0.9}, {"max_overlap", 0.01}, {"reference_velocity", 2.0}});
   const double m_eff = 0.5 * 2500 * 4.0 / 3.0 * M_PI * 1.25e-7;
   EXPECT_NEAR(c.stiffness, m_eff * 4.0 / (5e-5 * 5e-5), 1e-9 * c.stiffness);
 }
 
 TEST(ContactLaw, CoulombCapAndHistoryRescaled) {
-  PairCoeffs c = prepare_pair("hooke", {&glass, &glass, 0.005}, {{"restitution", 1.0}, {"stiffness", 1e4}});
+  PairCoeffs c =
+      prepare_pair("hooke", {&glass, &glass, 0.005}, {{"restitution", 1.0}, {"stiffness", 1e4}});
   c.friction = 0.3;
   ContactKinematics k = head_on(1e-4, 0.0, 2.5e-3, 1e-3);
   k.v_rel = {1.0, 0, 0};  // sliding fast
@@ -78,7 +82,8 @@ TEST(ContactLaw, CoulombCapAndHistoryRescaled) {
 }
 
 TEST(ContactLaw, HistoryRotatesIntoTangentPlaneKeepingLength) {
-  PairCoeffs c = prepare_pair("hooke", {&glass, &glass, 0.005}, {{"restitution", 1.0}, {"stiffness", 1e4}});
+  PairCoeffs c =
+      prepare_pair("hooke", {&glass, &glass, 0.005}, {{"restitution", 1.0}, {"stiffness", 1e4}});
   c.friction = 100;
   ContactKinematics k = head_on(1e-4, 0.0, 2.5e-3, 1e-3);
   k.normal = normalized(Vec3{0.1, 0, 1});
@@ -118,7 +123,8 @@ TEST(RestitutionMapLimits, ElasticAndLinearUnclamped) {
   EXPECT_NEAR(realised_restitution(NormalKind::Hertz, 0.0), 1.0, 1e-6);
   // Light damping: the clamp barely acts, the closed form exp(-pi z / sqrt(1 - z^2)) holds.
   const double z = 0.01;
-  EXPECT_NEAR(realised_restitution(NormalKind::Linear, z), std::exp(-M_PI * z / std::sqrt(1 - z * z)), 2e-3);
+  EXPECT_NEAR(realised_restitution(NormalKind::Linear, z),
+              std::exp(-M_PI * z / std::sqrt(1 - z * z)), 2e-3);
 }
 
 TEST(Registry, ContactModelsListed) {

@@ -26,8 +26,14 @@ TEST(Domain, MinimumImageAndWrap) {
   EXPECT_NEAR(p.z, 2.5, 1e-14);
 }
 
-struct KA { static constexpr std::string_view key = "a"; static int value() { return 1; } };
-struct KB { static constexpr std::string_view key = "b"; static int value() { return 2; } };
+struct KA {
+  static constexpr std::string_view key = "a";
+  static int value() { return 1; }
+};
+struct KB {
+  static constexpr std::string_view key = "b";
+  static int value() { return 2; }
+};
 
 TEST(Registry, LookupAndDispatch) {
   using L = TypeList<KA, KB>;

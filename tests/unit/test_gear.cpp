@@ -26,7 +26,9 @@ double gear_oscillator_error(double dt, GearForces kind, bool exact_start = true
   s.d[4] = {exact_start ? 1.0 : 0.0, 0, 0};
   s.d[5] = {0, 0, 0};
   const long n = std::lround(10.0 / dt);
-  gear5_run(s, [](const Vec3& x, const Vec3&, double) { return -1.0 * x; }, 0.0, dt, n, gear5_coefficients(kind));
+  gear5_run(
+      s, [](const Vec3& x, const Vec3&, double) { return -1.0 * x; }, 0.0, dt, n,
+      gear5_coefficients(kind));
   return std::abs(s.d[0].x - std::cos(n * dt));
 }
 
@@ -54,7 +56,8 @@ constexpr double kRestitution = 0.7;
 
 template <bool UseGear>
 Collision collide(double steps_per_contact, GearForces kind = GearForces::VelocityDependent) {
-  const double gamma = -std::log(kRestitution) / std::sqrt(kPi * kPi + std::log(kRestitution) * std::log(kRestitution));
+  const double gamma = -std::log(kRestitution) /
+                       std::sqrt(kPi * kPi + std::log(kRestitution) * std::log(kRestitution));
   const double omega_d = std::sqrt(1 - gamma * gamma);  // omega_0 = 1
   const double tc = kPi / omega_d, c = 2 * gamma, v0 = 1.0;
   const double dt = tc / steps_per_contact;
@@ -109,13 +112,15 @@ Collision collide(double steps_per_contact, GearForces kind = GearForces::Veloci
 // for Verlet.
 TEST(Gear, OrderOnHarmonicOscillator) {
   const double dts[] = {0.2, 0.1, 0.05, 0.025};
-  const char* name[] = {"gear5 c0=3/20 exact start", "gear5 c0=3/16 exact start", "gear5 c0=3/20 zero start",
-                        "gear5 c0=3/16 zero start", "velocity Verlet"};
+  const char* name[] = {"gear5 c0=3/20 exact start", "gear5 c0=3/16 exact start",
+                        "gear5 c0=3/20 zero start", "gear5 c0=3/16 zero start", "velocity Verlet"};
   for (int which = 0; which < 5; ++which) {
     double err[4];
     for (int k = 0; k < 4; ++k) {
-      const GearForces kind = which % 2 == 0 ? GearForces::PositionOnly : GearForces::VelocityDependent;
-      err[k] = which == 4 ? verlet_oscillator_error(dts[k]) : gear_oscillator_error(dts[k], kind, which < 2);
+      const GearForces kind =
+          which % 2 == 0 ? GearForces::PositionOnly : GearForces::VelocityDependent;
+      err[k] = which == 4 ? verlet_oscillator_error(dts[k])
+                          : gear_oscillator_error(dts[k], kind, which < 2);
     }
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     for (int k = 0; k < 4; ++k) {
@@ -126,8 +131,8 @@ TEST(Gear, OrderOnHarmonicOscillator) {
       sxy += lx * ly;
     }
     const double slope = (4 * sxy - sx * sy) / (4 * sxx - sx * sx);
-    std::printf("[ measured ] %s: errors %.2e %.2e %.2e %.2e, order %.2f\n", name[which], err[0], err[1], err[2],
-                err[3], slope);
+    std::printf("[ measured ] %s: errors %.2e %.2e %.2e %.2e, order %.2f\n", name[which], err[0],
+                err[1], err[2], err[3], slope);
     if (which < 2) {
       EXPECT_GT(slope, 4.5) << name[which];
     } else if (which < 4) {
@@ -146,14 +151,17 @@ TEST(Gear, OrderOnHarmonicOscillator) {
 // (restitution) and 1e-2 (overlap), and at least 5x smaller than Verlet's in restitution.
 TEST(Gear, SpringDashpotCollision) {
   for (double spc : {10.0, 20.0}) {
-    const Collision g = collide<true>(spc), g20 = collide<true>(spc, GearForces::PositionOnly), vv = collide<false>(spc);
-    std::printf("[ measured ] dt = t_c/%g: restitution err gear(3/16) %.2e gear(3/20) %.2e verlet %.2e; "
-                "max-overlap err gear %.2e verlet %.2e; trajectory err gear %.2e verlet %.2e\n",
-                spc, std::abs(g.e_num - g.e_exact) / g.e_exact, std::abs(g20.e_num - g20.e_exact) / g20.e_exact,
-                std::abs(vv.e_num - vv.e_exact) / vv.e_exact,
-                std::abs(g.max_overlap_num - g.max_overlap_exact) / g.max_overlap_exact,
-                std::abs(vv.max_overlap_num - vv.max_overlap_exact) / vv.max_overlap_exact, g.max_traj_err,
-                vv.max_traj_err);
+    const Collision g = collide<true>(spc), g20 = collide<true>(spc, GearForces::PositionOnly),
+                    vv = collide<false>(spc);
+    std::printf(
+        "[ measured ] dt = t_c/%g: restitution err gear(3/16) %.2e gear(3/20) %.2e verlet %.2e; "
+        "max-overlap err gear %.2e verlet %.2e; trajectory err gear %.2e verlet %.2e\n",
+        spc, std::abs(g.e_num - g.e_exact) / g.e_exact,
+        std::abs(g20.e_num - g20.e_exact) / g20.e_exact,
+        std::abs(vv.e_num - vv.e_exact) / vv.e_exact,
+        std::abs(g.max_overlap_num - g.max_overlap_exact) / g.max_overlap_exact,
+        std::abs(vv.max_overlap_num - vv.max_overlap_exact) / vv.max_overlap_exact, g.max_traj_err,
+        vv.max_traj_err);
     EXPECT_LT(std::abs(g.e_num - g.e_exact) / g.e_exact, 2e-3);
     EXPECT_LT(std::abs(g.max_overlap_num - g.max_overlap_exact) / g.max_overlap_exact, 1e-2);
     EXPECT_LT(5 * std::abs(g.e_num - g.e_exact), std::abs(vv.e_num - vv.e_exact));
@@ -166,7 +174,9 @@ TEST(Gear, SpringDashpotCollision) {
 TEST(Gear, ElasticBouncesStayBounded) {
   const double tc = kPi, dt = tc / 10, g = 0.05;  // k = m = 1, so t_c = pi
   Gear5State s = gear5_start({0.5, 0, 0}, {0, 0, 0}, {-g, 0, 0});
-  auto accel = [&](const Vec3& x, const Vec3&, double) { return Vec3{(x.x < 0 ? -x.x : 0.0) - g, 0, 0}; };
+  auto accel = [&](const Vec3& x, const Vec3&, double) {
+    return Vec3{(x.x < 0 ? -x.x : 0.0) - g, 0, 0};
+  };
   const double e0 = 0.5 * g;  // potential energy at the start, kinetic 0
   double max_rel = 0, prev_v = 0;
   int bounces = 0;
@@ -178,9 +188,9 @@ TEST(Gear, ElasticBouncesStayBounded) {
       max_rel = std::max(max_rel, std::abs(e - e0) / e0);
     }
   });
-  std::printf("[ measured ] gear5 elastic bounces at dt = t_c/10: %d bounces, max rel. energy error %.2e\n", bounces,
-              max_rel);
+  std::printf(
+      "[ measured ] gear5 elastic bounces at dt = t_c/10: %d bounces, max rel. energy error %.2e\n",
+      bounces, max_rel);
   EXPECT_GE(bounces, 100);
   EXPECT_LT(max_rel, 4e-2);
 }
-

@@ -33,7 +33,8 @@ Cloud random_cloud(const Domain& d, int n, double rmin, double rmax, unsigned se
 std::vector<std::pair<int, int>> list_pairs(const VerletList& l) {
   std::vector<std::pair<int, int>> out;
   for (std::size_t i = 0; i < l.n_particles(); ++i)
-    for (auto k = l.offsets()[i]; k < l.offsets()[i + 1]; ++k) out.emplace_back(static_cast<int>(i), l.neighbors()[k]);
+    for (auto k = l.offsets()[i]; k < l.offsets()[i + 1]; ++k)
+      out.emplace_back(static_cast<int>(i), l.neighbors()[k]);
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -56,7 +57,8 @@ TEST_P(NeighborOracle, VerletListEqualsBruteForce) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Periodicity, NeighborOracle,
-                         ::testing::Values(std::array<bool, 3>{false, false, false}, std::array<bool, 3>{true, true, true},
+                         ::testing::Values(std::array<bool, 3>{false, false, false},
+                                           std::array<bool, 3>{true, true, true},
                                            std::array<bool, 3>{true, false, true}));
 
 TEST(Neighbor, SmallPeriodicBoxWithFewCells) {

@@ -40,7 +40,8 @@ std::vector<Vec2> edge_intersections(const ConvexPolygon& a, const ConvexPolygon
 }
 
 std::vector<Vec2> convex_hull(std::vector<Vec2> pts) {  // Andrew's monotone chain, CCW
-  std::sort(pts.begin(), pts.end(), [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
+  std::sort(pts.begin(), pts.end(),
+            [](const Vec2& a, const Vec2& b) { return a.x < b.x || (a.x == b.x && a.y < b.y); });
   if (pts.size() < 3) return pts;
   std::vector<Vec2> h(2 * pts.size());
   std::size_t k = 0;
@@ -168,9 +169,10 @@ TEST(PolygonOverlap, RandomPairsAgainstExactOracle) {
     }
   }
   EXPECT_GT(n_overlaps, 1000);
-  std::printf("[ measured ] polygon overlaps: %d, max |area - oracle| %.2e, max |centroid - oracle| %.2e, "
-              "max |p1,p2 - oracle| %.2e\n",
-              n_overlaps, max_area, max_c, max_p);
+  std::printf(
+      "[ measured ] polygon overlaps: %d, max |area - oracle| %.2e, max |centroid - oracle| %.2e, "
+      "max |p1,p2 - oracle| %.2e\n",
+      n_overlaps, max_area, max_c, max_p);
 }
 
 // Fine-grid rasterisation (1000 x 1000 cell centres over the bounding box of the overlap) as a
@@ -215,9 +217,11 @@ TEST(PolygonOverlap, VertexContactsAndContainment) {
   // the chord lies on j's edge, so n = +y (from j up to i) exactly, and the overlap is the
   // triangle of area h^2 (45-degree corner).
   const double h = 1e-3;
-  const ConvexPolygon j = polygon_to_world(regular_polygon(4, 10.0 * std::sqrt(2.0), 0.25 * 3.141592653589793),
-                                           {0, -10.0}, 0.0);  // top edge at y = 0
-  const ConvexPolygon i = polygon_to_world(regular_polygon(4, 1.0, -0.5 * 3.141592653589793), {0.3, 1.0 - h}, 0.0);
+  const ConvexPolygon j =
+      polygon_to_world(regular_polygon(4, 10.0 * std::sqrt(2.0), 0.25 * 3.141592653589793),
+                       {0, -10.0}, 0.0);  // top edge at y = 0
+  const ConvexPolygon i =
+      polygon_to_world(regular_polygon(4, 1.0, -0.5 * 3.141592653589793), {0.3, 1.0 - h}, 0.0);
   PolygonOverlap k;
   ASSERT_TRUE(polygon_overlap(i, j, k));
   EXPECT_NEAR(k.area, h * h, 1e-12);
@@ -228,7 +232,8 @@ TEST(PolygonOverlap, VertexContactsAndContainment) {
   ASSERT_TRUE(polygon_overlap(j, i, k));
   EXPECT_NEAR(k.normal.y, -1.0, 1e-12);
   // Exactly touching at a vertex (zero area): no contact, no NaN.
-  const ConvexPolygon i0 = polygon_to_world(regular_polygon(4, 1.0, -0.5 * 3.141592653589793), {0.3, 1.0}, 0.0);
+  const ConvexPolygon i0 =
+      polygon_to_world(regular_polygon(4, 1.0, -0.5 * 3.141592653589793), {0.3, 1.0}, 0.0);
   EXPECT_FALSE(polygon_overlap(i0, j, k));
   // Vertex on vertex: two diamonds touching tip to tip, then pushed by h.
   const ConvexPolygon d1 = polygon_to_world(regular_polygon(4, 1.0, 0.0), {-1.0 + 0.5 * h, 0}, 0.0);

@@ -1,12 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Checkpoint / restart continues bit-identically to an uninterrupted run.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstring>
 #include <filesystem>
 #include <string>
-
-#include <unistd.h>
 
 #include "case_builder.hpp"
 #include "simulation/simulation.hpp"
@@ -20,9 +19,12 @@ config::Case settling_case() {
   c.gravity = {0, 0, -9.81};
   test::add_material(c, "glass", 2500, 1e7, 0.3);
   test::add_material(c, "steel", 7800, 2e7, 0.28);
-  test::add_contact(c, "glass", "glass", "hertz_mindlin", {{"restitution", 0.5}, {"friction", 0.5}, {"rolling_friction", 0.02}});
-  test::add_contact(c, "glass", "steel", "hooke", {{"restitution", 0.6}, {"friction", 0.3}, {"stiffness", 2e3}});
-  auto& f = test::add_box_fill(c, "glass", 0.002, 0.003, {0, 0, 0}, {0.05, 0.05, 0.06}, config::Fill::Lattice::Random);
+  test::add_contact(c, "glass", "glass", "hertz_mindlin",
+                    {{"restitution", 0.5}, {"friction", 0.5}, {"rolling_friction", 0.02}});
+  test::add_contact(c, "glass", "steel", "hooke",
+                    {{"restitution", 0.6}, {"friction", 0.3}, {"stiffness", 2e3}});
+  auto& f = test::add_box_fill(c, "glass", 0.002, 0.003, {0, 0, 0}, {0.05, 0.05, 0.06},
+                               config::Fill::Lattice::Random);
   f.count = 250;
   f.seed = 11;
   f.velocity_jitter = 0.2;
@@ -47,7 +49,8 @@ bool same_bits(std::span<const T> a, std::span<const T> b) {
 
 TEST(Restart, ContinuesBitIdentically) {
   const auto cfg = settling_case();
-  const auto file = std::filesystem::temp_directory_path() / ("gf_restart_test_" + std::to_string(::getpid()) + ".h5");
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("gf_restart_test_" + std::to_string(::getpid()) + ".h5");
   Simulation a(cfg);
   for (int s = 0; s < 1500; ++s) a.step();
   a.save_checkpoint(file);
@@ -72,13 +75,15 @@ TEST(Restart, ContinuesBitIdentically) {
         a.particles().column(k));
   }
   EXPECT_TRUE(same_bits(a.neighbor_list().history(), b.neighbor_list().history()));
-  for (std::size_t w = 0; w < a.walls().size(); ++w) EXPECT_EQ(a.walls()[w].force, b.walls()[w].force);
+  for (std::size_t w = 0; w < a.walls().size(); ++w)
+    EXPECT_EQ(a.walls()[w].force, b.walls()[w].force);
   std::filesystem::remove(file);
 }
 
 TEST(Restart, RejectsForeignFileAndMismatchedTimeStep) {
   auto cfg = settling_case();
-  const auto file = std::filesystem::temp_directory_path() / ("gf_restart_test2_" + std::to_string(::getpid()) + ".h5");
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("gf_restart_test2_" + std::to_string(::getpid()) + ".h5");
   Simulation a(cfg);
   a.step();
   a.save_checkpoint(file);

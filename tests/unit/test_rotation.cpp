@@ -16,7 +16,8 @@ TEST(RigidRotationAlgebra, QuaternionAndMatrix) {
   const Quat q = quat_from_axis_angle(axis, 0.7);
   const Vec3 b{0.3, -1.1, 0.4};
   // Rodrigues' formula as the independent reference.
-  const Vec3 rod = std::cos(0.7) * b + std::sin(0.7) * cross(axis, b) + (1 - std::cos(0.7)) * dot(axis, b) * axis;
+  const Vec3 rod = std::cos(0.7) * b + std::sin(0.7) * cross(axis, b) +
+                   (1 - std::cos(0.7)) * dot(axis, b) * axis;
   const Vec3 r = rotate(q, b);
   EXPECT_NEAR(norm(r - rod), 0.0, 1e-15);
   EXPECT_NEAR(norm(to_matrix(q) * b - rod), 0.0, 1e-15);
@@ -32,7 +33,8 @@ TEST(RigidRotationAlgebra, QuaternionAndMatrix) {
   // dq/dt = 1/2 q (0, w_b) against a finite difference of q(t) = q0 (axis e, w t).
   const Vec3 wb{0.2, -0.5, 0.9};
   const double h = 1e-6, wn = norm(wb);
-  const Quat qp = q * quat_from_axis_angle(wb / wn, wn * h), qm = q * quat_from_axis_angle(wb / wn, -wn * h);
+  const Quat qp = q * quat_from_axis_angle(wb / wn, wn * h),
+             qm = q * quat_from_axis_angle(wb / wn, -wn * h);
   const Quat fd = (0.5 / h) * (qp + (-1.0) * qm), an = quat_derivative(q, wb);
   EXPECT_NEAR(fd.w - an.w, 0.0, 1e-9);
   EXPECT_NEAR(fd.x - an.x, 0.0, 1e-9);
@@ -70,7 +72,8 @@ TopErrors symmetric_top(double dt, double t_end) {
     rigid_rotation_post_force(q, Lw, omega, Vec3{}, inertia, dt);
     const double t = s * dt;
     const Vec3 wb = rotate_inverse(q, omega);
-    const Vec3 wb_exact{amp * std::cos(omega_b * t + phi0), amp * std::sin(omega_b * t + phi0), w0.z};
+    const Vec3 wb_exact{amp * std::cos(omega_b * t + phi0), amp * std::sin(omega_b * t + phi0),
+                        w0.z};
     err.body = std::max(err.body, norm(wb - wb_exact));
     const double ang = prec * t;  // Rodrigues rotation of e3(0) about L
     const Vec3 e3_exact = std::cos(ang) * e3_0 + std::sin(ang) * cross(lhat, e3_0) +
@@ -87,9 +90,10 @@ TopErrors symmetric_top(double dt, double t_end) {
 TEST(RigidRotation, SymmetricTopAnalytic) {
   const TopErrors e1 = symmetric_top(0.01, 20.0), e2 = symmetric_top(0.005, 20.0);
   const double order_body = std::log2(e1.body / e2.body), order_axis = std::log2(e1.axis / e2.axis);
-  std::printf("[ measured ] symmetric top, t = 20: dt=0.01 max|w_b err| %.2e, max|e3 err| %.2e; "
-              "dt=0.005 %.2e, %.2e; orders %.2f, %.2f\n",
-              e1.body, e1.axis, e2.body, e2.axis, order_body, order_axis);
+  std::printf(
+      "[ measured ] symmetric top, t = 20: dt=0.01 max|w_b err| %.2e, max|e3 err| %.2e; "
+      "dt=0.005 %.2e, %.2e; orders %.2f, %.2f\n",
+      e1.body, e1.axis, e2.body, e2.axis, order_body, order_axis);
   EXPECT_LT(e1.body, 3e-3);
   EXPECT_LT(e1.axis, 3e-3);
   EXPECT_NEAR(order_body, 2.0, 0.2);
@@ -115,9 +119,10 @@ TEST(RigidRotation, AsymmetricConservation) {
     (s < n / 2 ? max_de1 : max_de2) = std::max(s < n / 2 ? max_de1 : max_de2, de);
     max_dl = std::max(max_dl, std::abs(norm(rotate_inverse(q, L)) - l0) / l0);
   }
-  std::printf("[ measured ] asymmetric body, 1e5 steps: max rel. energy error %.2e (first half) %.2e "
-              "(second half), max rel. |L_body| error %.2e\n",
-              max_de1, max_de2, max_dl);
+  std::printf(
+      "[ measured ] asymmetric body, 1e5 steps: max rel. energy error %.2e (first half) %.2e "
+      "(second half), max rel. |L_body| error %.2e\n",
+      max_de1, max_de2, max_dl);
   EXPECT_LT(max_de1, 1e-5);
   EXPECT_LT(max_de2, 1.1 * max_de1 + 1e-12);
   EXPECT_LT(max_dl, 1e-12);

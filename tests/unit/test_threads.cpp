@@ -19,7 +19,8 @@ config::Case dense_case(bool periodic_long_axis) {
   auto c = test::base_case(2e-5, 1.0, {0, 0, 0}, hi, {periodic_long_axis, false, false});
   c.gravity = {0, 0, -9.81};
   test::add_material(c, "glass", 2500, 1e7, 0.3);
-  test::add_contact(c, "glass", "glass", "hertz_mindlin", {{"restitution", 0.5}, {"friction", 0.5}, {"rolling_friction", 0.01}});
+  test::add_contact(c, "glass", "glass", "hertz_mindlin",
+                    {{"restitution", 0.5}, {"friction", 0.5}, {"rolling_friction", 0.01}});
   auto& f = test::add_box_fill(c, "glass", 0.0018, 0.0022, {0, 0, 0},
                                periodic_long_axis ? Vec3{0.4, 0.1, 0.08} : Vec3{0.1, 0.1, 0.32},
                                config::Fill::Lattice::Cubic);
@@ -28,12 +29,14 @@ config::Case dense_case(bool periodic_long_axis) {
   f.velocity_jitter = 0.3;
   f.seed = 2;
   test::add_box(c, "box", {0, 0, 0}, hi,
-                periodic_long_axis ? std::vector<std::string>{"xmin", "xmax", "zmax"} : std::vector<std::string>{"zmax"},
+                periodic_long_axis ? std::vector<std::string>{"xmin", "xmax", "zmax"}
+                                   : std::vector<std::string>{"zmax"},
                 "glass");
   return c;
 }
 
-std::vector<Vec3> run_with_threads(const config::Case& c, int threads, int steps, std::int64_t& contacts) {
+std::vector<Vec3> run_with_threads(const config::Case& c, int threads, int steps,
+                                   std::int64_t& contacts) {
   const int before = exec::n_threads();
   exec::set_threads(threads);
   Simulation sim(c);
@@ -63,4 +66,6 @@ TEST_P(ThreadDeterminism, OneAndTwoThreadsBitIdentical) {
 }
 
 INSTANTIATE_TEST_SUITE_P(SlabAxis, ThreadDeterminism, ::testing::Values(false, true),
-                         [](const auto& tp) { return tp.param ? std::string("periodic") : std::string("walled"); });
+                         [](const auto& tp) {
+                           return tp.param ? std::string("periodic") : std::string("walled");
+                         });

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <string>
 #include <numbers>
+#include <string>
 
 #include "case_builder.hpp"
 #include "simulation/simulation.hpp"
@@ -45,13 +45,14 @@ class Dump {
 
 /// Outcome of a head-on binary collision (sphere-sphere or sphere-wall).
 struct Collision {
-  double f_max = 0;       ///< N
-  double overlap_max = 0; ///< m
-  double duration = 0;    ///< s
+  double f_max = 0;        ///< N
+  double overlap_max = 0;  ///< m
+  double duration = 0;     ///< s
   double restitution = 0;
 };
 
-/// Runs until the pair separates; particle 0 moves with +v0 along z towards particle 1 (or the wall).
+/// Runs until the pair separates; particle 0 moves with +v0 along z towards particle 1 (or the
+/// wall).
 Collision collide(Simulation& sim, bool wall, double v0, Dump* trace = nullptr) {
   Collision out;
   auto& p = sim.particles();
@@ -61,8 +62,10 @@ Collision collide(Simulation& sim, bool wall, double v0, Dump* trace = nullptr) 
   for (int s = 0; s < 10000000; ++s) {
     sim.step();
     double overlap;
-    if (wall) overlap = p.radius()[0] - (sim.walls()[0].point.z - p.x()[0].z);
-    else overlap = p.radius()[0] + p.radius()[1] - norm(p.x()[1] - p.x()[0]);
+    if (wall)
+      overlap = p.radius()[0] - (sim.walls()[0].point.z - p.x()[0].z);
+    else
+      overlap = p.radius()[0] + p.radius()[1] - norm(p.x()[1] - p.x()[0]);
     if (overlap > 0) {
       touched = true;
       ++in_contact;
@@ -90,8 +93,10 @@ Collision collide(Simulation& sim, bool wall, double v0, Dump* trace = nullptr) 
 TEST(ValidationChungOoi, HertzNormalImpactTest1) {
   auto c = test::base_case(1e-8, 1.0, {-0.1, -0.1, -0.1}, {0.1, 0.1, 0.1});
   test::add_material(c, "glass", 2800, 48e9, 0.2);
-  test::add_contact(c, "glass", "glass", "hertz_mindlin", {{"restitution", 1.0}, {"friction", 0.0}});
-  test::add_spheres(c, "glass", 0.010, {{0, 0, -0.0101}, {0, 0, 0.0101}}, {{0, 0, 10}, {0, 0, -10}});
+  test::add_contact(c, "glass", "glass", "hertz_mindlin",
+                    {{"restitution", 1.0}, {"friction", 0.0}});
+  test::add_spheres(c, "glass", 0.010, {{0, 0, -0.0101}, {0, 0, 0.0101}},
+                    {{0, 0, 10}, {0, 0, -10}});
   Simulation sim(c);
   Dump trace("chung_ooi_test1", "t,overlap,force");
   const Collision r = collide(sim, false, 20.0, &trace);
@@ -120,7 +125,8 @@ TEST_P(ValidationRestitution, RealisedEqualsRequested) {
   const double r = 0.005, rho = 2500, E = 1e7, nu = 0.3, v = 1.0;
   const double m = rho * 4.0 / 3.0 * std::numbers::pi * r * r * r;
   const double m_eff = prm.wall ? m : m / 2, r_eff = prm.wall ? r : r / 2;
-  const double e_star = E / (2 * (1 - nu * nu)) * (prm.wall ? 2.0 : 1.0);  // wall of the same material
+  const double e_star =
+      E / (2 * (1 - nu * nu)) * (prm.wall ? 2.0 : 1.0);  // wall of the same material
   const double k = 1e4;
   const double v_rel = prm.wall ? v : 2 * v;
   const bool hertz = std::string(prm.model) == "hertz_mindlin";
@@ -135,17 +141,20 @@ TEST_P(ValidationRestitution, RealisedEqualsRequested) {
     test::add_spheres(c, "glass", r, {{0, 0, -0.0001 - r}}, {{0, 0, v}});
     test::add_plane(c, "lid", {0, 0, 0}, {0, 0, -1}, "glass");
   } else {
-    test::add_spheres(c, "glass", r, {{0, 0, -r - 1e-4}, {0, 0, r + 1e-4}}, {{0, 0, v}, {0, 0, -v}});
+    test::add_spheres(c, "glass", r, {{0, 0, -r - 1e-4}, {0, 0, r + 1e-4}},
+                      {{0, 0, v}, {0, 0, -v}});
   }
   Simulation sim(c);
   const Collision out = collide(sim, prm.wall, v_rel);
   EXPECT_NEAR(out.restitution, prm.e, 0.01 * prm.e) << prm.model << (prm.wall ? " wall" : " pair");
   RecordProperty("realised_restitution", std::to_string(out.restitution));
-  Dump d(std::string("restitution_") + prm.model + (prm.wall ? "_wall_" : "_pair_") + std::to_string(std::lround(prm.e * 10)),
+  Dump d(std::string("restitution_") + prm.model + (prm.wall ? "_wall_" : "_pair_") +
+             std::to_string(std::lround(prm.e * 10)),
          "requested,realised");
   d.row(prm.e, out.restitution);
-  std::printf("restitution %s %s requested %.3f realised %.5f (%.3f %%)\n", prm.model, prm.wall ? "wall" : "pair", prm.e,
-              out.restitution, 100 * (out.restitution / prm.e - 1));
+  std::printf("restitution %s %s requested %.3f realised %.5f (%.3f %%)\n", prm.model,
+              prm.wall ? "wall" : "pair", prm.e, out.restitution,
+              100 * (out.restitution / prm.e - 1));
 }
 
 static std::vector<RestitutionCase> restitution_cases() {
@@ -158,7 +167,8 @@ static std::vector<RestitutionCase> restitution_cases() {
 
 INSTANTIATE_TEST_SUITE_P(AllLaws, ValidationRestitution, ::testing::ValuesIn(restitution_cases()),
                          [](const auto& tp) {
-                           return std::string(tp.param.model) + (tp.param.wall ? "_wall_e" : "_pair_e") +
+                           return std::string(tp.param.model) +
+                                  (tp.param.wall ? "_wall_e" : "_pair_e") +
                                   std::to_string(static_cast<int>(std::lround(tp.param.e * 10)));
                          });
 
@@ -169,8 +179,10 @@ INSTANTIATE_TEST_SUITE_P(AllLaws, ValidationRestitution, ::testing::ValuesIn(res
 TEST(ValidationEnergy, ElasticGasConservesEnergy) {
   auto c = test::base_case(2e-6, 1.0, {0, 0, 0}, {0.06, 0.06, 0.06}, {true, true, true});
   test::add_material(c, "glass", 2500, 1e7, 0.3);
-  test::add_contact(c, "glass", "glass", "hertz_mindlin", {{"restitution", 1.0}, {"friction", 0.0}});
-  auto& f = test::add_box_fill(c, "glass", 0.002, 0.003, {0, 0, 0}, {0.06, 0.06, 0.06}, config::Fill::Lattice::Random);
+  test::add_contact(c, "glass", "glass", "hertz_mindlin",
+                    {{"restitution", 1.0}, {"friction", 0.0}});
+  auto& f = test::add_box_fill(c, "glass", 0.002, 0.003, {0, 0, 0}, {0.06, 0.06, 0.06},
+                               config::Fill::Lattice::Random);
   f.count = 300;
   f.seed = 3;
   f.velocity_jitter = 1.0;
@@ -199,14 +211,17 @@ TEST(ValidationStatics, FloorForceEqualsBedWeight) {
   auto c = test::base_case(2e-5, 0.6, {0, 0, 0}, {0.06, 0.06, 0.2}, {true, true, false});
   c.gravity = {0, 0, -9.81};
   test::add_material(c, "glass", 2500, 1e7, 0.3);
-  test::add_contact(c, "glass", "glass", "hertz_mindlin", {{"restitution", 0.5}, {"friction", 0.5}});
-  auto& f = test::add_box_fill(c, "glass", 0.005, 0.005, {0, 0, 0}, {0.06, 0.06, 0.06}, config::Fill::Lattice::Cubic);
+  test::add_contact(c, "glass", "glass", "hertz_mindlin",
+                    {{"restitution", 0.5}, {"friction", 0.5}});
+  auto& f = test::add_box_fill(c, "glass", 0.005, 0.005, {0, 0, 0}, {0.06, 0.06, 0.06},
+                               config::Fill::Lattice::Cubic);
   f.spacing = 0.0102;
   f.velocity_jitter = 0.05;
   test::add_plane(c, "floor", {0, 0, 0}, {0, 0, 1}, "glass");
   Simulation sim(c);
   double weight = 0;
-  for (std::size_t i = 0; i < sim.particles().size(); ++i) weight += sim.particles().mass()[i] * 9.81;
+  for (std::size_t i = 0; i < sim.particles().size(); ++i)
+    weight += sim.particles().mass()[i] * 9.81;
   const int n_steps = static_cast<int>(std::lround(0.6 / 2e-5));
   const int avg_from = n_steps - static_cast<int>(std::lround(0.05 / 2e-5));
   double sum = 0;
@@ -248,7 +263,8 @@ TEST(ValidationFriction, SlidingToRolling) {
   for (int s = 0; s < 200000; ++s) {
     sim.step();
     if (s % 200 == 0) d.row(sim.time(), p.v()[0].x, p.omega()[0].y * r);
-    const double contact_speed = p.v()[0].x - p.omega()[0].y * r;  // slip speed of the contact point
+    const double contact_speed =
+        p.v()[0].x - p.omega()[0].y * r;  // slip speed of the contact point
     if (contact_speed <= 0 && slip_prev > 0) {
       const double w = slip_prev / (slip_prev - contact_speed);
       t_roll = sim.time() - (1 - w) * sim.dt();

@@ -43,7 +43,9 @@ struct Capsule {
 };
 
 /// World axis of a capsule with orientation q (its body axis is e_z).
-GF_HOST_DEVICE inline Vec3 capsule_axis(const Quat& q) { return rotate(q, Vec3{0, 0, 1}); }
+GF_HOST_DEVICE inline Vec3 capsule_axis(const Quat& q) {
+  return rotate(q, Vec3{0, 0, 1});
+}
 
 /// Which part of the surface carries the contact.
 enum class CapsuleFeature : int { Cap, Side, Plane };
@@ -68,10 +70,13 @@ struct SegmentClosest {
 };
 
 namespace detail {
-GF_HOST_DEVICE constexpr double clamp01(double x) { return x < 0 ? 0.0 : (x > 1 ? 1.0 : x); }
+GF_HOST_DEVICE constexpr double clamp01(double x) {
+  return x < 0 ? 0.0 : (x > 1 ? 1.0 : x);
+}
 /// A unit vector perpendicular to the unit vector u.
 GF_HOST_DEVICE inline Vec3 any_perpendicular(const Vec3& u) {
-  return std::abs(u.x) < 0.9 ? normalized(cross(u, Vec3{1, 0, 0})) : normalized(cross(u, Vec3{0, 1, 0}));
+  return std::abs(u.x) < 0.9 ? normalized(cross(u, Vec3{1, 0, 0}))
+                             : normalized(cross(u, Vec3{0, 1, 0}));
 }
 }  // namespace detail
 
@@ -83,8 +88,8 @@ GF_HOST_DEVICE inline Vec3 any_perpendicular(const Vec3& u) {
 /// along the common part) and the pair returned is the middle of the overlap of their projections
 /// (the closest ends when they do not overlap). Otherwise the minimiser is unique and is found by
 /// clamping s, taking the best t for it, and re-clamping (Ericson 2005, sec. 5.1.9).
-GF_HOST_DEVICE inline SegmentClosest closest_points_segments(const Vec3& p0, const Vec3& p1, const Vec3& q0,
-                                                             const Vec3& q1) {
+GF_HOST_DEVICE inline SegmentClosest closest_points_segments(const Vec3& p0, const Vec3& p1,
+                                                             const Vec3& q0, const Vec3& q1) {
   using detail::clamp01;
   const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
   const double a = dot(d1, d1), e = dot(d2, d2), b = dot(d1, d2), c = dot(d1, r), f = dot(d2, r);
@@ -163,14 +168,15 @@ GF_HOST_DEVICE inline bool capsule_capsule(const Capsule& ci, const Capsule& cj,
 }
 
 /// Capsule i with a sphere j (centre xj, radius rj, m); false when they do not touch.
-GF_HOST_DEVICE inline bool capsule_sphere(const Capsule& ci, const Vec3& xj, double rj, ShapeContact& k) {
+GF_HOST_DEVICE inline bool capsule_sphere(const Capsule& ci, const Vec3& xj, double rj,
+                                          ShapeContact& k) {
   return capsule_capsule(ci, Capsule{xj, Vec3{0, 0, 1}, 0.0, rj}, k);
 }
 
 namespace detail {
 /// Contact of the end sphere at e (radius r) of capsule with a wall, given the gap and normal.
-GF_HOST_DEVICE inline ShapeContact end_wall_contact(const Vec3& e, double r, double gap, const Vec3& n,
-                                                    CapsuleFeature f) {
+GF_HOST_DEVICE inline ShapeContact end_wall_contact(const Vec3& e, double r, double gap,
+                                                    const Vec3& n, CapsuleFeature f) {
   ShapeContact k;
   k.overlap = -gap;
   k.normal = n;
@@ -196,22 +202,24 @@ GF_HOST_DEVICE inline int capsule_plane(const Capsule& ci, const Vec3& point, co
   const int n_ends = ci.half_length > 0 ? 2 : 1;
   for (int e = 0; e < n_ends; ++e) {
     const double gap = dot(ends[e] - point, normal) - ci.radius;
-    if (gap < 0) out[n++] = detail::end_wall_contact(ends[e], ci.radius, gap, normal, CapsuleFeature::Cap);
+    if (gap < 0)
+      out[n++] = detail::end_wall_contact(ends[e], ci.radius, gap, normal, CapsuleFeature::Cap);
   }
   return n;
 }
 
 /// Capsule with a plane, one contact at the deepest point (midpoint of the axis when the capsule
 /// is parallel to the plane within 1e-12 of its length); false when apart.
-GF_HOST_DEVICE inline bool capsule_plane_deepest(const Capsule& ci, const Vec3& point, const Vec3& normal,
-                                                 ShapeContact& k) {
+GF_HOST_DEVICE inline bool capsule_plane_deepest(const Capsule& ci, const Vec3& point,
+                                                 const Vec3& normal, ShapeContact& k) {
   const double g0 = dot(ci.end0() - point, normal) - ci.radius;
   const double g1 = dot(ci.end1() - point, normal) - ci.radius;
   const double g = g0 < g1 ? g0 : g1;
   if (g >= 0) return false;
   const bool flat = std::abs(g0 - g1) <= 1e-12 * (2 * ci.half_length + ci.radius);
   const Vec3 e = flat ? ci.center : (g0 < g1 ? ci.end0() : ci.end1());
-  k = detail::end_wall_contact(e, ci.radius, g, normal, flat ? CapsuleFeature::Side : CapsuleFeature::Cap);
+  k = detail::end_wall_contact(e, ci.radius, g, normal,
+                               flat ? CapsuleFeature::Side : CapsuleFeature::Cap);
   return true;
 }
 
@@ -220,8 +228,9 @@ GF_HOST_DEVICE inline bool capsule_plane_deepest(const Capsule& ci, const Vec3& 
 /// so its minima are the ends: one contact per penetrating end (as capsule_plane). Outside (a
 /// pillar) the gap rho(s) - R - r is convex: one contact at its minimum (the middle of the
 /// capsule when it is parallel to the cylinder axis). Returns the number written to out.
-GF_HOST_DEVICE inline int capsule_cylinder_wall(const Capsule& ci, const Vec3& axis_point, const Vec3& axis,
-                                                double radius, bool inside, ShapeContact out[2]) {
+GF_HOST_DEVICE inline int capsule_cylinder_wall(const Capsule& ci, const Vec3& axis_point,
+                                                const Vec3& axis, double radius, bool inside,
+                                                ShapeContact out[2]) {
   auto radial_of = [&](const Vec3& x, double& rho) {
     const Vec3 d = x - axis_point;
     Vec3 rad = d - dot(d, axis) * axis;
@@ -236,7 +245,8 @@ GF_HOST_DEVICE inline int capsule_cylinder_wall(const Capsule& ci, const Vec3& a
       double rho;
       const Vec3 rad = radial_of(ends[e], rho);
       const double gap = radius - rho - ci.radius;
-      if (gap < 0) out[n++] = detail::end_wall_contact(ends[e], ci.radius, gap, -rad, CapsuleFeature::Cap);
+      if (gap < 0)
+        out[n++] = detail::end_wall_contact(ends[e], ci.radius, gap, -rad, CapsuleFeature::Cap);
     }
     return n;
   }
@@ -251,7 +261,8 @@ GF_HOST_DEVICE inline int capsule_cylinder_wall(const Capsule& ci, const Vec3& a
   const double gap = rho - radius - ci.radius;
   if (gap >= 0) return 0;
   const bool side = ci.half_length > 0 && s > 0 && s < 1;
-  out[n++] = detail::end_wall_contact(x, ci.radius, gap, rad, side ? CapsuleFeature::Side : CapsuleFeature::Cap);
+  out[n++] = detail::end_wall_contact(x, ci.radius, gap, rad,
+                                      side ? CapsuleFeature::Side : CapsuleFeature::Cap);
   return n;
 }
 

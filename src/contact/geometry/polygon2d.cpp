@@ -26,9 +26,10 @@ ConvexPolygon regular_polygon(int n, double circumradius, double phase) {
   return p;
 }
 
-ConvexPolygon random_convex_polygon(std::mt19937_64& rng, int n, double mean_radius, double elongation) {
-  REQUIRE(n >= 3 && n <= kMaxPolygonVertices, "random_convex_polygon: vertex count {} not in [3, {}]", n,
-          kMaxPolygonVertices);
+ConvexPolygon random_convex_polygon(std::mt19937_64& rng, int n, double mean_radius,
+                                    double elongation) {
+  REQUIRE(n >= 3 && n <= kMaxPolygonVertices,
+          "random_convex_polygon: vertex count {} not in [3, {}]", n, kMaxPolygonVertices);
   REQUIRE(mean_radius > 0, "random_convex_polygon: mean radius {} must be > 0", mean_radius);
   REQUIRE(elongation >= 1, "random_convex_polygon: elongation {} must be >= 1", elongation);
   std::uniform_real_distribution<double> u(0.0, 1.0);

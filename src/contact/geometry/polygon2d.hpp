@@ -30,16 +30,32 @@ namespace gf::contact {
 struct Vec2 {
   double x = 0, y = 0;
 };
-GF_HOST_DEVICE constexpr Vec2 operator+(const Vec2& a, const Vec2& b) { return {a.x + b.x, a.y + b.y}; }
-GF_HOST_DEVICE constexpr Vec2 operator-(const Vec2& a, const Vec2& b) { return {a.x - b.x, a.y - b.y}; }
-GF_HOST_DEVICE constexpr Vec2 operator-(const Vec2& a) { return {-a.x, -a.y}; }
-GF_HOST_DEVICE constexpr Vec2 operator*(double s, const Vec2& a) { return {s * a.x, s * a.y}; }
-GF_HOST_DEVICE constexpr double dot(const Vec2& a, const Vec2& b) { return a.x * b.x + a.y * b.y; }
+GF_HOST_DEVICE constexpr Vec2 operator+(const Vec2& a, const Vec2& b) {
+  return {a.x + b.x, a.y + b.y};
+}
+GF_HOST_DEVICE constexpr Vec2 operator-(const Vec2& a, const Vec2& b) {
+  return {a.x - b.x, a.y - b.y};
+}
+GF_HOST_DEVICE constexpr Vec2 operator-(const Vec2& a) {
+  return {-a.x, -a.y};
+}
+GF_HOST_DEVICE constexpr Vec2 operator*(double s, const Vec2& a) {
+  return {s * a.x, s * a.y};
+}
+GF_HOST_DEVICE constexpr double dot(const Vec2& a, const Vec2& b) {
+  return a.x * b.x + a.y * b.y;
+}
 /// z-component of the 3D cross product.
-GF_HOST_DEVICE constexpr double cross(const Vec2& a, const Vec2& b) { return a.x * b.y - a.y * b.x; }
+GF_HOST_DEVICE constexpr double cross(const Vec2& a, const Vec2& b) {
+  return a.x * b.y - a.y * b.x;
+}
 /// a rotated by +90 degrees.
-GF_HOST_DEVICE constexpr Vec2 perp(const Vec2& a) { return {-a.y, a.x}; }
-GF_HOST_DEVICE inline double norm(const Vec2& a) { return std::sqrt(dot(a, a)); }
+GF_HOST_DEVICE constexpr Vec2 perp(const Vec2& a) {
+  return {-a.y, a.x};
+}
+GF_HOST_DEVICE inline double norm(const Vec2& a) {
+  return std::sqrt(dot(a, a));
+}
 
 inline constexpr int kMaxPolygonVertices = 16;
 inline constexpr int kMaxOverlapVertices = 2 * kMaxPolygonVertices + 2;
@@ -89,29 +105,33 @@ GF_HOST_DEVICE inline PolygonProperties polygon_properties(const ConvexPolygon& 
 }
 
 /// World image of a body-frame polygon at `position` (m) turned by `angle` (rad, CCW).
-GF_HOST_DEVICE inline ConvexPolygon polygon_to_world(const ConvexPolygon& body, const Vec2& position, double angle) {
+GF_HOST_DEVICE inline ConvexPolygon polygon_to_world(const ConvexPolygon& body,
+                                                     const Vec2& position, double angle) {
   const double c = std::cos(angle), s = std::sin(angle);
   ConvexPolygon w;
   w.n = body.n;
   for (int k = 0; k < body.n; ++k)
-    w.v[k] = {position.x + c * body.v[k].x - s * body.v[k].y, position.y + s * body.v[k].x + c * body.v[k].y};
+    w.v[k] = {position.x + c * body.v[k].x - s * body.v[k].y,
+              position.y + s * body.v[k].x + c * body.v[k].y};
   return w;
 }
 
 /// Overlap of grain i with grain j (or a wall).
 struct PolygonOverlap {
-  double area = 0;   ///< overlap area A, m^2
-  Vec2 centroid;     ///< centroid of the overlap polygon = contact point, m
-  Vec2 p1, p2;       ///< the two points where the boundaries intersect, m
-  Vec2 normal;       ///< unit normal, perpendicular to p2 - p1, from j (or the wall) to i
-  int n_vertices = 0;///< vertices of the overlap polygon
-  bool chord = true; ///< false when the boundaries do not cross twice (one grain inside the
-                     ///< other, or touching degenerately); the normal is then along c_i - c_j
+  double area = 0;     ///< overlap area A, m^2
+  Vec2 centroid;       ///< centroid of the overlap polygon = contact point, m
+  Vec2 p1, p2;         ///< the two points where the boundaries intersect, m
+  Vec2 normal;         ///< unit normal, perpendicular to p2 - p1, from j (or the wall) to i
+  int n_vertices = 0;  ///< vertices of the overlap polygon
+  bool chord = true;   ///< false when the boundaries do not cross twice (one grain inside the
+                       ///< other, or touching degenerately); the normal is then along c_i - c_j
 };
 
 /// Characteristic length l_c = R_i + R_j (m) of F_n = E A / l_c; R = equal-area disk radius,
 /// R_j = 0 for a rigid wall. See the file comment.
-GF_HOST_DEVICE constexpr double polygon_characteristic_length(double r_i, double r_j) { return r_i + r_j; }
+GF_HOST_DEVICE constexpr double polygon_characteristic_length(double r_i, double r_j) {
+  return r_i + r_j;
+}
 
 /// Normal force magnitude F_n = E A / l_c: with the 2D modulus E in N/m (Young's modulus times
 /// the depth of the grains), A in m^2 and l_c in m, F_n is in N.
@@ -129,7 +149,8 @@ struct TaggedPolygon {
 };
 
 /// Keeps the part of `in` with cross(b - a, x - a) >= 0 (left of the directed line a -> b).
-GF_HOST_DEVICE inline void clip_left_of(const TaggedPolygon& in, const Vec2& a, const Vec2& b, TaggedPolygon& out) {
+GF_HOST_DEVICE inline void clip_left_of(const TaggedPolygon& in, const Vec2& a, const Vec2& b,
+                                        TaggedPolygon& out) {
   out.n = 0;
   const Vec2 d = b - a;
   for (int k = 0; k < in.n; ++k) {
@@ -159,8 +180,8 @@ GF_HOST_DEVICE inline void clip_left_of(const TaggedPolygon& in, const Vec2& a, 
 
 /// Area, centroid, chord and normal of the clipped polygon `w`; `fallback` is used as the normal
 /// direction when the boundaries do not cross twice. False when the area is zero.
-GF_HOST_DEVICE inline bool finish_overlap(const TaggedPolygon& w, const Vec2& fallback, double area_scale,
-                                          PolygonOverlap& o) {
+GF_HOST_DEVICE inline bool finish_overlap(const TaggedPolygon& w, const Vec2& fallback,
+                                          double area_scale, PolygonOverlap& o) {
   if (w.n < 3) return false;
   const PolygonProperties pr = polygon_properties(w.v, w.n);
   if (!(pr.area > 1e-14 * area_scale)) return false;
@@ -201,7 +222,8 @@ GF_HOST_DEVICE inline bool finish_overlap(const TaggedPolygon& w, const Vec2& fa
 
 /// Overlap of convex CCW world polygons i and j; false when they do not overlap (area below
 /// 1e-14 of the smaller polygon's bounding scale squared).
-GF_HOST_DEVICE inline bool polygon_overlap(const ConvexPolygon& pi, const ConvexPolygon& pj, PolygonOverlap& o) {
+GF_HOST_DEVICE inline bool polygon_overlap(const ConvexPolygon& pi, const ConvexPolygon& pj,
+                                           PolygonOverlap& o) {
   detail::TaggedPolygon buf[2];
   buf[0].n = pi.n;
   for (int k = 0; k < pi.n; ++k) {
@@ -226,8 +248,8 @@ GF_HOST_DEVICE inline bool polygon_overlap(const ConvexPolygon& pi, const Convex
 
 /// Overlap of polygon i with the solid half-plane {x : (x - point) . normal < 0} of a wall whose
 /// unit normal points towards the grains; the normal returned is the wall normal.
-GF_HOST_DEVICE inline bool polygon_halfplane_overlap(const ConvexPolygon& pi, const Vec2& point, const Vec2& normal,
-                                                     PolygonOverlap& o) {
+GF_HOST_DEVICE inline bool polygon_halfplane_overlap(const ConvexPolygon& pi, const Vec2& point,
+                                                     const Vec2& normal, PolygonOverlap& o) {
   detail::TaggedPolygon in, out;
   in.n = pi.n;
   for (int k = 0; k < pi.n; ++k) {
@@ -253,7 +275,8 @@ ConvexPolygon regular_polygon(int n, double circumradius, double phase = 0);
 /// Random irregular convex polygon with n vertices: n jittered angles on an ellipse of aspect
 /// ratio `elongation` (>= 1, long axis along x), scaled to the equal-area radius `mean_radius`
 /// (m) and centred on its centroid. Deterministic for a given generator state.
-ConvexPolygon random_convex_polygon(std::mt19937_64& rng, int n, double mean_radius, double elongation);
+ConvexPolygon random_convex_polygon(std::mt19937_64& rng, int n, double mean_radius,
+                                    double elongation);
 
 /// True when the polygon is strictly convex and counter-clockwise.
 bool is_convex_ccw(const ConvexPolygon& poly);

@@ -9,24 +9,24 @@ namespace gf::contact {
 
 /// Per-material-pair constants, derived once before the time loop (see ContactLaw::prepare).
 struct PairCoeffs {
-  int model = -1;             ///< index of the law in ContactModels; -1 = no interaction
-  double stiffness = 0;       ///< hooke: k_n, N/m; hertz: E* (effective modulus), Pa
-  double shear_modulus = 0;   ///< hertz_mindlin: G*, Pa
-  double kt_ratio = 0;        ///< k_t / S_n: hooke: given; hertz_mindlin: 8G*/(2E*) = 4G*/E*
-  double sqrt_kt_ratio = 0;   ///< sqrt(kt_ratio): tangential over normal damping coefficient
-  double damping_ratio = 0;   ///< zeta: damping over critical damping of the tangent stiffness
-  double friction = 0;        ///< Coulomb coefficient mu
-  double rolling_friction = 0;///< rolling resistance coefficient mu_r
+  int model = -1;               ///< index of the law in ContactModels; -1 = no interaction
+  double stiffness = 0;         ///< hooke: k_n, N/m; hertz: E* (effective modulus), Pa
+  double shear_modulus = 0;     ///< hertz_mindlin: G*, Pa
+  double kt_ratio = 0;          ///< k_t / S_n: hooke: given; hertz_mindlin: 8G*/(2E*) = 4G*/E*
+  double sqrt_kt_ratio = 0;     ///< sqrt(kt_ratio): tangential over normal damping coefficient
+  double damping_ratio = 0;     ///< zeta: damping over critical damping of the tangent stiffness
+  double friction = 0;          ///< Coulomb coefficient mu
+  double rolling_friction = 0;  ///< rolling resistance coefficient mu_r
 };
 
 /// Kinematics of one contact, from the narrow phase.
 struct ContactKinematics {
-  double overlap;     ///< delta > 0, m
-  Vec3 normal;        ///< unit normal pointing from j (or the wall) to i
-  Vec3 v_rel;         ///< velocity of i's contact point relative to j's, m/s
-  Vec3 omega_rel;     ///< omega_i - omega_j, rad/s (rolling)
-  double r_eff;       ///< effective radius R* = r_i r_j / (r_i + r_j) (wall: r_i), m
-  double m_eff;       ///< effective mass m* (wall: m_i), kg
+  double overlap;  ///< delta > 0, m
+  Vec3 normal;     ///< unit normal pointing from j (or the wall) to i
+  Vec3 v_rel;      ///< velocity of i's contact point relative to j's, m/s
+  Vec3 omega_rel;  ///< omega_i - omega_j, rad/s (rolling)
+  double r_eff;    ///< effective radius R* = r_i r_j / (r_i + r_j) (wall: r_i), m
+  double m_eff;    ///< effective mass m* (wall: m_i), kg
 };
 
 /// What a law returns for particle i; j receives the opposite force and rolling torque.

@@ -19,7 +19,8 @@ struct ContactLaw {
 
   /// Force and rolling torque on i for one contact; updates the tangential history xi.
   /// The normal force is never attractive: at the end of a contact the dashpot cannot pull.
-  GF_HOST_DEVICE static ContactResult evaluate(const PairCoeffs& c, const ContactKinematics& k, double dt, Vec3& xi) {
+  GF_HOST_DEVICE static ContactResult evaluate(const PairCoeffs& c, const ContactKinematics& k,
+                                               double dt, Vec3& xi) {
     double fe, s;
     Normal::elastic(c, k, fe, s);
     const double vn = dot(k.v_rel, k.normal);  // < 0 when approaching

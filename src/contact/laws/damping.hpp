@@ -13,7 +13,8 @@ namespace gf::contact {
 
 struct ViscousDamping {
   /// Damping coefficient c (N s/m) for tangent stiffness s (N/m).
-  GF_HOST_DEVICE static double coefficient(const PairCoeffs& c, const ContactKinematics& k, double s) {
+  GF_HOST_DEVICE static double coefficient(const PairCoeffs& c, const ContactKinematics& k,
+                                           double s) {
     return 2.0 * c.damping_ratio * std::sqrt(k.m_eff * s);
   }
 };

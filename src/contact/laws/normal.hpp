@@ -18,7 +18,8 @@ enum class NormalKind { Linear, Hertz };
 struct HookeNormal {
   static constexpr NormalKind kind = NormalKind::Linear;
   /// Elastic force (N) and tangent stiffness (N/m).
-  GF_HOST_DEVICE static void elastic(const PairCoeffs& c, const ContactKinematics& k, double& f, double& s) {
+  GF_HOST_DEVICE static void elastic(const PairCoeffs& c, const ContactKinematics& k, double& f,
+                                     double& s) {
     s = c.stiffness;
     f = c.stiffness * k.overlap;
   }
@@ -30,7 +31,8 @@ struct HookeNormal {
 
 struct HertzNormal {
   static constexpr NormalKind kind = NormalKind::Hertz;
-  GF_HOST_DEVICE static void elastic(const PairCoeffs& c, const ContactKinematics& k, double& f, double& s) {
+  GF_HOST_DEVICE static void elastic(const PairCoeffs& c, const ContactKinematics& k, double& f,
+                                     double& s) {
     const double a = std::sqrt(k.r_eff * k.overlap);  // contact radius
     s = 2.0 * c.stiffness * a;
     f = (2.0 / 3.0) * s * k.overlap;

@@ -35,7 +35,10 @@ double realised_restitution(NormalKind kind, double zeta) {
   // x = overlap, v = x' (approach speed 1 at t = 0); the force pushes the overlap back: x'' = -F.
   const double dt = 2e-4;
   State s{0.0, 1.0};
-  auto acc = [&](const State& st) { double f = force(kind, zeta, st); return f > 0 ? -f : 0.0; };
+  auto acc = [&](const State& st) {
+    double f = force(kind, zeta, st);
+    return f > 0 ? -f : 0.0;
+  };
   for (int step = 0; step < 2000000; ++step) {
     // RK4 on (x, v).
     const State k1{s.v, acc(s)};
@@ -45,14 +48,17 @@ double realised_restitution(NormalKind kind, double zeta) {
     const State k3{s3.v, acc(s3)};
     const State s4{s.x + dt * k3.x, s.v + dt * k3.v};
     const State k4{s4.v, acc(s4)};
-    State n{s.x + dt / 6 * (k1.x + 2 * k2.x + 2 * k3.x + k4.x), s.v + dt / 6 * (k1.v + 2 * k2.v + 2 * k3.v + k4.v)};
+    State n{s.x + dt / 6 * (k1.x + 2 * k2.x + 2 * k3.x + k4.x),
+            s.v + dt / 6 * (k1.v + 2 * k2.v + 2 * k3.v + k4.v)};
     const double f_old = force(kind, zeta, s);
     const double f_new = force(kind, zeta, n);
     if (n.v < 0 && (f_new <= 0 || n.x <= 0)) {
       // Contact ends inside this step: when the clamped force vanishes or the overlap closes.
       double w = 1.0;
-      if (f_new <= 0 && f_old > 0) w = f_old / (f_old - f_new);
-      else if (n.x <= 0 && s.x > 0) w = s.x / (s.x - n.x);
+      if (f_new <= 0 && f_old > 0)
+        w = f_old / (f_old - f_new);
+      else if (n.x <= 0 && s.x > 0)
+        w = s.x / (s.x - n.x);
       const double v_end = s.v + w * (n.v - s.v);
       return -v_end;
     }

@@ -19,8 +19,9 @@
 namespace gf::contact {
 
 /// Tangential force for tangential stiffness kt and damping coefficient ct; updates xi.
-GF_HOST_DEVICE inline Vec3 tangential_force(const PairCoeffs& c, const ContactKinematics& k, double kt, double ct,
-                                            double normal_force, double dt, Vec3& xi) {
+GF_HOST_DEVICE inline Vec3 tangential_force(const PairCoeffs& c, const ContactKinematics& k,
+                                            double kt, double ct, double normal_force, double dt,
+                                            Vec3& xi) {
   const Vec3& n = k.normal;
   const Vec3 vt = k.v_rel - dot(k.v_rel, n) * n;
   // Rotate the history into the current tangent plane, keeping its magnitude.
@@ -42,10 +43,11 @@ GF_HOST_DEVICE inline Vec3 tangential_force(const PairCoeffs& c, const ContactKi
   return ft;
 }
 
-/// Linear (hooke) and Mindlin (hertz_mindlin) springs: k_t = kt_ratio S_n, c_t = c_n sqrt(kt_ratio).
+/// Linear (hooke) and Mindlin (hertz_mindlin) springs: k_t = kt_ratio S_n, c_t = c_n
+/// sqrt(kt_ratio).
 struct HistoryTangential {
-  GF_HOST_DEVICE static Vec3 force(const PairCoeffs& c, const ContactKinematics& k, double sn, double cn, double fn,
-                                   double dt, Vec3& xi) {
+  GF_HOST_DEVICE static Vec3 force(const PairCoeffs& c, const ContactKinematics& k, double sn,
+                                   double cn, double fn, double dt, Vec3& xi) {
     return tangential_force(c, k, c.kt_ratio * sn, c.sqrt_kt_ratio * cn, fn, dt, xi);
   }
 };

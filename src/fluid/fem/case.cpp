@@ -20,9 +20,13 @@ namespace gf::fem {
 
 double TimeFunctionSpec::operator()(double t) const {
   switch (kind) {
-    case Kind::Sine: return std::sin(2.0 * std::numbers::pi * t / period);
-    case Kind::Ramp: return t >= duration ? 1.0 : 0.5 * (1.0 - std::cos(std::numbers::pi * std::max(t, 0.0) / duration));
-    case Kind::Constant: break;
+    case Kind::Sine:
+      return std::sin(2.0 * std::numbers::pi * t / period);
+    case Kind::Ramp:
+      return t >= duration ? 1.0
+                           : 0.5 * (1.0 - std::cos(std::numbers::pi * std::max(t, 0.0) / duration));
+    case Kind::Constant:
+      break;
   }
   return 1.0;
 }
@@ -34,19 +38,25 @@ class Reader {
  public:
   explicit Reader(std::string file) : file_(std::move(file)) {}
 
-  [[noreturn]] void fail(const YAML::Node& at, const std::string& path, const std::string& expected) const {
+  [[noreturn]] void fail(const YAML::Node& at, const std::string& path,
+                         const std::string& expected) const {
     std::string found = "nothing";
     if (at.IsDefined() && !at.IsNull()) {
-      if (at.IsScalar()) found = "'" + at.Scalar() + "'";
-      else if (at.IsSequence()) found = fmt::format("a list of {} items", at.size());
-      else if (at.IsMap()) found = "a map";
+      if (at.IsScalar())
+        found = "'" + at.Scalar() + "'";
+      else if (at.IsSequence())
+        found = fmt::format("a list of {} items", at.size());
+      else if (at.IsMap())
+        found = "a map";
     }
     const auto mk = at.Mark();
     const int line = mk.line >= 0 ? mk.line + 1 : 0, col = mk.column >= 0 ? mk.column + 1 : 0;
-    throw InputError(fmt::format("{}:{}:{}: {}: expected {}, found {}", file_, line, col, path, expected, found));
+    throw InputError(fmt::format("{}:{}:{}: {}: expected {}, found {}", file_, line, col, path,
+                                 expected, found));
   }
 
-  void keys(const YAML::Node& n, const std::string& path, std::initializer_list<const char*> allowed) const {
+  void keys(const YAML::Node& n, const std::string& path,
+            std::initializer_list<const char*> allowed) const {
     if (!n.IsMap()) fail(n, path, "a map");
     for (const auto& kv : n) {
       const auto k = kv.first.as<std::string>();
@@ -63,13 +73,15 @@ class Reader {
     const YAML::Node n = parent[key];
     if (!n.IsDefined()) {
       const auto mk = parent.Mark();
-      throw InputError(fmt::format("{}:{}:{}: {}.{}: expected a value (required key), found nothing", file_,
-                                   mk.line + 1, mk.column + 1, path, key));
+      throw InputError(
+          fmt::format("{}:{}:{}: {}.{}: expected a value (required key), found nothing", file_,
+                      mk.line + 1, mk.column + 1, path, key));
     }
     return n;
   }
 
-  double number(const YAML::Node& n, const std::string& path, double lo = -std::numeric_limits<double>::infinity(),
+  double number(const YAML::Node& n, const std::string& path,
+                double lo = -std::numeric_limits<double>::infinity(),
                 double hi = std::numeric_limits<double>::infinity(), bool open_lo = false) const {
     double v = 0;
     if (!n.IsScalar()) fail(n, path, "a number");
@@ -82,13 +94,15 @@ class Reader {
       fail(n, path, fmt::format("a number in {}{}, {}]", open_lo ? "(" : "[", lo, hi));
     return v;
   }
-  double number_or(const YAML::Node& parent, const std::string& key, const std::string& path, double def,
-                   double lo = -std::numeric_limits<double>::infinity(),
-                   double hi = std::numeric_limits<double>::infinity(), bool open_lo = false) const {
+  double number_or(const YAML::Node& parent, const std::string& key, const std::string& path,
+                   double def, double lo = -std::numeric_limits<double>::infinity(),
+                   double hi = std::numeric_limits<double>::infinity(),
+                   bool open_lo = false) const {
     const YAML::Node n = parent[key];
     return n.IsDefined() ? number(n, path + "." + key, lo, hi, open_lo) : def;
   }
-  int integer_or(const YAML::Node& parent, const std::string& key, const std::string& path, int def, int lo, int hi) const {
+  int integer_or(const YAML::Node& parent, const std::string& key, const std::string& path, int def,
+                 int lo, int hi) const {
     const YAML::Node n = parent[key];
     if (!n.IsDefined()) return def;
     int v = 0;
@@ -100,7 +114,8 @@ class Reader {
     if (v < lo || v > hi) fail(n, path + "." + key, fmt::format("an integer in [{}, {}]", lo, hi));
     return v;
   }
-  bool boolean_or(const YAML::Node& parent, const std::string& key, const std::string& path, bool def) const {
+  bool boolean_or(const YAML::Node& parent, const std::string& key, const std::string& path,
+                  bool def) const {
     const YAML::Node n = parent[key];
     if (!n.IsDefined()) return def;
     try {
@@ -109,22 +124,27 @@ class Reader {
       fail(n, path + "." + key, "true or false");
     }
   }
-  std::string choice(const YAML::Node& n, const std::string& path, std::initializer_list<const char*> options) const {
+  std::string choice(const YAML::Node& n, const std::string& path,
+                     std::initializer_list<const char*> options) const {
     std::string list;
     for (const char* a : options) list += (list.empty() ? "" : " | ") + std::string(a);
     if (!n.IsScalar()) fail(n, path, "one of " + list);
     const auto v = n.Scalar();
-    if (std::none_of(options.begin(), options.end(), [&](const char* a) { return v == a; })) fail(n, path, "one of " + list);
+    if (std::none_of(options.begin(), options.end(), [&](const char* a) { return v == a; }))
+      fail(n, path, "one of " + list);
     return v;
   }
   Vec2 vec2(const YAML::Node& n, const std::string& path) const {
     if (!n.IsSequence() || n.size() != 2) fail(n, path, "a point [x, y] in m");
     return {number(n[0], path + "[0]"), number(n[1], path + "[1]")};
   }
-  std::vector<Vec2> points(const YAML::Node& n, const std::string& path, std::size_t min_count) const {
-    if (!n.IsSequence() || n.size() < min_count) fail(n, path, fmt::format("a list of at least {} points [x, y]", min_count));
+  std::vector<Vec2> points(const YAML::Node& n, const std::string& path,
+                           std::size_t min_count) const {
+    if (!n.IsSequence() || n.size() < min_count)
+      fail(n, path, fmt::format("a list of at least {} points [x, y]", min_count));
     std::vector<Vec2> v;
-    for (std::size_t i = 0; i < n.size(); ++i) v.push_back(vec2(n[i], fmt::format("{}[{}]", path, i)));
+    for (std::size_t i = 0; i < n.size(); ++i)
+      v.push_back(vec2(n[i], fmt::format("{}[{}]", path, i)));
     return v;
   }
 
@@ -132,7 +152,8 @@ class Reader {
   std::string file_;
 };
 
-TimeFunctionSpec parse_time_function(const Reader& r, const YAML::Node& n, const std::string& path) {
+TimeFunctionSpec parse_time_function(const Reader& r, const YAML::Node& n,
+                                     const std::string& path) {
   TimeFunctionSpec f;
   if (!n.IsDefined()) return f;
   r.keys(n, path, {"type", "period", "duration"});
@@ -158,8 +179,10 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
 
   const auto fluid = r.need(block, "fluid", root);
   r.keys(fluid, root + ".fluid", {"density", "viscosity"});
-  cfg.density = r.number(r.need(fluid, "density", root + ".fluid"), root + ".fluid.density", 0, 1e30, true);
-  cfg.viscosity = r.number(r.need(fluid, "viscosity", root + ".fluid"), root + ".fluid.viscosity", 0, 1e30, true);
+  cfg.density =
+      r.number(r.need(fluid, "density", root + ".fluid"), root + ".fluid.density", 0, 1e30, true);
+  cfg.viscosity = r.number(r.need(fluid, "viscosity", root + ".fluid"), root + ".fluid.viscosity",
+                           0, 1e30, true);
 
   const auto dom = r.need(block, "domain", root);
   const std::string dp = root + ".domain";
@@ -170,31 +193,40 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   cfg.inflow_time.assign(ne, TimeFunctionSpec{});
   if (const auto bnd = dom["boundaries"]; bnd.IsDefined()) {
     const std::string bp = dp + ".boundaries";
-    if (!bnd.IsSequence()) r.fail(bnd, bp, "a list of {edges: [...], type: wall | inflow | outflow, ...}");
+    if (!bnd.IsSequence())
+      r.fail(bnd, bp, "a list of {edges: [...], type: wall | inflow | outflow, ...}");
     std::set<int> seen;
     for (std::size_t i = 0; i < bnd.size(); ++i) {
       const auto b = bnd[i];
       const std::string p = fmt::format("{}[{}]", bp, i);
       r.keys(b, p, {"edges", "type", "profile", "u_max", "time_function"});
       const auto edges = r.need(b, "edges", p);
-      if (!edges.IsSequence() || edges.size() == 0) r.fail(edges, p + ".edges", "a non-empty list of outline edge indices");
+      if (!edges.IsSequence() || edges.size() == 0)
+        r.fail(edges, p + ".edges", "a non-empty list of outline edge indices");
       const auto type = r.choice(r.need(b, "type", p), p + ".type", {"wall", "inflow", "outflow"});
       OutlineBc bc;
-      bc.kind = type == "wall" ? OutlineBcKind::Wall : type == "inflow" ? OutlineBcKind::Inflow : OutlineBcKind::Outflow;
+      bc.kind = type == "wall"     ? OutlineBcKind::Wall
+                : type == "inflow" ? OutlineBcKind::Inflow
+                                   : OutlineBcKind::Outflow;
       TimeFunctionSpec tf;
       if (bc.kind == OutlineBcKind::Inflow) {
         bc.u_max = r.number(r.need(b, "u_max", p), p + ".u_max");
-        if (b["profile"].IsDefined()) bc.parabolic = r.choice(b["profile"], p + ".profile", {"parabolic", "uniform"}) == "parabolic";
+        if (b["profile"].IsDefined())
+          bc.parabolic =
+              r.choice(b["profile"], p + ".profile", {"parabolic", "uniform"}) == "parabolic";
         tf = parse_time_function(r, b["time_function"], p + ".time_function");
       } else {
         for (const char* k : {"profile", "u_max", "time_function"})
-          if (b[k].IsDefined()) r.fail(b[k], p + "." + k, "no such key for a " + type + " boundary");
+          if (b[k].IsDefined())
+            r.fail(b[k], p + "." + k, "no such key for a " + type + " boundary");
       }
       for (std::size_t j = 0; j < edges.size(); ++j) {
         const std::string ep = fmt::format("{}.edges[{}]", p, j);
         const double e = r.number(edges[j], ep, 0, static_cast<double>(ne - 1));
-        if (e != std::floor(e)) r.fail(edges[j], ep, fmt::format("an integer edge index in [0, {}]", ne - 1));
-        if (!seen.insert(static_cast<int>(e)).second) r.fail(edges[j], ep, "an edge not listed before");
+        if (e != std::floor(e))
+          r.fail(edges[j], ep, fmt::format("an integer edge index in [0, {}]", ne - 1));
+        if (!seen.insert(static_cast<int>(e)).second)
+          r.fail(edges[j], ep, "an edge not listed before");
         cfg.outline_bc[static_cast<std::size_t>(e)] = bc;
         cfg.inflow_time[static_cast<std::size_t>(e)] = tf;
       }
@@ -210,19 +242,26 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
       r.keys(b, p, {"name", "circle", "polygon", "centre", "velocity", "angular_velocity"});
       BodyShape s;
       const auto name = b["name"];
-      cfg.body_names.push_back(name.IsDefined() && name.IsScalar() ? name.Scalar() : fmt::format("body{}", i));
-      if (b["circle"].IsDefined() == b["polygon"].IsDefined()) r.fail(b, p, "exactly one of 'circle' or 'polygon'");
+      cfg.body_names.push_back(name.IsDefined() && name.IsScalar() ? name.Scalar()
+                                                                   : fmt::format("body{}", i));
+      if (b["circle"].IsDefined() == b["polygon"].IsDefined())
+        r.fail(b, p, "exactly one of 'circle' or 'polygon'");
       if (const auto c = b["circle"]; c.IsDefined()) {
         r.keys(c, p + ".circle", {"centre", "radius"});
         s.kind = BodyShape::Kind::Circle;
         s.centre = r.vec2(r.need(c, "centre", p + ".circle"), p + ".circle.centre");
-        s.radius = r.number(r.need(c, "radius", p + ".circle"), p + ".circle.radius", 0, 1e30, true);
-        if (b["centre"].IsDefined()) r.fail(b["centre"], p + ".centre", "no 'centre' for a circle (use circle.centre)");
+        s.radius =
+            r.number(r.need(c, "radius", p + ".circle"), p + ".circle.radius", 0, 1e30, true);
+        if (b["centre"].IsDefined())
+          r.fail(b["centre"], p + ".centre", "no 'centre' for a circle (use circle.centre)");
       } else {
         s.kind = BodyShape::Kind::Polygon;
         s.vertices = r.points(b["polygon"], p + ".polygon", 3);
         Vec2 mean{0, 0};
-        for (const auto& v : s.vertices) { mean.x += v.x / s.vertices.size(); mean.y += v.y / s.vertices.size(); }
+        for (const auto& v : s.vertices) {
+          mean.x += v.x / s.vertices.size();
+          mean.y += v.y / s.vertices.size();
+        }
         s.centre = b["centre"].IsDefined() ? r.vec2(b["centre"], p + ".centre") : mean;
       }
       BodyMotion m;
@@ -241,30 +280,39 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   cfg.mesh.grading = r.number_or(mesh, "grading", mp, 0.3, 0, 1e30);
   cfg.mesh.min_angle_deg = r.number_or(mesh, "min_angle", mp, 25.0, 0, 33, true);
   if (const auto boxes = mesh["boxes"]; boxes.IsDefined()) {
-    if (!boxes.IsSequence()) r.fail(boxes, mp + ".boxes", "a list of {min: [x, y], max: [x, y], h: size}");
+    if (!boxes.IsSequence())
+      r.fail(boxes, mp + ".boxes", "a list of {min: [x, y], max: [x, y], h: size}");
     for (std::size_t i = 0; i < boxes.size(); ++i) {
       const std::string p = fmt::format("{}.boxes[{}]", mp, i);
       r.keys(boxes[i], p, {"min", "max", "h"});
-      SizeBox sb{r.vec2(r.need(boxes[i], "min", p), p + ".min"), r.vec2(r.need(boxes[i], "max", p), p + ".max"),
+      SizeBox sb{r.vec2(r.need(boxes[i], "min", p), p + ".min"),
+                 r.vec2(r.need(boxes[i], "max", p), p + ".max"),
                  r.number(r.need(boxes[i], "h", p), p + ".h", 0, 1e30, true)};
       cfg.mesh.boxes.push_back(sb);
     }
   }
   const double max_size = [&] {
     double lo_x = 1e300, hi_x = -1e300, lo_y = 1e300, hi_y = -1e300;
-    for (const auto& v : cfg.mesh.outline) { lo_x = std::min(lo_x, v.x); hi_x = std::max(hi_x, v.x); lo_y = std::min(lo_y, v.y); hi_y = std::max(hi_y, v.y); }
+    for (const auto& v : cfg.mesh.outline) {
+      lo_x = std::min(lo_x, v.x);
+      hi_x = std::max(hi_x, v.x);
+      lo_y = std::min(lo_y, v.y);
+      hi_y = std::max(hi_y, v.y);
+    }
     return std::max(hi_x - lo_x, hi_y - lo_y);
   }();
   if (max_size > 0 && std::max(max_size, 1e-300) / cfg.mesh.h_body > 1e4)
     r.fail(mesh["h_body"].IsDefined() ? mesh["h_body"] : mesh["h_max"], mp + ".h_body",
-           fmt::format("a size >= domain size / 1e4 = {} m (more than ~1e8 cells otherwise)", max_size / 1e4));
+           fmt::format("a size >= domain size / 1e4 = {} m (more than ~1e8 cells otherwise)",
+                       max_size / 1e4));
 
   const auto time = r.need(block, "time", root);
   const std::string tp = root + ".time";
   r.keys(time, tp, {"mode", "scheme", "step", "end", "adaptive"});
   cfg.steady = r.choice(r.need(time, "mode", tp), tp + ".mode", {"steady", "unsteady"}) == "steady";
   if (!cfg.steady) {
-    if (time["scheme"].IsDefined()) cfg.time.order = r.choice(time["scheme"], tp + ".scheme", {"bdf1", "bdf2"}) == "bdf1" ? 1 : 2;
+    if (time["scheme"].IsDefined())
+      cfg.time.order = r.choice(time["scheme"], tp + ".scheme", {"bdf1", "bdf2"}) == "bdf1" ? 1 : 2;
     cfg.time.dt = r.number(r.need(time, "step", tp), tp + ".step", 0, 1e30, true);
     cfg.time.t_end = r.number(r.need(time, "end", tp), tp + ".end", 0, 1e30, true);
     if (const auto ad = time["adaptive"]; ad.IsDefined()) {
@@ -283,12 +331,15 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   cfg.newton.reuse_factorization = !cfg.steady;  // measured: pays for time stepping (see docs)
   if (const auto nw = block["newton"]; nw.IsDefined()) {
     const std::string np = root + ".newton";
-    r.keys(nw, np, {"tolerance", "max_iterations", "picard_iterations", "reuse_factorization", "nested"});
+    r.keys(nw, np,
+           {"tolerance", "max_iterations", "picard_iterations", "reuse_factorization", "nested"});
     cfg.newton_nested = r.boolean_or(nw, "nested", np, cfg.newton_nested);
     cfg.newton.tolerance = r.number_or(nw, "tolerance", np, cfg.newton.tolerance, 0, 1, true);
-    cfg.newton.max_iterations = r.integer_or(nw, "max_iterations", np, cfg.newton.max_iterations, 1, 1000);
+    cfg.newton.max_iterations =
+        r.integer_or(nw, "max_iterations", np, cfg.newton.max_iterations, 1, 1000);
     cfg.newton.picard_iterations = r.integer_or(nw, "picard_iterations", np, 0, 0, 1000);
-    cfg.newton.reuse_factorization = r.boolean_or(nw, "reuse_factorization", np, cfg.newton.reuse_factorization);
+    cfg.newton.reuse_factorization =
+        r.boolean_or(nw, "reuse_factorization", np, cfg.newton.reuse_factorization);
   }
 
   if (const auto out = block["output"]; out.IsDefined()) {
@@ -299,14 +350,17 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
     if (out["probes"].IsDefined()) cfg.output.probes = r.points(out["probes"], op + ".probes", 1);
     if (const auto c = out["coefficients"]; c.IsDefined()) {
       r.keys(c, op + ".coefficients", {"velocity", "length"});
-      cfg.output.coef_velocity = r.number(r.need(c, "velocity", op + ".coefficients"), op + ".coefficients.velocity", 0, 1e30, true);
-      cfg.output.coef_length = r.number(r.need(c, "length", op + ".coefficients"), op + ".coefficients.length", 0, 1e30, true);
+      cfg.output.coef_velocity = r.number(r.need(c, "velocity", op + ".coefficients"),
+                                          op + ".coefficients.velocity", 0, 1e30, true);
+      cfg.output.coef_length = r.number(r.need(c, "length", op + ".coefficients"),
+                                        op + ".coefficients.length", 0, 1e30, true);
     }
   }
   return cfg;
 }
 
-void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir, int max_steps) {
+void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir,
+                   int max_steps) {
   const auto t_start = std::chrono::steady_clock::now();
   std::filesystem::create_directories(output_dir);
   FlowProblem pb;
@@ -316,7 +370,8 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
   pb.viscosity = cfg.viscosity;
   pb.outline_bc = cfg.outline_bc;
   for (std::size_t k = 0; k < pb.outline_bc.size(); ++k)
-    if (cfg.inflow_time[k].kind != TimeFunctionSpec::Kind::Constant) pb.outline_bc[k].time_function = cfg.inflow_time[k];
+    if (cfg.inflow_time[k].kind != TimeFunctionSpec::Kind::Constant)
+      pb.outline_bc[k].time_function = cfg.inflow_time[k];
   pb.body_motion = cfg.body_motion;
   NavierStokes ns(std::move(pb));
   const std::size_t nb = cfg.mesh.bodies.size();
@@ -330,17 +385,19 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
   }
   forces << '\n';
   probes << "t";
-  for (std::size_t i = 0; i < cfg.output.probes.size(); ++i) probes << fmt::format(",p{0},ux{0},uy{0}", i);
+  for (std::size_t i = 0; i < cfg.output.probes.size(); ++i)
+    probes << fmt::format(",p{0},ux{0},uy{0}", i);
   probes << '\n';
   auto record = [&](const NavierStokes& s) {
     const auto fr = s.reaction_forces();
     const auto fs = s.stress_forces();
     forces << fmt::format("{:.9g}", s.time());
     for (std::size_t j = 0; j < nb; ++j) {
-      forces << fmt::format(",{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}", fr[j].force.x, fr[j].force.y, fr[j].torque,
-                            fs[j].force.x, fs[j].force.y);
+      forces << fmt::format(",{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}", fr[j].force.x,
+                            fr[j].force.y, fr[j].torque, fs[j].force.x, fs[j].force.y);
       if (cfg.output.coef_velocity > 0) {
-        const double sc = 2.0 / (cfg.density * cfg.output.coef_velocity * cfg.output.coef_velocity * cfg.output.coef_length);
+        const double sc = 2.0 / (cfg.density * cfg.output.coef_velocity * cfg.output.coef_velocity *
+                                 cfg.output.coef_length);
         forces << fmt::format(",{:.10g},{:.10g}", sc * fr[j].force.x, sc * fr[j].force.y);
       }
     }
@@ -367,13 +424,17 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
 
   std::string summary;
   if (cfg.steady) {
-    const auto rep = cfg.newton_nested ? solve_steady_nested(ns, cfg.newton) : ns.solve_steady(cfg.newton);
+    const auto rep =
+        cfg.newton_nested ? solve_steady_nested(ns, cfg.newton) : ns.solve_steady(cfg.newton);
     if (!rep.converged)
-      throw Error(fmt::format("fluid_fem: steady Newton did not converge in {} iterations (last update {:.3g}); "
-                              "try newton.picard_iterations or a finer mesh", rep.iterations, rep.last_update));
+      throw Error(fmt::format(
+          "fluid_fem: steady Newton did not converge in {} iterations (last update {:.3g}); "
+          "try newton.picard_iterations or a finer mesh",
+          rep.iterations, rep.last_update));
     record(ns);
     write_fields(ns);
-    summary = fmt::format("steady: Newton iterations {}, factorizations {}\n", rep.iterations, rep.factorizations);
+    summary = fmt::format("steady: Newton iterations {}, factorizations {}\n", rep.iterations,
+                          rep.factorizations);
   } else {
     write_fields(ns);
     double next_vtk = cfg.output.vtk_every, next_csv = 0.0;
@@ -387,20 +448,24 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
       }
       if (cfg.output.vtk_every > 0 && s.time() >= next_vtk - eps) {
         write_fields(s);
-        next_vtk += cfg.output.vtk_every * std::max(1.0, std::floor((s.time() - next_vtk) / cfg.output.vtk_every + 1));
+        next_vtk += cfg.output.vtk_every *
+                    std::max(1.0, std::floor((s.time() - next_vtk) / cfg.output.vtk_every + 1));
       }
     });
     if (cfg.output.vtk_every == 0 || series.back().first < ns.time()) write_fields(ns);
-    summary = fmt::format("unsteady BDF{}: steps {}, rejected {}, Newton iterations {}, factorizations {}\n",
-                          cfg.time.order, st.steps, st.rejected, st.newton_iterations, st.factorizations);
+    summary = fmt::format(
+        "unsteady BDF{}: steps {}, rejected {}, Newton iterations {}, factorizations {}\n",
+        cfg.time.order, st.steps, st.rejected, st.newton_iterations, st.factorizations);
   }
   write_vtu(output_dir / "fem_mesh.vtu", ns);
   flush();
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
-  summary += fmt::format("cells {}, P2 nodes {}, unknowns {}\nwall time {:.3f} s (assembly {:.3f} s, LU factorisation "
-                         "{:.3f} s, LU solves {:.3f} s)\n",
-                         ns.mesh().n_cells(), ns.mesh().n_nodes(), ns.n_dofs(), wall, ns.assembly_seconds(),
-                         ns.lu().factor_seconds(), ns.lu().solve_seconds());
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+  summary += fmt::format(
+      "cells {}, P2 nodes {}, unknowns {}\nwall time {:.3f} s (assembly {:.3f} s, LU factorisation "
+      "{:.3f} s, LU solves {:.3f} s)\n",
+      ns.mesh().n_cells(), ns.mesh().n_nodes(), ns.n_dofs(), wall, ns.assembly_seconds(),
+      ns.lu().factor_seconds(), ns.lu().solve_seconds());
   write_atomically(output_dir / "fem_summary.txt", [&](std::ostream& os) { os << summary; });
 }
 

@@ -18,25 +18,25 @@ namespace gf::fem {
 struct TimeFunctionSpec {
   enum class Kind { Constant, Sine, Ramp };
   Kind kind = Kind::Constant;
-  double period = 1.0;     ///< [s]
-  double duration = 1.0;   ///< [s]
+  double period = 1.0;    ///< [s]
+  double duration = 1.0;  ///< [s]
   [[nodiscard]] double operator()(double t) const;
 };
 
 struct FemOutputConfig {
-  double vtk_every = 0.0;          ///< [s]; 0: only the initial and final states
-  double csv_every = 0.0;          ///< [s]; 0: every accepted step
-  std::vector<Vec2> probes;        ///< points where u and p are recorded [m]
-  double coef_velocity = 0.0;      ///< if > 0: C_D, C_L = 2 F / (rho U^2 L) columns [m/s]
-  double coef_length = 0.0;        ///< [m]
+  double vtk_every = 0.0;      ///< [s]; 0: only the initial and final states
+  double csv_every = 0.0;      ///< [s]; 0: every accepted step
+  std::vector<Vec2> probes;    ///< points where u and p are recorded [m]
+  double coef_velocity = 0.0;  ///< if > 0: C_D, C_L = 2 F / (rho U^2 L) columns [m/s]
+  double coef_length = 0.0;    ///< [m]
 };
 
 /// Everything the `fluid_fem:` block defines (units SI).
 struct FemCaseConfig {
-  std::string file;                ///< case file, for messages
+  std::string file;  ///< case file, for messages
   MeshSpec mesh;
-  double density = 1.0;            ///< [kg/m^3]
-  double viscosity = 1e-3;         ///< kinematic [m^2/s]
+  double density = 1.0;     ///< [kg/m^3]
+  double viscosity = 1e-3;  ///< kinematic [m^2/s]
   std::vector<OutlineBc> outline_bc;
   std::vector<TimeFunctionSpec> inflow_time;  ///< per outline edge
   std::vector<std::string> body_names;
@@ -44,7 +44,7 @@ struct FemCaseConfig {
   bool steady = true;
   TimeControl time;
   NewtonOptions newton;
-  bool newton_nested = true;       ///< steady: start from a coarser mesh's solution
+  bool newton_nested = true;  ///< steady: start from a coarser mesh's solution
   FemOutputConfig output;
 };
 
@@ -58,6 +58,7 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file);
 /// stress-integrated force, coefficients if configured), fem_probes.csv, fem_summary.txt.
 /// Every file is written atomically. max_steps >= 0 stops an unsteady run after that many steps
 /// (smoke tests: `grainflow run --steps N`). Returns normally or throws gf::Error.
-void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir, int max_steps = -1);
+void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir,
+                   int max_steps = -1);
 
 }  // namespace gf::fem

@@ -19,9 +19,9 @@ struct Vec2 {
 struct BodyShape {
   enum class Kind { Circle, Polygon };
   Kind kind = Kind::Circle;
-  Vec2 centre;                  ///< circle centre, or reference point for torques [m]
-  double radius = 0.0;          ///< circle radius [m]
-  std::vector<Vec2> vertices;   ///< polygon vertices [m]
+  Vec2 centre;                 ///< circle centre, or reference point for torques [m]
+  double radius = 0.0;         ///< circle radius [m]
+  std::vector<Vec2> vertices;  ///< polygon vertices [m]
 };
 
 /// A rectangle in which the mesh size is at most h (e.g. a wake) [m].
@@ -32,7 +32,7 @@ struct SizeBox {
 
 /// What to mesh: the fluid region inside `outline` and outside every body.
 struct MeshSpec {
-  std::vector<Vec2> outline;    ///< outer boundary polygon [m]; edge k joins vertex k and k+1
+  std::vector<Vec2> outline;  ///< outer boundary polygon [m]; edge k joins vertex k and k+1
   std::vector<BodyShape> bodies;
   double h_max = 0.05;          ///< largest edge length far from bodies [m]
   double h_body = 0.01;         ///< edge length on body surfaces [m]
@@ -54,10 +54,10 @@ struct BoundaryEdge {
 /// vertices (the P1 nodes); the others are edge midpoints. On curved (circular) body
 /// boundaries the midpoint lies on the circle, so the cells touching it are isoparametric.
 struct Mesh {
-  std::vector<Vec2> nodes;                 ///< [m]
+  std::vector<Vec2> nodes;  ///< [m]
   int n_vertices = 0;
-  std::vector<std::array<int, 6>> cells;   ///< v0, v1, v2, mid(0,1), mid(1,2), mid(2,0)
-  std::vector<std::uint8_t> curved;        ///< per cell: 1 when a midpoint is off the chord
+  std::vector<std::array<int, 6>> cells;  ///< v0, v1, v2, mid(0,1), mid(1,2), mid(2,0)
+  std::vector<std::uint8_t> curved;       ///< per cell: 1 when a midpoint is off the chord
   std::vector<BoundaryEdge> boundary;
 
   [[nodiscard]] int n_nodes() const { return static_cast<int>(nodes.size()); }

@@ -1,7 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The only translation unit that includes CGAL: constrained Delaunay meshing of the fluid domain.
-#include "fluid/fem/mesh.hpp"
-
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Delaunay_mesh_face_base_2.h>
 #include <CGAL/Delaunay_mesh_vertex_base_2.h>
@@ -16,13 +14,15 @@
 #include <unordered_map>
 
 #include "core/error.hpp"
+#include "fluid/fem/mesh.hpp"
 
 namespace gf::fem {
 
 namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K, CGAL::Delaunay_mesh_vertex_base_2<K>>;
+using Vb =
+    CGAL::Triangulation_vertex_base_with_info_2<int, K, CGAL::Delaunay_mesh_vertex_base_2<K>>;
 using Fb = CGAL::Delaunay_mesh_face_base_2<K>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using Cdt = CGAL::Constrained_Delaunay_triangulation_2<K, Tds>;
@@ -47,10 +47,12 @@ bool inside_polygon(Vec2 p, const std::vector<Vec2>& poly) {
 }
 
 double dist_to_body(const BodyShape& b, Vec2 p) {
-  if (b.kind == BodyShape::Kind::Circle) return std::max(0.0, std::hypot(p.x - b.centre.x, p.y - b.centre.y) - b.radius);
+  if (b.kind == BodyShape::Kind::Circle)
+    return std::max(0.0, std::hypot(p.x - b.centre.x, p.y - b.centre.y) - b.radius);
   double d = std::numeric_limits<double>::max();
   const std::size_t n = b.vertices.size();
-  for (std::size_t i = 0; i < n; ++i) d = std::min(d, dist_to_segment(p, b.vertices[i], b.vertices[(i + 1) % n]));
+  for (std::size_t i = 0; i < n; ++i)
+    d = std::min(d, dist_to_segment(p, b.vertices[i], b.vertices[(i + 1) % n]));
   return d;
 }
 
@@ -88,14 +90,23 @@ class GradedCriteria {
       const double area = std::abs(CGAL::area(pa, pb, pc));
       // smallest angle is opposite the shortest edge: sin = 2 area / (product of the two others)
       double emin = a, e1 = b, e2 = c;
-      if (b < emin) { emin = b; e1 = a; e2 = c; }
-      if (c < emin) { emin = c; e1 = a; e2 = b; }
+      if (b < emin) {
+        emin = b;
+        e1 = a;
+        e2 = c;
+      }
+      if (c < emin) {
+        emin = c;
+        e1 = a;
+        e2 = b;
+      }
       q.sine2 = 4.0 * area * area / (e1 * e2);
       const Vec2 g{(pa.x() + pb.x() + pc.x()) / 3.0, (pa.y() + pb.y() + pc.y()) / 3.0};
       const double h = mesh_size_at(*spec_, g);
       q.size2 = std::max({a, b, c}) / (h * h);
       return operator()(q);
     }
+
    private:
     const MeshSpec* spec_;
     double b_;
@@ -118,38 +129,46 @@ std::uint64_t edge_key(int a, int b) {
 double mesh_size_at(const MeshSpec& spec, Vec2 p) {
   double d = std::numeric_limits<double>::max();
   for (const auto& b : spec.bodies) d = std::min(d, dist_to_body(b, p));
-  double h = spec.bodies.empty() ? spec.h_max : std::min(spec.h_max, spec.h_body + spec.grading * d);
+  double h =
+      spec.bodies.empty() ? spec.h_max : std::min(spec.h_max, spec.h_body + spec.grading * d);
   for (const auto& b : spec.boxes)
     if (p.x >= b.min.x && p.x <= b.max.x && p.y >= b.min.y && p.y <= b.max.y) h = std::min(h, b.h);
   return h;
 }
 
 Mesh build_mesh(const MeshSpec& spec) {
-  if (spec.outline.size() < 3) throw InputError("fluid_fem mesh: the outline needs at least 3 vertices");
+  if (spec.outline.size() < 3)
+    throw InputError("fluid_fem mesh: the outline needs at least 3 vertices");
   if (!(spec.h_max > 0) || !(spec.h_body > 0) || spec.grading < 0)
     throw InputError("fluid_fem mesh: sizes must be positive and grading non-negative");
   if (!(spec.min_angle_deg > 0 && spec.min_angle_deg <= 33))
-    throw InputError("fluid_fem mesh: min_angle must be in (0, 33] degrees for refinement to terminate");
+    throw InputError(
+        "fluid_fem mesh: min_angle must be in (0, 33] degrees for refinement to terminate");
   for (std::size_t i = 0; i < spec.bodies.size(); ++i) {
     const auto& b = spec.bodies[i];
     std::vector<Vec2> pts = b.vertices;
     if (b.kind == BodyShape::Kind::Circle) {
-      if (!(b.radius > 0)) throw InputError(fmt::format("fluid_fem mesh: body {} has radius <= 0", i));
-      pts = {{b.centre.x + b.radius, b.centre.y}, {b.centre.x - b.radius, b.centre.y},
-             {b.centre.x, b.centre.y + b.radius}, {b.centre.x, b.centre.y - b.radius}};
+      if (!(b.radius > 0))
+        throw InputError(fmt::format("fluid_fem mesh: body {} has radius <= 0", i));
+      pts = {{b.centre.x + b.radius, b.centre.y},
+             {b.centre.x - b.radius, b.centre.y},
+             {b.centre.x, b.centre.y + b.radius},
+             {b.centre.x, b.centre.y - b.radius}};
     } else if (b.vertices.size() < 3) {
       throw InputError(fmt::format("fluid_fem mesh: polygon body {} needs at least 3 vertices", i));
     }
     for (const auto& p : pts)
       if (!inside_polygon(p, spec.outline))
-        throw InputError(fmt::format("fluid_fem mesh: body {} reaches outside the domain outline", i));
+        throw InputError(
+            fmt::format("fluid_fem mesh: body {} reaches outside the domain outline", i));
   }
 
   Cdt cdt;
   auto add_loop = [&cdt](const std::vector<Vec2>& loop) {
     std::vector<Cdt::Vertex_handle> vh;
     for (const auto& p : loop) vh.push_back(cdt.insert(Point(p.x, p.y)));
-    for (std::size_t i = 0; i < vh.size(); ++i) cdt.insert_constraint(vh[i], vh[(i + 1) % vh.size()]);
+    for (std::size_t i = 0; i < vh.size(); ++i)
+      cdt.insert_constraint(vh[i], vh[(i + 1) % vh.size()]);
   };
   add_loop(spec.outline);
   std::vector<Point> seeds;
@@ -166,16 +185,23 @@ Mesh build_mesh(const MeshSpec& spec) {
       const std::size_t n = b.vertices.size();
       for (std::size_t i = 0; i < n; ++i) {  // split polygon edges to the body size
         const Vec2 p = b.vertices[i], q = b.vertices[(i + 1) % n];
-        const int m = std::max(1, static_cast<int>(std::ceil(std::hypot(q.x - p.x, q.y - p.y) / spec.h_body)));
-        for (int k = 0; k < m; ++k) loop.push_back({p.x + (q.x - p.x) * k / m, p.y + (q.y - p.y) * k / m});
+        const int m = std::max(
+            1, static_cast<int>(std::ceil(std::hypot(q.x - p.x, q.y - p.y) / spec.h_body)));
+        for (int k = 0; k < m; ++k)
+          loop.push_back({p.x + (q.x - p.x) * k / m, p.y + (q.y - p.y) * k / m});
       }
       Vec2 c{0, 0};
-      for (const auto& p : b.vertices) { c.x += p.x / n; c.y += p.y / n; }
+      for (const auto& p : b.vertices) {
+        c.x += p.x / n;
+        c.y += p.y / n;
+      }
       if (!inside_polygon(c, b.vertices)) {  // non-convex: nudge inwards from an edge midpoint
         const Vec2 p = b.vertices[0], q = b.vertices[1];
         const double l = std::hypot(q.x - p.x, q.y - p.y);
-        c = {0.5 * (p.x + q.x) - 1e-3 * (q.y - p.y) / l * l, 0.5 * (p.y + q.y) + 1e-3 * (q.x - p.x) / l * l};
-        if (!inside_polygon(c, b.vertices)) c = {0.5 * (p.x + q.x) + 1e-3 * (q.y - p.y), 0.5 * (p.y + q.y) - 1e-3 * (q.x - p.x)};
+        c = {0.5 * (p.x + q.x) - 1e-3 * (q.y - p.y) / l * l,
+             0.5 * (p.y + q.y) + 1e-3 * (q.x - p.x) / l * l};
+        if (!inside_polygon(c, b.vertices))
+          c = {0.5 * (p.x + q.x) + 1e-3 * (q.y - p.y), 0.5 * (p.y + q.y) - 1e-3 * (q.x - p.x)};
       }
       seeds.emplace_back(c.x, c.y);
     }
@@ -213,7 +239,8 @@ Mesh build_mesh(const MeshSpec& spec) {
   std::vector<double> sagitta(spec.bodies.size(), 0.0);
   for (std::size_t i = 0; i < spec.bodies.size(); ++i)
     if (spec.bodies[i].kind == BodyShape::Kind::Circle)
-      sagitta[i] = spec.bodies[i].radius * (1 - std::cos(std::numbers::pi / circle_segments(spec.bodies[i], spec.h_body)));
+      sagitta[i] = spec.bodies[i].radius *
+                   (1 - std::cos(std::numbers::pi / circle_segments(spec.bodies[i], spec.h_body)));
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
     if (!f->is_in_domain()) continue;
     for (int i = 0; i < 3; ++i) {
@@ -227,16 +254,20 @@ Mesh build_mesh(const MeshSpec& spec) {
       const Vec2 pa = mesh.nodes[e.a], pb = mesh.nodes[e.b];
       const Vec2 m{0.5 * (pa.x + pb.x), 0.5 * (pa.y + pb.y)};
       for (std::size_t k = 0; k < spec.outline.size() && e.outline_edge < 0; ++k)
-        if (dist_to_segment(m, spec.outline[k], spec.outline[(k + 1) % spec.outline.size()]) < eps) e.outline_edge = static_cast<int>(k);
+        if (dist_to_segment(m, spec.outline[k], spec.outline[(k + 1) % spec.outline.size()]) < eps)
+          e.outline_edge = static_cast<int>(k);
       for (std::size_t k = 0; k < spec.bodies.size() && e.outline_edge < 0 && e.body < 0; ++k) {
         const auto& b = spec.bodies[k];
         if (b.kind == BodyShape::Kind::Circle) {
-          if (std::abs(std::hypot(m.x - b.centre.x, m.y - b.centre.y) - b.radius) <= 1.01 * sagitta[k] + eps) e.body = static_cast<int>(k);
+          if (std::abs(std::hypot(m.x - b.centre.x, m.y - b.centre.y) - b.radius) <=
+              1.01 * sagitta[k] + eps)
+            e.body = static_cast<int>(k);
         } else if (dist_to_body(b, m) < eps) {
           e.body = static_cast<int>(k);
         }
       }
-      REQUIRE(e.outline_edge >= 0 || e.body >= 0, "boundary edge at ({}, {}) matches no boundary", m.x, m.y);
+      REQUIRE(e.outline_edge >= 0 || e.body >= 0, "boundary edge at ({}, {}) matches no boundary",
+              m.x, m.y);
       mesh.boundary.push_back(e);
     }
   }
@@ -247,7 +278,8 @@ Mesh build_mesh(const MeshSpec& spec) {
     for (int v : {e.a, e.b}) {
       Vec2& p = mesh.nodes[v];
       const double r = std::hypot(p.x - b.centre.x, p.y - b.centre.y);
-      p = {b.centre.x + (p.x - b.centre.x) * b.radius / r, b.centre.y + (p.y - b.centre.y) * b.radius / r};
+      p = {b.centre.x + (p.x - b.centre.x) * b.radius / r,
+           b.centre.y + (p.y - b.centre.y) * b.radius / r};
     }
   }
   // P2 nodes: one per edge; on circles the midpoint is on the circle.
@@ -255,10 +287,14 @@ Mesh build_mesh(const MeshSpec& spec) {
   mid.reserve(tris.size() * 2);
   auto mid_node = [&](int a, int b) {
     auto [it, inserted] = mid.try_emplace(edge_key(a, b), static_cast<int>(mesh.nodes.size()));
-    if (inserted) mesh.nodes.push_back({0.5 * (mesh.nodes[a].x + mesh.nodes[b].x), 0.5 * (mesh.nodes[a].y + mesh.nodes[b].y)});
+    if (inserted)
+      mesh.nodes.push_back(
+          {0.5 * (mesh.nodes[a].x + mesh.nodes[b].x), 0.5 * (mesh.nodes[a].y + mesh.nodes[b].y)});
     return it->second;
   };
-  for (const auto& t : tris) mesh.cells.push_back({t[0], t[1], t[2], mid_node(t[0], t[1]), mid_node(t[1], t[2]), mid_node(t[2], t[0])});
+  for (const auto& t : tris)
+    mesh.cells.push_back(
+        {t[0], t[1], t[2], mid_node(t[0], t[1]), mid_node(t[1], t[2]), mid_node(t[2], t[0])});
   mesh.curved.assign(mesh.cells.size(), 0);
   for (auto& e : mesh.boundary) {
     e.mid = mid.at(edge_key(e.a, e.b));
@@ -266,7 +302,8 @@ Mesh build_mesh(const MeshSpec& spec) {
     const auto& b = spec.bodies[e.body];
     Vec2& p = mesh.nodes[e.mid];
     const double r = std::hypot(p.x - b.centre.x, p.y - b.centre.y);
-    p = {b.centre.x + (p.x - b.centre.x) * b.radius / r, b.centre.y + (p.y - b.centre.y) * b.radius / r};
+    p = {b.centre.x + (p.x - b.centre.x) * b.radius / r,
+         b.centre.y + (p.y - b.centre.y) * b.radius / r};
     mesh.curved[e.cell] = 1;
   }
   return mesh;

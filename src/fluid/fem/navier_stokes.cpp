@@ -3,7 +3,6 @@
 #include "fluid/fem/navier_stokes.hpp"
 
 #include <Eigen/SparseCore>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -50,7 +49,8 @@ std::array<Vec2, 6> cell_nodes(const Mesh& m, int c) {
 
 NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
   const Mesh& m = problem_.mesh;
-  REQUIRE(problem_.outline_bc.size() == problem_.spec.outline.size(), "one boundary condition per outline edge");
+  REQUIRE(problem_.outline_bc.size() == problem_.spec.outline.size(),
+          "one boundary condition per outline edge");
   problem_.body_motion.resize(problem_.spec.bodies.size());
   REQUIRE(problem_.density > 0 && problem_.viscosity > 0, "density and viscosity must be positive");
   n2_ = m.n_nodes();
@@ -66,8 +66,10 @@ NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
       src = -(2 + e.body);
     } else {
       const auto& bc = problem_.outline_bc[e.outline_edge];
-      if (bc.kind == OutlineBcKind::Wall) src = 0;
-      else if (bc.kind == OutlineBcKind::Inflow) src = 1 + e.outline_edge;
+      if (bc.kind == OutlineBcKind::Wall)
+        src = 0;
+      else if (bc.kind == OutlineBcKind::Inflow)
+        src = 1 + e.outline_edge;
     }
     if (src == -1) continue;
     for (int v : {e.a, e.b, e.mid}) {
@@ -134,7 +136,8 @@ void NavierStokes::set_time(double t) {
       const auto& bc = problem_.outline_bc[k];
       const Vec2 a = spec.outline[k], b = spec.outline[(k + 1) % spec.outline.size()];
       const double len = std::hypot(b.x - a.x, b.y - a.y);
-      const double s = std::clamp(((p.x - a.x) * (b.x - a.x) + (p.y - a.y) * (b.y - a.y)) / (len * len), 0.0, 1.0);
+      const double s = std::clamp(
+          ((p.x - a.x) * (b.x - a.x) + (p.y - a.y) * (b.y - a.y)) / (len * len), 0.0, 1.0);
       const double f = bc.time_function ? bc.time_function(t) : 1.0;
       const double mag = bc.u_max * f * (bc.parabolic ? 4.0 * s * (1.0 - s) : 1.0);
       // inward normal: the fluid is on the side of the outline's interior
@@ -144,13 +147,17 @@ void NavierStokes::set_time(double t) {
         const Vec2 c = spec.outline[j], d = spec.outline[(j + 1) % spec.outline.size()];
         area2 += c.x * d.y - d.x * c.y;
       }
-      if (area2 < 0) { nx = -nx; ny = -ny; }
+      if (area2 < 0) {
+        nx = -nx;
+        ny = -ny;
+      }
       u = {mag * nx, mag * ny};
     } else if (src <= -2) {
       const int j = -(src + 2);
       const auto& mo = problem_.body_motion[j];
       const Vec2 c = spec.bodies[j].centre;
-      u = {mo.velocity.x - mo.angular_velocity * (p.y - c.y), mo.velocity.y + mo.angular_velocity * (p.x - c.x)};
+      u = {mo.velocity.x - mo.angular_velocity * (p.y - c.y),
+           mo.velocity.y + mo.angular_velocity * (p.x - c.x)};
     }
     dirichlet_values_[i] = u.x;
     dirichlet_values_[i + 1] = u.y;
@@ -159,7 +166,8 @@ void NavierStokes::set_time(double t) {
 }
 
 void NavierStokes::apply_dirichlet_to_solution() {
-  for (std::size_t i = 0; i < dirichlet_dofs_.size(); ++i) x_[dirichlet_dofs_[i]] = dirichlet_values_[i];
+  for (std::size_t i = 0; i < dirichlet_dofs_.size(); ++i)
+    x_[dirichlet_dofs_[i]] = dirichlet_values_[i];
 }
 
 void NavierStokes::precompute_geometry() {
@@ -266,7 +274,8 @@ void NavierStokes::assemble(bool with_jacobian, bool newton_terms) {
       const double pq = p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
       const double fx = w * rho * (tx + vx * g00 + vy * g01);
       const double fy = w * rho * (ty + vx * g10 + vy * g11);
-      const double sxx = w * (mu * g00 - pq), sxy = w * mu * g01, syx = w * mu * g10, syy = w * (mu * g11 - pq);
+      const double sxx = w * (mu * g00 - pq), sxy = w * mu * g01, syx = w * mu * g10,
+                   syy = w * (mu * g11 - pq);
       for (int a = 0; a < 6; ++a) {
         re[a] += fx * phi[a] + sxx * gx[a] + sxy * gy[a];
         re[6 + a] += fy * phi[a] + syx * gx[a] + syy * gy[a];
@@ -282,7 +291,8 @@ void NavierStokes::assemble(bool with_jacobian, bool newton_terms) {
       for (int a = 0; a < 6; ++a) {
         const double pa = phi[a];
         for (int b = 0; b < 6; ++b) {
-          const double base = wr * (a0 * phi[b] + adv[b]) * pa + wm * (gx[b] * gx[a] + gy[b] * gy[a]);
+          const double base =
+              wr * (a0 * phi[b] + adv[b]) * pa + wm * (gx[b] * gx[a] + gy[b] * gy[a]);
           const double pp = phi[b] * pa;
           ke[a][b] += base + n00 * pp;
           ke[a][6 + b] += n01 * pp;
@@ -326,7 +336,8 @@ NewtonReport NavierStokes::newton(const NewtonOptions& opt) {
   std::vector<double> rhs(n_dofs_), dx(n_dofs_);
   // A factorisation from an earlier step is kept while alpha0 (the BDF step) changed by < 20 %.
   bool need_fresh = !opt.reuse_factorization || !lu_.has_factors() || !factor_newton_ ||
-                    std::abs(factor_alpha0_ - alpha0_) > 0.2 * std::abs(alpha0_) || (alpha0_ == 0) != (factor_alpha0_ == 0);
+                    std::abs(factor_alpha0_ - alpha0_) > 0.2 * std::abs(alpha0_) ||
+                    (alpha0_ == 0) != (factor_alpha0_ == 0);
   double prev = std::numeric_limits<double>::infinity();
   for (int it = 0; it < opt.max_iterations; ++it) {
     const bool newton_terms = it >= opt.picard_iterations;
@@ -368,7 +379,8 @@ NewtonReport NavierStokes::solve_steady(const NewtonOptions& opt) {
   return newton(opt);
 }
 
-StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt, double rtol, double atol) {
+StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt, double rtol,
+                                  double atol) {
   REQUIRE(dt > 0, "time step must be positive, got {}", dt);
   if (hist_t_.empty()) {
     hist_t_.push_back(t_);
@@ -456,7 +468,8 @@ std::vector<BodyForce> NavierStokes::reaction_forces() const {
     }
     // The Laplace form's reaction is the pseudo-traction (mu grad u - p I) n. For a rigid body
     // velocity on the surface, (grad u)^T n = omega t, whose moment is 2 omega A: add it back.
-    f[j].torque -= 2.0 * problem_.density * problem_.viscosity * problem_.body_motion[j].angular_velocity * body_area_[j];
+    f[j].torque -= 2.0 * problem_.density * problem_.viscosity *
+                   problem_.body_motion[j].angular_velocity * body_area_[j];
   }
   return f;
 }
@@ -475,9 +488,22 @@ std::vector<BodyForce> NavierStokes::stress_forces() const {
     for (int q = 0; q < 3; ++q) {
       const double s = gs[q];
       double xi, eta, dxi_ds, deta_ds;
-      if (e.local_edge == 0) { xi = s; eta = 0; dxi_ds = 1; deta_ds = 0; }
-      else if (e.local_edge == 1) { xi = 1 - s; eta = s; dxi_ds = -1; deta_ds = 1; }
-      else { xi = 0; eta = 1 - s; dxi_ds = 0; deta_ds = -1; }
+      if (e.local_edge == 0) {
+        xi = s;
+        eta = 0;
+        dxi_ds = 1;
+        deta_ds = 0;
+      } else if (e.local_edge == 1) {
+        xi = 1 - s;
+        eta = s;
+        dxi_ds = -1;
+        deta_ds = 1;
+      } else {
+        xi = 0;
+        eta = 1 - s;
+        dxi_ds = 0;
+        deta_ds = -1;
+      }
       double phi[6], gx[6], gy[6], dxi[6], deta[6];
       p2::gradients(x, xi, eta, phi, gx, gy);
       p2::shape(xi, eta, phi, dxi, deta);
@@ -496,7 +522,8 @@ std::vector<BodyForce> NavierStokes::stress_forces() const {
         g11 += x_[n2_ + cell[k]] * gy[k];
       }
       const double l0 = 1 - xi - eta;
-      const double p = x_[2 * n2_ + cell[0]] * l0 + x_[2 * n2_ + cell[1]] * xi + x_[2 * n2_ + cell[2]] * eta;
+      const double p =
+          x_[2 * n2_ + cell[0]] * l0 + x_[2 * n2_ + cell[1]] * xi + x_[2 * n2_ + cell[2]] * eta;
       // fluid on the left of the edge direction; body normal (into the fluid) = left normal
       const double nx = -ty, ny = tx;  // |t| ds_ref = ds, so n ds = (-ty, tx) ds_ref
       const double sxx = -p + 2 * mu * g00, syy = -p + 2 * mu * g11, sxy = mu * (g01 + g10);
@@ -525,7 +552,10 @@ void NavierStokes::build_locator() {
     double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
     for (int k = 0; k < 3; ++k) {
       const Vec2 p = m.nodes[m.cells[c][k]];
-      x0 = std::min(x0, p.x); x1 = std::max(x1, p.x); y0 = std::min(y0, p.y); y1 = std::max(y1, p.y);
+      x0 = std::min(x0, p.x);
+      x1 = std::max(x1, p.x);
+      y0 = std::min(y0, p.y);
+      y1 = std::max(y1, p.y);
     }
     i0 = std::clamp(static_cast<int>((x0 - lo.x) / grid_h_), 0, grid_nx_ - 1);
     i1 = std::clamp(static_cast<int>((x1 - lo.x) / grid_h_), 0, grid_nx_ - 1);
@@ -541,8 +571,10 @@ void NavierStokes::build_locator() {
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) {
           const std::size_t b = static_cast<std::size_t>(j) * grid_nx_ + i;
-          if (pass == 0) ++grid_start_[b + 1];
-          else grid_cells_[fill[b]++] = c;
+          if (pass == 0)
+            ++grid_start_[b + 1];
+          else
+            grid_cells_[fill[b]++] = c;
         }
     }
     if (pass == 0) {
@@ -603,7 +635,8 @@ double NavierStokes::pressure_at(Vec2 p) const {
   double s = 0, t = 0;
   const int c = locate(p, s, t);
   const auto& cell = problem_.mesh.cells[c];
-  return x_[2 * n2_ + cell[0]] * (1 - s - t) + x_[2 * n2_ + cell[1]] * s + x_[2 * n2_ + cell[2]] * t;
+  return x_[2 * n2_ + cell[0]] * (1 - s - t) + x_[2 * n2_ + cell[1]] * s +
+         x_[2 * n2_ + cell[2]] * t;
 }
 
 Vec2 NavierStokes::velocity_at(Vec2 p) const {

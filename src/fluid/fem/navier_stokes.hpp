@@ -32,8 +32,8 @@ enum class OutlineBcKind { Wall, Inflow, Outflow };
 struct OutlineBc {
   OutlineBcKind kind = OutlineBcKind::Wall;
   bool parabolic = true;
-  double u_max = 0.0;                                  ///< [m/s]
-  std::function<double(double)> time_function;        ///< f(t) [-]; empty means 1
+  double u_max = 0.0;                           ///< [m/s]
+  std::function<double(double)> time_function;  ///< f(t) [-]; empty means 1
 };
 
 /// Rigid velocity of a body: u(x) = velocity + omega e_z x (x - centre).
@@ -46,10 +46,10 @@ struct BodyMotion {
 struct FlowProblem {
   MeshSpec spec;
   Mesh mesh;
-  double density = 1.0;          ///< rho [kg/m^3]
-  double viscosity = 1e-3;       ///< kinematic nu [m^2/s]
-  std::vector<OutlineBc> outline_bc;   ///< one per outline edge
-  std::vector<BodyMotion> body_motion; ///< one per body (default: at rest)
+  double density = 1.0;                 ///< rho [kg/m^3]
+  double viscosity = 1e-3;              ///< kinematic nu [m^2/s]
+  std::vector<OutlineBc> outline_bc;    ///< one per outline edge
+  std::vector<BodyMotion> body_motion;  ///< one per body (default: at rest)
 };
 
 /// Force [N/m] and torque about the body's centre [N] per unit depth, exerted by the fluid.
@@ -60,23 +60,23 @@ struct BodyForce {
 
 struct NewtonOptions {
   int max_iterations = 25;
-  double tolerance = 1e-10;       ///< on max |du| / max |u| (velocity increment, relative)
-  int picard_iterations = 0;      ///< Oseen (Picard) iterations before Newton
-  bool reuse_factorization = false; ///< chord method: refactorise only when convergence is slow
-  double max_contraction = 0.3;   ///< refactorise when |du_k| / |du_{k-1}| exceeds this
+  double tolerance = 1e-10;          ///< on max |du| / max |u| (velocity increment, relative)
+  int picard_iterations = 0;         ///< Oseen (Picard) iterations before Newton
+  bool reuse_factorization = false;  ///< chord method: refactorise only when convergence is slow
+  double max_contraction = 0.3;      ///< refactorise when |du_k| / |du_{k-1}| exceeds this
 };
 
 struct NewtonReport {
   bool converged = false;
   int iterations = 0;
   int factorizations = 0;
-  double last_update = 0.0;       ///< relative velocity increment of the last iteration
+  double last_update = 0.0;  ///< relative velocity increment of the last iteration
 };
 
 /// BDF integration state and step control.
 struct StepResult {
   NewtonReport newton;
-  double error = 0.0;             ///< weighted RMS estimate of the local velocity error (<= 1: accept)
+  double error = 0.0;  ///< weighted RMS estimate of the local velocity error (<= 1: accept)
 };
 
 /// P2-P1 discretisation of FlowProblem with one monolithic unknown vector
@@ -141,21 +141,21 @@ class NavierStokes {
   FlowProblem problem_;
   int n2_ = 0, n1_ = 0, n_dofs_ = 0;
   double t_ = 0.0;
-  std::vector<double> x_;             // current unknowns
-  std::vector<int> dirichlet_;        // dof -> index into dirichlet_values_, or -1
+  std::vector<double> x_;       // current unknowns
+  std::vector<int> dirichlet_;  // dof -> index into dirichlet_values_, or -1
   std::vector<int> dirichlet_dofs_;
   std::vector<double> dirichlet_values_;
-  std::vector<int> dir_src_;          // per P2 node: -1 free, 0 wall, 1+k inflow edge k, -(2+j) body j
+  std::vector<int> dir_src_;  // per P2 node: -1 free, 0 wall, 1+k inflow edge k, -(2+j) body j
   std::vector<std::vector<int>> body_nodes_;
-  std::vector<double> body_area_;     // [m^2]
+  std::vector<double> body_area_;  // [m^2]
 
   // Sparse Jacobian in compressed-column form with a fixed pattern.
   std::vector<int> col_ptr_, row_idx_;
   std::vector<double> values_;
-  std::vector<int> cell_map_;         // per cell 15x15 positions into values_ (-1: skipped)
-  std::vector<int> diag_pos_;         // per Dirichlet dof: position of its diagonal
-  std::vector<double> residual_;      // with Dirichlet rows replaced by u - g
-  std::vector<double> reaction_;      // full momentum residual (for forces)
+  std::vector<int> cell_map_;     // per cell 15x15 positions into values_ (-1: skipped)
+  std::vector<int> diag_pos_;     // per Dirichlet dof: position of its diagonal
+  std::vector<double> residual_;  // with Dirichlet rows replaced by u - g
+  std::vector<double> reaction_;  // full momentum residual (for forces)
   SparseLu lu_;
   double factor_alpha0_ = -1.0;
   bool factor_newton_ = false;

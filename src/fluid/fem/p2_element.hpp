@@ -51,7 +51,8 @@ inline void shape(double xi, double eta, double* phi, double* dxi, double* deta)
 }
 
 /// Physical gradients of the 6 shape functions and det J of the isoparametric map at a point.
-inline double gradients(const std::array<Vec2, 6>& x, double xi, double eta, double* phi, double* gx, double* gy) {
+inline double gradients(const std::array<Vec2, 6>& x, double xi, double eta, double* phi,
+                        double* gx, double* gy) {
   double dxi[6], deta[6];
   shape(xi, eta, phi, dxi, deta);
   double j00 = 0, j01 = 0, j10 = 0, j11 = 0;  // j_ab = dx_a / dxi_b

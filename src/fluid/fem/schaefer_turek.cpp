@@ -33,7 +33,8 @@ FlowProblem make_problem(const MeshLevel& level, double u_max, std::function<dou
 
 Coefficients coefficients(const NavierStokes& ns, const BodyForce& f, double ubar) {
   const double s = 2.0 / (ns.problem().density * ubar * ubar * kDiameter);
-  return {s * f.force.x, s * f.force.y, ns.pressure_at({kCx - kDiameter / 2, kCy}) - ns.pressure_at({kCx + kDiameter / 2, kCy})};
+  return {s * f.force.x, s * f.force.y,
+          ns.pressure_at({kCx - kDiameter / 2, kCy}) - ns.pressure_at({kCx + kDiameter / 2, kCy})};
 }
 
 }  // namespace gf::fem::schaefer_turek

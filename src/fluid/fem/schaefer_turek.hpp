@@ -31,7 +31,8 @@ struct MeshLevel {
 };
 
 /// The channel problem with inflow amplitude u_max [m/s] and time function f(t).
-FlowProblem make_problem(const MeshLevel& level, double u_max, std::function<double(double)> f = {});
+FlowProblem make_problem(const MeshLevel& level, double u_max,
+                         std::function<double(double)> f = {});
 
 /// C_D, C_L from a force [N/m] for mean velocity ubar [m/s].
 struct Coefficients {

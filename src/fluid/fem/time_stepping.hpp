@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Time loop over NavierStokes::try_step: fixed or adaptive BDF1/BDF2 steps with rejection.
 //
-// Variable-step BDF2 (e.g. Hairer & Wanner, Solving ODEs II, sec. III.5): with omega = dt_n/dt_{n-1},
+// Variable-step BDF2 (e.g. Hairer & Wanner, Solving ODEs II, sec. III.5): with omega =
+// dt_n/dt_{n-1},
 //   du/dt(t_{n+1}) ~ [(1+2 omega) u_{n+1} - (1+omega)^2 u_n + omega^2 u_{n-1}] / ((1+omega) dt_n).
 // Local error estimated from the difference to the extrapolating predictor (Milne's device),
 // on the velocities only (the pressure is an algebraic variable); the step is chosen as
@@ -16,14 +17,14 @@
 namespace gf::fem {
 
 struct TimeControl {
-  int order = 2;                 ///< 1 (implicit Euler) or 2 (BDF2)
-  double dt = 1e-2;              ///< (initial) step [s]
-  double t_end = 1.0;            ///< [s]
-  bool adaptive = false;         ///< error control on velocities
+  int order = 2;                    ///< 1 (implicit Euler) or 2 (BDF2)
+  double dt = 1e-2;                 ///< (initial) step [s]
+  double t_end = 1.0;               ///< [s]
+  bool adaptive = false;            ///< error control on velocities
   double rtol = 1e-3, atol = 1e-4;  ///< relative [-], absolute [m/s] velocity tolerances
-  double dt_min = 1e-9;          ///< [s]; a smaller step needed is an error
+  double dt_min = 1e-9;             ///< [s]; a smaller step needed is an error
   double dt_max = std::numeric_limits<double>::infinity();  ///< [s]
-  int max_steps = -1;            ///< stop after this many accepted steps (< 0: no limit)
+  int max_steps = -1;  ///< stop after this many accepted steps (< 0: no limit)
 };
 
 struct TimeStats {

@@ -16,6 +16,7 @@ namespace gf::fem {
 void write_vtu(const std::filesystem::path& path, const NavierStokes& ns);
 
 /// Writes a .pvd collection listing (time [s], file name relative to the .pvd) pairs.
-void write_pvd(const std::filesystem::path& path, const std::vector<std::pair<double, std::string>>& entries);
+void write_pvd(const std::filesystem::path& path,
+               const std::vector<std::pair<double, std::string>>& entries);
 
 }  // namespace gf::fem

@@ -21,8 +21,8 @@ namespace gf::config {
 /// Where a value came from, for error messages raised after parsing.
 struct SourceLoc {
   std::string file;
-  int line = 0;    ///< 1-based; 0 = unknown
-  int column = 0;  ///< 1-based
+  int line = 0;          ///< 1-based; 0 = unknown
+  int column = 0;        ///< 1-based
   std::string key_path;  ///< e.g. "particles[0].fill.count"
 };
 
@@ -59,11 +59,11 @@ struct Contact {
 struct SizeDistribution {
   enum class Kind { Fixed, Uniform, Normal, Lognormal };
   Kind kind = Kind::Fixed;
-  double value = 0;      ///< Fixed
-  double min = 0;        ///< cut-off (Uniform: bounds; Normal / Lognormal: truncation)
+  double value = 0;  ///< Fixed
+  double min = 0;    ///< cut-off (Uniform: bounds; Normal / Lognormal: truncation)
   double max = 0;
-  double mean = 0;       ///< Normal / Lognormal: mean of the radius
-  double std = 0;        ///< Normal / Lognormal: standard deviation of the radius
+  double mean = 0;  ///< Normal / Lognormal: mean of the radius
+  double std = 0;   ///< Normal / Lognormal: standard deviation of the radius
   double largest() const { return kind == Kind::Fixed ? value : max; }
   double smallest() const { return kind == Kind::Fixed ? value : min; }
 };
@@ -71,24 +71,24 @@ struct SizeDistribution {
 struct Region {
   enum class Kind { Box, Cylinder };
   Kind kind = Kind::Box;
-  Vec3 min, max;          ///< Box
-  Vec3 center;            ///< Cylinder: a point on the axis (bottom end)
-  Vec3 axis{0, 0, 1};     ///< Cylinder: unit axis
-  double radius = 0;      ///< Cylinder
-  double height = 0;      ///< Cylinder: extent from `center` along `axis`
+  Vec3 min, max;       ///< Box
+  Vec3 center;         ///< Cylinder: a point on the axis (bottom end)
+  Vec3 axis{0, 0, 1};  ///< Cylinder: unit axis
+  double radius = 0;   ///< Cylinder
+  double height = 0;   ///< Cylinder: extent from `center` along `axis`
 };
 
 struct Fill {
   Region region;
   enum class Lattice { Cubic, Hcp, Random };
   Lattice lattice = Lattice::Cubic;
-  std::optional<double> spacing;         ///< lattice spacing, m (default: 2 r_max * 1.01)
-  std::optional<std::int64_t> count;     ///< cap (lattice) or target (random)
+  std::optional<double> spacing;      ///< lattice spacing, m (default: 2 r_max * 1.01)
+  std::optional<std::int64_t> count;  ///< cap (lattice) or target (random)
   std::uint64_t seed = 1;
-  Vec3 velocity;                         ///< initial velocity, m/s
-  double velocity_jitter = 0;            ///< uniform random perturbation amplitude, m/s
-  std::int64_t max_attempts = 0;         ///< random: insertion attempts (0 = 1000 * count)
-  SourceLoc loc;                         ///< the `fill:` block, for messages
+  Vec3 velocity;                  ///< initial velocity, m/s
+  double velocity_jitter = 0;     ///< uniform random perturbation amplitude, m/s
+  std::int64_t max_attempts = 0;  ///< random: insertion attempts (0 = 1000 * count)
+  SourceLoc loc;                  ///< the `fill:` block, for messages
 };
 
 /// Explicit particles; vectors have one entry per particle (velocities etc. may be empty = zero).
@@ -96,9 +96,9 @@ struct Explicit {
   std::vector<Vec3> positions;
   std::vector<Vec3> velocities;
   std::vector<Vec3> angular_velocities;
-  std::vector<double> radii;           ///< from a CSV 'radius' column; empty = the group's radius
-  std::filesystem::path file;          ///< CSV source, if any (already read into the vectors)
-  std::vector<int> lines;              ///< 1-based line of each particle in the case file or CSV
+  std::vector<double> radii;   ///< from a CSV 'radius' column; empty = the group's radius
+  std::filesystem::path file;  ///< CSV source, if any (already read into the vectors)
+  std::vector<int> lines;      ///< 1-based line of each particle in the case file or CSV
 };
 
 struct ParticleGroup {
@@ -111,11 +111,11 @@ struct ParticleGroup {
 };
 
 struct Motion {
-  Vec3 velocity;             ///< translation, m/s
+  Vec3 velocity;  ///< translation, m/s
   bool rotates = false;
-  Vec3 axis{0, 0, 1};        ///< unit rotation axis
-  Vec3 center;               ///< a point on the rotation axis at t = 0, m
-  double rate = 0;           ///< rad/s (from `rpm` or `rate`)
+  Vec3 axis{0, 0, 1};  ///< unit rotation axis
+  Vec3 center;         ///< a point on the rotation axis at t = 0, m
+  double rate = 0;     ///< rad/s (from `rpm` or `rate`)
 };
 
 struct Wall {
@@ -128,10 +128,10 @@ struct Wall {
   Vec3 min, max;
   std::vector<std::string> open;
   // Cylinder (infinite unless bounded)
-  Vec3 center;             ///< a point on the axis
-  Vec3 axis{0, 0, 1};      ///< unit axis
+  Vec3 center;         ///< a point on the axis
+  Vec3 axis{0, 0, 1};  ///< unit axis
   double radius = 0;
-  bool inside = true;      ///< particles inside the cylinder (drum) or outside (post)
+  bool inside = true;  ///< particles inside the cylinder (drum) or outside (post)
   std::string material;
   Motion motion;
   SourceLoc loc;
