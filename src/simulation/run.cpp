@@ -112,10 +112,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
     if (due(step_, csv_every) || (force_all && csv_every > 0))
       io::write_particles_csv(dir / fmt::format("particles_{:09d}.csv", step_), particles_);
     if (series && (due(step_, series_every) || force_all)) {
-      std::vector<double> row;
-      row.reserve(columns.size());
-      for (const auto& c : columns) row.push_back(quantity(c));
-      series->append(t, row);
+      series->append(t, series_row(columns));
       // Someone may be watching the series of a long run: flush every few seconds.
       if (std::chrono::duration<double>(StageTimers::clock::now() - last_flush).count() > 3.0) {
         series->flush();
@@ -147,9 +144,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
     // The final state is always kept, whatever the output intervals.
     StageTimers::Scope timer(timers_, Stage::Output);
     if (series && !due(step_, series_every)) {
-      std::vector<double> row;
-      for (const auto& c : columns) row.push_back(quantity(c));
-      series->append(time(), row);
+      series->append(time(), series_row(columns));
     }
     if (series) series->flush();
     save_checkpoint(dir / "checkpoint_final.h5");

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "analysis/measures.hpp"
 #include "boundaries/fill.hpp"
@@ -289,9 +290,7 @@ void Simulation::step() {
 }
 
 double Simulation::total_energy() const {
-  const auto e = analysis::energy_and_heights(particles_, gravity_);
-  return e.kinetic_translational + e.kinetic_rotational + e.potential +
-         contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_);
+  return quantity("total_energy");
 }
 
 std::vector<std::string> Simulation::series_columns() const {
@@ -311,40 +310,71 @@ std::vector<std::string> Simulation::series_columns() const {
 }
 
 double Simulation::quantity(const std::string& name) const {
-  if (name.starts_with("wall_force.") || name.starts_with("wall_torque.")) {
-    const bool force = name.starts_with("wall_force.");
-    std::string rest = name.substr(force ? 11 : 12);
-    int comp = 2;
-    if (rest.size() > 2 && rest[rest.size() - 2] == '.' && rest.back() >= 'x' &&
-        rest.back() <= 'z') {
-      comp = rest.back() - 'x';
-      rest.resize(rest.size() - 2);
-    }
-    Vec3 sum{};
-    bool found = false;
-    for (const auto& w : walls_)
-      if (w.group == rest || w.name == rest) {
-        sum += force ? w.force : w.torque;
-        found = true;
+  return series_row({name})[0];
+}
+
+std::vector<double> Simulation::series_row(const std::vector<std::string>& columns) const {
+  // The O(N) reductions run at most once per row, whatever the number of columns using them.
+  std::optional<analysis::EnergyHeights> e;
+  std::optional<double> elastic;
+  auto energies = [&]() -> const analysis::EnergyHeights& {
+    if (!e) e = analysis::energy_and_heights(particles_, gravity_);
+    return *e;
+  };
+  auto elastic_energy = [&] {
+    if (!elastic) elastic = contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_);
+    return *elastic;
+  };
+  std::vector<double> row;
+  row.reserve(columns.size());
+  for (const auto& name : columns) {
+    if (name.starts_with("wall_force.") || name.starts_with("wall_torque.")) {
+      const bool force = name.starts_with("wall_force.");
+      std::string rest = name.substr(force ? 11 : 12);
+      int comp = 2;
+      if (rest.size() > 2 && rest[rest.size() - 2] == '.' && rest.back() >= 'x' &&
+          rest.back() <= 'z') {
+        comp = rest.back() - 'x';
+        rest.resize(rest.size() - 2);
       }
-    REQUIRE(found, "no wall named '{}'", rest);
-    return sum[comp];
+      Vec3 sum{};
+      bool found = false;
+      for (const auto& w : walls_)
+        if (w.group == rest || w.name == rest) {
+          sum += force ? w.force : w.torque;
+          found = true;
+        }
+      REQUIRE(found, "no wall named '{}'", rest);
+      row.push_back(sum[comp]);
+    } else if (name == "kinetic_energy") {
+      row.push_back(energies().kinetic_translational + energies().kinetic_rotational);
+    } else if (name == "translational_kinetic_energy") {
+      row.push_back(energies().kinetic_translational);
+    } else if (name == "rotational_kinetic_energy") {
+      row.push_back(energies().kinetic_rotational);
+    } else if (name == "potential_energy") {
+      row.push_back(energies().potential);
+    } else if (name == "elastic_energy") {
+      row.push_back(elastic_energy());
+    } else if (name == "total_energy") {
+      const auto& en = energies();
+      row.push_back(en.kinetic_translational + en.kinetic_rotational + en.potential +
+                    elastic_energy());
+    } else if (name == "max_z") {
+      row.push_back(energies().max_z);
+    } else if (name == "mean_z") {
+      row.push_back(energies().mean_z);
+    } else if (name == "contact_count") {
+      row.push_back(static_cast<double>(n_contacts_));
+    } else if (name == "wall_contact_count") {
+      row.push_back(static_cast<double>(n_wall_contacts_));
+    } else if (name == "coordination_number") {
+      row.push_back(analysis::coordination_number(n_contacts_, particles_.size()));
+    } else {
+      throw InputError(fmt::format("unknown series quantity '{}'", name));
+    }
   }
-  const auto e = analysis::energy_and_heights(particles_, gravity_);
-  if (name == "kinetic_energy") return e.kinetic_translational + e.kinetic_rotational;
-  if (name == "translational_kinetic_energy") return e.kinetic_translational;
-  if (name == "rotational_kinetic_energy") return e.kinetic_rotational;
-  if (name == "potential_energy") return e.potential;
-  if (name == "elastic_energy")
-    return contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_);
-  if (name == "total_energy") return total_energy();
-  if (name == "max_z") return e.max_z;
-  if (name == "mean_z") return e.mean_z;
-  if (name == "contact_count") return static_cast<double>(n_contacts_);
-  if (name == "wall_contact_count") return static_cast<double>(n_wall_contacts_);
-  if (name == "coordination_number")
-    return analysis::coordination_number(n_contacts_, particles_.size());
-  throw InputError(fmt::format("unknown series quantity '{}'", name));
+  return row;
 }
 
 }  // namespace gf

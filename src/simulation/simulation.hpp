@@ -72,6 +72,8 @@ class Simulation {
   double total_energy() const;
   /// Value of a series quantity by name (see the case-file reference), at the current state.
   double quantity(const std::string& name) const;
+  /// Values of several series columns, sharing the O(N) reductions.
+  std::vector<double> series_row(const std::vector<std::string>& columns) const;
   /// Series column names for the configured quantities (wall_force.X expands to .x/.y/.z).
   std::vector<std::string> series_columns() const;
 

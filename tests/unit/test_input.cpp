@@ -15,6 +15,7 @@
 #include "io/input/parse_case.hpp"
 #include "io/input/validate.hpp"
 #include "io/input/yaml_reader.hpp"
+#include "temp_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace gf;
@@ -23,30 +24,7 @@ namespace {
 
 const fs::path data_dir = fs::path(GF_SOURCE_DIR) / "tests" / "data";
 
-/// A folder of its own under the system temporary folder, removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            (std::string("gf_input_") + info->test_suite_name() + "_" + info->name());
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-  fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path p = path_ / name;
-    std::ofstream(p) << text;
-    return p;
-  }
-
- private:
-  fs::path path_;
-};
+using test::TempDir;
 
 /// The message of the InputError thrown by loading and validating `text`, or "" if none.
 std::string error_of(const std::string& text, const std::string& label = "t.yaml") {
