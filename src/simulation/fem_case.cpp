@@ -49,15 +49,7 @@ std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& 
 void run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
                   const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? default_dir : opts.output;
-  if (fs::exists(dir) && !fs::is_empty(dir)) {
-    if (!opts.overwrite)
-      throw InputError(fmt::format(
-          "output folder '{}' exists and is not empty; choose another with --output, or "
-          "pass --overwrite to replace it",
-          dir.string()));
-    for (const auto& e : fs::directory_iterator(dir)) fs::remove_all(e.path());
-  }
-  fs::create_directories(dir);
+  prepare_output_dir(dir, opts.overwrite);
   log::info("fluid_fem run, output in '{}'", dir.string());
   fem::run_fluid_fem(cfg, dir, opts.steps ? static_cast<int>(*opts.steps) : -1);
 }

@@ -40,6 +40,8 @@ std::int64_t peak_rss_bytes() {
   return static_cast<std::int64_t>(u.ru_maxrss) * 1024;
 }
 
+}  // namespace
+
 /// Refuses to reuse a non-empty folder unless asked; creates it.
 void prepare_output_dir(const fs::path& dir, bool overwrite) {
   if (fs::exists(dir)) {
@@ -56,8 +58,6 @@ void prepare_output_dir(const fs::path& dir, bool overwrite) {
   }
   fs::create_directories(dir);
 }
-
-}  // namespace
 
 RunSummary Simulation::run(const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? cfg_.output.directory : opts.output;

@@ -38,6 +38,10 @@ struct RunSummary {
   std::int64_t peak_rss_bytes = 0;
 };
 
+/// Creates an output folder; a non-empty one is refused (InputError) unless `overwrite`, in
+/// which case its contents are removed. Shared by DEM and FEM runs.
+void prepare_output_dir(const std::filesystem::path& dir, bool overwrite);
+
 class Simulation {
  public:
   /// Builds particles (fills, explicit lists), walls and per-pair tables from the case.
