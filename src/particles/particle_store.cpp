@@ -10,7 +10,7 @@ namespace gf {
 
 ParticleStore::ParticleStore()
     : scratch_{std::vector<double>{}, std::vector<Vec3>{}, std::vector<std::int64_t>{},
-               std::vector<std::int32_t>{}} {
+               std::vector<std::int32_t>{}, std::vector<Quat>{}} {
   constexpr unsigned RO = kRestart | kOutput | kGhost;
   add_field("id", FieldType::Int64, "1", RO);
   add_field("material", FieldType::Int32, "1", RO);
@@ -41,8 +41,25 @@ int ParticleStore::add_field(const std::string& name, FieldType type, const std:
     case FieldType::Int32:
       cols_.emplace_back(std::vector<std::int32_t>(n_));
       break;
+    case FieldType::Quat:
+      cols_.emplace_back(std::vector<Quat>(n_));
+      break;
   }
   return static_cast<int>(info_.size()) - 1;
+}
+
+void ParticleStore::enable_shapes() {
+  if (shape_field_ >= 0) return;
+  constexpr unsigned RO = kRestart | kOutput | kGhost;
+  shape_field_ = add_field("shape", FieldType::Int32, "1", RO);
+  add_field("half_length", FieldType::Real, "m", RO);
+  add_field("orientation", FieldType::Quat, "1", RO);
+  add_field("angular_momentum", FieldType::Vec3, "kg m^2/s", kRestart | kGhost);
+  add_field("inertia_body", FieldType::Vec3, "kg m^2", kRestart | kGhost);
+  add_field("polygon", FieldType::Int32, "1", RO);
+  // Fields are zero-filled; the identity quaternion and "no polygon" are not zero.
+  for (auto& q : get<Quat>(shape_field_ + 2)) q = Quat{};
+  for (auto& k : get<std::int32_t>(shape_field_ + 5)) k = -1;
 }
 
 int ParticleStore::find_field(const std::string& name) const {

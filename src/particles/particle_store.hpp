@@ -13,11 +13,13 @@
 #include <variant>
 #include <vector>
 
+#include "core/quaternion.hpp"
 #include "core/vec3.hpp"
+#include "particles/shapes.hpp"
 
 namespace gf {
 
-enum class FieldType { Real, Vec3, Int64, Int32 };
+enum class FieldType { Real, Vec3, Int64, Int32, Quat };
 
 /// Flags of a field: what the generic walkers do with it.
 enum FieldFlags : unsigned {
@@ -34,7 +36,7 @@ struct FieldInfo {
 };
 
 using Column = std::variant<std::vector<double>, std::vector<Vec3>, std::vector<std::int64_t>,
-                            std::vector<std::int32_t>>;
+                            std::vector<std::int32_t>, std::vector<Quat>>;
 
 class ParticleStore {
  public:
@@ -100,6 +102,29 @@ class ParticleStore {
   const Vec3* f() const { return std::get<std::vector<Vec3>>(cols_[kForce]).data(); }
   const Vec3* torque() const { return std::get<std::vector<Vec3>>(cols_[kTorque]).data(); }
 
+  /// Adds the shape fields (shape, half_length, orientation, angular_momentum, inertia_body,
+  /// polygon; see particles/shapes.hpp) once; runs of spheres only never carry them. Existing
+  /// particles become spheres with identity orientation. Idempotent.
+  void enable_shapes();
+  bool has_shapes() const { return shape_field_ >= 0; }
+  /// Shape fields; valid only when has_shapes().
+  std::int32_t* shape() { return get<std::int32_t>(shape_field_).data(); }
+  const std::int32_t* shape() const { return get<std::int32_t>(shape_field_).data(); }
+  double* half_length() { return get<double>(shape_field_ + 1).data(); }
+  const double* half_length() const { return get<double>(shape_field_ + 1).data(); }
+  Quat* orientation() { return get<Quat>(shape_field_ + 2).data(); }
+  const Quat* orientation() const { return get<Quat>(shape_field_ + 2).data(); }
+  Vec3* angular_momentum() { return get<Vec3>(shape_field_ + 3).data(); }
+  const Vec3* angular_momentum() const { return get<Vec3>(shape_field_ + 3).data(); }
+  Vec3* inertia_body() { return get<Vec3>(shape_field_ + 4).data(); }
+  const Vec3* inertia_body() const { return get<Vec3>(shape_field_ + 4).data(); }
+  std::int32_t* polygon() { return get<std::int32_t>(shape_field_ + 5).data(); }
+  const std::int32_t* polygon() const { return get<std::int32_t>(shape_field_ + 5).data(); }
+
+  /// Body-frame polygons that polygon grains refer to (field `polygon`); saved in checkpoints.
+  std::vector<PolygonShape>& polygons() { return polygons_; }
+  const std::vector<PolygonShape>& polygons() const { return polygons_; }
+
   /// Appends one sphere; other fields are zero. Returns its index.
   std::size_t add_sphere(std::int64_t id, int material, double radius, double density,
                          const Vec3& x, const Vec3& v = {}, const Vec3& omega = {});
@@ -114,7 +139,9 @@ class ParticleStore {
   std::size_t n_ = 0;
   std::vector<FieldInfo> info_;
   std::vector<Column> cols_;
-  std::array<Column, 4> scratch_;  ///< one reusable column per type, for permute()
+  std::array<Column, 5> scratch_;  ///< one reusable column per type, for permute()
+  int shape_field_ = -1;           ///< index of `shape`; the other shape fields follow it
+  std::vector<PolygonShape> polygons_;
 };
 
 }  // namespace gf

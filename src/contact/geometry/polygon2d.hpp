@@ -24,47 +24,17 @@
 #include <random>
 
 #include "core/host_device.hpp"
+#include "particles/shapes.hpp"
 
 namespace gf::contact {
 
-struct Vec2 {
-  double x = 0, y = 0;
-};
-GF_HOST_DEVICE constexpr Vec2 operator+(const Vec2& a, const Vec2& b) {
-  return {a.x + b.x, a.y + b.y};
-}
-GF_HOST_DEVICE constexpr Vec2 operator-(const Vec2& a, const Vec2& b) {
-  return {a.x - b.x, a.y - b.y};
-}
-GF_HOST_DEVICE constexpr Vec2 operator-(const Vec2& a) {
-  return {-a.x, -a.y};
-}
-GF_HOST_DEVICE constexpr Vec2 operator*(double s, const Vec2& a) {
-  return {s * a.x, s * a.y};
-}
-GF_HOST_DEVICE constexpr double dot(const Vec2& a, const Vec2& b) {
-  return a.x * b.x + a.y * b.y;
-}
-/// z-component of the 3D cross product.
-GF_HOST_DEVICE constexpr double cross(const Vec2& a, const Vec2& b) {
-  return a.x * b.y - a.y * b.x;
-}
-/// a rotated by +90 degrees.
-GF_HOST_DEVICE constexpr Vec2 perp(const Vec2& a) {
-  return {-a.y, a.x};
-}
-GF_HOST_DEVICE inline double norm(const Vec2& a) {
-  return std::sqrt(dot(a, a));
-}
+// Vec2, ConvexPolygon and kMaxPolygonVertices live with the particle shapes (particles/shapes.hpp);
+// these names keep the narrow phase readable.
+using gf::ConvexPolygon;
+using gf::kMaxPolygonVertices;
+using gf::Vec2;
 
-inline constexpr int kMaxPolygonVertices = 16;
 inline constexpr int kMaxOverlapVertices = 2 * kMaxPolygonVertices + 2;
-
-/// A convex polygon, vertices counter-clockwise (body frame: about its centroid; or world), m.
-struct ConvexPolygon {
-  int n = 0;
-  Vec2 v[kMaxPolygonVertices];
-};
 
 /// Area (m^2), centroid (m), polar second moment of area about the centroid
 /// J = integral |x - c|^2 dA (m^4; moment of inertia = areal density * J) and the radius of the

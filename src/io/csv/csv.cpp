@@ -40,6 +40,8 @@ std::vector<std::string> particle_csv_columns(const ParticleStore& store) {
     if (!(fi.flags & kOutput)) continue;
     if (fi.type == FieldType::Vec3) {
       for (auto& c : vec3_columns(fi.name)) cols.push_back(std::move(c));
+    } else if (fi.type == FieldType::Quat) {
+      for (const char* c : {"_w", "_x", "_y", "_z"}) cols.push_back(fi.name + c);
     } else {
       cols.push_back(fi.name);
     }
@@ -67,6 +69,9 @@ void write_particles_csv(const std::filesystem::path& path, const ParticleStore&
               using T = typename std::decay_t<decltype(v)>::value_type;
               if constexpr (std::is_same_v<T, Vec3>)
                 fmt::format_to(it, "{}{},{},{}", first ? "" : ",", v[i].x, v[i].y, v[i].z);
+              else if constexpr (std::is_same_v<T, Quat>)
+                fmt::format_to(it, "{}{},{},{},{}", first ? "" : ",", v[i].w, v[i].x, v[i].y,
+                               v[i].z);
               else
                 fmt::format_to(it, "{}{}", first ? "" : ",", v[i]);
             },

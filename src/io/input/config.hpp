@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/quaternion.hpp"
 #include "core/vec3.hpp"
 
 namespace gf::config {
@@ -32,9 +33,13 @@ struct Time {
   SourceLoc loc;
 };
 
+/// In 2D (dimension: 2) the vectors have z = 0 (the YAML gives two components) and periodic[2]
+/// is false; `thickness` is the depth of the grains (m), used for masses: a disk or polygon of
+/// area A has mass density * A * thickness.
 struct DomainBox {
   Vec3 min, max;  ///< m
   std::array<bool, 3> periodic{false, false, false};
+  double thickness = 1.0;  ///< 2D only, m
   SourceLoc loc;
 };
 
@@ -88,6 +93,10 @@ struct Fill {
   Vec3 velocity;                  ///< initial velocity, m/s
   double velocity_jitter = 0;     ///< uniform random perturbation amplitude, m/s
   std::int64_t max_attempts = 0;  ///< random: insertion attempts (0 = 1000 * count)
+  /// Orientation of non-spherical grains: nullopt = uniformly random (3D: axis uniform on the
+  /// sphere; 2D: angle uniform in [0, 2 pi)); otherwise this one for all (from `orientation:
+  /// {axis: [...]}` in 3D, the rotation taking e_z to the axis, or `{angle: a}` in 2D).
+  std::optional<Quat> orientation;
   SourceLoc loc;                  ///< the `fill:` block, for messages
 };
 
@@ -96,14 +105,44 @@ struct Explicit {
   std::vector<Vec3> positions;
   std::vector<Vec3> velocities;
   std::vector<Vec3> angular_velocities;
+  std::vector<Quat> orientations;  ///< empty = identity; from `axes:` (3D, rotation taking e_z
+                                   ///< to the axis) or `angles:` (2D, rad about z)
   std::vector<double> radii;   ///< from a CSV 'radius' column; empty = the group's radius
   std::filesystem::path file;  ///< CSV source, if any (already read into the vectors)
   std::vector<int> lines;      ///< 1-based line of each particle in the case file or CSV
 };
 
+/// Polygon grains (2D): given vertices, regular n-gons or random irregular convex polygons.
+struct PolygonSpec {
+  enum class Kind { Vertices, Regular, Random };
+  Kind kind = Kind::Regular;
+  /// Vertices: convex, counter-clockwise, m (z = 0); the simulation recentres them on their
+  /// centroid. The group's radius is then not used (it is the equal-area radius of these).
+  std::vector<Vec3> vertices;
+  int sides = 6;  ///< Regular: number of vertices (3..16); size = equal-area radius `radius`
+  /// Random: vertex count uniform in [min_vertices, max_vertices] (3..16), elongation (aspect
+  /// ratio of the ellipse the vertices lie on, >= 1) uniform in [min_elongation,
+  /// max_elongation]; size = equal-area radius drawn from `radius`.
+  int min_vertices = 5, max_vertices = 8;
+  double min_elongation = 1.0, max_elongation = 1.0;
+};
+
+/// Shapes: sphere (3D), spherocylinder (3D), disk (2D), polygon (2D).
+enum class Shape { Sphere, Spherocylinder, Disk, Polygon };
+
 struct ParticleGroup {
-  std::string shape = "sphere";
+  std::string shape = "sphere";  ///< as written; `kind` is the parsed value
+  Shape kind = Shape::Sphere;
+  /// sphere, disk: the radius; spherocylinder: the radius r of the caps and cylinder (from
+  /// `equivalent_diameter` and `aspect_ratio` when given that way); polygon: the radius of the
+  /// equal-area disk.
   SizeDistribution radius;
+  /// Spherocylinder: exactly one of these is set after parsing. `length` is the length L of the
+  /// cylindrical part (m, >= 0); `aspect_ratio` = (L + 2r)/(2r) >= 1 (total length over
+  /// diameter), so that L follows each grain's radius when the radius is a distribution.
+  std::optional<double> length;
+  std::optional<double> aspect_ratio;
+  PolygonSpec polygon;  ///< polygon only
   std::string material;
   std::optional<Fill> fill;
   std::optional<Explicit> explicit_particles;
@@ -165,7 +204,7 @@ struct Case {
   std::vector<Wall> walls;
   Output output;
   Neighbor neighbor;
-  std::string integrator = "velocity_verlet";
+  std::string integrator = "velocity_verlet";  ///< velocity_verlet | gear5
 };
 
 }  // namespace gf::config

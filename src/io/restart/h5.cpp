@@ -20,6 +20,7 @@ namespace fs = std::filesystem;
 
 static_assert(std::is_same_v<hid_t, std::int64_t>, "HDF5 >= 1.10 uses 64-bit hid_t");
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
+static_assert(sizeof(Quat) == 4 * sizeof(double), "Quat must be four packed doubles");
 
 namespace {
 
@@ -319,6 +320,10 @@ void File::write(const std::string& dataset, std::span<const Vec3> data) {
   write_dataset(*this, checked_id(dataset), dataset, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, data.size(),
                 3, data.data());
 }
+void File::write(const std::string& dataset, std::span<const Quat> data) {
+  write_dataset(*this, checked_id(dataset), dataset, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE, data.size(),
+                4, data.data());
+}
 
 DatasetInfo File::info(const std::string& dataset) const {
   const hid_t file = checked_id(dataset);
@@ -367,6 +372,10 @@ void File::read(const std::string& dataset, std::span<std::uint8_t> out) const {
 void File::read(const std::string& dataset, std::span<Vec3> out) const {
   read_dataset(*this, checked_id(dataset), dataset, H5T_NATIVE_DOUBLE, DatasetInfo::Class::Float,
                out.size(), 3, out.data());
+}
+void File::read(const std::string& dataset, std::span<Quat> out) const {
+  read_dataset(*this, checked_id(dataset), dataset, H5T_NATIVE_DOUBLE, DatasetInfo::Class::Float,
+               out.size(), 4, out.data());
 }
 
 std::vector<double> File::read_double(const std::string& dataset) const {
@@ -540,6 +549,8 @@ std::int64_t File::read_int_attribute(const std::string& object, const std::stri
 
 namespace {
 
+constexpr std::size_t kPolygonRow = 1 + 2 * kMaxPolygonVertices + 4;
+
 std::string join(const std::string& group, const std::string& name) {
   const std::size_t e = group.find_last_not_of('/');
   if (e == std::string::npos) return name;
@@ -556,6 +567,8 @@ const char* type_name(FieldType t) {
       return "int64";
     case FieldType::Int32:
       return "int32";
+    case FieldType::Quat:
+      return "quaternion";
   }
   return "?";
 }
@@ -573,6 +586,9 @@ bool matches(const h5::DatasetInfo& info, FieldType t) {
       return info.type_class == C::Integer && info.type_size == 8 && info.shape.size() == 1;
     case FieldType::Int32:
       return info.type_class == C::Integer && info.type_size == 4 && info.shape.size() == 1;
+    case FieldType::Quat:
+      return info.type_class == C::Float && info.type_size == 8 && info.shape.size() == 2 &&
+             info.shape[1] == 4;
   }
   return false;
 }
@@ -603,6 +619,24 @@ void save_particles(h5::File& file, const ParticleStore& store, const std::strin
                store.column(static_cast<int>(f)));
     file.set_attribute(ds, "unit", fi.unit);
     file.set_attribute(ds, "type", type_name(fi.type));
+  }
+  if (!store.polygons().empty()) {
+    // One row per body-frame polygon: n, 16 (x, y) pairs, area, equivalent radius,
+    // circumradius, polar moment.
+    std::vector<double> flat;
+    flat.reserve(store.polygons().size() * kPolygonRow);
+    for (const PolygonShape& p : store.polygons()) {
+      flat.push_back(p.body.n);
+      for (int k = 0; k < kMaxPolygonVertices; ++k) {
+        flat.push_back(p.body.v[k].x);
+        flat.push_back(p.body.v[k].y);
+      }
+      for (double d : {p.area, p.equivalent_radius, p.circumradius, p.polar_moment})
+        flat.push_back(d);
+    }
+    const std::string ds = join(group, "polygon_table");
+    file.write(ds, std::span<const double>(flat));
+    file.set_attribute(ds, "row_length", static_cast<std::int64_t>(kPolygonRow));
   }
 }
 
@@ -650,9 +684,35 @@ void load_particles(h5::File& file, ParticleStore& store, const std::string& gro
       type_mismatch(file, ds, fields[static_cast<std::size_t>(f)], info);
   }
 
+  std::vector<PolygonShape> polygons;
+  const std::string table = join(group, "polygon_table");
+  if (file.exists(table)) {
+    const std::vector<double> flat = file.read_double(table);
+    if (file.read_int_attribute(table, "row_length") != static_cast<std::int64_t>(kPolygonRow) ||
+        flat.size() % kPolygonRow != 0)
+      throw IoError(fmt::format("HDF5 file '{}', dataset '{}': malformed polygon table",
+                                file.path().string(), table));
+    for (std::size_t row = 0; row < flat.size(); row += kPolygonRow) {
+      PolygonShape p;
+      const double* d = flat.data() + row;
+      p.body.n = static_cast<int>(d[0]);
+      if (p.body.n < 3 || p.body.n > kMaxPolygonVertices)
+        throw IoError(fmt::format("HDF5 file '{}', dataset '{}': polygon with {} vertices",
+                                  file.path().string(), table, p.body.n));
+      for (int k = 0; k < kMaxPolygonVertices; ++k) p.body.v[k] = {d[1 + 2 * k], d[2 + 2 * k]};
+      const double* t = d + 1 + 2 * kMaxPolygonVertices;
+      p.area = t[0];
+      p.equivalent_radius = t[1];
+      p.circumradius = t[2];
+      p.polar_moment = t[3];
+      polygons.push_back(p);
+    }
+  }
+
   store.resize(0);  // fields not in the checkpoint restart from zero
   store.resize(n);
   for (auto& [f, col] : loaded) store.column(f) = std::move(col);
+  store.polygons() = std::move(polygons);
 }
 
 void write_checkpoint_atomically(const std::filesystem::path& path,

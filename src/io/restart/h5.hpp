@@ -63,6 +63,7 @@ class File {
   void write(const std::string& dataset, std::span<const std::uint8_t> data);
   /// N x 3 dataset of doubles.
   void write(const std::string& dataset, std::span<const Vec3> data);
+  void write(const std::string& dataset, std::span<const Quat> data);  ///< n x 4 (w, x, y, z)
 
   DatasetInfo info(const std::string& dataset) const;
 
@@ -80,6 +81,7 @@ class File {
   void read(const std::string& dataset, std::span<std::int32_t> out) const;
   void read(const std::string& dataset, std::span<std::uint8_t> out) const;
   void read(const std::string& dataset, std::span<Vec3> out) const;
+  void read(const std::string& dataset, std::span<Quat> out) const;
 
   // Attributes on a group, a dataset or the root ("" or "/"); an existing one is replaced.
   void set_attribute(const std::string& object, const std::string& name, const std::string& value);

@@ -176,6 +176,9 @@ void write_particles_vtp(const std::filesystem::path& path, const ParticleStore&
           using T = typename std::decay_t<decltype(col)>::value_type;
           if constexpr (std::is_same_v<T, Vec3>)
             return arrays.add(fi.name, std::span<const Vec3>(col));
+          else if constexpr (std::is_same_v<T, Quat>)
+            return arrays.add(fi.name, 4,
+                              std::span<const double>(&col.data()->w, 4 * col.size()));
           else
             return arrays.add(fi.name, 1, std::span<const T>(col));
         },
