@@ -38,9 +38,9 @@ double RadiusDistribution::sample(Rng& rng) const {
   throw InputError("radius distribution: cut-offs leave (almost) no probability mass");
 }
 
-bool FillRegion::contains(const Vec3& p, double r) const {
+bool FillRegion::contains(const Vec3& p, double r, bool two_d) const {
   if (kind == Kind::Box) {
-    for (int k = 0; k < 3; ++k)
+    for (int k = 0; k < (two_d ? 2 : 3); ++k)
       if (p[k] - r < min[k] || p[k] + r > max[k]) return false;
     return true;
   }
@@ -81,10 +81,10 @@ std::vector<FilledSphere> lattice_fill(const FillSpec& spec, const RadiusDistrib
   // with layer pitch a sqrt(2/3).
   const double dx = a, dy = hcp ? a * std::sqrt(3.0) / 2 : a,
                dz = hcp ? a * std::sqrt(2.0 / 3.0) : a;
-  const Vec3 start = lo + Vec3{rmax, rmax, rmax};
+  const Vec3 start = lo + Vec3{rmax, rmax, spec.two_d ? 0.0 : rmax};
   for (int iz = 0;; ++iz) {
-    const double z = start.z + iz * dz;
-    if (z + rmax > hi.z + 1e-12 * a) break;
+    const double z = spec.two_d ? 0.0 : start.z + iz * dz;
+    if (spec.two_d ? iz > 0 : z + rmax > hi.z + 1e-12 * a) break;
     for (int iy = 0;; ++iy) {
       double y = start.y + iy * dy;
       if (hcp && (iz % 2)) y += a / (2 * std::sqrt(3.0));
@@ -95,7 +95,7 @@ std::vector<FilledSphere> lattice_fill(const FillSpec& spec, const RadiusDistrib
         if (hcp && (iz % 2)) x += a / 2;
         if (x + rmax > hi.x + 1e-12 * a) break;
         const Vec3 p{x, y, z};
-        if (!spec.region.contains(p, rmax * (1 - 1e-12))) continue;
+        if (!spec.region.contains(p, rmax * (1 - 1e-12), spec.two_d)) continue;
         out.push_back({p, rad.sample(rng)});
         if (static_cast<std::int64_t>(out.size()) >= cap) return out;
       }
@@ -160,8 +160,8 @@ std::vector<FilledSphere> random_fill(const FillSpec& spec, const RadiusDistribu
     ++tries;
     const double r = rad.sample(rng);
     const Vec3 p{rng.uniform(lo.x + r, hi.x - r), rng.uniform(lo.y + r, hi.y - r),
-                 rng.uniform(lo.z + r, hi.z - r)};
-    if (!spec.region.contains(p, r) || grid.overlaps(p, r, r_max)) continue;
+                 spec.two_d ? 0.0 : rng.uniform(lo.z + r, hi.z - r)};
+    if (!spec.region.contains(p, r, spec.two_d) || grid.overlaps(p, r, r_max)) continue;
     grid.insert({p, r});
     out.push_back({p, r});
   }

@@ -29,8 +29,8 @@ struct FillRegion {
   Vec3 min, max;  ///< box, m
   Vec3 center, axis{0, 0, 1};
   double radius = 0, height = 0;  ///< cylinder, m
-  /// Whether a sphere of radius r lies entirely inside the region.
-  bool contains(const Vec3& p, double r) const;
+  /// Whether a sphere of radius r lies entirely inside the region (2D: a disk, z ignored).
+  bool contains(const Vec3& p, double r, bool two_d = false) const;
   /// Axis-aligned bounds.
   void bounds(Vec3& lo, Vec3& hi) const;
 };
@@ -42,6 +42,9 @@ struct FillSpec {
   std::optional<double> spacing;      ///< m; default 2 r_max * 1.01
   std::optional<std::int64_t> count;  ///< cap (lattice) or target (random)
   std::int64_t max_attempts = 0;      ///< random insertion attempts; 0 = 1000 * count
+  /// 2D: grains in the plane z = 0 (the box's z range is ignored; cubic gives a square lattice,
+  /// hcp a triangular one, random insertion in the plane). Cylinder regions are 3D only.
+  bool two_d = false;
 };
 
 struct FilledSphere {

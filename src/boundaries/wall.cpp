@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "contact/registry.hpp"
+#include "contact/shape_forces.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 
@@ -93,7 +95,8 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
   groups_.push_back(static_cast<std::int64_t>(entries_.size()));
   reactions_.assign(2 * entries_.size(), Vec3{});
   // Carry the history: the old list is sorted by (old particle index, wall).
-  history_.assign(entries_.size(), Vec3{});
+  const auto slots = static_cast<std::size_t>(slots_);
+  history_.assign(slots * entries_.size(), Vec3{});
   const auto key = [](std::int64_t particle, std::int32_t wall) { return (particle << 32) | wall; };
   for (std::size_t k = 0; k < entries_.size(); ++k) {
     const std::int64_t old_i =
@@ -103,12 +106,15 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
         old_entries_.begin(), old_entries_.end(), want,
         [&](const Entry& e, std::int64_t v) { return key(e.particle, e.wall) < v; });
     if (it != old_entries_.end() && key(it->particle, it->wall) == want)
-      history_[k] = old_history_[static_cast<std::size_t>(it - old_entries_.begin())];
+      for (std::size_t s = 0; s < slots; ++s)
+        history_[slots * k + s] =
+            old_history_[slots * static_cast<std::size_t>(it - old_entries_.begin()) + s];
   }
 }
 
 void WallContactList::restore(std::vector<Entry> entries, std::vector<Vec3> history) {
-  REQUIRE(entries.size() == history.size(), "inconsistent wall contact list in checkpoint");
+  REQUIRE(static_cast<std::size_t>(slots_) * entries.size() == history.size(),
+          "inconsistent wall contact list in checkpoint");
   entries_ = std::move(entries);
   history_ = std::move(history);
   groups_.clear();
@@ -118,6 +124,57 @@ void WallContactList::restore(std::vector<Entry> entries, std::vector<Vec3> hist
   groups_.push_back(static_cast<std::int64_t>(entries_.size()));
   reactions_.assign(2 * entries_.size(), Vec3{});
 }
+
+namespace {
+
+/// Geometry of one particle-wall contact.
+using WallGeometry = contact::ShapeGeometry;  ///< normal from the wall to the particle
+
+/// A sphere of radius r at x against the wall (slot geometry of spheres, disks, capsule ends).
+bool sphere_wall(const Wall& w, const Vec3& x, double r, WallGeometry& g) {
+  const double gap = w.gap(x, r, g.normal);
+  if (gap >= 0) return false;
+  g.overlap = -gap;
+  g.point = x - (r - 0.5 * g.overlap) * g.normal;
+  g.r_eff = r;
+  return true;
+}
+
+/// Contact of slot `slot` of particle i with wall w; false when that slot is apart. Spheres and
+/// disks use slot 0; spherocylinders one slot per end sphere (plane, inside of a cylinder: the
+/// gap is smallest at the ends) or slot 0 at the closest point (outside of a cylinder); polygons
+/// slot 0, the overlap with the wall's half-plane with l_c = R (equal-area radius: the
+/// characteristic length against a rigid wall), see contact/shape_forces.hpp.
+bool wall_slot_geometry(const Wall& w, const contact::ShapeView* s, std::int64_t i, const Vec3& x,
+                        double r, int slot, WallGeometry& g) {
+  if (s == nullptr || s->code(i) == ShapeCode::Sphere || s->code(i) == ShapeCode::Disk)
+    return slot == 0 && sphere_wall(w, x, r, g);
+  if (s->code(i) == ShapeCode::Polygon) {
+    if (slot != 0 || w.kind != WallKind::Plane) return false;  // cylinders refused earlier
+    contact::PolygonOverlap o;
+    if (!contact::polygon_halfplane_overlap(s->world_polygon(i, x), Vec2{w.point.x, w.point.y},
+                                            Vec2{w.dir.x, w.dir.y}, o))
+      return false;
+    const double req = s->equivalent_radius(i);
+    contact::polygon_law_inputs(o, contact::polygon_characteristic_length(req, 0.0), g);
+    g.r_eff = req;
+    return true;
+  }
+  const contact::Capsule c = s->capsule(i, x);
+  if (w.kind == WallKind::Cylinder && !w.inside) {
+    contact::ShapeContact out[2];
+    if (slot != 0 || contact::capsule_cylinder_wall(c, w.point, w.dir, w.radius, false, out) == 0)
+      return false;
+    g.overlap = out[0].overlap;
+    g.normal = out[0].normal;
+    g.point = out[0].point;
+    g.r_eff = out[0].r_eff;
+    return true;
+  }
+  return sphere_wall(w, slot == 0 ? c.end0() : c.end1(), c.radius, g);
+}
+
+}  // namespace
 
 std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
                                  const PairTable<contact::PairCoeffs>& pairs, double t, double dt) {
@@ -132,41 +189,59 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   const double* r = p.radius();
   const double* m = p.mass();
   const std::int32_t* mat = p.material();
+  std::optional<contact::ShapeView> shapes;
+  if (p.has_shapes()) shapes.emplace(p);
+  const contact::ShapeView* sv = shapes ? &*shapes : nullptr;
+  const int slots = list.slots();
   // Entries are sorted by particle: one group per particle, so threads never share a particle.
   const auto groups = list.particle_groups();
   const std::int64_t n_groups = static_cast<std::int64_t>(groups.size()) - 1;
-  const std::int64_t active = exec::parallel_sum(n_groups, std::int64_t{0}, [&](exec::index_t g) {
+  const std::int64_t active = exec::parallel_sum(n_groups, std::int64_t{0}, [&](exec::index_t gr) {
     std::int64_t touching = 0;
-    for (std::int64_t k = groups[static_cast<std::size_t>(g)];
-         k < groups[static_cast<std::size_t>(g) + 1]; ++k) {
-      const int i = entries[static_cast<std::size_t>(k)].particle;
-      const Wall& w = walls[static_cast<std::size_t>(entries[static_cast<std::size_t>(k)].wall)];
-      contact::ContactKinematics kin;
-      const double gap = w.gap(x[i], r[i], kin.normal);
-      if (gap >= 0) {
-        history[static_cast<std::size_t>(k)] = {};
-        reaction[static_cast<std::size_t>(2 * k)] = {};
-        reaction[static_cast<std::size_t>(2 * k + 1)] = {};
-        continue;
-      }
+    for (std::int64_t k = groups[static_cast<std::size_t>(gr)];
+         k < groups[static_cast<std::size_t>(gr) + 1]; ++k) {
+      const auto ku = static_cast<std::size_t>(k);
+      const int i = entries[ku].particle;
+      const Wall& w = walls[static_cast<std::size_t>(entries[ku].wall)];
       const contact::PairCoeffs& c = pairs(mat[i], w.material);
-      kin.overlap = -gap;
-      const double arm = r[i] - 0.5 * kin.overlap;
-      const Vec3 cp = x[i] - arm * kin.normal;
-      kin.v_rel = v[i] - arm * cross(om[i], kin.normal) - w.motion.velocity_at(cp, t);
-      kin.omega_rel = om[i] - w.motion.omega();
-      kin.r_eff = r[i];
-      kin.m_eff = m[i];
-      const contact::ContactResult res =
-          dispatch_index(contact::ContactModels{}, c.model, [&]<class M>() {
-            return M::Law::evaluate(c, kin, dt, history[static_cast<std::size_t>(k)]);
-          });
-      f[i] += res.force;
-      tq[i] += -arm * cross(kin.normal, res.force) + res.rolling_torque;
-      reaction[static_cast<std::size_t>(2 * k)] = -res.force;
-      reaction[static_cast<std::size_t>(2 * k + 1)] =
-          -(cross(cp - w.torque_center(), res.force) + res.rolling_torque);
-      ++touching;
+      Vec3 reaction_force{}, reaction_torque{};
+      // Geometry of every slot first: the grain's mass is shared by its simultaneous contacts
+      // with this wall (a capsule lying flat: half at each end), so that a flat impact has the
+      // damping, and hence the restitution, that the law was given for one contact.
+      WallGeometry geo[2];
+      bool on[2] = {false, false};
+      int n_on = 0;
+      for (int slot = 0; slot < slots; ++slot) {
+        on[slot] = wall_slot_geometry(w, sv, i, x[i], r[i], slot, geo[slot]);
+        n_on += on[slot];
+        if (!on[slot])
+          history[static_cast<std::size_t>(slots) * ku + static_cast<std::size_t>(slot)] = {};
+      }
+      for (int slot = 0; slot < slots; ++slot) {
+        if (!on[slot]) continue;
+        Vec3& hist = history[static_cast<std::size_t>(slots) * ku + static_cast<std::size_t>(slot)];
+        const WallGeometry& g = geo[slot];
+        const Vec3 arm = g.point - x[i];
+        contact::ContactKinematics kin;
+        kin.overlap = g.overlap;
+        kin.normal = g.normal;
+        kin.v_rel = v[i] + cross(om[i], arm) - w.motion.velocity_at(g.point, t);
+        kin.omega_rel = om[i] - w.motion.omega();
+        kin.r_eff = g.r_eff;
+        kin.m_eff = m[i] / (n_on * g.force_scale);
+        contact::ContactResult res =
+            dispatch_index(contact::ContactModels{}, c.model,
+                           [&]<class M>() { return M::Law::evaluate(c, kin, dt, hist); });
+        res.force = g.force_scale * res.force;
+        res.rolling_torque = g.force_scale * res.rolling_torque;
+        f[i] += res.force;
+        tq[i] += cross(arm, res.force) + res.rolling_torque;
+        reaction_force -= res.force;
+        reaction_torque -= cross(g.point - w.torque_center(), res.force) + res.rolling_torque;
+        ++touching;
+      }
+      reaction[2 * ku] = reaction_force;
+      reaction[2 * ku + 1] = reaction_torque;
     }
     return touching;
   });

@@ -78,15 +78,21 @@ class WallContactList {
     std::int32_t wall;
   };
   /// Pairs with a gap below the skin. `perm` maps new particle indices to those of the previous
-  /// build (empty: unchanged order), so that histories follow re-ordered particles.
+  /// build (empty: unchanged order), so that histories follow re-ordered particles. `r` is the
+  /// bounding radius.
   void build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n,
              double skin, std::span<const std::int64_t> perm = {});
+  /// Contacts per entry (1 for spheres and disks; 2 when spherocylinders are present: one per end,
+  /// see contact/geometry/capsule.hpp), each with its own tangential history. Set before build().
+  void set_slots(int slots) { slots_ = slots; }
+  int slots() const { return slots_; }
   std::span<const Entry> entries() const { return entries_; }
   std::span<Vec3> history() { return history_; }
   std::span<const Vec3> history() const { return history_; }
   void restore(std::vector<Entry> entries, std::vector<Vec3> history);
   /// Start of each particle's run of entries (plus the end): the unit of threading.
   std::span<const std::int64_t> particle_groups() const { return groups_; }
+  /// History: slots() vectors per entry, entry-major.
   /// Per entry: reaction force on the wall and its torque (2 per entry), of the last evaluation.
   std::span<Vec3> reactions() { return reactions_; }
   std::size_t bytes() const {
@@ -99,6 +105,7 @@ class WallContactList {
   std::vector<Entry> entries_, old_entries_;
   std::vector<Vec3> history_, old_history_, reactions_;
   std::vector<std::int64_t> groups_{0};
+  int slots_ = 1;
 };
 
 /// Adds the wall contact forces and torques to the particles and accumulates the reactions on

@@ -68,4 +68,9 @@ GF_HOST_DEVICE constexpr Quat quat_derivative(const Quat& q, const Vec3& omega_b
   return 0.5 * (q * Quat{0, omega_body.x, omega_body.y, omega_body.z});
 }
 
+/// q turned by `angle` (rad) about the world z axis (2D grains), renormalised.
+GF_HOST_DEVICE inline Quat turn_about_z(const Quat& q, real angle) {
+  return normalized(Quat{std::cos(0.5 * angle), 0, 0, std::sin(0.5 * angle)} * q);
+}
+
 }  // namespace gf

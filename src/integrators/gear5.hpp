@@ -17,8 +17,10 @@
 
 #include <cstddef>
 
+#include "core/domain.hpp"
 #include "core/host_device.hpp"
 #include "core/vec3.hpp"
+#include "particles/particle_store.hpp"
 
 namespace gf {
 
@@ -79,6 +81,24 @@ GF_HOST_DEVICE inline Gear5State gear5_start(const Vec3& x, const Vec3& v, const
 void gear5_predict(std::size_t n, Gear5State* s, double dt);
 void gear5_correct(std::size_t n, Gear5State* s, const Vec3* force, const double* mass, double dt,
                    const Gear5Coefficients& c);
+
+/// Gear5 on a particle store (`integrator: gear5`), one force evaluation per step:
+///   predict (positions wrapped into periodic boxes) -> forces -> correct.
+/// Translation: x'' = f/m. Rotation: the rotation vector phi with phi' = omega, omega' = T/I
+/// (scalar I), exact for spheres and for 2D disks and polygons (rotation about z only; a
+/// polygon's orientation follows phi_z). Spherocylinders need the rigid-body rotation of
+/// rigid_bodies.hpp and are refused with gear5 (the simulation says so before running).
+/// The higher derivatives are store fields (gear_x2..gear_x5, gear_phi, gear_w2..gear_w5: 9
+/// Vec3, 216 B per particle), so they follow re-ordering and go into checkpoints.
+struct Gear5Integrator {
+  static constexpr const char* key = "gear5";
+  /// Adds the fields (idempotent).
+  static void enable(ParticleStore& p);
+  /// The usual start: accelerations from the current forces and torques, higher derivatives 0.
+  static void start(ParticleStore& p);
+  static void predict(ParticleStore& p, const Domain& domain, double dt);
+  static void correct(ParticleStore& p, const Domain& domain, double dt);
+};
 
 /// Small driver for tests and single-body studies: n_steps steps of dt from t0 with
 /// accel(x, v, t) -> Vec3; calls observe(state, t) after each step (may be omitted).

@@ -90,6 +90,7 @@ std::size_t ParticleStore::add_sphere(std::int64_t pid, int mat, double r, doubl
   x()[i] = pos;
   v()[i] = vel;
   omega()[i] = w;
+  if (has_shapes()) polygon()[i] = -1;
   return i;
 }
 

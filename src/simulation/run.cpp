@@ -77,10 +77,12 @@ RunSummary Simulation::run(const RunOptions& opts) {
   const std::int64_t series_every = every_steps(out.series.every, dt_);
   const std::int64_t ckpt_every = every_steps(out.checkpoint.every, dt_);
 
-  std::unique_ptr<io::PvdSeries> pvd_particles, pvd_walls;
+  std::unique_ptr<io::PvdSeries> pvd_particles, pvd_walls, pvd_polygons;
   if (vtk_every > 0) {
     pvd_particles = std::make_unique<io::PvdSeries>(dir / "particles.pvd");
     if (!walls_.empty()) pvd_walls = std::make_unique<io::PvdSeries>(dir / "walls.pvd");
+    if (io::count_polygon_grains(particles_) > 0)
+      pvd_polygons = std::make_unique<io::PvdSeries>(dir / "polygons.pvd");
   }
   std::unique_ptr<io::SeriesCsv> series;
   std::vector<std::string> columns;
@@ -97,6 +99,11 @@ RunSummary Simulation::run(const RunOptions& opts) {
       const std::string pf = fmt::format("particles_{:09d}.vtp", step_);
       io::write_particles_vtp(dir / pf, particles_);
       pvd_particles->add(t, pf);
+      if (pvd_polygons) {
+        const std::string polyf = fmt::format("polygons_{:09d}.vtp", step_);
+        io::write_polygons_vtp(dir / polyf, particles_);
+        pvd_polygons->add(t, polyf);
+      }
       if (pvd_walls) {
         std::vector<SurfaceMesh> meshes;
         std::vector<Vec3> forces;

@@ -11,9 +11,13 @@
 #include "boundaries/fill.hpp"
 #include "contact/pair_forces.hpp"
 #include "contact/registry.hpp"
+#include "contact/shape_forces.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "integrators/gear5.hpp"
+#include "integrators/rigid_bodies.hpp"
 #include "integrators/velocity_verlet.hpp"
+#include "simulation/shape_builder.hpp"
 
 namespace gf {
 
@@ -53,10 +57,26 @@ FillSpec to_fill(const config::Fill& f) {
   return s;
 }
 
+/// Size of a grain for the skin and the default neighbour parameters: the sphere or disk radius,
+/// the cap radius of a spherocylinder, the equal-area radius of a polygon.
+double contact_radius(const ParticleStore& p, std::size_t i) {
+  if (!p.has_shapes()) return p.radius()[i];
+  switch (static_cast<ShapeCode>(p.shape()[i])) {
+    case ShapeCode::Spherocylinder:
+      return p.radius()[i] - p.half_length()[i];
+    case ShapeCode::Polygon:
+      return p.polygons()[static_cast<std::size_t>(p.polygon()[i])].equivalent_radius;
+    default:
+      return p.radius()[i];
+  }
+}
+
 }  // namespace
 
 Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
-  REQUIRE(cfg.dimension == 3, "only 3D runs are available");
+  REQUIRE(cfg.dimension == 2 || cfg.dimension == 3, "dimension must be 2 or 3");
+  two_d_ = cfg.dimension == 2;
+  gear_ = cfg.integrator == Gear5Integrator::key;
   domain_.lo = cfg.domain.min;
   domain_.hi = cfg.domain.max;
   domain_.periodic = cfg.domain.periodic;
@@ -73,10 +93,21 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   build_materials_and_pairs();
   build_walls();
 
-  double r_max = 0;
-  for (std::size_t i = 0; i < particles_.size(); ++i)
+  double r_max = 0, r_contact = 0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
     r_max = std::max(r_max, particles_.radius()[i]);
-  skin_ = cfg.neighbor.skin.value_or(0.5 * r_max > 0 ? 0.5 * r_max : 1e-3);
+    r_contact = std::max(r_contact, contact_radius(particles_, i));
+  }
+  // Half the largest contact radius: for spheres the usual skin; elongated grains get a skin
+  // sized by their thickness, not by their (rotation-invariant) bounding sphere.
+  skin_ = cfg.neighbor.skin.value_or(0.5 * r_contact > 0 ? 0.5 * r_contact : 1e-3);
+  if (two_d_) {
+    // Grains lie in z = 0; the cell grid needs a (one-cell) extent along z.
+    const double h = std::max(2 * r_max + skin_, 1e-3);
+    domain_.lo.z = -h;
+    domain_.hi.z = h;
+    domain_.periodic[2] = false;
+  }
   const Vec3 L = domain_.length();
   for (int k = 0; k < 3; ++k) {
     if (domain_.periodic[k] && L[k] <= 2 * (2 * r_max + skin_))
@@ -87,36 +118,76 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   }
   const double t0 = 0.0;
   for (auto& w : walls_) w.update_geometry(t0);
+  RigidBodies::init_angular_momentum(particles_);
+  if (gear_) Gear5Integrator::enable(particles_);
   update_neighbors(true);
   compute_forces();
+  if (gear_) Gear5Integrator::start(particles_);
 }
 
 void Simulation::build_particles() {
   std::map<std::string, int> mat_index;
   for (std::size_t m = 0; m < cfg_.materials.size(); ++m)
     mat_index[cfg_.materials[m].name] = static_cast<int>(m);
+  bool disks = false, polygons = false, capsules = false;
+  for (const auto& g : cfg_.particles) {
+    disks |= g.kind == config::Shape::Disk;
+    polygons |= g.kind == config::Shape::Polygon;
+    capsules |= g.kind == config::Shape::Spherocylinder;
+  }
+  if (disks && polygons)
+    throw InputError(fmt::format(
+        "{}: disks and polygons in one case are not supported yet (no disk-polygon contact); "
+        "use polygons only (e.g. regular 16-gons for round grains)",
+        cfg_.file.string()));
+  if (gear_ && capsules)
+    throw InputError(fmt::format(
+        "{}: integrator 'gear5' is not available with spherocylinders (their rotation needs the "
+        "rigid-body step of velocity_verlet); use integrator: velocity_verlet",
+        cfg_.file.string()));
+  if (polygons || capsules) particles_.enable_shapes();
+  if (capsules) wlist_.set_slots(2);
+
   std::vector<FilledSphere> placed;
   std::int64_t next_id = 1;
-  for (const auto& g : cfg_.particles) {
+  for (std::size_t gi = 0; gi < cfg_.particles.size(); ++gi) {
+    const auto& g = cfg_.particles[gi];
     auto it = mat_index.find(g.material);
     if (it == mat_index.end())
       throw InputError(fmt::format("{}: unknown material '{}'", where(g.loc), g.material));
     const int mat = it->second;
     const double rho = cfg_.materials[static_cast<std::size_t>(mat)].density;
     const RadiusDistribution dist = to_distribution(g.radius);
+    const std::uint64_t seed = g.fill ? g.fill->seed : 1 + gi;
+    ShapeBuilder builder(g, rho, cfg_.domain.thickness, seed);
+    const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
     if (g.fill) {
       Rng rng(g.fill->seed);
-      const auto spheres = generate_fill(to_fill(*g.fill), dist, rng, placed);
+      FillSpec spec = to_fill(*g.fill);
+      spec.two_d = two_d_;
+      // Round grains are placed with their own radii; other shapes by a sphere that holds any
+      // orientation of the largest grain, and their size is drawn afterwards.
+      RadiusDistribution place = dist;
+      if (!round) {
+        place.kind = RadiusDistribution::Kind::Fixed;
+        place.value = builder.placement_radius();
+      }
+      const auto spheres = generate_fill(spec, place, rng, placed);
       if (spheres.empty())
-        throw InputError(fmt::format("{}: the fill region holds no sphere of radius {} m",
-                                     where(g.loc), dist.largest()));
+        throw InputError(fmt::format("{}: the fill region holds no grain of bounding radius {} m",
+                                     where(g.loc), place.largest()));
       for (const auto& s : spheres) {
         Vec3 v = g.fill->velocity;
         if (g.fill->velocity_jitter > 0)
-          for (int k = 0; k < 3; ++k)
+          for (int k = 0; k < (two_d_ ? 2 : 3); ++k)
             v[k] += rng.uniform(-g.fill->velocity_jitter, g.fill->velocity_jitter);
-        particles_.add_sphere(next_id++, mat, s.r, rho, s.x, v);
-        placed.push_back(s);
+        const double size = round ? s.r : dist.sample(rng);
+        Quat q;
+        if (!round)
+          q = g.fill->orientation ? *g.fill->orientation
+                                  : ShapeBuilder::random_orientation(rng, two_d_);
+        const std::size_t i = builder.add(particles_, next_id++, mat, size, s.x, v, {}, q);
+        placed.push_back({s.x, particles_.radius()[i]});
       }
     }
     if (g.explicit_particles) {
@@ -125,8 +196,9 @@ void Simulation::build_particles() {
         const double r = e.radii.empty() ? dist.largest() : e.radii[k];
         const Vec3 v = e.velocities.empty() ? Vec3{} : e.velocities[k];
         const Vec3 w = e.angular_velocities.empty() ? Vec3{} : e.angular_velocities[k];
-        particles_.add_sphere(next_id++, mat, r, rho, e.positions[k], v, w);
-        placed.push_back({e.positions[k], r});
+        const Quat q = e.orientations.empty() ? Quat{} : e.orientations[k];
+        const std::size_t i = builder.add(particles_, next_id++, mat, r, e.positions[k], v, w, q);
+        placed.push_back({e.positions[k], particles_.radius()[i]});
       }
     }
   }
@@ -193,6 +265,14 @@ void Simulation::build_walls() {
       if (used[m] && pairs_(static_cast<int>(m), it->second).model < 0)
         throw InputError(fmt::format("{}: no entry in 'contacts' for the material pair [{}, {}]",
                                      where(wc.loc), materials_[m].name, wc.material));
+    if (particles_.has_shapes() && wc.kind == config::Wall::Kind::Cylinder) {
+      for (std::size_t i = 0; i < particles_.size(); ++i)
+        if (static_cast<ShapeCode>(particles_.shape()[i]) == ShapeCode::Polygon)
+          throw InputError(fmt::format(
+              "{}: cylinder walls with polygon grains are not supported yet; use plane or box "
+              "walls",
+              where(wc.loc)));
+    }
     Wall w;
     w.name = wc.name;
     w.group = wc.name;
@@ -270,7 +350,9 @@ void Simulation::compute_forces() {
   {
     StageTimers::Scope timer(timers_, Stage::Force);
     reset_forces(particles_, gravity_);
-    n_contacts_ = contact::compute_pair_forces(particles_, domain_, nlist_, pairs_, dt_);
+    n_contacts_ = particles_.has_shapes()
+                      ? contact::compute_shape_pair_forces(particles_, domain_, nlist_, pairs_, dt_)
+                      : contact::compute_pair_forces(particles_, domain_, nlist_, pairs_, dt_);
   }
   StageTimers::Scope timer(timers_, Stage::Walls);
   n_wall_contacts_ = compute_wall_forces(particles_, walls_, wlist_, pairs_, time(), dt_);
@@ -279,14 +361,24 @@ void Simulation::compute_forces() {
 void Simulation::step() {
   {
     StageTimers::Scope timer(timers_, Stage::Integrate);
-    VelocityVerlet::pre_force(particles_, domain_, dt_);
+    if (gear_) {
+      Gear5Integrator::predict(particles_, domain_, dt_);
+    } else {
+      VelocityVerlet::pre_force(particles_, domain_, dt_);
+      RigidBodies::pre_force(particles_, dt_);
+    }
   }
   ++step_;
   for (auto& w : walls_) w.update_geometry(time());
   update_neighbors(false);
   compute_forces();
   StageTimers::Scope timer(timers_, Stage::Integrate);
-  VelocityVerlet::post_force(particles_, dt_);
+  if (gear_) {
+    Gear5Integrator::correct(particles_, domain_, dt_);
+  } else {
+    VelocityVerlet::post_force(particles_, dt_);
+    RigidBodies::post_force(particles_, dt_);
+  }
 }
 
 double Simulation::total_energy() const {
@@ -318,11 +410,14 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
   std::optional<analysis::EnergyHeights> e;
   std::optional<double> elastic;
   auto energies = [&]() -> const analysis::EnergyHeights& {
-    if (!e) e = analysis::energy_and_heights(particles_, gravity_);
+    if (!e) e = analysis::energy_and_heights(particles_, gravity_, two_d_ ? 1 : 2);
     return *e;
   };
   auto elastic_energy = [&] {
-    if (!elastic) elastic = contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_);
+    if (!elastic)
+      elastic = particles_.has_shapes()
+                    ? contact::shape_pair_elastic_energy(particles_, domain_, nlist_, pairs_)
+                    : contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_);
     return *elastic;
   };
   std::vector<double> row;

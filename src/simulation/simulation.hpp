@@ -104,6 +104,8 @@ class Simulation {
   Rng rng_;
   StageTimers timers_;
   std::int64_t n_contacts_ = 0, n_wall_contacts_ = 0;
+  bool two_d_ = false;  ///< dimension: 2 (grains in z = 0, rotation about z)
+  bool gear_ = false;   ///< integrator: gear5
 };
 
 }  // namespace gf

@@ -165,7 +165,28 @@ def check_particles(c, name, ds, np, vtk_to_numpy, expected_n, floor_z):
     if "speed" in pd and "velocity" in pd and pd["velocity"].shape == (n, 3):
         c.check(bool(np.allclose(pd["speed"], np.linalg.norm(pd["velocity"], axis=1), rtol=1e-12, atol=0)),
                 f"{name}: 'speed' is not |velocity|")
+    # Shapes (docs/output.md): unit quaternions (w, x, y, z) and unit axes.
+    for key, comps in (("orientation", 4), ("axis", 3)):
+        if key in pd and c.check(pd[key].shape == (n, comps), f"{name}: '{key}' has shape {pd[key].shape}"):
+            norms = np.linalg.norm(pd[key], axis=1) if n > 0 else np.zeros(0)
+            c.check(bool(np.allclose(norms, 1.0, rtol=0, atol=1e-9)), f"{name}: '{key}' not unit: {norms}")
     return set(pd["id"].tolist()) if "id" in pd else None
+
+
+def check_polygons(c, name, ds, np, vtk_to_numpy):
+    """A polygons_*.vtp: one polygon cell (>= 3 points, finite) per polygon grain, unique ids."""
+    m = ds.GetNumberOfCells()
+    c.check(ds.GetNumberOfPolys() == m, f"{name}: {m} cells but {ds.GetNumberOfPolys()} polygons")
+    cd = arrays_of(ds.GetCellData(), np, vtk_to_numpy)
+    for key, shape in (("id", (m,)), ("velocity", (m, 3)), ("angular_velocity", (m, 3))):
+        if c.check(key in cd, f"{name}: no cell array '{key}' (has {sorted(cd)})") and m > 0:
+            c.check(cd[key].shape == shape, f"{name}: '{key}' has shape {cd[key].shape}, expected {shape}")
+    if "id" in cd:
+        c.check(len(np.unique(cd["id"])) == len(cd["id"]), f"{name}: polygon ids are not unique")
+    if ds.GetNumberOfPoints() > 0:
+        c.check(bool(np.all(np.isfinite(vtk_to_numpy(ds.GetPoints().GetData())))), f"{name}: non-finite vertices")
+    for k in range(m):
+        c.check(ds.GetCell(k).GetNumberOfPoints() >= 3, f"{name}: polygon {k} has fewer than 3 vertices")
 
 
 def check_walls(c, name, ds, np, vtk_to_numpy):
@@ -224,6 +245,8 @@ def check_output(c, folder, expected_n, floor_z):
                     id_sets.append(ids)
             elif "wall_id" in cell_names:
                 check_walls(c, label, ds, np, vtk_to_numpy)
+            elif "id" in cell_names:
+                check_polygons(c, label, ds, np, vtk_to_numpy)
             else:
                 c.check(ds.GetNumberOfPoints() >= 0, f"{label}: unreadable")
         if id_sets:

@@ -107,4 +107,44 @@ inline void add_box(config::Case& c, const std::string& name, Vec3 lo, Vec3 hi,
   c.walls.push_back(w);
 }
 
+/// Explicit spherocylinders of cap radius r and cylinder length L; `q` one orientation each
+/// (body axis e_z), empty = identity.
+inline config::ParticleGroup& add_capsules(config::Case& c, const std::string& material,
+                                           double radius, double length, std::vector<Vec3> x,
+                                           std::vector<Quat> q = {}, std::vector<Vec3> v = {},
+                                           std::vector<Vec3> w = {}) {
+  add_spheres(c, material, radius, std::move(x), std::move(v), std::move(w));
+  config::ParticleGroup& g = c.particles.back();
+  g.shape = "spherocylinder";
+  g.kind = config::Shape::Spherocylinder;
+  g.length = length;
+  g.explicit_particles->orientations = std::move(q);
+  return g;
+}
+
+/// Explicit 2D polygons: regular n-gons of equal-area radius r (a 2D case: dimension 2).
+inline config::ParticleGroup& add_polygons(config::Case& c, const std::string& material,
+                                           double radius, int sides, std::vector<Vec3> x,
+                                           std::vector<Quat> q = {}, std::vector<Vec3> v = {},
+                                           std::vector<Vec3> w = {}) {
+  add_spheres(c, material, radius, std::move(x), std::move(v), std::move(w));
+  config::ParticleGroup& g = c.particles.back();
+  g.shape = "polygon";
+  g.kind = config::Shape::Polygon;
+  g.polygon.kind = config::PolygonSpec::Kind::Regular;
+  g.polygon.sides = sides;
+  g.explicit_particles->orientations = std::move(q);
+  return g;
+}
+
+/// Explicit 2D disks.
+inline config::ParticleGroup& add_disks(config::Case& c, const std::string& material, double radius,
+                                        std::vector<Vec3> x, std::vector<Vec3> v = {}) {
+  add_spheres(c, material, radius, std::move(x), std::move(v));
+  config::ParticleGroup& g = c.particles.back();
+  g.shape = "disk";
+  g.kind = config::Shape::Disk;
+  return g;
+}
+
 }  // namespace gf::test

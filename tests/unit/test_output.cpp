@@ -11,11 +11,14 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <random>
+#include <ranges>
 #include <sstream>
 
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/quaternion.hpp"
 #include "io/csv/csv.hpp"
 #include "io/restart/h5.hpp"
 #include "io/vtk/vtk.hpp"
@@ -628,6 +631,330 @@ TEST(Vtk, PvdSeriesIsRewrittenOnEveryAdd) {
   EXPECT_EQ(broken.size(), 0u);
 }
 
+// ---- Shapes: glyph arrays, polygon cells, CSV columns ---------------------------------------
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// A store with every shape. Keep in step with SHAPE_SAMPLE in tests/python/test_vtk_shapes.py,
+/// which checks the files written from it by OutputSample.WritesShapeSampleForPythonReadback.
+///   id 100 sphere          r 0.004, identity orientation
+///   id 101 spherocylinder  r_cap 0.002, half_length 0.006, 90 deg about x: axis (0, -1, 0)
+///   id 102 spherocylinder  r_cap 0.001, half_length 0.004, 30 deg about y then 40 deg about z
+///   id 103 polygon 0       square of side 0.01, 30 deg about z
+///   id 104 disk            r 0.006, 90 deg about z: axis (0, 1, 0)
+///   id 105 polygon 1       triangle, -45 deg about z
+ParticleStore shape_store() {
+  ParticleStore s;
+  s.enable_shapes();
+  auto& table = s.polygons();
+  PolygonShape square;
+  square.body.n = 4;
+  square.body.v[0] = {-0.005, -0.005};
+  square.body.v[1] = {0.005, -0.005};
+  square.body.v[2] = {0.005, 0.005};
+  square.body.v[3] = {-0.005, 0.005};
+  square.area = 1e-4;
+  square.circumradius = 0.005 * std::numbers::sqrt2;
+  square.equivalent_radius = std::sqrt(1e-4 / kPi);
+  table.push_back(square);
+  PolygonShape triangle;
+  triangle.body.n = 3;
+  triangle.body.v[0] = {0.006, 0};
+  triangle.body.v[1] = {-0.003, 0.0052};
+  triangle.body.v[2] = {-0.003, -0.0052};
+  triangle.area = 0.5 * 0.009 * 0.0104;
+  triangle.circumradius = 0.006;
+  triangle.equivalent_radius = std::sqrt(triangle.area / kPi);
+  table.push_back(triangle);
+
+  const Vec3 ex{1, 0, 0}, ey{0, 1, 0}, ez{0, 0, 1};
+  auto add = [&](std::int64_t id, int material, ShapeCode shape, double radius, double half_length,
+                 const Quat& q, int polygon, const Vec3& x, const Vec3& v, const Vec3& w) {
+    const std::size_t i = s.add_sphere(id, material, radius, 2500, x, v, w);
+    s.shape()[i] = static_cast<std::int32_t>(shape);
+    s.half_length()[i] = half_length;
+    s.orientation()[i] = q;
+    s.polygon()[i] = polygon;
+  };
+  add(100, 0, ShapeCode::Sphere, 0.004, 0, Quat{}, -1, {0, 0, 0.01}, {0, 0, -1}, {});
+  add(101, 1, ShapeCode::Spherocylinder, 0.008, 0.006, quat_from_axis_angle(ex, kPi / 2), -1,
+      {0.02, 0, 0.01}, {1, 0, 0}, {0, 0, 2});
+  add(102, 1, ShapeCode::Spherocylinder, 0.005, 0.004,
+      quat_from_axis_angle(ez, 40 * kPi / 180) * quat_from_axis_angle(ey, 30 * kPi / 180), -1,
+      {0.04, 0.01, 0.02}, {}, {0.5, 0, 0});
+  add(103, 2, ShapeCode::Polygon, square.circumradius, 0, quat_from_axis_angle(ez, kPi / 6), 0,
+      {0.1, 0.05, 0}, {0.5, -0.5, 0}, {0, 0, -3});
+  add(104, 2, ShapeCode::Disk, 0.006, 0, quat_from_axis_angle(ez, kPi / 2), -1, {0.2, 0, 0},
+      {0, 0.25, 0}, {0, 0, 1});
+  add(105, 3, ShapeCode::Polygon, triangle.circumradius, 0, quat_from_axis_angle(ez, -kPi / 4), 1,
+      {0.15, 0.02, 0}, {-0.1, 0, 0}, {0, 0, 0.5});
+  return s;
+}
+
+std::vector<std::string> split(const std::string& line, char sep = ',') {
+  std::vector<std::string> cells;
+  std::stringstream ls(line);
+  for (std::string c; std::getline(ls, c, sep);) cells.push_back(c);
+  return cells;
+}
+
+}  // namespace
+
+TEST(OutputShapes, AxisIsTheWorldImageOfTheBodyAxis) {
+  const Quat about_x = quat_from_axis_angle({1, 0, 0}, kPi / 2);
+  const Vec3 a = io::shape_axis(static_cast<std::int32_t>(ShapeCode::Spherocylinder), about_x);
+  EXPECT_NEAR(a.x, 0, 1e-15);
+  EXPECT_NEAR(a.y, -1, 1e-15);
+  EXPECT_NEAR(a.z, 0, 1e-15);
+  // Spheres: body e_z too; disks and polygons: body e_x (the plane normal would not show the
+  // rotation).
+  const Quat about_z = quat_from_axis_angle({0, 0, 1}, kPi / 6);
+  const Vec3 s = io::shape_axis(static_cast<std::int32_t>(ShapeCode::Sphere), about_z);
+  EXPECT_NEAR(s.z, 1, 1e-15);
+  for (ShapeCode c : {ShapeCode::Disk, ShapeCode::Polygon}) {
+    const Vec3 p = io::shape_axis(static_cast<std::int32_t>(c), about_z);
+    EXPECT_NEAR(p.x, std::cos(kPi / 6), 1e-15);
+    EXPECT_NEAR(p.y, std::sin(kPi / 6), 1e-15);
+    EXPECT_NEAR(p.z, 0, 1e-15);
+  }
+}
+
+TEST(OutputShapes, ParticlesVtpCarriesOrientationAndGlyphArrays) {
+  TempDir dir;
+  const ParticleStore s = shape_store();
+  const std::size_t n = s.size();
+  io::write_particles_vtp(dir / "p.vtp", s);
+  const Vtp vtp(dir / "p.vtp");
+  EXPECT_EQ(vtp.piece("NumberOfPoints"), "6");
+  EXPECT_EQ(vtp.blocks_size(), vtp.appended.size());
+
+  std::vector<std::string> keys;
+  for (const auto& [k, a] : vtp.arrays) keys.push_back(k);
+  EXPECT_EQ(keys,
+            (std::vector<std::string>{
+                "PointData/angular_velocity", "PointData/axis", "PointData/cap_offset",
+                "PointData/cap_radius", "PointData/cylinder_scale", "PointData/force",
+                "PointData/half_length", "PointData/id", "PointData/length", "PointData/material",
+                "PointData/orientation", "PointData/polygon", "PointData/radius", "PointData/shape",
+                "PointData/speed", "PointData/velocity", "Points/position", "Verts/connectivity",
+                "Verts/offsets"}));
+
+  // The quaternion: 4 x Float64, w first, bit for bit.
+  const auto q = vtp.get<double>("PointData/orientation", "Float64", 4);
+  ASSERT_EQ(q.size(), 4 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Quat& e = s.orientation()[i];
+    EXPECT_EQ(q[4 * i + 0], e.w) << i;
+    EXPECT_EQ(q[4 * i + 1], e.x) << i;
+    EXPECT_EQ(q[4 * i + 2], e.y) << i;
+    EXPECT_EQ(q[4 * i + 3], e.z) << i;
+  }
+  EXPECT_EQ(vtp.get<std::int32_t>("PointData/shape", "Int32", 1),
+            (std::vector<std::int32_t>{0, 1, 1, 3, 2, 3}));
+  EXPECT_EQ(vtp.get<std::int32_t>("PointData/polygon", "Int32", 1),
+            (std::vector<std::int32_t>{-1, -1, -1, 0, -1, 1}));
+  EXPECT_EQ(vtp.get<double>("PointData/half_length", "Float64", 1),
+            (std::vector<double>{0, 0.006, 0.004, 0, 0, 0}));
+
+  const auto axis = vtp.get<double>("PointData/axis", "Float64", 3);
+  const auto length = vtp.get<double>("PointData/length", "Float64", 1);
+  const auto cap = vtp.get<double>("PointData/cap_radius", "Float64", 1);
+  const auto cyl = vtp.get<double>("PointData/cylinder_scale", "Float64", 3);
+  const auto off = vtp.get<double>("PointData/cap_offset", "Float64", 3);
+  ASSERT_EQ(axis.size(), 3 * n);
+  ASSERT_EQ(length.size(), n);
+  ASSERT_EQ(cap.size(), n);
+  ASSERT_EQ(cyl.size(), 3 * n);
+  ASSERT_EQ(off.size(), 3 * n);
+  const double c30 = std::cos(kPi / 6), s30 = std::sin(kPi / 6);
+  const double c40 = std::cos(40 * kPi / 180), s40 = std::sin(40 * kPi / 180);
+  const std::vector<Vec3> expected_axis = {
+      {0, 0, 1},                              // sphere: body e_z, identity
+      {0, -1, 0},                             // e_z turned 90 deg about x
+      {s30 * c40, s30 * s40, c30},            // e_z -> (sin 30, 0, cos 30), then 40 deg about z
+      {c30, s30, 0},                          // polygon: body e_x turned 30 deg about z
+      {0, 1, 0},                              // disk: body e_x turned 90 deg about z
+      {std::sqrt(0.5), -std::sqrt(0.5), 0}};  // polygon: -45 deg about z
+  const std::vector<double> expected_cap = {0.004, 0.002, 0.001, 0, 0.006, 0};
+  for (std::size_t i = 0; i < n; ++i) {
+    const double h = s.half_length()[i];
+    EXPECT_NEAR(length[i], 2 * s.radius()[i], 1e-18) << i;
+    EXPECT_NEAR(cap[i], expected_cap[i], 1e-18) << i;
+    EXPECT_NEAR(cyl[3 * i + 0], 2 * h, 1e-18) << i;
+    EXPECT_NEAR(cyl[3 * i + 1], 2 * expected_cap[i], 1e-18) << i;
+    EXPECT_NEAR(cyl[3 * i + 2], 2 * expected_cap[i], 1e-18) << i;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(axis[3 * i + k], expected_axis[i][k], 1e-15) << i << " " << k;
+      EXPECT_NEAR(off[3 * i + k], h * expected_axis[i][k], 1e-17) << i << " " << k;
+    }
+  }
+  // A spherocylinder's length is tip to tip: 2 (half_length + r_cap).
+  EXPECT_NEAR(length[1], 2 * (0.006 + 0.002), 1e-18);
+}
+
+TEST(OutputShapes, EmptyStoreWithShapesIsValid) {
+  TempDir dir;
+  ParticleStore s;
+  s.enable_shapes();
+  io::write_particles_vtp(dir / "p.vtp", s);
+  const Vtp vtp(dir / "p.vtp");
+  EXPECT_EQ(vtp.piece("NumberOfPoints"), "0");
+  EXPECT_TRUE(vtp.get<double>("PointData/orientation", "Float64", 4).empty());
+  EXPECT_TRUE(vtp.get<double>("PointData/axis", "Float64", 3).empty());
+  EXPECT_EQ(vtp.blocks_size(), vtp.appended.size());
+  io::write_polygons_vtp(dir / "g.vtp", s);
+  const Vtp g(dir / "g.vtp");
+  EXPECT_EQ(g.piece("NumberOfPolys"), "0");
+  EXPECT_EQ(g.blocks_size(), g.appended.size());
+}
+
+TEST(OutputShapes, PolygonsVtpHasOnePolygonCellPerGrain) {
+  TempDir dir;
+  const ParticleStore s = shape_store();
+  EXPECT_EQ(io::count_polygon_grains(s), 2u);
+  io::write_polygons_vtp(dir / "g.vtp", s);
+  const Vtp vtp(dir / "g.vtp");
+  EXPECT_NE(vtp.header.find("type=\"PolyData\""), std::string::npos);
+  EXPECT_EQ(vtp.piece("NumberOfPoints"), "7");
+  EXPECT_EQ(vtp.piece("NumberOfPolys"), "2");
+  EXPECT_EQ(vtp.piece("NumberOfVerts"), "0");
+  EXPECT_EQ(vtp.blocks_size(), vtp.appended.size());
+  std::vector<std::string> keys;
+  for (const auto& [k, a] : vtp.arrays) keys.push_back(k);
+  EXPECT_EQ(keys,
+            (std::vector<std::string>{"CellData/angular_velocity", "CellData/area", "CellData/id",
+                                      "CellData/material", "CellData/speed", "CellData/velocity",
+                                      "Points/position", "Polys/connectivity", "Polys/offsets"}));
+
+  EXPECT_EQ(vtp.get<std::int64_t>("Polys/connectivity", "Int64", 1),
+            (std::vector<std::int64_t>{0, 1, 2, 3, 4, 5, 6}));
+  EXPECT_EQ(vtp.get<std::int64_t>("Polys/offsets", "Int64", 1), (std::vector<std::int64_t>{4, 7}));
+  EXPECT_EQ(vtp.get<std::int64_t>("CellData/id", "Int64", 1),
+            (std::vector<std::int64_t>{103, 105}));
+  EXPECT_EQ(vtp.get<std::int32_t>("CellData/material", "Int32", 1),
+            (std::vector<std::int32_t>{2, 3}));
+  EXPECT_EQ(vtp.get<double>("CellData/velocity", "Float64", 3),
+            (std::vector<double>{0.5, -0.5, 0, -0.1, 0, 0}));
+  EXPECT_EQ(vtp.get<double>("CellData/angular_velocity", "Float64", 3),
+            (std::vector<double>{0, 0, -3, 0, 0, 0.5}));
+  const auto speed = vtp.get<double>("CellData/speed", "Float64", 1);
+  ASSERT_EQ(speed.size(), 2u);
+  EXPECT_DOUBLE_EQ(speed[0], std::sqrt(0.5));
+  EXPECT_DOUBLE_EQ(speed[1], 0.1);
+  EXPECT_EQ(vtp.get<double>("CellData/area", "Float64", 1),
+            (std::vector<double>{s.polygons()[0].area, s.polygons()[1].area}));
+
+  // World vertices: centre + body vertex turned about z (counter-clockwise kept).
+  auto world = [](Vec3 c, double angle, double vx, double vy) {
+    return Vec3{c.x + std::cos(angle) * vx - std::sin(angle) * vy,
+                c.y + std::sin(angle) * vx + std::cos(angle) * vy, c.z};
+  };
+  std::vector<Vec3> expected;
+  for (const auto& v : s.polygons()[0].body.v | std::views::take(4))
+    expected.push_back(world({0.1, 0.05, 0}, kPi / 6, v.x, v.y));
+  for (const auto& v : s.polygons()[1].body.v | std::views::take(3))
+    expected.push_back(world({0.15, 0.02, 0}, -kPi / 4, v.x, v.y));
+  const auto pts = vtp.get<double>("Points/position", "Float64", 3);
+  ASSERT_EQ(pts.size(), 3 * expected.size());
+  for (std::size_t j = 0; j < expected.size(); ++j)
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(pts[3 * j + k], expected[j][k], 1e-15) << j;
+}
+
+TEST(OutputShapes, PolygonsVtpWithoutPolygonsIsEmpty) {
+  TempDir dir;
+  ParticleStore spheres;  // no shape fields at all
+  spheres.add_sphere(1, 0, 0.01, 2500, {0, 0, 0});
+  EXPECT_EQ(io::count_polygon_grains(spheres), 0u);
+  io::write_polygons_vtp(dir / "g.vtp", spheres);
+  const Vtp vtp(dir / "g.vtp");
+  EXPECT_EQ(vtp.piece("NumberOfPoints"), "0");
+  EXPECT_EQ(vtp.piece("NumberOfPolys"), "0");
+  EXPECT_TRUE(vtp.get<std::int64_t>("CellData/id", "Int64", 1).empty());
+  EXPECT_TRUE(vtp.get<std::int64_t>("Polys/offsets", "Int64", 1).empty());
+  EXPECT_EQ(vtp.blocks_size(), vtp.appended.size());
+}
+
+TEST(OutputShapes, BadPolygonIndexIsAnErrorAndWritesNothing) {
+  TempDir dir;
+  std::ofstream(dir / "g.vtp") << "old";
+  ParticleStore s = shape_store();
+  s.polygon()[5] = 7;  // table of 2
+  std::string what;
+  try {
+    io::write_polygons_vtp(dir / "g.vtp", s);
+  } catch (const Error& e) {
+    what = e.what();
+  }
+  EXPECT_NE(what.find("id 105"), std::string::npos) << what;
+  EXPECT_NE(what.find("polygon 7"), std::string::npos) << what;
+  s.polygon()[5] = -1;
+  EXPECT_THROW(io::write_polygons_vtp(dir / "g.vtp", s), Error);
+  s.polygon()[5] = 1;
+  s.polygons()[1].body.n = 2;  // degenerate
+  EXPECT_THROW(io::write_polygons_vtp(dir / "g.vtp", s), Error);
+  EXPECT_EQ(slurp(dir / "g.vtp"), "old");
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"g.vtp"});
+}
+
+TEST(OutputShapes, CsvHasQuaternionAxisAndIntegerShapeColumns) {
+  TempDir dir;
+  const ParticleStore s = shape_store();
+  EXPECT_EQ(fmt::format("{}", fmt::join(io::particle_csv_columns(s), ",")),
+            "id,material,radius,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,shape,half_length,qw,qx,qy,qz,"
+            "ax,ay,az,polygon");
+  io::write_particles_csv(dir / "p.csv", s);
+  std::istringstream in(slurp(dir / "p.csv"));
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = split(line);
+  ASSERT_EQ(header.size(), 25u);
+  std::map<std::string, std::size_t> col;
+  for (std::size_t c = 0; c < header.size(); ++c) col[header[c]] = c;
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(in, line)) rows.push_back(split(line));
+  ASSERT_EQ(rows.size(), s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const auto& r = rows[i];
+    ASSERT_EQ(r.size(), header.size()) << i;
+    // Integers as integers.
+    EXPECT_EQ(r[col["id"]], std::to_string(s.id()[i]));
+    EXPECT_EQ(r[col["material"]], std::to_string(s.material()[i]));
+    EXPECT_EQ(r[col["shape"]], std::to_string(s.shape()[i]));
+    EXPECT_EQ(r[col["polygon"]], std::to_string(s.polygon()[i]));
+    // Reals read back exactly.
+    auto num = [&](const char* name) { return std::strtod(r[col[name]].c_str(), nullptr); };
+    EXPECT_EQ(num("half_length"), s.half_length()[i]);
+    const Quat& q = s.orientation()[i];
+    EXPECT_EQ(num("qw"), q.w);
+    EXPECT_EQ(num("qx"), q.x);
+    EXPECT_EQ(num("qy"), q.y);
+    EXPECT_EQ(num("qz"), q.z);
+    const Vec3 a = io::shape_axis(s.shape()[i], q);
+    EXPECT_EQ(num("ax"), a.x);
+    EXPECT_EQ(num("ay"), a.y);
+    EXPECT_EQ(num("az"), a.z);
+  }
+  EXPECT_EQ(rows[1][col["shape"]], "1");
+  EXPECT_EQ(rows[1][col["half_length"]], "0.006");
+  EXPECT_EQ(rows[0][col["qw"]], "1");
+  EXPECT_EQ(rows[0][col["qx"]], "0");
+  EXPECT_NEAR(std::strtod(rows[1][col["ay"]].c_str(), nullptr), -1, 1e-15);
+  EXPECT_EQ(rows[3][col["polygon"]], "0");
+  EXPECT_EQ(rows[0][col["polygon"]], "-1");
+
+  // Another quaternion field keeps the NAME_w.. naming; no axis columns after it.
+  ParticleStore t;
+  t.add_field("spin", FieldType::Quat, "1", kOutput);
+  t.add_sphere(1, 0, 0.01, 2500, {0, 0, 0});
+  EXPECT_EQ(fmt::format("{}", fmt::join(io::particle_csv_columns(t), ",")),
+            "id,material,radius,x,y,z,vx,vy,vz,wx,wy,wz,fx,fy,fz,spin_w,spin_x,spin_y,spin_z");
+  io::write_particles_csv(dir / "t.csv", t);
+  const std::string text = slurp(dir / "t.csv");
+  EXPECT_EQ(text.substr(text.find('\n') + 1), "1,0,0.01,0,0,0,0,0,0,0,0,0,0,0,0,1,0,0,0\n");
+}
+
 // Writes a small sample series for tests/python/test_vtk_readback.py when GF_SAMPLE_OUTPUT_DIR
 // is set (until `grainflow run` produces output itself).
 TEST(OutputSample, WritesSeriesForPythonReadback) {
@@ -655,4 +982,30 @@ TEST(OutputSample, WritesSeriesForPythonReadback) {
     walls.add(t, w);
   }
   io::write_particles_csv(dir / "particles.csv", s);
+}
+
+// Writes the shape sample for tests/python/test_vtk_shapes.py (which runs this test with
+// GF_SAMPLE_OUTPUT_DIR set): two output steps of shape_store() as particles_*.vtp,
+// polygons_*.vtp with their .pvd series, and particles.csv. Between the steps every grain turns
+// by 90 degrees about z, so step 1 checks a second orientation.
+TEST(OutputSample, WritesShapeSampleForPythonReadback) {
+  const char* out = std::getenv("GF_SAMPLE_OUTPUT_DIR");
+  if (!out || !*out) GTEST_SKIP() << "GF_SAMPLE_OUTPUT_DIR not set";
+  const fs::path dir(out);
+  fs::create_directories(dir);
+  io::PvdSeries particles(dir / "particles.pvd"), polygons(dir / "polygons.pvd");
+  ParticleStore s = shape_store();
+  const Quat turn = quat_from_axis_angle({0, 0, 1}, kPi / 2);
+  for (int step = 0; step < 2; ++step) {
+    if (step > 0)
+      for (std::size_t i = 0; i < s.size(); ++i) s.orientation()[i] = turn * s.orientation()[i];
+    const double t = 0.01 * step;
+    const std::string p = fmt::format("particles_{:06d}.vtp", step),
+                      g = fmt::format("polygons_{:06d}.vtp", step);
+    io::write_particles_vtp(dir / p, s);
+    particles.add(t, p);
+    io::write_polygons_vtp(dir / g, s);
+    polygons.add(t, g);
+    io::write_particles_csv(dir / fmt::format("particles_{:06d}.csv", step), s);
+  }
 }

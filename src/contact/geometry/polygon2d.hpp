@@ -123,10 +123,19 @@ GF_HOST_DEVICE inline void clip_left_of(const TaggedPolygon& in, const Vec2& a, 
                                         TaggedPolygon& out) {
   out.n = 0;
   const Vec2 d = b - a;
+  // Vertices within 1e-12 of the edge length of the line count as on it, so that edges of i
+  // that lie along an edge of j (aligned faces: squares stacked in a column) are classified the
+  // same way at both ends and keep i's tag, instead of rounding leaving slivers whose tags put
+  // the chord, and hence the normal, askew.
+  const double tol = 1e-12 * dot(d, d);
+  auto side = [&](const Vec2& x) {
+    const double sx = cross(d, x - a);
+    return std::abs(sx) <= tol ? 0.0 : sx;
+  };
   for (int k = 0; k < in.n; ++k) {
     const int k1 = k + 1 == in.n ? 0 : k + 1;
     const Vec2 p = in.v[k], q = in.v[k1];
-    const double sp = cross(d, p - a), sq = cross(d, q - a);
+    const double sp = side(p), sq = side(q);
     if (out.n + 2 > kMaxOverlapVertices) return;  // cannot happen for convex input
     if (sp >= 0) {
       if (sq >= 0) {

@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "io/vtk/vtk.hpp"
 
 namespace gf::io {
 
@@ -26,6 +27,19 @@ std::array<std::string, 3> vec3_columns(const std::string& name) {
   return {name + "_x", name + "_y", name + "_z"};
 }
 
+/// Column names of one quaternion field.
+std::array<std::string, 4> quat_columns(const std::string& name) {
+  if (name == "orientation") return {"qw", "qx", "qy", "qz"};
+  return {name + "_w", name + "_x", name + "_y", name + "_z"};
+}
+
+/// Index of the field after whose columns ax,ay,az go (the store's orientation), or -1.
+int axis_after_field(const ParticleStore& store) {
+  if (!store.has_shapes()) return -1;
+  const int f = store.find_field("orientation");
+  return f >= 0 && (store.fields()[static_cast<std::size_t>(f)].flags & kOutput) ? f : -1;
+}
+
 void require_plain_name(const std::string& name, const std::filesystem::path& path) {
   REQUIRE(!name.empty() && name.find_first_of(",\"\r\n") == std::string::npos,
           "CSV column name '{}' for '{}' is empty or holds a comma, quote or line break", name,
@@ -36,15 +50,19 @@ void require_plain_name(const std::string& name, const std::filesystem::path& pa
 
 std::vector<std::string> particle_csv_columns(const ParticleStore& store) {
   std::vector<std::string> cols;
-  for (const FieldInfo& fi : store.fields()) {
+  const int axis_after = axis_after_field(store);
+  const auto& fields = store.fields();
+  for (std::size_t f = 0; f < fields.size(); ++f) {
+    const FieldInfo& fi = fields[f];
     if (!(fi.flags & kOutput)) continue;
     if (fi.type == FieldType::Vec3) {
       for (auto& c : vec3_columns(fi.name)) cols.push_back(std::move(c));
     } else if (fi.type == FieldType::Quat) {
-      for (const char* c : {"_w", "_x", "_y", "_z"}) cols.push_back(fi.name + c);
+      for (auto& c : quat_columns(fi.name)) cols.push_back(std::move(c));
     } else {
       cols.push_back(fi.name);
     }
+    if (static_cast<int>(f) == axis_after) cols.insert(cols.end(), {"ax", "ay", "az"});
   }
   return cols;
 }
@@ -53,9 +71,11 @@ void write_particles_csv(const std::filesystem::path& path, const ParticleStore&
   const std::vector<std::string> cols = particle_csv_columns(store);
   for (const auto& c : cols) require_plain_name(c, path);
   std::vector<const Column*> out_cols;
+  const Column* axis_after = nullptr;  // ax,ay,az follow this column
   const auto& fields = store.fields();
   for (std::size_t f = 0; f < fields.size(); ++f)
     if (fields[f].flags & kOutput) out_cols.push_back(&store.column(static_cast<int>(f)));
+  if (const int f = axis_after_field(store); f >= 0) axis_after = &store.column(f);
 
   write_atomically(path, [&](std::ostream& out) {
     fmt::memory_buffer buf;
@@ -77,6 +97,10 @@ void write_particles_csv(const std::filesystem::path& path, const ParticleStore&
             },
             *col);
         first = false;
+        if (col == axis_after) {
+          const Vec3 a = shape_axis(store.shape()[i], store.orientation()[i]);
+          fmt::format_to(it, ",{},{},{}", a.x, a.y, a.z);
+        }
       }
       buf.push_back('\n');
       if (buf.size() > (1u << 20)) {

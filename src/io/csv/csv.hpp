@@ -17,10 +17,15 @@ namespace gf::io {
 
 /// Column names of a particle CSV: every kOutput field in field-table order; Vec3 fields are
 /// split into three columns: position -> x,y,z; velocity -> vx,vy,vz; angular_velocity ->
-/// wx,wy,wz; force -> fx,fy,fz; any other NAME -> NAME_x,NAME_y,NAME_z.
+/// wx,wy,wz; force -> fx,fy,fz; any other NAME -> NAME_x,NAME_y,NAME_z. Quaternion fields into
+/// four: orientation -> qw,qx,qy,qz; any other NAME -> NAME_w,NAME_x,NAME_y,NAME_z. When the
+/// store has shapes (columns shape, half_length, qw..qz, polygon), the orientation columns are
+/// followed by ax,ay,az = io::shape_axis(shape, q) (io/vtk/vtk.hpp): a spherocylinder's world
+/// axis; R(q) e_x for disks and polygons. See docs/output.md.
 std::vector<std::string> particle_csv_columns(const ParticleStore& store);
 
-/// One row per particle under the header of particle_csv_columns (SI units). Atomic.
+/// One row per particle under the header of particle_csv_columns (SI units; integer fields as
+/// integers, reals in the shortest form that reads back to the same double). Atomic.
 void write_particles_csv(const std::filesystem::path& path, const ParticleStore& store);
 
 /// A time-series CSV: header `time,<columns>`, then one row per append. The file is created

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <ostream>
@@ -17,6 +18,8 @@ namespace gf::io {
 namespace {
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
+static_assert(sizeof(Quat) == 4 * sizeof(double) && offsetof(Quat, w) == 0,
+              "Quat must be four packed doubles w, x, y, z");
 static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big,
               "mixed-endian machines are not supported");
 
@@ -130,6 +133,45 @@ void add_vertex_cells(AppendedArrays& arrays, std::size_t n, std::string& xml) {
   xml += "      <Verts>\n        " + conn_tag + "\n        " + offsets_tag + "\n      </Verts>\n";
 }
 
+/// The glyph arrays of a store with shapes (see write_particles_vtp), as point data.
+void add_glyph_arrays(AppendedArrays& arrays, const ParticleStore& store, std::string& point_data) {
+  const std::size_t n = store.size();
+  std::vector<double> axis(3 * n), length(n), cap_radius(n), cylinder_scale(3 * n),
+      cap_offset(3 * n);
+  const std::int32_t* shape = store.shape();
+  const double* half_length = store.half_length();
+  const Quat* q = store.orientation();
+  const double* radius = store.radius();
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 a = shape_axis(shape[i], q[i]);
+    const double h = half_length[i];
+    const double rc =
+        shape[i] == static_cast<std::int32_t>(ShapeCode::Polygon) ? 0.0 : radius[i] - h;
+    const Vec3 off = h * a;
+    length[i] = 2 * radius[i];
+    cap_radius[i] = rc;
+    for (int k = 0; k < 3; ++k) {
+      axis[3 * i + k] = a[k];
+      cap_offset[3 * i + k] = off[k];
+      cylinder_scale[3 * i + k] = k == 0 ? 2 * h : 2 * rc;
+    }
+  }
+  // One statement per array: blocks are laid out in the order they are added.
+  point_data +=
+      "        " + AppendedArrays::tag(arrays.add_owned("axis", 3, std::move(axis))) + "\n";
+  point_data +=
+      "        " + AppendedArrays::tag(arrays.add_owned("length", 1, std::move(length))) + "\n";
+  point_data += "        " +
+                AppendedArrays::tag(arrays.add_owned("cap_radius", 1, std::move(cap_radius))) +
+                "\n";
+  point_data +=
+      "        " +
+      AppendedArrays::tag(arrays.add_owned("cylinder_scale", 3, std::move(cylinder_scale))) + "\n";
+  point_data += "        " +
+                AppendedArrays::tag(arrays.add_owned("cap_offset", 3, std::move(cap_offset))) +
+                "\n";
+}
+
 }  // namespace
 
 std::string xml_escape(const std::string& text) {
@@ -176,9 +218,11 @@ void write_particles_vtp(const std::filesystem::path& path, const ParticleStore&
           using T = typename std::decay_t<decltype(col)>::value_type;
           if constexpr (std::is_same_v<T, Vec3>)
             return arrays.add(fi.name, std::span<const Vec3>(col));
-          else if constexpr (std::is_same_v<T, Quat>)
-            return arrays.add(fi.name, 4,
-                              std::span<const double>(&col.data()->w, 4 * col.size()));
+          else if constexpr (std::is_same_v<T, Quat>)  // w, x, y, z (no member access on an
+            return arrays.add(                         // empty column's null data())
+                fi.name, 4,
+                std::span<const double>(reinterpret_cast<const double*>(col.data()),
+                                        4 * col.size()));
           else
             return arrays.add(fi.name, 1, std::span<const T>(col));
         },
@@ -189,6 +233,7 @@ void write_particles_vtp(const std::filesystem::path& path, const ParticleStore&
   for (std::size_t i = 0; i < n; ++i) speed[i] = norm(store.v()[i]);
   const std::string speed_tag = AppendedArrays::tag(arrays.add_owned("speed", 1, std::move(speed)));
   point_data += "        " + speed_tag + "\n";
+  if (store.has_shapes()) add_glyph_arrays(arrays, store, point_data);
 
   std::string xml = kHeader;
   xml += vtkfile_open("PolyData");
@@ -205,6 +250,97 @@ void write_particles_vtp(const std::filesystem::path& path, const ParticleStore&
       AppendedArrays::tag(arrays.add("position", std::span<const Vec3>(store.x(), n)));
   xml += "      <Points>\n        " + points_tag + "\n      </Points>\n";
   add_vertex_cells(arrays, n, xml);
+  xml += "    </Piece>\n  </PolyData>\n";
+
+  write_atomically(path, [&](std::ostream& out) {
+    out << xml;
+    arrays.write_appended(out);
+    out << "</VTKFile>\n";
+  });
+}
+
+std::size_t count_polygon_grains(const ParticleStore& store) {
+  if (!store.has_shapes()) return 0;
+  std::size_t count = 0;
+  const std::int32_t* shape = store.shape();
+  for (std::size_t i = 0; i < store.size(); ++i)
+    count += shape[i] == static_cast<std::int32_t>(ShapeCode::Polygon);
+  return count;
+}
+
+void write_polygons_vtp(const std::filesystem::path& path, const ParticleStore& store) {
+  const std::size_t n_cells = count_polygon_grains(store);
+  std::vector<Vec3> points;
+  std::vector<std::int64_t> conn, offsets, id;
+  std::vector<std::int32_t> material;
+  std::vector<Vec3> velocity, angular_velocity;
+  std::vector<double> speed, area;
+  offsets.reserve(n_cells);
+  id.reserve(n_cells);
+  material.reserve(n_cells);
+  velocity.reserve(n_cells);
+  angular_velocity.reserve(n_cells);
+  speed.reserve(n_cells);
+  area.reserve(n_cells);
+  const auto& table = store.polygons();
+  for (std::size_t i = 0; i < store.size() && n_cells > 0; ++i) {
+    if (store.shape()[i] != static_cast<std::int32_t>(ShapeCode::Polygon)) continue;
+    const std::int32_t k = store.polygon()[i];
+    REQUIRE(k >= 0 && static_cast<std::size_t>(k) < table.size(),
+            "'{}': polygon grain {} (id {}) refers to polygon {} of a table of {}", path.string(),
+            i, store.id()[i], k, table.size());
+    const ConvexPolygon& body = table[static_cast<std::size_t>(k)].body;
+    REQUIRE(body.n >= 3 && body.n <= kMaxPolygonVertices,
+            "'{}': polygon {} (grain id {}) has {} vertices, expected 3 to {}", path.string(), k,
+            store.id()[i], body.n, kMaxPolygonVertices);
+    const Vec3 x = store.x()[i];
+    const Quat q = store.orientation()[i];
+    for (int j = 0; j < body.n; ++j) {
+      conn.push_back(static_cast<std::int64_t>(points.size()));
+      points.push_back(x + rotate(q, Vec3{body.v[j].x, body.v[j].y, 0.0}));
+    }
+    offsets.push_back(static_cast<std::int64_t>(conn.size()));
+    id.push_back(store.id()[i]);
+    material.push_back(store.material()[i]);
+    velocity.push_back(store.v()[i]);
+    angular_velocity.push_back(store.omega()[i]);
+    speed.push_back(norm(store.v()[i]));
+    area.push_back(table[static_cast<std::size_t>(k)].area);
+  }
+
+  AppendedArrays arrays;
+  std::string xml = kHeader;
+  xml += vtkfile_open("PolyData");
+  xml += "  <PolyData>\n";
+  xml += fmt::format(
+      "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
+      "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
+      points.size(), id.size());
+  // One statement per array: blocks are laid out in the order they are added.
+  std::string cell_data;
+  cell_data += "        " + AppendedArrays::tag(arrays.add_owned("id", 1, std::move(id))) + "\n";
+  cell_data +=
+      "        " + AppendedArrays::tag(arrays.add_owned("material", 1, std::move(material))) + "\n";
+  cell_data += "        " +
+               AppendedArrays::tag(arrays.add("velocity", std::span<const Vec3>(velocity))) + "\n";
+  cell_data +=
+      "        " +
+      AppendedArrays::tag(arrays.add("angular_velocity", std::span<const Vec3>(angular_velocity))) +
+      "\n";
+  cell_data +=
+      "        " + AppendedArrays::tag(arrays.add_owned("speed", 1, std::move(speed))) + "\n";
+  cell_data +=
+      "        " + AppendedArrays::tag(arrays.add_owned("area", 1, std::move(area))) + "\n";
+  const std::string points_tag =
+      AppendedArrays::tag(arrays.add("position", std::span<const Vec3>(points)));
+  const std::string conn_tag =
+      AppendedArrays::tag(arrays.add_owned("connectivity", 1, std::move(conn)));
+  const std::string offsets_tag =
+      AppendedArrays::tag(arrays.add_owned("offsets", 1, std::move(offsets)));
+  xml += "      <CellData Scalars=\"speed\" Vectors=\"velocity\">\n" + cell_data +
+         "      </CellData>\n";
+  xml += "      <Points>\n        " + points_tag + "\n      </Points>\n";
+  xml += "      <Polys>\n        " + conn_tag + "\n        " + offsets_tag + "\n      </Polys>\n";
   xml += "    </Piece>\n  </PolyData>\n";
 
   write_atomically(path, [&](std::ostream& out) {

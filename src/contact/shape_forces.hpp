@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Narrow phase for every supported pair of shapes and the force loop of stores with shapes.
+//
+// Pairs: sphere-sphere and disk-disk (sphere_sphere), spherocylinder with spherocylinder or
+// sphere (capsule_capsule, a sphere being a capsule of zero length), polygon-polygon (overlap
+// polygon; see polygon2d.hpp). The result is the same ContactKinematics the contact laws take,
+// plus the contact point, so every law applies unchanged:
+//   - capsules: overlap and normal of the two locally touching spheres, r_eff of their radii;
+//   - polygons: the law sees the mean penetration delta = A / w of the overlap A across its
+//     chord w = |p2 - p1| (the width of the contact), and its force is scaled by s = w / l_c
+//     with l_c = R_i + R_j (equal-area radii). A linear law with stiffness k thus gives
+//     F_n = s k delta = k A / l_c, the polygonal-DEM force with the 2D modulus k (N/m). The law
+//     is given the mass m_eff / s, so that its damping 2 zeta sqrt(m k) scaled by s is
+//     2 zeta sqrt(m s k): critical damping of the actual contact stiffness s k, and a flat face
+//     hitting a flat face realises the requested restitution (a vertex contact stiffens as it
+//     deepens, like Hertz's). Everything the law returns is scaled by s (the Coulomb cap
+//     mu F_n is then consistent); r_eff = R_i R_j / (R_i + R_j).
+// Disk-polygon pairs are not supported (the simulation refuses such cases before running).
+#pragma once
+
+#include <cstdint>
+
+#include "contact/geometry/capsule.hpp"
+#include "contact/geometry/polygon2d.hpp"
+#include "contact/laws/contact_io.hpp"
+#include "core/domain.hpp"
+#include "neighbor/verlet_list.hpp"
+#include "particles/material.hpp"
+#include "particles/particle_store.hpp"
+
+namespace gf::contact {
+
+/// Read-only view of the shape columns of a store.
+struct ShapeView {
+  const std::int32_t* shape;
+  const double* radius;  ///< bounding radius
+  const double* half_length;
+  const Quat* orientation;
+  const std::int32_t* polygon;
+  const PolygonShape* polygons;
+
+  explicit ShapeView(const ParticleStore& p)
+      : shape(p.shape()),
+        radius(p.radius()),
+        half_length(p.half_length()),
+        orientation(p.orientation()),
+        polygon(p.polygon()),
+        polygons(p.polygons().data()) {}
+
+  GF_HOST_DEVICE ShapeCode code(std::int64_t i) const { return static_cast<ShapeCode>(shape[i]); }
+  /// Capsule of particle i at position x (a sphere: zero length).
+  GF_HOST_DEVICE Capsule capsule(std::int64_t i, const Vec3& x) const {
+    const double h = half_length[i];
+    return Capsule{x, h > 0 ? capsule_axis(orientation[i]) : Vec3{0, 0, 1}, h, radius[i] - h};
+  }
+  /// World polygon of polygon grain i at position x.
+  GF_HOST_DEVICE ConvexPolygon world_polygon(std::int64_t i, const Vec3& x) const {
+    const Quat& q = orientation[i];
+    return polygon_to_world(polygons[polygon[i]].body, Vec2{x.x, x.y}, 2.0 * std::atan2(q.z, q.w));
+  }
+  GF_HOST_DEVICE double equivalent_radius(std::int64_t i) const {
+    return polygons[polygon[i]].equivalent_radius;
+  }
+};
+
+/// Geometry of one contact: overlap, normal (from j to i), r_eff and the contact point.
+struct ShapeGeometry {
+  double overlap = 0;
+  Vec3 normal;
+  Vec3 point;
+  double r_eff = 0;
+  double force_scale = 1;  ///< s: polygons (see the file comment); 1 otherwise
+};
+
+/// Law inputs of a polygon overlap (area A, chord end points p1, p2) for characteristic length
+/// l_c: delta = A / w, force scale s = w / l_c, w = |p2 - p1| (sqrt(A) when the boundaries do
+/// not cross twice, e.g. one grain inside the other).
+GF_HOST_DEVICE inline void polygon_law_inputs(const PolygonOverlap& o, double l_c,
+                                              ShapeGeometry& g) {
+  double w = o.chord ? norm(o.p2 - o.p1) : std::sqrt(o.area);
+  if (!(w > 1e-9 * l_c)) w = 1e-9 * l_c;
+  g.overlap = o.area / w;
+  g.force_scale = w / l_c;
+  g.normal = {o.normal.x, o.normal.y, 0};
+  g.point = {o.centroid.x, o.centroid.y, 0};
+}
+
+/// Narrow phase of i (at xi) with j (at xj, the image nearest to i); false when apart.
+/// `poly_i` is i's world polygon when i is a polygon (computed once per row by the caller).
+GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t i, std::int64_t j,
+                                               const Vec3& xi, const Vec3& xj,
+                                               const ConvexPolygon* poly_i, ShapeGeometry& g) {
+  const ShapeCode ci = s.code(i), cj = s.code(j);
+  if (ci == ShapeCode::Polygon || cj == ShapeCode::Polygon) {
+    if (ci != ShapeCode::Polygon || cj != ShapeCode::Polygon) return false;  // refused earlier
+    const ConvexPolygon pj = s.world_polygon(j, xj);
+    PolygonOverlap o;
+    if (!polygon_overlap(*poly_i, pj, o)) return false;
+    const double ri = s.equivalent_radius(i), rj = s.equivalent_radius(j);
+    polygon_law_inputs(o, polygon_characteristic_length(ri, rj), g);
+    g.r_eff = ri * rj / (ri + rj);
+    return true;
+  }
+  if (s.half_length[i] == 0 && s.half_length[j] == 0) {
+    // Two spheres (or disks).
+    const Vec3 d = xi - xj;
+    const double dist2 = norm2(d), rs = s.radius[i] + s.radius[j];
+    if (dist2 >= rs * rs) return false;
+    const double dist = std::sqrt(dist2);
+    g.overlap = rs - dist;
+    g.normal = dist > 0 ? d / dist : Vec3{0, 0, 1};
+    g.point = xj + (s.radius[j] - 0.5 * g.overlap) * g.normal;
+    g.r_eff = s.radius[i] * s.radius[j] / rs;
+    return true;
+  }
+  ShapeContact k;
+  if (!capsule_capsule(s.capsule(i, xi), s.capsule(j, xj), k)) return false;
+  g.overlap = k.overlap;
+  g.normal = k.normal;
+  g.point = k.point;
+  g.r_eff = k.r_eff;
+  return true;
+}
+
+/// Force loop over the half Verlet list for a store with shapes (forces, torques at the
+/// contact point; histories of separated pairs cleared). Returns the touching pairs.
+std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
+                                       const PairTable<PairCoeffs>& pairs, double dt);
+
+/// Elastic energy stored in all contacts of a store with shapes, J.
+double shape_pair_elastic_energy(const ParticleStore& p, const Domain& domain,
+                                 const VerletList& list, const PairTable<PairCoeffs>& pairs);
+
+}  // namespace gf::contact

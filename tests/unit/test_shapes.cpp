@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Non-spherical grains through the whole simulation: restart continues bit-identically (shape
+// fields, polygon table, two wall slots per capsule, Gear derivatives), results are bit-identical
+// with 1 and 2 threads, fills give non-overlapping grains with the requested orientations.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <string>
+
+#include "case_builder.hpp"
+#include "contact/shape_forces.hpp"
+#include "core/exec.hpp"
+#include "simulation/simulation.hpp"
+
+using namespace gf;
+
+namespace {
+
+/// Spherocylinders (aspect ratio 3) poured into a box around a cylindrical post.
+config::Case rods_case(std::int64_t count, double size = 0.06,
+                       config::Fill::Lattice lattice = config::Fill::Lattice::Random) {
+  const Vec3 hi{size, size, 2 * size};
+  auto c = test::base_case(1e-5, 1.0, {0, 0, 0}, hi);
+  c.gravity = {0, 0, -9.81};
+  test::add_material(c, "pom", 1400, 1e7, 0.3);
+  test::add_contact(c, "pom", "pom", "hertz_mindlin",
+                    {{"restitution", 0.5}, {"friction", 0.4}, {"rolling_friction", 0.01}});
+  auto& f = test::add_box_fill(c, "pom", 0.0015, 0.0015, {0, 0, 0}, hi, lattice);
+  f.count = count;
+  f.seed = 5;
+  f.velocity_jitter = 0.3;
+  auto& g = c.particles.back();
+  g.kind = config::Shape::Spherocylinder;
+  g.shape = "spherocylinder";
+  g.aspect_ratio = 3.0;
+  test::add_box(c, "box", {0, 0, 0}, hi, {"zmax"}, "pom");
+  config::Wall post;
+  post.name = "post";
+  post.kind = config::Wall::Kind::Cylinder;
+  post.center = {0.5 * size, 0.5 * size, 0};
+  post.axis = {0, 0, 1};
+  post.radius = 0.004;
+  post.inside = false;
+  post.material = "pom";
+  c.walls.push_back(post);
+  return c;
+}
+
+/// Random irregular polygons falling into a 2D box, Gear integrator.
+config::Case polygons_case() {
+  auto c = test::base_case(2e-6, 1.0, {0, 0, 0}, {0.1, 0.3, 0});
+  c.dimension = 2;
+  c.domain.thickness = 0.01;
+  c.gravity = {0, -9.81, 0};
+  c.integrator = "gear5";
+  test::add_material(c, "stone", 2600, 1e7, 0.3);
+  test::add_contact(c, "stone", "stone", "hooke",
+                    {{"restitution", 0.5}, {"friction", 0.5}, {"stiffness", 1e5}});
+  auto& f = test::add_box_fill(c, "stone", 0.0015, 0.0025, {0, 0, 0}, {0.1, 0.3, 0},
+                               config::Fill::Lattice::Random);
+  f.count = 150;
+  f.seed = 9;
+  f.velocity_jitter = 0.2;
+  auto& g = c.particles.back();
+  g.kind = config::Shape::Polygon;
+  g.shape = "polygon";
+  g.polygon.kind = config::PolygonSpec::Kind::Random;
+  g.polygon.min_vertices = 4;
+  g.polygon.max_vertices = 9;
+  g.polygon.min_elongation = 1.0;
+  g.polygon.max_elongation = 2.0;
+  test::add_box(c, "box", {0, 0, 0}, {0.1, 0.3, 0}, {"ymax"}, "stone");
+  return c;
+}
+
+template <class T>
+bool same_bits(std::span<const T> a, std::span<const T> b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
+}
+
+void expect_same_state(const Simulation& a, const Simulation& b) {
+  ASSERT_EQ(a.particles().size(), b.particles().size());
+  for (const auto& f : a.particles().fields()) {
+    const int k = a.particles().find_field(f.name);
+    std::visit(
+        [&](const auto& va) {
+          using V = std::decay_t<decltype(va)>;
+          const auto& vb = std::get<V>(b.particles().column(k));
+          EXPECT_TRUE(same_bits(std::span(va), std::span(vb))) << "field " << f.name;
+        },
+        a.particles().column(k));
+  }
+  EXPECT_TRUE(same_bits(a.neighbor_list().history(), b.neighbor_list().history()));
+  for (std::size_t w = 0; w < a.walls().size(); ++w)
+    EXPECT_EQ(a.walls()[w].force, b.walls()[w].force);
+}
+
+void check_restart(const config::Case& cfg, int steps, const char* tag) {
+  const auto file = std::filesystem::temp_directory_path() /
+                    (std::string("gf_restart_") + tag + "_" + std::to_string(::getpid()) + ".h5");
+  Simulation a(cfg);
+  for (int s = 0; s < steps; ++s) a.step();
+  a.save_checkpoint(file);
+  for (int s = 0; s < steps; ++s) a.step();
+  Simulation b(cfg);
+  b.load_checkpoint(file);
+  for (int s = 0; s < steps; ++s) b.step();
+  EXPECT_GT(a.n_contacts() + a.n_wall_contacts(), 5);
+  expect_same_state(a, b);
+  std::filesystem::remove(file);
+}
+
+/// Smallest gap between the shapes of two grains over all pairs (negative: overlap), brute force.
+double min_pair_gap(const Simulation& sim) {
+  const auto& p = sim.particles();
+  const contact::ShapeView s(p);
+  double worst = 1e300;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    ConvexPolygon poly_i;
+    if (s.code(static_cast<std::int64_t>(i)) == ShapeCode::Polygon)
+      poly_i = s.world_polygon(static_cast<std::int64_t>(i), p.x()[i]);
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      contact::ShapeGeometry g;
+      if (contact::shape_pair_geometry(s, static_cast<std::int64_t>(i),
+                                       static_cast<std::int64_t>(j), p.x()[i], p.x()[j], &poly_i,
+                                       g))
+        worst = std::min(worst, -g.overlap);
+      else
+        worst = std::min(worst, 0.0 + 1e-300);
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST(RestartShapes, CapsulesContinueBitIdentically) {
+  check_restart(rods_case(300), 1500, "rods");
+}
+
+TEST(RestartShapes, PolygonsWithGearContinueBitIdentically) {
+  check_restart(polygons_case(), 3000, "polygons");
+}
+
+TEST(ShapeFill, GrainsDoNotOverlapAndOrientationsAreRandom) {
+  const Simulation rods(rods_case(400, 0.08));
+  EXPECT_EQ(rods.particles().size(), 400u);
+  EXPECT_GE(min_pair_gap(rods), 0.0);
+  // Axes uniform on the sphere: <|u_z|> = 1/2, <u_z^2> = 1/3 (400 samples: +- 0.03).
+  double mean_abs = 0, mean_sq = 0;
+  for (std::size_t i = 0; i < rods.particles().size(); ++i) {
+    const Vec3 u = rotate(rods.particles().orientation()[i], Vec3{0, 0, 1});
+    mean_abs += std::abs(u.z) / 400;
+    mean_sq += u.z * u.z / 400;
+    EXPECT_NEAR(rods.particles().half_length()[i], 0.0015 * 2, 1e-15);  // L = 2 r (3 - 1)
+  }
+  EXPECT_NEAR(mean_abs, 0.5, 0.05);
+  EXPECT_NEAR(mean_sq, 1.0 / 3.0, 0.05);
+  const Simulation poly(polygons_case());
+  EXPECT_EQ(poly.particles().size(), 150u);
+  EXPECT_GE(min_pair_gap(poly), 0.0);
+  EXPECT_GT(poly.particles().polygons().size(), 100u);  // one outline per random grain
+}
+
+TEST(ShapesThreadDeterminism, CapsulesOneAndTwoThreadsBitIdentical) {
+  // Enough grains for the threaded slab loop (>= 8192).
+  const auto cfg = rods_case(9000, 0.2, config::Fill::Lattice::Cubic);
+  std::vector<Vec3> out[2];
+  for (int t = 0; t < 2; ++t) {
+    const int before = exec::n_threads();
+    exec::set_threads(t + 1);
+    Simulation sim(cfg);
+    for (int s = 0; s < 60; ++s) sim.step();
+    exec::set_threads(before);
+    const auto& p = sim.particles();
+    out[t].assign(p.x(), p.x() + p.size());
+    out[t].insert(out[t].end(), p.omega(), p.omega() + p.size());
+    EXPECT_GT(sim.n_contacts(), 0);
+  }
+  ASSERT_EQ(out[0].size(), out[1].size());
+  EXPECT_EQ(std::memcmp(out[0].data(), out[1].data(), out[0].size() * sizeof(Vec3)), 0);
+}
