@@ -8,6 +8,7 @@
 
 #include "contact/geometry/polygon2d.hpp"
 #include "core/error.hpp"
+#include "io/input/validate.hpp"
 
 namespace gf {
 
@@ -43,11 +44,6 @@ ConvexPolygon given_outline(const config::PolygonSpec& spec) {
   return p;
 }
 
-/// Circumradius over equal-area radius of a regular n-gon: R_c^2 = 2 pi R^2 / (n sin(2 pi/n)).
-double regular_circum_factor(int n) {
-  return std::sqrt(2 * kPi / (n * std::sin(2 * kPi / n)));
-}
-
 }  // namespace
 
 ShapeBuilder::ShapeBuilder(const config::ParticleGroup& group, double density, double thickness,
@@ -68,28 +64,15 @@ ShapeBuilder::ShapeBuilder(const config::ParticleGroup& group, double density, d
           placement_radius_ = shape_of(given_outline(g_.polygon)).circumradius;
           break;
         case config::PolygonSpec::Kind::Regular:
-          circum_factor_ = regular_circum_factor(g_.polygon.sides);
+          circum_factor_ = input::polygon_reach_factor(g_.polygon);
           placement_radius_ = circum_factor_ * r_max;
           break;
-        case config::PolygonSpec::Kind::Random: {
-          // Bound of circumradius / equal-area radius from a sample of the outlines this group
-          // draws (with a 2 % margin); add() redraws the rare outline above it, so the bound
-          // holds exactly for every grain.
-          std::mt19937_64 probe(seed ^ 0x51ed270b27a3c9d1ull);
-          double worst = 1;
-          for (int k = 0; k < 2000; ++k) {
-            std::uniform_int_distribution<int> nv(g_.polygon.min_vertices, g_.polygon.max_vertices);
-            std::uniform_real_distribution<double> el(g_.polygon.min_elongation,
-                                                      g_.polygon.max_elongation);
-            const int n = nv(probe);
-            const double e = el(probe);
-            worst = std::max(
-                worst, shape_of(contact::random_convex_polygon(probe, n, 1.0, e)).circumradius);
-          }
-          circum_factor_ = 1.02 * worst;
+        case config::PolygonSpec::Kind::Random:
+          // The bound that `grainflow check` reports (a sample of the generator, plus 5 %);
+          // make_polygon() redraws the rare outline beyond it, so it holds for every grain.
+          circum_factor_ = input::polygon_reach_factor(g_.polygon);
           placement_radius_ = circum_factor_ * r_max;
           break;
-        }
       }
       break;
   }

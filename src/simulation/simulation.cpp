@@ -304,6 +304,7 @@ void Simulation::build_walls() {
         static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
         for (int f = 0; f < 6; ++f) {
           if (std::find(wc.open.begin(), wc.open.end(), faces[f]) != wc.open.end()) continue;
+          if (two_d_ && f >= 4) continue;  // 2D: the grains lie in z = 0, no z faces
           Wall p = w;
           p.kind = WallKind::Plane;
           p.name = wc.name + "." + faces[f];

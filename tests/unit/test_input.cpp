@@ -7,9 +7,11 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <random>
 #include <set>
 #include <string>
 
+#include "contact/geometry/polygon2d.hpp"
 #include "core/error.hpp"
 #include "io/input/echo.hpp"
 #include "io/input/parse_case.hpp"
@@ -35,6 +37,44 @@ std::string error_of(const std::string& text, const std::string& label = "t.yaml
     return e.what();
   }
   return "";
+}
+
+/// The part of a case before `particles:` in 2D: glass disks in a 0.1 m square.
+const std::string header_2d = R"(dimension: 2
+time: {step: 1.0e-5, end: 0.1}
+domain: {min: [0, 0], max: [0.1, 0.1]}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+)";
+
+/// The same in 3D (a 0.1 m cube).
+const std::string header_3d = R"(time: {step: 1.0e-5, end: 0.1}
+domain: {min: [0, 0, 0], max: [0.1, 0.1, 0.1]}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+)";
+
+/// The derived number of `report` whose name starts with `prefix`, or "".
+std::string derived(const input::CheckReport& report, const std::string& prefix) {
+  for (const auto& [k, v] : report.derived)
+    if (k.rfind(prefix, 0) == 0) return v;
+  return "";
+}
+
+/// The number at the start of `text` ("1.23e-05 s" -> 1.23e-05).
+double leading_number(const std::string& text) {
+  return std::stod(text);
+}
+
+void expect_quat_near(const Quat& a, const Quat& b, double tol = 1e-12) {
+  EXPECT_NEAR(a.w, b.w, tol);
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
 }
 
 const std::string minimal_case = R"(time: {step: 1.0e-5, end: 0.1}
@@ -221,15 +261,51 @@ const BadCase bad_cases[] = {
     {"csv_bad_number.yaml", 3, "particles[0].file", "column 'y'", "csv_bad_number.csv"},
     {"csv_unknown_column.yaml", 2, "particles[0].file", "unknown column 'mass'",
      "csv_unknown_column.csv"},
-    {"dimension_2.yaml", 2, "dimension", "2D runs are not available yet"},
+    {"dimension_2.yaml", 4, "domain.min", "expected 2 components in a 2D case"},
     {"two_particle_sources.yaml", 12, "particles[0].fill", "only one of fill, positions, file"},
     {"velocities_length.yaml", 12, "particles[0].velocities", "one per position"},
     {"domain_max_below_min.yaml", 3, "domain.max", "greater than"},
     {"rpm_and_rate.yaml", 18, "walls[0].motion.rotate.rate", "only one of rpm, rate"},
     {"box_open_bad_face.yaml", 14, "walls[0].box.open[0]", "'top'"},
-    {"shape_not_available.yaml", 9, "particles[0].shape", "not available yet"},
+    {"shape_not_available.yaml", 9, "particles[0].shape", "not available in a 3D case"},
     {"duplicate_key.yaml", 5, "time.end", "duplicate key"},
     {"periodic_too_short.yaml", 3, "domain.periodic", "periodic length along x"},
+    // Shapes, orientations, 2D cases, integrators.
+    {"dimension_4.yaml", 2, "dimension", "expected 2 or 3, found '4'"},
+    {"vector_2_in_3d.yaml", 10, "gravity", "expected 3 components in a 3D case"},
+    {"thickness_in_3d.yaml", 3, "domain.thickness", "2D cases only"},
+    {"sphere_in_2d.yaml", 10, "particles[0].shape", "not available in a 2D case"},
+    {"cylinder_wall_2d.yaml", 13, "walls[0].cylinder", "not available in 2D"},
+    {"cylinder_fill_2d.yaml", 13, "particles[0].fill.cylinder", "not available in 2D"},
+    {"spherocylinder_no_length.yaml", 9, "particles[0].length", "'length' (m"},
+    {"spherocylinder_length_and_ratio.yaml", 12, "particles[0].aspect_ratio",
+     "only one of length, aspect_ratio"},
+    {"aspect_ratio_below_one.yaml", 11, "particles[0].aspect_ratio", "a number >= 1, found '0.5'"},
+    {"equivalent_diameter_without_ratio.yaml", 9, "particles[0].aspect_ratio",
+     "missing required key 'aspect_ratio'"},
+    {"length_on_sphere.yaml", 11, "particles[0].length", "spherocylinder only"},
+    {"polygon_not_convex.yaml", 15, "particles[0].polygon.vertices[2]",
+     "not strictly convex and counter-clockwise at vertex 2 [0.002, 0.001]"},
+    {"polygon_clockwise.yaml", 11, "particles[0].polygon.vertices", "listed clockwise"},
+    {"polygon_vertices_with_radius.yaml", 11, "particles[0].radius", "remove 'radius'"},
+    {"polygon_regular_too_many.yaml", 12, "particles[0].polygon.regular", "in [3, 16]"},
+    {"polygon_random_bad_range.yaml", 13, "particles[0].polygon.random.vertices[1]",
+     ">= the minimum (8)"},
+    {"orientation_on_sphere.yaml", 13, "particles[0].fill.orientation", "shape: sphere"},
+    {"angular_velocity_vector_2d.yaml", 13, "particles[0].angular_velocities[0]",
+     "scalars in a 2D case"},
+    {"gear_integrator.yaml", 2, "integrator", "did you mean 'gear5'"},
+    {"axes_length.yaml", 14, "particles[0].axes", "one per position"},
+    {"overlapping_spherocylinders.yaml", 15, "particles[0].positions[1]",
+     "distance of their axes 0.001 m < 0.004 m"},
+    {"overlapping_polygons.yaml", 15, "particles[0].positions[1]", "outlines intersect"},
+    {"periodic_three_in_2d.yaml", 4, "domain.periodic", "expected 2 components in a 2D case"},
+    {"rotate_axis_2d.yaml", 15, "walls[0].motion.rotate.axis", "rotation is about z"},
+    {"box_zmin_2d.yaml", 13, "walls[0].box.open[1]", "no face 'zmin'"},
+    {"csv_z_in_2d.yaml", 2, "particles[0].file", "column 'z' does not apply to a 2D case",
+     "csv_z_in_2d.csv"},
+    {"csv_partial_quaternion.yaml", 1, "particles[0].file", "qw, qx, qy, qz go together",
+     "csv_partial_quaternion.csv"},
 };
 
 class InputBadCases : public ::testing::TestWithParam<BadCase> {};
@@ -449,4 +525,581 @@ TEST(InputEcho, LongParticleListsAreSummarised) {
   const std::string echo = input::echo_yaml(c, "1");
   EXPECT_NE(echo.find("positions: {count: 25, source: long.yaml}"), std::string::npos) << echo;
   EXPECT_EQ(echo.find("0.098"), std::string::npos) << echo;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shapes
+
+TEST(InputShapes, SpherocylinderWithLengthOrAspectRatio) {
+  const auto c = input::load_case_text(header_3d + R"(particles:
+  - shape: spherocylinder
+    radius: 0.001
+    length: 0.004
+    material: glass
+    positions: [[0.05, 0.05, 0.05]]
+  - shape: spherocylinder
+    radius: {distribution: uniform, min: 0.001, max: 0.002}
+    aspect_ratio: 3
+    material: glass
+    fill: {box: {min: [0, 0, 0], max: [0.1, 0.1, 0.04]}, lattice: cubic}
+)",
+                                       "t.yaml");
+  const auto& g0 = c.particles[0];
+  EXPECT_EQ(g0.kind, config::Shape::Spherocylinder);
+  EXPECT_EQ(g0.shape, "spherocylinder");
+  ASSERT_TRUE(g0.length.has_value());
+  EXPECT_DOUBLE_EQ(*g0.length, 0.004);
+  EXPECT_FALSE(g0.aspect_ratio.has_value());
+  EXPECT_DOUBLE_EQ(input::cylinder_length(g0, 0.001), 0.004);
+  EXPECT_DOUBLE_EQ(input::bounding_radius(g0, 0.001), 0.003);
+  const auto& g1 = c.particles[1];
+  EXPECT_FALSE(g1.length.has_value());
+  ASSERT_TRUE(g1.aspect_ratio.has_value());
+  EXPECT_DOUBLE_EQ(*g1.aspect_ratio, 3.0);
+  EXPECT_EQ(g1.radius.kind, config::SizeDistribution::Kind::Uniform);
+  EXPECT_DOUBLE_EQ(input::cylinder_length(g1, 0.002), 0.008);  // L = 2 r (alpha - 1)
+  EXPECT_FALSE(g1.fill->orientation.has_value());              // default: random
+  // Volume pi r^2 L + 4/3 pi r^3.
+  EXPECT_NEAR(input::grain_measure(g0, 0.001),
+              std::numbers::pi * 1e-6 * 0.004 + 4.0 / 3.0 * std::numbers::pi * 1e-9, 1e-20);
+  EXPECT_EQ(error_of(header_3d + R"(particles:
+  - shape: spherocylinder
+    radius: 0.001
+    length: 0.004
+    material: glass
+    positions: [[0.05, 0.05, 0.05]]
+)"),
+            "");
+}
+
+TEST(InputShapes, EquivalentDiameterGivesTheCapRadius) {
+  const auto c = input::load_case_text(header_3d + R"(particles:
+  - shape: spherocylinder
+    equivalent_diameter: 0.004
+    aspect_ratio: 3
+    material: glass
+    positions: [[0.05, 0.05, 0.05]]
+)",
+                                       "t.yaml");
+  const auto& g = c.particles[0];
+  ASSERT_EQ(g.radius.kind, config::SizeDistribution::Kind::Fixed);
+  // r = d / (12 alpha - 4)^(1/3) = 0.004 / 32^(1/3).
+  EXPECT_NEAR(g.radius.value, 0.004 / std::cbrt(32.0), 1e-18);
+  EXPECT_NEAR(g.radius.value, 1.2599210498948732e-3, 1e-15);
+  ASSERT_TRUE(g.aspect_ratio.has_value());
+  EXPECT_DOUBLE_EQ(*g.aspect_ratio, 3.0);
+  EXPECT_FALSE(g.length.has_value());
+  // Same volume as the sphere of diameter d.
+  EXPECT_NEAR(input::grain_measure(g, g.radius.value), std::numbers::pi * std::pow(0.004, 3) / 6,
+              1e-20);
+  // Both radius and equivalent_diameter: refused.
+  const std::string msg = error_of(header_3d + R"(particles:
+  - shape: spherocylinder
+    radius: 0.001
+    equivalent_diameter: 0.004
+    aspect_ratio: 3
+    material: glass
+    positions: [[0.05, 0.05, 0.05]]
+)");
+  EXPECT_NE(msg.find("t.yaml:10:5: error: particles[0].equivalent_diameter: give only one of "
+                     "radius, equivalent_diameter"),
+            std::string::npos)
+      << msg;
+}
+
+TEST(InputShapes, PolygonForms) {
+  const auto c = input::load_case_text(header_2d + R"(particles:
+  - shape: polygon
+    polygon: {vertices: [[0, 0], [0.004, 0], [0.004, 0.002], [0, 0.002]]}
+    material: glass
+    positions: [[0.02, 0.02]]
+  - shape: polygon
+    radius: 0.002
+    polygon: {regular: 6}
+    material: glass
+    positions: [[0.05, 0.05]]
+  - shape: polygon
+    radius: {distribution: uniform, min: 0.001, max: 0.002}
+    polygon: {random: {vertices: [4, 9]}}
+    material: glass
+    fill: {box: {min: [0, 0.06], max: [0.1, 0.1]}, lattice: random, count: 10}
+  - shape: polygon
+    radius: 0.002
+    polygon: {random: {vertices: [5, 5], elongation: [1.2, 2]}}
+    material: glass
+    positions: [[0.08, 0.02]]
+  - shape: disk
+    radius: 0.002
+    material: glass
+    positions: [[0.08, 0.04]]
+)",
+                                       "t.yaml");
+  ASSERT_EQ(c.particles.size(), 5u);
+  const auto& v = c.particles[0];
+  EXPECT_EQ(v.kind, config::Shape::Polygon);
+  EXPECT_EQ(v.polygon.kind, config::PolygonSpec::Kind::Vertices);
+  ASSERT_EQ(v.polygon.vertices.size(), 4u);
+  EXPECT_EQ(v.polygon.vertices[2], (Vec3{0.004, 0.002, 0}));
+  // The radius is the equal-area radius of the vertices: pi R^2 = 8e-6 m^2.
+  EXPECT_NEAR(v.radius.value, std::sqrt(8e-6 / std::numbers::pi), 1e-15);
+  EXPECT_NEAR(input::grain_measure(v, v.radius.value), 8e-6, 1e-18);
+  EXPECT_NEAR(input::bounding_radius(v, v.radius.value), std::sqrt(5e-6), 1e-15);  // half diagonal
+  const auto& r = c.particles[1];
+  EXPECT_EQ(r.polygon.kind, config::PolygonSpec::Kind::Regular);
+  EXPECT_EQ(r.polygon.sides, 6);
+  // Regular hexagon of area pi R^2: circumradius R sqrt(2 pi / (6 sin(pi/3))).
+  EXPECT_NEAR(input::bounding_radius(r, 0.002),
+              0.002 * std::sqrt(2 * std::numbers::pi / (6 * std::sin(std::numbers::pi / 3))),
+              1e-15);
+  EXPECT_NEAR(input::grain_measure(r, 0.002), std::numbers::pi * 4e-6, 1e-18);
+  const auto& q = c.particles[2];
+  EXPECT_EQ(q.polygon.kind, config::PolygonSpec::Kind::Random);
+  EXPECT_EQ(q.polygon.min_vertices, 4);
+  EXPECT_EQ(q.polygon.max_vertices, 9);
+  EXPECT_EQ(q.polygon.min_elongation, 1.0);  // default [1, 1]
+  EXPECT_EQ(q.polygon.max_elongation, 1.0);
+  const auto& e = c.particles[3];
+  EXPECT_EQ(e.polygon.min_elongation, 1.2);
+  EXPECT_EQ(e.polygon.max_elongation, 2.0);
+  EXPECT_EQ(c.particles[4].kind, config::Shape::Disk);
+  EXPECT_NO_THROW(input::validate(c));
+}
+
+TEST(InputShapes, RandomPolygonReachCoversTheGenerator) {
+  // The estimate must exceed the circumradius of polygons drawn with another seed.
+  config::PolygonSpec p;
+  p.kind = config::PolygonSpec::Kind::Random;
+  p.min_vertices = 3;
+  p.max_vertices = 6;
+  p.min_elongation = 1.0;
+  p.max_elongation = 2.0;
+  const double factor = input::polygon_reach_factor(p);
+  std::mt19937_64 rng(99);
+  std::uniform_int_distribution<int> nv(3, 6);
+  std::uniform_real_distribution<double> el(1.0, 2.0);
+  double worst = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const auto poly = contact::random_convex_polygon(rng, nv(rng), 1.0, el(rng));
+    for (int k = 0; k < poly.n; ++k) worst = std::max(worst, norm(poly.v[k]));
+  }
+  EXPECT_GT(factor, worst);
+  EXPECT_LT(factor, 2 * worst);  // but not absurdly large
+}
+
+TEST(InputShapes, DefaultShapeIsTheRoundOne) {
+  const auto c2 = input::load_case_text(
+      header_2d + "particles:\n  - {radius: 0.002, material: glass, positions: [[0.05, 0.05]]}\n",
+      "t.yaml");
+  EXPECT_EQ(c2.particles[0].kind, config::Shape::Disk);
+  EXPECT_EQ(c2.particles[0].shape, "disk");
+  const auto c3 = input::load_case_text(minimal_case, "t.yaml");
+  EXPECT_EQ(c3.particles[0].kind, config::Shape::Sphere);
+  EXPECT_EQ(c3.particles[0].shape, "sphere");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2D cases
+
+TEST(Input2D, VectorsHaveTwoComponents) {
+  const auto c = input::load_case_text(R"(dimension: 2
+time: {step: 1.0e-5, end: 0.1}
+domain: {min: [-0.1, 0], max: [0.1, 0.2], periodic: [true, false], thickness: 0.005}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+particles:
+  - radius: 0.002
+    material: glass
+    positions: [[0, 0.1], [0.01, 0.1]]
+    velocities: [[1, 2], [0, 0]]
+    angular_velocities: [3, -4]
+  - radius: 0.002
+    material: glass
+    fill: {box: {min: [-0.1, 0.12], max: [0.1, 0.2]}, velocity: [0, -1]}
+walls:
+  - {name: floor, plane: {point: [0, 0], normal: [0, 2]}, material: glass}
+  - {name: box, box: {min: [-0.1, 0], max: [0.1, 0.2], open: [ymax]}, material: glass,
+     motion: {translate: {velocity: [0.1, 0]}}}
+  - {name: paddle, plane: {point: [0, 0.05], normal: [1, 0]}, material: glass,
+     motion: {rotate: {center: [0, 0.05], rpm: 60}}}
+  - {name: reverse, plane: {point: [0, 0.05], normal: [-1, 0]}, material: glass,
+     motion: {rotate: {axis: [0, 0, -1], rate: 2}}}
+output:
+  series: {every: 1.0e-3, quantities: [kinetic_energy, wall_force.box.ymin]}
+)",
+                                       "t.yaml");
+  EXPECT_EQ(c.dimension, 2);
+  EXPECT_EQ(c.domain.min, (Vec3{-0.1, 0, 0}));
+  EXPECT_EQ(c.domain.max, (Vec3{0.1, 0.2, 0}));
+  EXPECT_EQ(c.domain.periodic, (std::array<bool, 3>{true, false, false}));
+  EXPECT_DOUBLE_EQ(c.domain.thickness, 0.005);
+  EXPECT_EQ(c.gravity, (Vec3{0, -9.81, 0}));  // the 2D default
+  const auto& ex = *c.particles[0].explicit_particles;
+  EXPECT_EQ(ex.positions[1], (Vec3{0.01, 0.1, 0}));
+  EXPECT_EQ(ex.velocities[0], (Vec3{1, 2, 0}));
+  EXPECT_EQ(ex.angular_velocities[1], (Vec3{0, 0, -4}));
+  EXPECT_EQ(c.particles[1].fill->velocity, (Vec3{0, -1, 0}));
+  EXPECT_EQ(c.particles[1].fill->region.max, (Vec3{0.1, 0.2, 0}));
+  EXPECT_EQ(c.walls[0].normal, (Vec3{0, 1, 0}));
+  EXPECT_EQ(c.walls[1].open, (std::vector<std::string>{"ymax", "zmin", "zmax"}));
+  EXPECT_EQ(c.walls[1].motion.velocity, (Vec3{0.1, 0, 0}));
+  EXPECT_TRUE(c.walls[2].motion.rotates);
+  EXPECT_EQ(c.walls[2].motion.axis, (Vec3{0, 0, 1}));
+  EXPECT_EQ(c.walls[2].motion.center, (Vec3{0, 0.05, 0}));
+  EXPECT_NEAR(c.walls[2].motion.rate, 2 * std::numbers::pi, 1e-12);
+  EXPECT_EQ(c.walls[3].motion.axis, (Vec3{0, 0, 1}));  // -z stored as +z at the opposite rate
+  EXPECT_DOUBLE_EQ(c.walls[3].motion.rate, -2.0);
+  const auto report = input::validate(c);
+  EXPECT_EQ(derived(report, "particles[0]: grains"), "2");
+  // 2D masses: rho pi r^2 thickness.
+  EXPECT_NE(derived(report, "particles[0]: disk grains")
+                .find(fmt::format("mass {:.4g} kg", 2500 * std::numbers::pi * 4e-6 * 0.005)),
+            std::string::npos)
+      << derived(report, "particles[0]: disk grains");
+}
+
+TEST(Input2D, ThicknessDefaultsAndChecksIgnoreZ) {
+  // Overlapping disks are found in 2D; the z extent of zero trips no check.
+  const auto c = input::load_case_text(
+      header_2d +
+          "particles:\n  - {radius: 0.002, material: glass, positions: [[0.05, 0.05], "
+          "[0.0545, 0.05]]}\n",
+      "t.yaml");
+  EXPECT_DOUBLE_EQ(c.domain.thickness, 1.0);
+  EXPECT_NO_THROW(input::validate(c));
+  const std::string msg = error_of(header_2d +
+                                   "particles:\n  - {radius: 0.002, material: glass, positions: "
+                                   "[[0.05, 0.05], [0.053, 0.05]]}\n");
+  EXPECT_NE(msg.find("overlaps particle 0"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("[0.053, 0.05]"), std::string::npos) << msg;  // 2D coordinates
+}
+
+TEST(Input2D, CsvWithTwoDimensionalColumns) {
+  TempDir dir;
+  dir.write("grains.csv", "x,y,vx,vy,wz,angle,radius\n0.02,0.03,1,2,3,0.5,0.002\n");
+  const auto c = input::load_case(dir.write("case.yaml", header_2d + R"(particles:
+  - shape: polygon
+    polygon: {regular: 5}
+    material: glass
+    file: grains.csv
+)"));
+  const auto& ex = *c.particles[0].explicit_particles;
+  ASSERT_EQ(ex.positions.size(), 1u);
+  EXPECT_EQ(ex.positions[0], (Vec3{0.02, 0.03, 0}));
+  EXPECT_EQ(ex.velocities[0], (Vec3{1, 2, 0}));
+  EXPECT_EQ(ex.angular_velocities[0], (Vec3{0, 0, 3}));
+  ASSERT_EQ(ex.orientations.size(), 1u);
+  expect_quat_near(ex.orientations[0], quat_from_axis_angle({0, 0, 1}, 0.5));
+  EXPECT_EQ(ex.radii, (std::vector<double>{0.002}));
+  // Orientation columns for disks are refused.
+  dir.write("disks.csv", "x,y,angle\n0.02,0.03,0.5\n");
+  const std::string msg = error_of(header_2d + R"(particles:
+  - {radius: 0.002, material: glass, file: disks.csv}
+)",
+                                   (dir.path() / "case2.yaml").string());
+  EXPECT_NE(msg.find("disks.csv:1:5: error: particles[0].file: column 'angle': orientations "
+                     "apply to spherocylinder and polygon grains only"),
+            std::string::npos)
+      << msg;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Orientations and integrators
+
+TEST(InputOrientation, FillAxisAngleAndRandom) {
+  auto fill_with = [](const std::string& orientation) {
+    return header_3d + R"(particles:
+  - shape: spherocylinder
+    radius: 0.001
+    length: 0.002
+    material: glass
+    fill: {box: {min: [0, 0, 0], max: [0.1, 0.1, 0.1]}, )" +
+           orientation + "}\n";
+  };
+  auto c = input::load_case_text(fill_with("orientation: {axis: [1, 1, 0]}"), "t.yaml");
+  ASSERT_TRUE(c.particles[0].fill->orientation.has_value());
+  const Quat q = *c.particles[0].fill->orientation;
+  const Vec3 a = rotate(q, Vec3{0, 0, 1});
+  EXPECT_NEAR(a.x, std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(a.y, std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(a.z, 0, 1e-15);
+  EXPECT_NEAR(norm2(q), 1, 1e-15);
+  // Antiparallel: a half turn.
+  c = input::load_case_text(fill_with("orientation: {axis: [0, 0, -2]}"), "t.yaml");
+  const Vec3 down = rotate(*c.particles[0].fill->orientation, Vec3{0, 0, 1});
+  EXPECT_NEAR(down.z, -1, 1e-15);
+  // Parallel: the identity.
+  c = input::load_case_text(fill_with("orientation: {axis: [0, 0, 3]}"), "t.yaml");
+  expect_quat_near(*c.particles[0].fill->orientation, Quat{});
+  c = input::load_case_text(fill_with("orientation: random"), "t.yaml");
+  EXPECT_FALSE(c.particles[0].fill->orientation.has_value());
+  EXPECT_NE(error_of(fill_with("orientation: {angle: 1}")).find("unknown key 'angle'"),
+            std::string::npos);
+  EXPECT_NE(error_of(fill_with("orientation: aligned"))
+                .find("expected random or {axis: [x, y, z]}, found 'aligned'"),
+            std::string::npos)
+      << error_of(fill_with("orientation: aligned"));
+
+  const auto c2 = input::load_case_text(header_2d + R"(particles:
+  - shape: polygon
+    radius: 0.002
+    polygon: {regular: 4}
+    material: glass
+    fill: {box: {min: [0, 0], max: [0.1, 0.1]}, orientation: {angle: 0.25}}
+)",
+                                        "t.yaml");
+  expect_quat_near(*c2.particles[0].fill->orientation,
+                   Quat{std::cos(0.125), 0, 0, std::sin(0.125)});
+}
+
+TEST(InputOrientation, ExplicitAxesAnglesAndCsvQuaternions) {
+  const auto c = input::load_case_text(header_3d + R"(particles:
+  - shape: spherocylinder
+    radius: 0.001
+    aspect_ratio: 2
+    material: glass
+    positions: [[0.02, 0.05, 0.05], [0.08, 0.05, 0.05]]
+    axes: [[1, 0, 0], [0, 0, -1]]
+)",
+                                       "t.yaml");
+  const auto& ex = *c.particles[0].explicit_particles;
+  ASSERT_EQ(ex.orientations.size(), 2u);
+  const Vec3 a0 = rotate(ex.orientations[0], Vec3{0, 0, 1});
+  EXPECT_NEAR(a0.x, 1, 1e-15);
+  EXPECT_NEAR(rotate(ex.orientations[1], Vec3{0, 0, 1}).z, -1, 1e-15);
+
+  const auto c2 = input::load_case_text(header_2d + R"(particles:
+  - shape: polygon
+    polygon: {vertices: [[0, 0], [0.002, 0], [0, 0.002]]}
+    material: glass
+    positions: [[0.02, 0.05], [0.08, 0.05]]
+    angles: [0, 1.5]
+)",
+                                        "t.yaml");
+  expect_quat_near(c2.particles[0].explicit_particles->orientations[1],
+                   quat_from_axis_angle({0, 0, 1}, 1.5));
+
+  TempDir dir;
+  dir.write("rods.csv", "x,y,z,qw,qx,qy,qz\n0.05,0.05,0.05,2,0,0,0\n0.02,0.02,0.02,1,1,0,0\n");
+  const auto c3 = input::load_case(dir.write("case.yaml", header_3d + R"(particles:
+  - shape: spherocylinder
+    radius: 0.001
+    length: 0.002
+    material: glass
+    file: rods.csv
+)"));
+  const auto& o = c3.particles[0].explicit_particles->orientations;
+  ASSERT_EQ(o.size(), 2u);
+  expect_quat_near(o[0], Quat{});  // normalised
+  expect_quat_near(o[1], Quat{std::sqrt(0.5), std::sqrt(0.5), 0, 0});
+  EXPECT_NO_THROW(input::validate(c3));
+}
+
+TEST(InputIntegrator, Gear5IsAccepted) {
+  std::string text = minimal_case + "integrator: gear5\n";
+  EXPECT_EQ(input::load_case_text(text, "t.yaml").integrator, "gear5");
+  EXPECT_EQ(input::load_case_text(minimal_case, "t.yaml").integrator, "velocity_verlet");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Validation of shapes
+
+TEST(InputValidate, ParallelRodsCloseTogetherDoNotOverlap) {
+  // Bounding spheres (r + L/2 = 6 mm) overlap heavily; the rods themselves are 0.1 mm apart.
+  const std::string text = header_3d + R"(particles:
+  - shape: spherocylinder
+    radius: 0.001
+    length: 0.01
+    material: glass
+    positions: [[0.05, 0.05, 0.05], [0.0521, 0.05, 0.05], [0.05, 0.05, 0.0621]]
+    axes: [[0, 0, 1], [0, 0, 1], [0, 0, 1]]
+)";
+  EXPECT_EQ(error_of(text), "");
+  // End to end along the axis, 0.1 mm apart: fine too; 0.1 mm closer: overlap.
+  std::string closer = text;
+  closer.replace(closer.find("0.0621"), 6, "0.0619");
+  EXPECT_NE(error_of(closer).find("particles[0].positions[2]: particle 2"), std::string::npos)
+      << error_of(closer);
+}
+
+TEST(InputValidate, ContactTimeUsesTheShapeMass) {
+  // A rod of cap radius r is heavier than a sphere of radius r: longer Hertz contact time, same
+  // Rayleigh time (the cap radius).
+  auto report_for = [](const std::string& group) {
+    return input::validate(input::load_case_text(header_3d + "particles:\n" + group +
+                                                     "    material: glass\n"
+                                                     "    positions: [[0.05, 0.05, 0.05]]\n",
+                                                 "t.yaml"));
+  };
+  const auto sphere = report_for("  - radius: 0.002\n");
+  const auto rod = report_for("  - shape: spherocylinder\n    radius: 0.002\n    length: 0.02\n");
+  const double t_sphere = leading_number(derived(sphere, "contact time, glass-glass"));
+  const double t_rod = leading_number(derived(rod, "contact time, glass-glass"));
+  // Hertz: t ~ m_eff^(2/5) at the same radius and speed; mass ratio (pi r^2 L + 4/3 pi r^3) /
+  // (4/3 pi r^3) = 1 + 3 L / (4 r) = 8.5.
+  EXPECT_NEAR(t_rod / t_sphere, std::pow(8.5, 0.4), 1e-3 * std::pow(8.5, 0.4));
+  EXPECT_EQ(derived(sphere, "Rayleigh time, glass"), derived(rod, "Rayleigh time, glass"));
+  EXPECT_NE(derived(rod, "particles[0]: spherocylinder grains"), "");
+}
+
+TEST(InputValidate, PolygonMassAndRayleighRadius) {
+  // A square of side 4 mm: area 1.6e-5 m^2, equal-area radius sqrt(A/pi).
+  const auto c = input::load_case_text(R"(dimension: 2
+time: {step: 1.0e-5, end: 0.1}
+domain: {min: [0, 0], max: [0.1, 0.1], thickness: 0.01}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+particles:
+  - shape: polygon
+    polygon: {vertices: [[0, 0], [0.004, 0], [0.004, 0.004], [0, 0.004]]}
+    material: glass
+    positions: [[0.05, 0.05]]
+)",
+                                       "t.yaml");
+  const auto report = input::validate(c);
+  const double r_eq = std::sqrt(1.6e-5 / std::numbers::pi);
+  EXPECT_NE(derived(report, "particles[0]: polygon grains")
+                .find(fmt::format("mass {:.4g} kg", 2500 * 1.6e-5 * 0.01)),
+            std::string::npos)
+      << derived(report, "particles[0]: polygon grains");
+  EXPECT_NE(derived(report, "Rayleigh time, glass (r = " + input::number_text(r_eq)), "");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Echo of shapes and 2D cases
+
+TEST(InputEcho, SpherocylinderCaseRoundTrip) {
+  const auto c = input::load_case_text(header_3d + R"(particles:
+  - shape: spherocylinder
+    equivalent_diameter: 0.004
+    aspect_ratio: 3
+    material: glass
+    fill: {box: {min: [0, 0, 0.05], max: [0.1, 0.1, 0.1]}, orientation: {axis: [1, 2, 3]}}
+  - shape: spherocylinder
+    radius: 0.001
+    length: 0.006
+    material: glass
+    positions: [[0.02, 0.02, 0.02], [0.08, 0.02, 0.02]]
+    axes: [[0, 1, 0], [0, 0, -1]]
+    angular_velocities: [[0, 0, 1], [1, 0, 0]]
+  - shape: spherocylinder
+    radius: 0.001
+    length: 0.002
+    material: glass
+    fill: {box: {min: [0, 0, 0], max: [0.1, 0.1, 0.01]}}
+)",
+                                       "t.yaml");
+  input::validate(c);
+  const std::string text = input::echo_yaml(c, "1");
+  TempDir dir;
+  const auto again = input::load_case(dir.write("echo.yaml", text));
+  ASSERT_EQ(again.particles.size(), 3u);
+  const auto& g0 = again.particles[0];
+  EXPECT_EQ(g0.kind, config::Shape::Spherocylinder);
+  EXPECT_EQ(g0.radius.value, c.particles[0].radius.value);
+  EXPECT_EQ(g0.aspect_ratio, c.particles[0].aspect_ratio);
+  EXPECT_FALSE(g0.length.has_value());
+  expect_quat_near(*g0.fill->orientation, *c.particles[0].fill->orientation);
+  EXPECT_EQ(g0.fill->spacing,
+            c.particles[0].fill->spacing.value_or(
+                2 * input::bounding_radius(c.particles[0], c.particles[0].radius.value) * 1.01));
+  const auto& g1 = again.particles[1];
+  EXPECT_EQ(g1.length, c.particles[1].length);
+  EXPECT_FALSE(g1.aspect_ratio.has_value());
+  const auto& ex = *g1.explicit_particles;
+  ASSERT_EQ(ex.orientations.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i)
+    expect_quat_near(ex.orientations[i], c.particles[1].explicit_particles->orientations[i]);
+  EXPECT_EQ(ex.angular_velocities, c.particles[1].explicit_particles->angular_velocities);
+  EXPECT_FALSE(again.particles[2].fill->orientation.has_value());
+  EXPECT_NE(text.find("orientation: random"), std::string::npos) << text;
+  EXPECT_NO_THROW(input::validate(again));
+}
+
+TEST(InputEcho, TwoDimensionalPolygonCaseRoundTrip) {
+  const auto c = input::load_case_text(R"(dimension: 2
+time: {step: 1.0e-5, end: 0.1}
+domain: {min: [0, 0], max: [0.1, 0.1], periodic: [true, false], thickness: 0.02}
+gravity: [0.5, -9]
+integrator: gear5
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+particles:
+  - shape: polygon
+    polygon: {vertices: [[0, 0], [0.004, 0], [0.003, 0.003], [0, 0.002]]}
+    material: glass
+    positions: [[0.02, 0.02], [0.04, 0.02]]
+    velocities: [[1, 0], [0, 1]]
+    angular_velocities: [2, -3]
+    angles: [0.5, -1]
+  - shape: polygon
+    radius: 0.002
+    polygon: {regular: 7}
+    material: glass
+    fill: {box: {min: [0, 0.05], max: [0.1, 0.07]}, lattice: hcp, orientation: {angle: 0.3},
+           velocity: [0, -1]}
+  - shape: polygon
+    radius: {distribution: uniform, min: 0.001, max: 0.0015}
+    polygon: {random: {vertices: [4, 7], elongation: [1, 1.5]}}
+    material: glass
+    fill: {box: {min: [0, 0.08], max: [0.1, 0.1]}, lattice: random, count: 20}
+  - shape: disk
+    radius: 0.002
+    material: glass
+    positions: [[0.07, 0.02]]
+walls:
+  - {name: floor, plane: {point: [0, 0], normal: [0, 1]}, material: glass}
+  - {name: box, box: {min: [0, 0], max: [0.1, 0.1], open: [ymax]}, material: glass}
+  - {name: paddle, plane: {point: [0.05, 0.03], normal: [1, 0]}, material: glass,
+     motion: {rotate: {center: [0.05, 0.03], rpm: 10}, translate: {velocity: [0.1, 0]}}}
+)",
+                                       "t.yaml");
+  input::validate(c);
+  const std::string text = input::echo_yaml(c, "1");
+  EXPECT_NE(text.find("thickness: 0.02"), std::string::npos) << text;
+  EXPECT_NE(text.find("gravity: [0.5, -9]"), std::string::npos) << text;
+  EXPECT_NE(text.find("open: [ymax]"), std::string::npos) << text;
+  TempDir dir;
+  const auto again = input::load_case(dir.write("echo.yaml", text));
+  EXPECT_EQ(again.dimension, 2);
+  EXPECT_EQ(again.integrator, "gear5");
+  EXPECT_EQ(again.domain.min, c.domain.min);
+  EXPECT_EQ(again.domain.periodic, c.domain.periodic);
+  EXPECT_EQ(again.domain.thickness, c.domain.thickness);
+  EXPECT_EQ(again.gravity, c.gravity);
+  ASSERT_EQ(again.particles.size(), 4u);
+  const auto& v = again.particles[0];
+  EXPECT_EQ(v.polygon.kind, config::PolygonSpec::Kind::Vertices);
+  EXPECT_EQ(v.polygon.vertices, c.particles[0].polygon.vertices);
+  EXPECT_EQ(v.radius.value, c.particles[0].radius.value);
+  const auto& ex = *v.explicit_particles;
+  EXPECT_EQ(ex.positions, c.particles[0].explicit_particles->positions);
+  EXPECT_EQ(ex.velocities, c.particles[0].explicit_particles->velocities);
+  EXPECT_EQ(ex.angular_velocities, c.particles[0].explicit_particles->angular_velocities);
+  ASSERT_EQ(ex.orientations.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i)
+    expect_quat_near(ex.orientations[i], c.particles[0].explicit_particles->orientations[i]);
+  const auto& r = again.particles[1];
+  EXPECT_EQ(r.polygon.sides, 7);
+  EXPECT_EQ(r.fill->lattice, config::Fill::Lattice::Hcp);
+  expect_quat_near(*r.fill->orientation, *c.particles[1].fill->orientation);
+  EXPECT_EQ(r.fill->velocity, c.particles[1].fill->velocity);
+  const auto& q = again.particles[2];
+  EXPECT_EQ(q.polygon.kind, config::PolygonSpec::Kind::Random);
+  EXPECT_EQ(q.polygon.min_vertices, 4);
+  EXPECT_EQ(q.polygon.max_vertices, 7);
+  EXPECT_EQ(q.polygon.max_elongation, 1.5);
+  EXPECT_EQ(q.radius.max, 0.0015);
+  EXPECT_EQ(again.particles[3].kind, config::Shape::Disk);
+  ASSERT_EQ(again.walls.size(), 3u);
+  EXPECT_EQ(again.walls[1].open, c.walls[1].open);
+  EXPECT_EQ(again.walls[2].motion.rate, c.walls[2].motion.rate);
+  EXPECT_EQ(again.walls[2].motion.center, c.walls[2].motion.center);
+  EXPECT_EQ(again.walls[2].motion.velocity, c.walls[2].motion.velocity);
+  EXPECT_NO_THROW(input::validate(again));
 }

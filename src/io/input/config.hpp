@@ -97,7 +97,7 @@ struct Fill {
   /// sphere; 2D: angle uniform in [0, 2 pi)); otherwise this one for all (from `orientation:
   /// {axis: [...]}` in 3D, the rotation taking e_z to the axis, or `{angle: a}` in 2D).
   std::optional<Quat> orientation;
-  SourceLoc loc;                  ///< the `fill:` block, for messages
+  SourceLoc loc;  ///< the `fill:` block, for messages
 };
 
 /// Explicit particles; vectors have one entry per particle (velocities etc. may be empty = zero).
@@ -107,9 +107,9 @@ struct Explicit {
   std::vector<Vec3> angular_velocities;
   std::vector<Quat> orientations;  ///< empty = identity; from `axes:` (3D, rotation taking e_z
                                    ///< to the axis) or `angles:` (2D, rad about z)
-  std::vector<double> radii;   ///< from a CSV 'radius' column; empty = the group's radius
-  std::filesystem::path file;  ///< CSV source, if any (already read into the vectors)
-  std::vector<int> lines;      ///< 1-based line of each particle in the case file or CSV
+  std::vector<double> radii;       ///< from a CSV 'radius' column; empty = the group's radius
+  std::filesystem::path file;      ///< CSV source, if any (already read into the vectors)
+  std::vector<int> lines;          ///< 1-based line of each particle in the case file or CSV
 };
 
 /// Polygon grains (2D): given vertices, regular n-gons or random irregular convex polygons.

@@ -6,8 +6,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "contact/registry.hpp"
+#include "io/input/validate.hpp"
 #include "io/input/yaml_reader.hpp"
 
 namespace gf::input {
@@ -18,11 +20,12 @@ void emit_number(YAML::Emitter& out, double v) {
   out << number_text(v);
 }
 
-void emit_vec(YAML::Emitter& out, const Vec3& v) {
+/// A vector of a case of dimension `dimension`: [x, y] in 2D, [x, y, z] in 3D.
+void emit_vec(YAML::Emitter& out, const Vec3& v, int dimension) {
   out << YAML::Flow << YAML::BeginSeq;
   emit_number(out, v.x);
   emit_number(out, v.y);
-  emit_number(out, v.z);
+  if (dimension != 2) emit_number(out, v.z);
   out << YAML::EndSeq;
 }
 
@@ -31,16 +34,43 @@ void key_number(YAML::Emitter& out, const char* key, double v) {
   emit_number(out, v);
 }
 
-void key_vec(YAML::Emitter& out, const char* key, const Vec3& v) {
+void key_vec(YAML::Emitter& out, const char* key, const Vec3& v, int dimension) {
   out << YAML::Key << key << YAML::Value;
-  emit_vec(out, v);
+  emit_vec(out, v, dimension);
 }
 
-void emit_vec_list(YAML::Emitter& out, const char* key, const std::vector<Vec3>& list) {
+void emit_vec_list(YAML::Emitter& out, const char* key, const std::vector<Vec3>& list,
+                   int dimension) {
   out << YAML::Key << key << YAML::Value << YAML::BeginSeq;
-  for (const auto& v : list) emit_vec(out, v);
+  for (const auto& v : list) emit_vec(out, v, dimension);
   out << YAML::EndSeq;
 }
+
+/// The axis a spherocylinder's body axis e_z is turned to by q (3D).
+Vec3 axis_of(const Quat& q) {
+  Vec3 a = rotate(q, Vec3{0, 0, 1});
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(a[k]) < 1e-15) a[k] = 0;  // rounding noise of the rotation
+  return a;
+}
+
+/// The angle (rad, about z) of a rotation about z (2D).
+double angle_of(const Quat& q) {
+  return 2 * std::atan2(q.z, q.w);
+}
+
+void emit_orientation(YAML::Emitter& out, const Quat& q, int dimension) {
+  out << YAML::Flow << YAML::BeginMap;
+  if (dimension == 2) {
+    key_number(out, "angle", angle_of(q));
+  } else {
+    out << YAML::Key << "axis" << YAML::Value;
+    emit_vec(out, axis_of(q), 3);
+  }
+  out << YAML::EndMap;
+}
+
+void emit_size(YAML::Emitter& out, const config::ParticleGroup& g, bool radius_from_file);
 
 void emit_radius(YAML::Emitter& out, const config::SizeDistribution& d) {
   using K = config::SizeDistribution::Kind;
@@ -63,17 +93,17 @@ void emit_radius(YAML::Emitter& out, const config::SizeDistribution& d) {
   out << YAML::EndMap;
 }
 
-void emit_fill(YAML::Emitter& out, const config::Fill& f, const config::SizeDistribution& radius) {
+void emit_fill(YAML::Emitter& out, const config::Fill& f, const config::ParticleGroup& g, int dim) {
   out << YAML::Key << "fill" << YAML::Value << YAML::BeginMap;
   if (f.region.kind == config::Region::Kind::Box) {
     out << YAML::Key << "box" << YAML::Value << YAML::Flow << YAML::BeginMap;
-    key_vec(out, "min", f.region.min);
-    key_vec(out, "max", f.region.max);
+    key_vec(out, "min", f.region.min, dim);
+    key_vec(out, "max", f.region.max, dim);
     out << YAML::EndMap;
   } else {
     out << YAML::Key << "cylinder" << YAML::Value << YAML::Flow << YAML::BeginMap;
-    key_vec(out, "center", f.region.center);
-    key_vec(out, "axis", f.region.axis);
+    key_vec(out, "center", f.region.center, dim);
+    key_vec(out, "axis", f.region.axis, dim);
     key_number(out, "radius", f.region.radius);
     key_number(out, "height", f.region.height);
     out << YAML::EndMap;
@@ -87,29 +117,79 @@ void emit_fill(YAML::Emitter& out, const config::Fill& f, const config::SizeDist
     if (f.spacing) {
       key_number(out, "spacing", *f.spacing);
     } else {
-      key_number(out, "spacing", 2 * radius.largest() * 1.01);
-      out << YAML::Comment("default: 2.02 x the largest radius");
+      key_number(out, "spacing", 2 * bounding_radius(g, g.radius.largest()) * 1.01);
+      out << YAML::Comment(g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk
+                               ? "default: 2.02 x the largest radius"
+                               : "default: 2.02 x the largest bounding radius");
     }
   }
   if (f.count) out << YAML::Key << "count" << YAML::Value << *f.count;
   out << YAML::Key << "seed" << YAML::Value << f.seed;
-  key_vec(out, "velocity", f.velocity);
+  key_vec(out, "velocity", f.velocity, dim);
   key_number(out, "velocity_jitter", f.velocity_jitter);
   if (random) {
     const std::int64_t attempts = f.max_attempts > 0 ? f.max_attempts : 1000 * f.count.value_or(0);
     out << YAML::Key << "max_attempts" << YAML::Value << attempts;
     if (f.max_attempts == 0) out << YAML::Comment("default: 1000 x count");
   }
+  if (g.kind == config::Shape::Spherocylinder || g.kind == config::Shape::Polygon) {
+    out << YAML::Key << "orientation" << YAML::Value;
+    if (f.orientation)
+      emit_orientation(out, *f.orientation, dim);
+    else
+      out << "random";
+  }
   out << YAML::EndMap;
+}
+
+void emit_size(YAML::Emitter& out, const config::ParticleGroup& g, bool radius_from_file) {
+  const bool vertices =
+      g.kind == config::Shape::Polygon && g.polygon.kind == config::PolygonSpec::Kind::Vertices;
+  if (!radius_from_file && !vertices) emit_radius(out, g.radius);
+  if (g.kind == config::Shape::Spherocylinder) {
+    if (g.length) {
+      key_number(out, "length", *g.length);
+      out << YAML::Comment("m, cylindrical part");
+    } else if (g.aspect_ratio) {
+      key_number(out, "aspect_ratio", *g.aspect_ratio);
+      out << YAML::Comment("(L + 2 r)/(2 r)");
+    }
+  }
+  if (g.kind != config::Shape::Polygon) return;
+  const auto& p = g.polygon;
+  out << YAML::Key << "polygon" << YAML::Value;
+  switch (p.kind) {
+    case config::PolygonSpec::Kind::Vertices:
+      out << YAML::BeginMap << YAML::Key << "vertices" << YAML::Value << YAML::Flow
+          << YAML::BeginSeq;
+      for (const auto& v : p.vertices) emit_vec(out, v, 2);
+      out << YAML::EndSeq << YAML::EndMap;
+      out << YAML::Comment(fmt::format("equal-area radius {} m", number_text(g.radius.value)));
+      break;
+    case config::PolygonSpec::Kind::Regular:
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "regular" << YAML::Value << p.sides
+          << YAML::EndMap;
+      break;
+    case config::PolygonSpec::Kind::Random:
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "random" << YAML::Value << YAML::BeginMap;
+      out << YAML::Key << "vertices" << YAML::Value << YAML::BeginSeq << p.min_vertices
+          << p.max_vertices << YAML::EndSeq;
+      out << YAML::Key << "elongation" << YAML::Value << YAML::BeginSeq;
+      emit_number(out, p.min_elongation);
+      emit_number(out, p.max_elongation);
+      out << YAML::EndSeq << YAML::EndMap << YAML::EndMap;
+      break;
+  }
 }
 
 void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config::Case& c) {
   out << YAML::BeginMap;
   out << YAML::Key << "shape" << YAML::Value << g.shape;
   const bool radius_from_file = g.explicit_particles && !g.explicit_particles->radii.empty();
-  if (!radius_from_file) emit_radius(out, g.radius);
+  emit_size(out, g, radius_from_file);
   out << YAML::Key << "material" << YAML::Value << g.material;
-  if (g.fill) emit_fill(out, *g.fill, g.radius);
+  const int dim = c.dimension;
+  if (g.fill) emit_fill(out, *g.fill, g, dim);
   if (g.explicit_particles) {
     const auto& ex = *g.explicit_particles;
     const std::size_t n = ex.positions.size();
@@ -124,36 +204,58 @@ void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config
       out << YAML::Key << "source" << YAML::Value << c.file.string();
       out << YAML::EndMap << YAML::Comment("summarised: the list is in the source file");
     } else {
-      emit_vec_list(out, "positions", ex.positions);
-      if (!ex.velocities.empty()) emit_vec_list(out, "velocities", ex.velocities);
-      if (!ex.angular_velocities.empty())
-        emit_vec_list(out, "angular_velocities", ex.angular_velocities);
+      emit_vec_list(out, "positions", ex.positions, dim);
+      if (!ex.velocities.empty()) emit_vec_list(out, "velocities", ex.velocities, dim);
+      if (!ex.angular_velocities.empty()) {
+        if (dim == 2) {
+          out << YAML::Key << "angular_velocities" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+          for (const auto& w : ex.angular_velocities) emit_number(out, w.z);
+          out << YAML::EndSeq << YAML::Comment("rad/s about z");
+        } else {
+          emit_vec_list(out, "angular_velocities", ex.angular_velocities, dim);
+        }
+      }
+      if (!ex.orientations.empty()) {
+        if (g.kind == config::Shape::Spherocylinder) {
+          out << YAML::Key << "axes" << YAML::Value << YAML::BeginSeq;
+          for (const auto& q : ex.orientations) emit_vec(out, axis_of(q), 3);
+          out << YAML::EndSeq;
+        } else {
+          out << YAML::Key << "angles" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+          for (const auto& q : ex.orientations) emit_number(out, angle_of(q));
+          out << YAML::EndSeq << YAML::Comment("rad");
+        }
+      }
     }
   }
   out << YAML::EndMap;
 }
 
-void emit_wall(YAML::Emitter& out, const config::Wall& w) {
+void emit_wall(YAML::Emitter& out, const config::Wall& w, int dim) {
   out << YAML::BeginMap;
   out << YAML::Key << "name" << YAML::Value << w.name;
   switch (w.kind) {
     case config::Wall::Kind::Plane:
       out << YAML::Key << "plane" << YAML::Value << YAML::Flow << YAML::BeginMap;
-      key_vec(out, "point", w.point);
-      key_vec(out, "normal", w.normal);
+      key_vec(out, "point", w.point, dim);
+      key_vec(out, "normal", w.normal, dim);
       out << YAML::EndMap;
       break;
-    case config::Wall::Kind::Box:
+    case config::Wall::Kind::Box: {
       out << YAML::Key << "box" << YAML::Value << YAML::Flow << YAML::BeginMap;
-      key_vec(out, "min", w.min);
-      key_vec(out, "max", w.max);
-      out << YAML::Key << "open" << YAML::Value << YAML::Flow << w.open;
+      key_vec(out, "min", w.min, dim);
+      key_vec(out, "max", w.max, dim);
+      std::vector<std::string> open;  // a 2D box has no z faces (recorded as open)
+      for (const auto& face : w.open)
+        if (dim != 2 || (face != "zmin" && face != "zmax")) open.push_back(face);
+      out << YAML::Key << "open" << YAML::Value << YAML::Flow << open;
       out << YAML::EndMap;
       break;
+    }
     case config::Wall::Kind::Cylinder:
       out << YAML::Key << "cylinder" << YAML::Value << YAML::Flow << YAML::BeginMap;
-      key_vec(out, "center", w.center);
-      key_vec(out, "axis", w.axis);
+      key_vec(out, "center", w.center, dim);
+      key_vec(out, "axis", w.axis, dim);
       key_number(out, "radius", w.radius);
       out << YAML::Key << "inside" << YAML::Value << w.inside;
       out << YAML::EndMap;
@@ -165,13 +267,13 @@ void emit_wall(YAML::Emitter& out, const config::Wall& w) {
     out << YAML::Key << "motion" << YAML::Value << YAML::BeginMap;
     if (translates) {
       out << YAML::Key << "translate" << YAML::Value << YAML::Flow << YAML::BeginMap;
-      key_vec(out, "velocity", w.motion.velocity);
+      key_vec(out, "velocity", w.motion.velocity, dim);
       out << YAML::EndMap;
     }
     if (w.motion.rotates) {
       out << YAML::Key << "rotate" << YAML::Value << YAML::Flow << YAML::BeginMap;
-      key_vec(out, "axis", w.motion.axis);
-      key_vec(out, "center", w.motion.center);
+      if (dim != 2) key_vec(out, "axis", w.motion.axis, dim);  // 2D: about z
+      key_vec(out, "center", w.motion.center, dim);
       key_number(out, "rate", w.motion.rate);
       out << YAML::EndMap << YAML::Comment("rate in rad/s");
     }
@@ -200,12 +302,15 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
   key_number(out, "end", c.time.end);
   out << YAML::EndMap << YAML::Comment("s");
   out << YAML::Key << "domain" << YAML::Value << YAML::Flow << YAML::BeginMap;
-  key_vec(out, "min", c.domain.min);
-  key_vec(out, "max", c.domain.max);
+  key_vec(out, "min", c.domain.min, c.dimension);
+  key_vec(out, "max", c.domain.max, c.dimension);
   out << YAML::Key << "periodic" << YAML::Value << YAML::Flow << YAML::BeginSeq
-      << c.domain.periodic[0] << c.domain.periodic[1] << c.domain.periodic[2] << YAML::EndSeq;
+      << c.domain.periodic[0] << c.domain.periodic[1];
+  if (c.dimension != 2) out << c.domain.periodic[2];
+  out << YAML::EndSeq;
+  if (c.dimension == 2) key_number(out, "thickness", c.domain.thickness);
   out << YAML::EndMap << YAML::Comment("m");
-  key_vec(out, "gravity", c.gravity);
+  key_vec(out, "gravity", c.gravity, c.dimension);
   out << YAML::Comment("m/s^2");
   out << YAML::Key << "integrator" << YAML::Value << c.integrator;
 
@@ -247,7 +352,7 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
 
   if (!c.walls.empty()) {
     out << YAML::Key << "walls" << YAML::Value << YAML::BeginSeq;
-    for (const auto& w : c.walls) emit_wall(out, w);
+    for (const auto& w : c.walls) emit_wall(out, w, c.dimension);
     out << YAML::EndSeq;
   }
 

@@ -15,7 +15,9 @@
 
 #include "contact/registry.hpp"
 #include "core/error.hpp"
+#include "io/input/validate.hpp"
 #include "io/input/yaml_reader.hpp"
+#include "particles/shapes.hpp"
 
 namespace gf::input {
 
@@ -23,8 +25,36 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string vec_text(const Vec3& v) {
+std::string vec_text(const Vec3& v, int dimension = 3) {
+  if (dimension == 2) return fmt::format("[{}, {}]", number_text(v.x), number_text(v.y));
   return fmt::format("[{}, {}, {}]", number_text(v.x), number_text(v.y), number_text(v.z));
+}
+
+/// The rotation taking e_z onto the unit vector `axis` (the shortest one; a half turn about x
+/// when `axis` is -e_z).
+Quat quat_from_z_to(const Vec3& axis) {
+  const double w = 1 + axis.z;  // 1 + cos(angle)
+  if (w < 1e-12) return Quat{0, 1, 0, 0};
+  return normalized(Quat{w, -axis.y, axis.x, 0});  // (1 + e_z . a, e_z x a), halved angle
+}
+
+/// The rotation by `angle` (rad) about z.
+Quat quat_about_z(double angle) {
+  return quat_from_axis_angle(Vec3{0, 0, 1}, angle);
+}
+
+const char* shape_name(config::Shape s) {
+  switch (s) {
+    case config::Shape::Sphere:
+      return "sphere";
+    case config::Shape::Spherocylinder:
+      return "spherocylinder";
+    case config::Shape::Disk:
+      return "disk";
+    case config::Shape::Polygon:
+      return "polygon";
+  }
+  return "sphere";
 }
 
 /// State shared by the block readers.
@@ -53,16 +83,33 @@ struct Reader {
     n.fail(fmt::format("unknown material '{}'{}; defined materials: {}", name, hint, join(names)));
   }
 
+  bool two_d() const { return c.dimension == 2; }
+  /// A position, velocity or other vector: [x, y, z] in 3D, [x, y] in 2D (z = 0).
+  Vec3 vec(const YamlNode& n) const { return n.as_vec(c.dimension); }
+  Vec3 vec(const YamlMap& m, std::string_view key) const { return vec(m.at(key)); }
+  Vec3 vec_or(const YamlMap& m, std::string_view key, const Vec3& fallback) const {
+    auto n = m.find(key);
+    return n ? vec(*n) : fallback;
+  }
+  Vec3 direction(const YamlNode& n) const { return n.as_direction(c.dimension); }
+  std::string text(const Vec3& v) const { return vec_text(v, c.dimension); }
+  const char* vec_form() const { return two_d() ? "[x, y]" : "[x, y, z]"; }
+
   void read_time(const YamlMap& root);
   void read_domain(const YamlMap& root);
   void read_materials(const YamlMap& root);
   void read_contacts(const YamlMap& root);
   void read_particles(const YamlMap& root);
   config::ParticleGroup read_group(const YamlNode& node);
+  void read_shape(const YamlMap& gm, config::ParticleGroup& g) const;
+  void read_size(const YamlMap& gm, config::ParticleGroup& g);
+  void read_cylinder_length(const YamlMap& gm, config::ParticleGroup& g, bool from_diameter);
+  config::PolygonSpec read_polygon(const YamlNode& node) const;
   config::SizeDistribution read_radius(const YamlNode& node);
-  config::Fill read_fill(const YamlNode& node, const config::SizeDistribution& radius);
-  void read_positions(const YamlMap& gm, config::Explicit& ex);
-  std::vector<double> read_csv(const YamlNode& file_node, config::Explicit& ex);
+  config::Fill read_fill(const YamlNode& node, const config::ParticleGroup& g);
+  void read_positions(const YamlMap& gm, const config::ParticleGroup& g, config::Explicit& ex);
+  std::vector<double> read_csv(const YamlNode& file_node, const config::ParticleGroup& g,
+                               config::Explicit& ex);
   void read_walls(const YamlMap& root);
   config::Motion read_motion(const YamlNode& node);
   void read_output(const YamlMap& root);
@@ -80,18 +127,30 @@ void Reader::read_time(const YamlMap& root) {
 
 void Reader::read_domain(const YamlMap& root) {
   const YamlNode dn = root.at("domain");
-  YamlMap d(dn, {"min", "max", "periodic"});
-  c.domain.min = d.vec3("min");
-  c.domain.max = d.vec3("max");
-  for (int k = 0; k < 3; ++k) {
+  YamlMap d(dn, {"min", "max", "periodic", "thickness"});
+  const int dim = c.dimension;
+  c.domain.min = vec(d, "min");
+  c.domain.max = vec(d, "max");
+  for (int k = 0; k < dim; ++k) {
     if (!(c.domain.max[k] > c.domain.min[k]))
-      d.at("max").fail_expected(fmt::format("every component greater than that of domain.min {}",
-                                            vec_text(c.domain.min)));
+      d.at("max").fail_expected(
+          fmt::format("every component greater than that of domain.min {}", text(c.domain.min)));
   }
   if (auto p = d.find("periodic")) {
-    if (!p->is_list() || p->raw().size() != 3) p->fail_expected("a list of 3 booleans [x, y, z]");
+    if (!p->is_list() || p->raw().size() != static_cast<std::size_t>(dim)) {
+      if (two_d() && p->is_list() && p->raw().size() == 3)
+        p->fail(fmt::format("expected 2 components in a 2D case ([x, y]), found {}", p->found()));
+      p->fail_expected(two_d() ? "a list of 2 booleans [x, y]" : "a list of 3 booleans [x, y, z]");
+    }
     const auto items = p->as_list();
-    for (int k = 0; k < 3; ++k) c.domain.periodic[k] = items[k].as_bool();
+    for (int k = 0; k < dim; ++k) c.domain.periodic[k] = items[k].as_bool();
+  }
+  if (auto t = d.find("thickness")) {
+    if (!two_d())
+      t->fail(
+          "'thickness' applies to 2D cases only (dimension: 2), where it is the depth of the disks "
+          "and polygons; a 3D case has none");
+    c.domain.thickness = t->as_number(Range::positive());
   }
   c.domain.loc = dn.loc();
 }
@@ -249,22 +308,25 @@ config::SizeDistribution Reader::read_radius(const YamlNode& node) {
   return d;
 }
 
-config::Fill Reader::read_fill(const YamlNode& node, const config::SizeDistribution& radius) {
+config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup& g) {
   config::Fill f;
   YamlMap fm(node, {"box", "cylinder", "lattice", "spacing", "count", "seed", "velocity",
-                    "velocity_jitter", "max_attempts"});
+                    "velocity_jitter", "max_attempts", "orientation"});
   f.loc = node.loc();
   const std::string region = fm.exactly_one_of({"box", "cylinder"});
   if (region == "box") {
     YamlMap bm(fm.at("box"), {"min", "max"});
     f.region.kind = config::Region::Kind::Box;
-    f.region.min = bm.vec3("min");
-    f.region.max = bm.vec3("max");
-    for (int k = 0; k < 3; ++k)
+    f.region.min = vec(bm, "min");
+    f.region.max = vec(bm, "max");
+    for (int k = 0; k < c.dimension; ++k)
       if (!(f.region.max[k] > f.region.min[k]))
         bm.at("max").fail_expected(
-            fmt::format("every component greater than that of min {}", vec_text(f.region.min)));
+            fmt::format("every component greater than that of min {}", text(f.region.min)));
   } else {
+    if (two_d())
+      fm.at("cylinder")
+          .fail("cylinder fill regions are not available in 2D (dimension: 2); use a box region");
     YamlMap cm(fm.at("cylinder"), {"center", "axis", "radius", "height"});
     f.region.kind = config::Region::Kind::Cylinder;
     f.region.center = cm.vec3("center");
@@ -282,12 +344,17 @@ config::Fill Reader::read_fill(const YamlNode& node, const config::SizeDistribut
   if (auto s = fm.find("spacing")) {
     if (random)
       s->fail("'spacing' applies to the cubic and hcp lattices only, not to lattice: random");
-    const double min_spacing = 2 * radius.largest();
+    const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
+    const double min_spacing = 2 * bounding_radius(g, g.radius.largest());
     f.spacing = s->as_number(Range::positive());
     if (*f.spacing < min_spacing)
       s->fail_expected(
-          fmt::format("a spacing >= 2 x the largest radius ({} m) so that grains do not overlap",
-                      number_text(min_spacing)));
+          round ? fmt::format("a spacing >= 2 x the largest radius ({} m) so that grains do not "
+                              "overlap",
+                              number_text(min_spacing))
+                : fmt::format("a spacing >= 2 x the largest bounding radius of the {} grains ({} "
+                              "m) so that grains do not overlap in any orientation",
+                              g.shape, number_text(min_spacing)));
   }
   if (auto n = fm.find("count")) {
     f.count = n->as_integer(Range::at_least(1));
@@ -299,31 +366,71 @@ config::Fill Reader::read_fill(const YamlNode& node, const config::SizeDistribut
   }
   if (auto s = fm.find("seed"))
     f.seed = static_cast<std::uint64_t>(s->as_integer(Range::non_negative()));
-  f.velocity = fm.vec3_or("velocity", Vec3{});
+  f.velocity = vec_or(fm, "velocity", Vec3{});
   f.velocity_jitter = fm.number_or("velocity_jitter", 0.0, Range::non_negative());
   if (auto m = fm.find("max_attempts")) {
     if (!random) m->fail("'max_attempts' applies to lattice: random only");
     f.max_attempts = m->as_integer(Range::at_least(1));
   }
+  if (auto o = fm.find("orientation")) {
+    if (g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk)
+      o->fail(fmt::format(
+          "'orientation' applies to spherocylinder and polygon grains only, not to shape: {}",
+          g.shape));
+    const char* forms =
+        two_d() ? "random or {angle: a} (rad, about z)" : "random or {axis: [x, y, z]}";
+    if (o->is_scalar()) {
+      if (o->as_string() != "random") o->fail_expected(forms);
+      // random: f.orientation stays empty
+    } else if (o->is_map()) {
+      if (two_d()) {
+        YamlMap om(*o, {"angle"});
+        f.orientation = quat_about_z(om.number("angle"));
+      } else {
+        YamlMap om(*o, {"axis"});
+        f.orientation = quat_from_z_to(om.at("axis").as_direction());
+      }
+    } else {
+      o->fail_expected(forms);
+    }
+  }
   return f;
 }
 
-void Reader::read_positions(const YamlMap& gm, config::Explicit& ex) {
+void Reader::read_positions(const YamlMap& gm, const config::ParticleGroup& g,
+                            config::Explicit& ex) {
   const auto items = gm.at("positions").as_list(1);
   for (const auto& it : items) {
-    ex.positions.push_back(it.as_vec3());
+    ex.positions.push_back(vec(it));
     ex.lines.push_back(it.line());
   }
-  auto read_same_length = [&](const char* key, std::vector<Vec3>& out) {
+  // The list under `key` with one entry per position, or nothing when `key` is absent.
+  auto same_length = [&](const char* key, const char* entry) -> std::vector<YamlNode> {
     auto n = gm.find(key);
-    if (!n) return;
+    if (!n) return {};
     if (!n->is_list() || n->raw().size() != items.size())
-      n->fail_expected(
-          fmt::format("a list of {} [x, y, z] entries (one per position)", items.size()));
-    for (const auto& it : n->as_list()) out.push_back(it.as_vec3());
+      n->fail_expected(fmt::format("a list of {} {} (one per position)", items.size(), entry));
+    return n->as_list();
   };
-  read_same_length("velocities", ex.velocities);
-  read_same_length("angular_velocities", ex.angular_velocities);
+  const std::string vec_entries = fmt::format("{} entries", vec_form());
+  for (const auto& it : same_length("velocities", vec_entries.c_str()))
+    ex.velocities.push_back(vec(it));
+  if (two_d()) {
+    for (const auto& it : same_length("angular_velocities", "numbers (rad/s about z)")) {
+      if (!it.is_scalar())
+        it.fail_expected("a number (rad/s about z: angular velocities are scalars in a 2D case)");
+      ex.angular_velocities.push_back(Vec3{0, 0, it.as_number()});
+    }
+  } else {
+    for (const auto& it : same_length("angular_velocities", "[x, y, z] entries"))
+      ex.angular_velocities.push_back(it.as_vec3());
+  }
+  if (g.kind == config::Shape::Spherocylinder)
+    for (const auto& it : same_length("axes", "axis directions [x, y, z]"))
+      ex.orientations.push_back(quat_from_z_to(it.as_direction()));
+  if (g.kind == config::Shape::Polygon)
+    for (const auto& it : same_length("angles", "angles (rad, about z)"))
+      ex.orientations.push_back(quat_about_z(it.as_number()));
 }
 
 namespace {
@@ -354,7 +461,8 @@ std::vector<std::pair<std::string_view, int>> split_csv(std::string_view line) {
 
 }  // namespace
 
-std::vector<double> Reader::read_csv(const YamlNode& file_node, config::Explicit& ex) {
+std::vector<double> Reader::read_csv(const YamlNode& file_node, const config::ParticleGroup& g,
+                                     config::Explicit& ex) {
   const std::string given = file_node.as_string();
   if (given.empty()) file_node.fail_expected("a CSV file name");
   fs::path path =
@@ -370,12 +478,39 @@ std::vector<double> Reader::read_csv(const YamlNode& file_node, config::Explicit
     throw_input_error(loc, msg);
   };
 
-  static const std::vector<std::string> known{"x",  "y",  "z",  "vx", "vy",
-                                              "vz", "wx", "wy", "wz", "radius"};
-  std::vector<int> column_of;  // field index -> index in `known`
+  // Slots of a row: 0-2 position, 3-5 velocity, 6-8 angular velocity, 9 radius, 10-13
+  // orientation quaternion (w, x, y, z; 3D), 14 orientation angle (rad about z; 2D).
+  enum : int { kRadius = 9, kQuat = 10, kAngle = 14, kSlots = 15 };
+  struct Column {
+    std::string name;
+    int slot;
+  };
+  const std::vector<Column> columns =
+      two_d() ? std::vector<Column>{{"x", 0},  {"y", 1},      {"vx", 3},    {"vy", 4},
+                                    {"wz", 8}, {"radius", 9}, {"angle", 14}}
+              : std::vector<Column>{{"x", 0},   {"y", 1},   {"z", 2},   {"vx", 3}, {"vy", 4},
+                                    {"vz", 5},  {"wx", 6},  {"wy", 7},  {"wz", 8}, {"radius", 9},
+                                    {"qw", 10}, {"qx", 11}, {"qy", 12}, {"qz", 13}};
+  // Columns that go together (all or none).
+  const std::vector<std::vector<int>> together =
+      two_d() ? std::vector<std::vector<int>>{{3, 4}}
+              : std::vector<std::vector<int>>{{3, 4, 5}, {6, 7, 8}, {10, 11, 12, 13}};
+  std::vector<std::string> names;
+  for (const auto& col : columns) names.push_back(col.name);
+  auto name_of = [&](int slot) {
+    for (const auto& col : columns)
+      if (col.slot == slot) return col.name;
+    return std::string();
+  };
+  const bool oriented = g.kind == config::Shape::Spherocylinder || g.kind == config::Shape::Polygon;
+
+  std::vector<int> slot_of;  // field index -> slot
   std::vector<double> radii;
   std::string line_text;
   int line_no = 0, header_line = 0;
+  auto has = [&](int slot) {
+    return std::find(slot_of.begin(), slot_of.end(), slot) != slot_of.end();
+  };
   while (std::getline(in, line_text)) {
     ++line_no;
     const std::string_view line = trim(line_text);
@@ -384,82 +519,273 @@ std::vector<double> Reader::read_csv(const YamlNode& file_node, config::Explicit
     if (header_line == 0) {
       header_line = line_no;
       for (const auto& [name, col] : fields) {
-        auto it = std::find(known.begin(), known.end(), name);
-        if (it == known.end())
+        auto it = std::find_if(columns.begin(), columns.end(),
+                               [&](const Column& c) { return c.name == name; });
+        if (it == columns.end()) {
+          static const std::vector<std::string> only_3d{"z",  "vz", "wx", "wy",
+                                                        "qw", "qx", "qy", "qz"};
+          if (two_d() && std::find(only_3d.begin(), only_3d.end(), name) != only_3d.end())
+            fail_at(line_no, col,
+                    fmt::format("column '{}' does not apply to a 2D case (dimension: 2); the "
+                                "columns of a 2D particle file are: {}",
+                                name, join(names)));
+          if (!two_d() && name == "angle")
+            fail_at(line_no, col,
+                    "column 'angle' is for 2D cases; in 3D the orientation is given by the "
+                    "columns qw, qx, qy, qz");
           fail_at(line_no, col,
                   fmt::format("unknown column '{}' in the header; accepted columns: {}", name,
-                              join(known)));
-        const int idx = static_cast<int>(it - known.begin());
-        if (std::find(column_of.begin(), column_of.end(), idx) != column_of.end())
+                              join(names)));
+        }
+        if (has(it->slot))
           fail_at(line_no, col, fmt::format("column '{}' appears twice in the header", name));
-        column_of.push_back(idx);
+        if (it->slot >= kQuat && !oriented)
+          fail_at(line_no, col,
+                  fmt::format("column '{}': orientations apply to spherocylinder and polygon "
+                              "grains only, not to shape: {}",
+                              name, g.shape));
+        slot_of.push_back(it->slot);
       }
-      auto has = [&](int idx) {
-        return std::find(column_of.begin(), column_of.end(), idx) != column_of.end();
-      };
-      for (int k = 0; k < 3; ++k)
+      for (int k = 0; k < c.dimension; ++k)
         if (!has(k))
+          fail_at(
+              line_no, 1,
+              fmt::format("expected a header with columns {} (optionally {}), found no "
+                          "column '{}'",
+                          two_d() ? "x, y" : "x, y, z",
+                          join(std::vector<std::string>(names.begin() + c.dimension, names.end())),
+                          name_of(k)));
+      for (const auto& set : together) {
+        std::size_t n = 0;
+        std::vector<std::string> set_names;
+        for (int slot : set) {
+          n += has(slot) ? 1 : 0;
+          set_names.push_back(name_of(slot));
+        }
+        if (n != 0 && n != set.size())
           fail_at(line_no, 1,
-                  fmt::format("expected a header with columns x, y, z (optionally vx, vy, vz, "
-                              "wx, wy, wz, radius), found no column '{}'",
-                              known[k]));
-      for (int g : {3, 6}) {
-        const int n = has(g) + has(g + 1) + has(g + 2);
-        if (n != 0 && n != 3)
-          fail_at(line_no, 1,
-                  fmt::format("columns {}, {}, {} go together; found only some of them", known[g],
-                              known[g + 1], known[g + 2]));
+                  fmt::format("columns {} go together; found only some of them", join(set_names)));
       }
       continue;
     }
-    if (fields.size() != column_of.size())
+    if (fields.size() != slot_of.size())
       fail_at(line_no, 1,
               fmt::format("expected {} comma-separated values (as in the header), found {}",
-                          column_of.size(), fields.size()));
-    double v[10] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+                          slot_of.size(), fields.size()));
+    double v[kSlots] = {};
     for (std::size_t f = 0; f < fields.size(); ++f) {
       std::string_view text = fields[f].first;
       if (!text.empty() && text.front() == '+') text.remove_prefix(1);
       double x = 0;
       const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), x);
-      const int idx = column_of[f];
+      const int slot = slot_of[f];
       if (text.empty() || ec != std::errc() || ptr != text.data() + text.size() ||
           !std::isfinite(x))
-        fail_at(
-            line_no, fields[f].second,
-            fmt::format("column '{}': expected a number, found '{}'", known[idx], fields[f].first));
-      if (idx == 9 && !(x > 0))
+        fail_at(line_no, fields[f].second,
+                fmt::format("column '{}': expected a number, found '{}'", name_of(slot),
+                            fields[f].first));
+      if (slot == kRadius && !(x > 0))
         fail_at(line_no, fields[f].second,
                 fmt::format("column 'radius': expected a number > 0, found '{}'", fields[f].first));
-      v[idx] = x;
+      v[slot] = x;
     }
     ex.positions.push_back({v[0], v[1], v[2]});
     ex.lines.push_back(line_no);
-    const bool has_v = std::find(column_of.begin(), column_of.end(), 3) != column_of.end();
-    const bool has_w = std::find(column_of.begin(), column_of.end(), 6) != column_of.end();
-    const bool has_r = std::find(column_of.begin(), column_of.end(), 9) != column_of.end();
-    if (has_v) ex.velocities.push_back({v[3], v[4], v[5]});
-    if (has_w) ex.angular_velocities.push_back({v[6], v[7], v[8]});
-    if (has_r) radii.push_back(v[9]);
+    if (has(3)) ex.velocities.push_back({v[3], v[4], v[5]});
+    if (has(8)) ex.angular_velocities.push_back({v[6], v[7], v[8]});
+    if (has(kRadius)) radii.push_back(v[kRadius]);
+    if (has(kQuat)) {
+      const Quat q{v[10], v[11], v[12], v[13]};
+      if (!(norm2(q) > 0))
+        fail_at(line_no, 1, "columns qw, qx, qy, qz: expected a non-zero quaternion, found 0");
+      ex.orientations.push_back(normalized(q));
+    }
+    if (has(kAngle)) ex.orientations.push_back(quat_about_z(v[kAngle]));
   }
-  if (header_line == 0) fail_at(0, 0, "expected a header line 'x,y,z[,...]', found an empty file");
+  if (header_line == 0)
+    fail_at(0, 0,
+            fmt::format("expected a header line '{}[,...]', found an empty file",
+                        two_d() ? "x,y" : "x,y,z"));
   if (ex.positions.empty())
     fail_at(header_line, 1, "expected particle rows after the header, found none");
   return radii;
 }
 
+void Reader::read_shape(const YamlMap& gm, config::ParticleGroup& g) const {
+  g.kind = two_d() ? config::Shape::Disk : config::Shape::Sphere;  // default: the round one
+  if (auto s = gm.find("shape")) {
+    const std::string name = s->as_choice({"sphere", "spherocylinder", "disk", "polygon"});
+    g.kind = name == "sphere"           ? config::Shape::Sphere
+             : name == "spherocylinder" ? config::Shape::Spherocylinder
+             : name == "disk"           ? config::Shape::Disk
+                                        : config::Shape::Polygon;
+    const bool shape_2d = g.kind == config::Shape::Disk || g.kind == config::Shape::Polygon;
+    if (shape_2d != two_d())
+      s->fail(
+          fmt::format("shape '{}' is a {}D shape, not available in a {}D case (dimension: {}); "
+                      "the shapes of a {}D case are {}",
+                      name, shape_2d ? 2 : 3, c.dimension, c.dimension, c.dimension,
+                      two_d() ? "disk and polygon" : "sphere and spherocylinder"));
+  }
+  g.shape = shape_name(g.kind);
+  // Keys that belong to other shapes.
+  auto only_for = [&](const char* key, config::Shape shape, const char* what) {
+    if (g.kind == shape) return;
+    if (auto n = gm.find(key))
+      n->fail(fmt::format("'{}'{} applies to shape: {} only; this group's shape is {}", key, what,
+                          shape_name(shape), g.shape));
+  };
+  only_for("equivalent_diameter", config::Shape::Spherocylinder, "");
+  only_for("length", config::Shape::Spherocylinder, "");
+  only_for("aspect_ratio", config::Shape::Spherocylinder, "");
+  only_for("axes", config::Shape::Spherocylinder, " (orientations of explicit particles)");
+  only_for("polygon", config::Shape::Polygon, "");
+  only_for("angles", config::Shape::Polygon, " (orientations of explicit particles)");
+}
+
+void Reader::read_cylinder_length(const YamlMap& gm, config::ParticleGroup& g, bool from_diameter) {
+  if (from_diameter) {
+    if (auto l = gm.find("length"))
+      l->fail(
+          "'length' does not go with 'equivalent_diameter'; give the elongation as "
+          "'aspect_ratio' (or give 'radius' and 'length')");
+    return;  // aspect_ratio was read with the diameter
+  }
+  const bool has_length = gm.has("length"), has_ratio = gm.has("aspect_ratio");
+  if (has_length && has_ratio) gm.exactly_one_of({"length", "aspect_ratio"});  // throws
+  if (!has_length && !has_ratio) {
+    config::SourceLoc loc = gm.node().key_loc();
+    loc.key_path = gm.node().path() + ".length";
+    throw_input_error(loc,
+                      "missing required key: a spherocylinder needs 'length' (m, the length L of "
+                      "its cylindrical part, >= 0) or 'aspect_ratio' ((L + 2 r)/(2 r), >= 1)");
+  }
+  if (has_length)
+    g.length = gm.number("length", Range::non_negative());
+  else
+    g.aspect_ratio = gm.number("aspect_ratio", Range::at_least(1));
+}
+
+void Reader::read_size(const YamlMap& gm, config::ParticleGroup& g) {
+  if (g.kind == config::Shape::Polygon && g.polygon.kind == config::PolygonSpec::Kind::Vertices) {
+    if (auto r = gm.find("radius"))
+      r->fail(
+          "a polygon given by its vertices takes its size from them; remove 'radius' (or use "
+          "polygon: {regular: n} or {random: ...} with a radius)");
+    g.radius.kind = config::SizeDistribution::Kind::Fixed;
+    g.radius.value = std::sqrt(grain_measure(g, 0.0) / std::numbers::pi);  // equal-area radius
+    return;
+  }
+  if (g.kind == config::Shape::Spherocylinder && gm.has("equivalent_diameter")) {
+    if (gm.has("radius")) gm.exactly_one_of({"radius", "equivalent_diameter"});  // throws
+    const double d = gm.number("equivalent_diameter", Range::positive());
+    if (!gm.has("aspect_ratio")) {
+      config::SourceLoc loc = gm.node().key_loc();
+      loc.key_path = gm.node().path() + ".aspect_ratio";
+      throw_input_error(loc,
+                        "missing required key 'aspect_ratio': a spherocylinder given by "
+                        "'equivalent_diameter' also needs its aspect ratio (L + 2 r)/(2 r) >= 1");
+    }
+    const double alpha = gm.number("aspect_ratio", Range::at_least(1));
+    // Volume pi r^3 (2 alpha - 2/3) of the spherocylinder = pi d^3 / 6 of the sphere.
+    g.radius.kind = config::SizeDistribution::Kind::Fixed;
+    g.radius.value = d / std::cbrt(12 * alpha - 4);
+    g.aspect_ratio = alpha;
+    read_cylinder_length(gm, g, true);
+    return;
+  }
+  g.radius = read_radius(gm.at("radius"));
+  if (g.kind == config::Shape::Spherocylinder) read_cylinder_length(gm, g, false);
+}
+
+config::PolygonSpec Reader::read_polygon(const YamlNode& node) const {
+  config::PolygonSpec p;
+  YamlMap pm(node, {"vertices", "regular", "random"});
+  const std::string form = pm.exactly_one_of({"vertices", "regular", "random"});
+  const Range vertex_count{3, static_cast<double>(kMaxPolygonVertices), false, false};
+  if (form == "vertices") {
+    p.kind = config::PolygonSpec::Kind::Vertices;
+    const YamlNode vn = pm.at("vertices");
+    const auto items = vn.as_list(3);
+    if (items.size() > static_cast<std::size_t>(kMaxPolygonVertices))
+      vn.fail_expected(
+          fmt::format("a list of 3 to {} vertices [[x, y], ...]", kMaxPolygonVertices));
+    for (const auto& it : items) p.vertices.push_back(it.as_vec(2));
+    // Strictly convex and counter-clockwise: every turn is to the left (positive cross product
+    // of consecutive edges), and the turns add up to one full turn (no star polygon).
+    const std::size_t n = p.vertices.size();
+    double turning = 0;
+    std::size_t n_right = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 a = p.vertices[(i + n - 1) % n], b = p.vertices[i], cc = p.vertices[(i + 1) % n];
+      const Vec3 e1 = b - a, e2 = cc - b;
+      const double cr = e1.x * e2.y - e1.y * e2.x;
+      n_right += cr < 0 ? 1 : 0;
+      turning += std::atan2(cr, dot(e1, e2));
+    }
+    if (n_right == n)
+      vn.fail(
+          "the vertices are listed clockwise; list them counter-clockwise (a strictly convex "
+          "polygon turns left at every vertex)");
+    for (std::size_t i = 0; i < n; ++i) {
+      const Vec3 a = p.vertices[(i + n - 1) % n], b = p.vertices[i], cc = p.vertices[(i + 1) % n];
+      const Vec3 e1 = b - a, e2 = cc - b;
+      const double cr = e1.x * e2.y - e1.y * e2.x;
+      if (!(norm(e1) > 0) || !(norm(e2) > 0))
+        items[i].fail(
+            fmt::format("vertex {} {} repeats its neighbour; expected distinct "
+                        "vertices of a strictly convex polygon",
+                        i, vec_text(b, 2)));
+      if (!(cr > 1e-12 * norm(e1) * norm(e2)))
+        items[i].fail(fmt::format(
+            "the polygon is not strictly convex and counter-clockwise at vertex {} {}: the "
+            "cross product of the edges from vertex {} and to vertex {} is {} m^2 (expected > "
+            "0: {})",
+            i, vec_text(b, 2), (i + n - 1) % n, (i + 1) % n, number_text(cr),
+            cr < 0 ? "the boundary turns right there" : "the three vertices are in a line"));
+    }
+    if (turning > 3 * std::numbers::pi)
+      vn.fail(fmt::format(
+          "the vertices wind {:.0f} times around the polygon; expected a simple convex polygon, "
+          "each vertex listed once, counter-clockwise",
+          turning / (2 * std::numbers::pi)));
+  } else if (form == "regular") {
+    p.kind = config::PolygonSpec::Kind::Regular;
+    p.sides = static_cast<int>(pm.at("regular").as_integer(vertex_count));
+  } else {
+    p.kind = config::PolygonSpec::Kind::Random;
+    YamlMap rm(pm.at("random"), {"vertices", "elongation"});
+    const YamlNode vn = rm.at("vertices");
+    if (!vn.is_list() || vn.raw().size() != 2)
+      vn.fail_expected(
+          fmt::format("a list of 2 integers [min, max] in [3, {}]", kMaxPolygonVertices));
+    const auto vi = vn.as_list();
+    p.min_vertices = static_cast<int>(vi[0].as_integer(vertex_count));
+    p.max_vertices = static_cast<int>(vi[1].as_integer(vertex_count));
+    if (p.max_vertices < p.min_vertices)
+      vi[1].fail_expected(fmt::format("an integer >= the minimum ({})", p.min_vertices));
+    if (auto en = rm.find("elongation")) {
+      if (!en->is_list() || en->raw().size() != 2)
+        en->fail_expected("a list of 2 numbers [min, max], each >= 1");
+      const auto ei = en->as_list();
+      p.min_elongation = ei[0].as_number(Range::at_least(1));
+      p.max_elongation = ei[1].as_number(Range::at_least(1));
+      if (p.max_elongation < p.min_elongation)
+        ei[1].fail_expected(
+            fmt::format("a number >= the minimum ({})", number_text(p.min_elongation)));
+    }
+  }
+  return p;
+}
+
 config::ParticleGroup Reader::read_group(const YamlNode& node) {
-  YamlMap gm(node, {"shape", "radius", "material", "fill", "positions", "velocities",
-                    "angular_velocities", "file"});
+  YamlMap gm(node, {"shape", "radius", "equivalent_diameter", "length", "aspect_ratio", "polygon",
+                    "material", "fill", "positions", "velocities", "angular_velocities", "axes",
+                    "angles", "file"});
   config::ParticleGroup g;
   g.loc = node.loc();
-  if (auto s = gm.find("shape")) {
-    g.shape = s->as_string();
-    if (g.shape == "spherocylinder" || g.shape == "disk" || g.shape == "polygon")
-      s->fail(fmt::format("shape '{}' is not available yet; only sphere is", g.shape));
-    if (g.shape != "sphere")
-      s->fail_expected("sphere (spherocylinder, disk and polygon are not available yet)");
-  }
+  read_shape(gm, g);
+  if (g.kind == config::Shape::Polygon) g.polygon = read_polygon(gm.at("polygon"));
   const YamlNode mat = gm.at("material");
   g.material = material_ref(mat);
   if (!particle_material_ref.count(g.material)) {
@@ -468,21 +794,31 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
   }
   const std::string source = gm.exactly_one_of({"fill", "positions", "file"});
   if (source != "positions") {
-    for (const char* k : {"velocities", "angular_velocities"}) {
+    for (const char* k : {"velocities", "angular_velocities", "axes", "angles"}) {
       if (auto n = gm.find(k))
-        n->fail(fmt::format("'{}' go with 'positions:'{}", k,
-                            source == "file"
-                                ? " (a CSV file gives them as columns vx,vy,vz / wx,wy,wz)"
-                                : " (a fill gives 'velocity' inside 'fill:')"));
+        n->fail(fmt::format(
+            "'{}' go with 'positions:'{}", k,
+            source == "file"
+                ? (two_d()
+                       ? " (a CSV file gives them as columns vx,vy / wz / angle)"
+                       : " (a CSV file gives them as columns vx,vy,vz / wx,wy,wz / qw,qx,qy,qz)")
+                : " (a fill gives 'velocity' and 'orientation' inside 'fill:')"));
     }
   }
   if (source == "file") {
     config::Explicit ex;
-    const auto radii = read_csv(gm.at("file"), ex);
+    const YamlNode fn = gm.at("file");
+    const auto radii = read_csv(fn, g, ex);
     if (!radii.empty()) {
-      if (auto r = gm.find("radius"))
-        r->fail(fmt::format(
-            "the particle file '{}' has a radius column; give the radius in one place only",
+      for (const char* k : {"radius", "equivalent_diameter"})
+        if (auto r = gm.find(k))
+          r->fail(fmt::format(
+              "the particle file '{}' has a radius column; give the size in one place only",
+              ex.file.string()));
+      if (g.kind == config::Shape::Polygon && g.polygon.kind == config::PolygonSpec::Kind::Vertices)
+        fn.fail(fmt::format(
+            "the particle file '{}' has a radius column, but a polygon given by its vertices "
+            "takes its size from them",
             ex.file.string()));
       const auto [lo, hi] = std::minmax_element(radii.begin(), radii.end());
       if (*lo == *hi) {
@@ -494,18 +830,19 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
         g.radius.max = *hi;
       }
       ex.radii = radii;
+      if (g.kind == config::Shape::Spherocylinder) read_cylinder_length(gm, g, false);
     } else {
-      g.radius = read_radius(gm.at("radius"));
+      read_size(gm, g);
     }
     g.explicit_particles = std::move(ex);
     return g;
   }
-  g.radius = read_radius(gm.at("radius"));
+  read_size(gm, g);
   if (source == "fill") {
-    g.fill = read_fill(gm.at("fill"), g.radius);
+    g.fill = read_fill(gm.at("fill"), g);
   } else {
     config::Explicit ex;
-    read_positions(gm, ex);
+    read_positions(gm, g, ex);
     g.explicit_particles = std::move(ex);
   }
   return g;
@@ -520,16 +857,27 @@ config::Motion Reader::read_motion(const YamlNode& node) {
   YamlMap mm(node, {"translate", "rotate"});
   if (auto t = mm.find("translate")) {
     YamlMap tm(*t, {"velocity"});
-    m.velocity = tm.vec3("velocity");
+    m.velocity = vec(tm, "velocity");
   }
   if (auto r = mm.find("rotate")) {
     YamlMap rm(*r, {"axis", "center", "rpm", "rate"});
     m.rotates = true;
-    m.axis = rm.at("axis").as_direction();
-    m.center = rm.vec3_or("center", Vec3{});
+    double sign = 1;
+    if (!two_d()) {
+      m.axis = rm.at("axis").as_direction();
+    } else if (auto a = rm.find("axis")) {
+      // 2D: the rotation is about z; an axis, if given, is [0, 0, 1] or [0, 0, -1].
+      const Vec3 axis = a->raw().IsSequence() && a->raw().size() == 3 ? a->as_direction() : Vec3{};
+      if (!(std::abs(axis.z) == 1.0 && axis.x == 0 && axis.y == 0))
+        a->fail_expected(
+            "[0, 0, 1] or [0, 0, -1] (in a 2D case the rotation is about z; 'axis' may be left "
+            "out)");
+      sign = axis.z;  // stored as a rotation about +z at rate sign * rate
+    }
+    m.center = vec_or(rm, "center", Vec3{});
     const std::string which = rm.exactly_one_of({"rpm", "rate"});
     const double v = rm.number(which);
-    m.rate = which == "rpm" ? v * 2 * std::numbers::pi / 60.0 : v;
+    m.rate = sign * (which == "rpm" ? v * 2 * std::numbers::pi / 60.0 : v);
   }
   return m;
 }
@@ -563,26 +911,39 @@ void Reader::read_walls(const YamlMap& root) {
     if (kind == "plane") {
       YamlMap pm(wm.at("plane"), {"point", "normal"});
       w.kind = config::Wall::Kind::Plane;
-      w.point = pm.vec3("point");
-      w.normal = pm.at("normal").as_direction();
+      w.point = vec(pm, "point");
+      w.normal = direction(pm.at("normal"));
     } else if (kind == "box") {
       YamlMap bm(wm.at("box"), {"min", "max", "open"});
       w.kind = config::Wall::Kind::Box;
-      w.min = bm.vec3("min");
-      w.max = bm.vec3("max");
-      for (int k = 0; k < 3; ++k)
+      w.min = vec(bm, "min");
+      w.max = vec(bm, "max");
+      for (int k = 0; k < c.dimension; ++k)
         if (!(w.max[k] > w.min[k]))
           bm.at("max").fail_expected(
-              fmt::format("every component greater than that of min {}", vec_text(w.min)));
+              fmt::format("every component greater than that of min {}", text(w.min)));
       if (auto o = bm.find("open")) {
         for (const auto& face : o->as_list()) {
-          const std::string f = face.as_choice({"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"});
+          if (two_d() && face.is_scalar() &&
+              (face.raw().Scalar() == "zmin" || face.raw().Scalar() == "zmax"))
+            face.fail(fmt::format(
+                "a box in a 2D case (dimension: 2) has no face '{}'; its faces are xmin, xmax, "
+                "ymin, ymax",
+                face.raw().Scalar()));
+          const std::string f =
+              two_d() ? face.as_choice({"xmin", "xmax", "ymin", "ymax"})
+                      : face.as_choice({"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"});
           if (std::find(w.open.begin(), w.open.end(), f) != w.open.end())
             face.fail(fmt::format("face '{}' is listed twice", f));
           w.open.push_back(f);
         }
       }
+      // A 2D box has no z faces: they are recorded as open, so that no plane is built there.
+      if (two_d()) w.open.insert(w.open.end(), {"zmin", "zmax"});
     } else {
+      if (two_d())
+        wm.at("cylinder")
+            .fail("cylinder walls are not available in 2D (dimension: 2); use plane or box walls");
       YamlMap cm(wm.at("cylinder"), {"center", "axis", "radius", "inside"});
       w.kind = config::Wall::Kind::Cylinder;
       w.center = cm.vec3("center");
@@ -708,18 +1069,13 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   }
   if (auto d = rm.find("dimension")) {
     const auto dim = d->as_integer();
-    if (dim == 2) d->fail("2D runs are not available yet; use dimension: 3");
-    if (dim != 3) d->fail_expected("3 (or 2, once 2D runs are available)");
-    c.dimension = 3;
+    if (dim != 2 && dim != 3) d->fail_expected("2 or 3");
+    c.dimension = static_cast<int>(dim);
   }
   r.read_time(rm);
   r.read_domain(rm);
-  c.gravity = rm.vec3_or("gravity", c.gravity);
-  if (auto i = rm.find("integrator")) {
-    const std::string s = i->as_string();
-    if (s == "gear") i->fail("integrator 'gear' is not available yet; use velocity_verlet");
-    c.integrator = i->as_choice({"velocity_verlet"});
-  }
+  c.gravity = r.vec_or(rm, "gravity", c.dimension == 2 ? Vec3{0, -9.81, 0} : Vec3{0, 0, -9.81});
+  if (auto i = rm.find("integrator")) c.integrator = i->as_choice({"velocity_verlet", "gear5"});
   r.read_materials(rm);
   r.read_contacts(rm);
   r.read_particles(rm);

@@ -10,8 +10,11 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <random>
 #include <set>
 
+#include "contact/geometry/capsule.hpp"
+#include "contact/geometry/polygon2d.hpp"
 #include "contact/registry.hpp"
 #include "core/error.hpp"
 #include "io/input/yaml_reader.hpp"
@@ -21,8 +24,102 @@ namespace gf::input {
 namespace {
 
 constexpr double inf = std::numeric_limits<double>::infinity();
+constexpr double pi = std::numbers::pi;
 
-std::string vec_text(const Vec3& v) {
+/// The given vertices of a polygon, recentred on their centroid (as the simulation does).
+ConvexPolygon centred_vertices(const config::PolygonSpec& p) {
+  ConvexPolygon poly;
+  poly.n = static_cast<int>(std::min<std::size_t>(p.vertices.size(), kMaxPolygonVertices));
+  for (int k = 0; k < poly.n; ++k) poly.v[k] = {p.vertices[k].x, p.vertices[k].y};
+  const auto pr = contact::polygon_properties(poly);
+  for (int k = 0; k < poly.n; ++k) poly.v[k] = poly.v[k] - pr.centroid;
+  return poly;
+}
+
+double circumradius(const ConvexPolygon& poly) {
+  double r = 0;
+  for (int k = 0; k < poly.n; ++k) r = std::max(r, norm(poly.v[k]));
+  return r;
+}
+
+/// Circumradius of a regular n-gon of equal-area radius 1: pi R^2 = (n/2) R_c^2 sin(2 pi / n).
+double regular_reach_factor(int n) {
+  return std::sqrt(2 * pi / (n * std::sin(2 * pi / n)));
+}
+
+}  // namespace
+
+double cylinder_length(const config::ParticleGroup& g, double r) {
+  if (g.kind != config::Shape::Spherocylinder) return 0;
+  if (g.length) return *g.length;
+  if (g.aspect_ratio) return 2 * r * (*g.aspect_ratio - 1);
+  return 0;
+}
+
+double polygon_reach_factor(const config::PolygonSpec& p) {
+  switch (p.kind) {
+    case config::PolygonSpec::Kind::Vertices: {
+      const ConvexPolygon poly = centred_vertices(p);
+      const double r_eq = contact::polygon_properties(poly).equivalent_radius;
+      return r_eq > 0 ? circumradius(poly) / r_eq : 1.0;
+    }
+    case config::PolygonSpec::Kind::Regular:
+      return regular_reach_factor(p.sides);
+    case config::PolygonSpec::Kind::Random:
+      break;
+  }
+  // Random polygons are drawn at run time: sample the generator the simulation uses (fixed seed,
+  // so the estimate is reproducible) at the two ends and the middle of the elongation range.
+  std::mt19937_64 rng(20240611);
+  double factor = 0;
+  const int lo = std::clamp(p.min_vertices, 3, kMaxPolygonVertices);
+  const int hi = std::clamp(p.max_vertices, lo, kMaxPolygonVertices);
+  for (int n = lo; n <= hi; ++n)
+    for (double e :
+         {p.min_elongation, 0.5 * (p.min_elongation + p.max_elongation), p.max_elongation})
+      for (int draw = 0; draw < 2000 / (hi - lo + 1) + 100; ++draw)
+        factor = std::max(
+            factor, circumradius(contact::random_convex_polygon(rng, n, 1.0, std::max(1.0, e))));
+  // 5 % above the sample's largest: the simulation (simulation/shape_builder.cpp) uses this
+  // same bound and redraws the rare outline beyond it, so no grain ever exceeds it.
+  return 1.05 * factor;
+}
+
+double bounding_radius(const config::ParticleGroup& g, double r) {
+  switch (g.kind) {
+    case config::Shape::Sphere:
+    case config::Shape::Disk:
+      return r;
+    case config::Shape::Spherocylinder:
+      return r + 0.5 * cylinder_length(g, r);
+    case config::Shape::Polygon:
+      if (g.polygon.kind == config::PolygonSpec::Kind::Vertices)
+        return circumradius(centred_vertices(g.polygon));
+      return r * polygon_reach_factor(g.polygon);
+  }
+  return r;
+}
+
+double grain_measure(const config::ParticleGroup& g, double r) {
+  switch (g.kind) {
+    case config::Shape::Sphere:
+      return 4.0 / 3.0 * pi * r * r * r;
+    case config::Shape::Spherocylinder:
+      return pi * r * r * cylinder_length(g, r) + 4.0 / 3.0 * pi * r * r * r;
+    case config::Shape::Disk:
+      return pi * r * r;
+    case config::Shape::Polygon:
+      if (g.polygon.kind == config::PolygonSpec::Kind::Vertices)
+        return contact::polygon_properties(centred_vertices(g.polygon)).area;
+      return pi * r * r;
+  }
+  return 0;
+}
+
+namespace {
+
+std::string vec_text(const Vec3& v, int dimension) {
+  if (dimension == 2) return fmt::format("[{}, {}]", number_text(v.x), number_text(v.y));
   return fmt::format("[{}, {}, {}]", number_text(v.x), number_text(v.y), number_text(v.z));
 }
 
@@ -30,23 +127,40 @@ std::string seconds(double t) {
   return fmt::format("{:.4g} s", t);
 }
 
-/// Smallest and largest radius of the grains of one material.
-struct GrainSizes {
-  double r_min = inf;
-  double r_max = 0;
+/// The smallest grain of one particle group: radius for the contact laws (sphere, disk: r;
+/// spherocylinder: the cap radius; polygon: the equal-area radius) and mass.
+struct SmallGrain {
+  double r = 0;  ///< m
+  double m = 0;  ///< kg
 };
 
-/// One explicit particle, for the domain and overlap checks.
+/// Sizes of the grains of one material.
+struct GrainSizes {
+  double r_min = inf;                ///< smallest contact radius, m
+  double r_max = 0;                  ///< largest contact radius, m
+  double reach_max = 0;              ///< largest bounding radius, m
+  std::vector<SmallGrain> smallest;  ///< one per group of this material
+};
+
+/// One explicit particle, for the domain and overlap checks. Spheres, disks and spherocylinders
+/// (a segment c +- half_axis swept by r) and polygons of known outline are checked exactly;
+/// random polygons (drawn at run time) only by their inscribed and bounding radii.
 struct Placed {
   Vec3 x;
-  double r;
-  std::size_t group;
-  std::size_t index;
+  double r = 0;      ///< contact radius (sphere, disk, spherocylinder caps), m
+  double reach = 0;  ///< bounding radius about x, m
+  double inner = 0;  ///< radius of a sphere or disk about x inside the grain, m
+  Vec3 half_axis;    ///< spherocylinder: half its segment, world frame, m
+  int poly = -1;     ///< index of the outline (relative to x, world frame) in `outlines_`
+  bool exact = true;
+  config::Shape shape = config::Shape::Sphere;
+  std::size_t group = 0;
+  std::size_t index = 0;
 };
 
 class Validator {
  public:
-  explicit Validator(const config::Case& c) : c_(c) {}
+  explicit Validator(const config::Case& c) : c_(c), dim_(c.dimension == 2 ? 2 : 3) {}
   CheckReport run();
 
  private:
@@ -59,24 +173,43 @@ class Validator {
     return at(c_.particles[g].loc, fmt::format("particles[{}]", g));
   }
   config::SourceLoc particle_loc(std::size_t g, std::size_t i) const;
+  std::string text(const Vec3& v) const { return vec_text(v, dim_); }
+  /// Mass of a grain of group g with radius r (kg); 2D grains have the domain's thickness.
+  double mass(std::size_t g, double r) const {
+    const auto& group = c_.particles[g];
+    return materials_.at(group.material)->density * grain_measure(group, r) *
+           (dim_ == 2 ? c_.domain.thickness : 1.0);
+  }
+  /// Bounding radius of a grain of group g with radius r (cached factor for polygons).
+  double reach(std::size_t g, double r) const {
+    const auto& group = c_.particles[g];
+    if (group.kind == config::Shape::Polygon &&
+        group.polygon.kind != config::PolygonSpec::Kind::Vertices)
+      return r * reach_factor_[g];
+    return bounding_radius(group, r);
+  }
+  std::string describe(const Placed& p) const;
 
   void check_basics() const;
   void check_materials();
   void check_fills();
   void check_explicit();
-  void check_overlaps(const std::vector<Placed>& all) const;
+  void check_overlaps(const std::vector<Placed>& all);
   void check_periodic() const;
   void estimate_counts();
   void check_time_step();
   void check_output();
 
   const config::Case& c_;
+  int dim_;
   CheckReport report_;
   std::map<std::string, const config::Material*> materials_;
   std::map<std::string, GrainSizes> grains_;     ///< particle materials only
   std::vector<std::string> particle_materials_;  ///< in order of first use
   std::map<std::pair<std::string, std::string>, const config::Contact*> contacts_;
+  std::vector<double> reach_factor_;  ///< per group: polygon circumradius / equal-area radius
   std::vector<Placed> placed_;
+  std::vector<ConvexPolygon> outlines_;  ///< explicit polygons, vertices relative to the centre
 };
 
 config::SourceLoc Validator::particle_loc(std::size_t g, std::size_t i) const {
@@ -95,16 +228,44 @@ config::SourceLoc Validator::particle_loc(std::size_t g, std::size_t i) const {
   return loc;
 }
 
+std::string Validator::describe(const Placed& p) const {
+  switch (p.shape) {
+    case config::Shape::Sphere:
+    case config::Shape::Disk:
+      return fmt::format("radius {}", number_text(p.r));
+    case config::Shape::Spherocylinder: {
+      const double h = norm(p.half_axis);
+      Vec3 a = h > 0 ? p.half_axis / h : Vec3{};
+      for (int k = 0; k < 3; ++k)
+        if (std::abs(a[k]) < 1e-12) a[k] = 0;  // rounding noise of the rotation
+      return fmt::format(
+          "spherocylinder of radius {:.6g}, length {:.6g}, axis [{:.6g}, {:.6g}, "
+          "{:.6g}]",
+          p.r, 2 * h, a.x, a.y, a.z);
+    }
+    case config::Shape::Polygon:
+      return fmt::format("polygon of circumradius {:.6g}", p.reach);
+  }
+  return {};
+}
+
 void Validator::check_basics() const {
   if (!(c_.time.step > 0) || !(c_.time.end >= c_.time.step))
     throw_input_error(at(c_.time.loc, "time.step"),
                       "expected time.step > 0 and time.end >= time.step");
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < dim_; ++k)
     if (!(c_.domain.max[k] > c_.domain.min[k]))
       throw_input_error(at(c_.domain.loc, "domain"),
                         "expected domain.max > domain.min in every component");
   if (c_.particles.empty())
     throw_input_error(at({}, "particles"), "expected at least one particle group");
+  for (std::size_t g = 0; g < c_.particles.size(); ++g) {
+    const auto kind = c_.particles[g].kind;
+    const bool shape_2d = kind == config::Shape::Disk || kind == config::Shape::Polygon;
+    if (shape_2d != (dim_ == 2))
+      throw_input_error(group_loc(g), fmt::format("shape '{}' is not available in a {}D case",
+                                                  c_.particles[g].shape, dim_));
+  }
 }
 
 void Validator::check_materials() {
@@ -112,22 +273,30 @@ void Validator::check_materials() {
   auto need = [&](const std::string& name, const config::SourceLoc& loc) {
     if (!materials_.count(name)) throw_input_error(loc, fmt::format("unknown material '{}'", name));
   };
+  reach_factor_.assign(c_.particles.size(), 1.0);
   for (std::size_t g = 0; g < c_.particles.size(); ++g) {
     const auto& group = c_.particles[g];
     need(group.material, group_loc(g));
+    if (group.kind == config::Shape::Polygon)
+      reach_factor_[g] = polygon_reach_factor(group.polygon);
     auto& gs = grains_[group.material];
     if (std::find(particle_materials_.begin(), particle_materials_.end(), group.material) ==
         particle_materials_.end())
       particle_materials_.push_back(group.material);
+    double lo = 0, hi = 0;
     if (group.explicit_particles && !group.explicit_particles->radii.empty()) {
       const auto& r = group.explicit_particles->radii;
-      gs.r_min = std::min(gs.r_min, *std::min_element(r.begin(), r.end()));
-      gs.r_max = std::max(gs.r_max, *std::max_element(r.begin(), r.end()));
+      lo = *std::min_element(r.begin(), r.end());
+      hi = *std::max_element(r.begin(), r.end());
     } else {
       if (!(group.radius.smallest() > 0)) throw_input_error(group_loc(g), "expected a radius > 0");
-      gs.r_min = std::min(gs.r_min, group.radius.smallest());
-      gs.r_max = std::max(gs.r_max, group.radius.largest());
+      lo = group.radius.smallest();
+      hi = group.radius.largest();
     }
+    gs.r_min = std::min(gs.r_min, lo);
+    gs.r_max = std::max(gs.r_max, hi);
+    gs.reach_max = std::max(gs.reach_max, reach(g, hi));
+    gs.smallest.push_back({lo, mass(g, lo)});
   }
   for (std::size_t w = 0; w < c_.walls.size(); ++w)
     need(c_.walls[w].material, at(c_.walls[w].loc, fmt::format("walls[{}]", w)));
@@ -173,7 +342,7 @@ void Validator::check_fills() {
         fhi[k] = std::max(e0[k], e1[k]) + ext;
       }
     }
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < dim_; ++k) {
       const double tol = 1e-9 * (hi[k] - lo[k]);
       if (flo[k] < lo[k] - tol || fhi[k] > hi[k] + tol) {
         config::SourceLoc loc = f.loc.line > 0 ? at(f.loc, "") : group_loc(g);
@@ -181,7 +350,7 @@ void Validator::check_fills() {
           loc.key_path = fmt::format("particles[{}].fill", g);
         throw_input_error(
             loc, fmt::format("the fill region (bounds {} - {}) reaches outside the domain {} - {}",
-                             vec_text(flo), vec_text(fhi), vec_text(lo), vec_text(hi)));
+                             text(flo), text(fhi), text(lo), text(hi)));
       }
     }
   }
@@ -203,18 +372,69 @@ void Validator::check_explicit() {
     same_size(ex.velocities.size(), "velocities");
     same_size(ex.angular_velocities.size(), "angular velocities");
     same_size(ex.radii.size(), "radii");
+    same_size(ex.orientations.size(), "orientations");
+    // Body-frame outline of the group's polygons (vertices given, or a regular n-gon of
+    // circumradius 1 with a vertex on the body x axis, as regular_polygon(n, R) builds it).
+    ConvexPolygon body;
+    if (group.kind == config::Shape::Polygon) {
+      if (group.polygon.kind == config::PolygonSpec::Kind::Vertices)
+        body = centred_vertices(group.polygon);
+      else if (group.polygon.kind == config::PolygonSpec::Kind::Regular)
+        body = contact::regular_polygon(group.polygon.sides, 1.0);
+    }
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3& x = ex.positions[i];
       const double r =
           ex.radii.empty() ? group.radius.largest() : ex.radii[i];  // as the simulation builds it
-      for (int k = 0; k < 3; ++k) {
+      const Quat q = ex.orientations.empty() ? Quat{} : ex.orientations[i];
+      Placed p;
+      p.x = x;
+      p.r = r;
+      p.shape = group.kind;
+      p.group = g;
+      p.index = i;
+      p.reach = reach(g, r);
+      p.inner = r;
+      Vec3 ext_lo{r, r, r}, ext_hi{r, r, r};  // extent below and above x along each axis
+      if (group.kind == config::Shape::Spherocylinder) {
+        p.half_axis = rotate(q, Vec3{0, 0, 0.5 * cylinder_length(group, r)});
+        for (int k = 0; k < 3; ++k) ext_lo[k] = ext_hi[k] = r + std::abs(p.half_axis[k]);
+      } else if (group.kind == config::Shape::Polygon) {
+        if (group.polygon.kind == config::PolygonSpec::Kind::Random) {
+          // Drawn at run time: only the centroid (inside the grain) and the bounding radius.
+          p.exact = false;
+          p.inner = 0;
+          ext_lo = ext_hi = Vec3{p.reach, p.reach, 0};
+        } else {
+          const double scale =
+              group.polygon.kind == config::PolygonSpec::Kind::Regular ? p.reach : 1.0;
+          ConvexPolygon w;
+          w.n = body.n;
+          ext_lo = ext_hi = Vec3{};
+          p.inner = inf;
+          for (int k = 0; k < body.n; ++k) {
+            const Vec3 v = rotate(q, Vec3{scale * body.v[k].x, scale * body.v[k].y, 0});
+            w.v[k] = {v.x, v.y};
+            ext_lo = Vec3{std::max(ext_lo.x, -v.x), std::max(ext_lo.y, -v.y), 0};
+            ext_hi = Vec3{std::max(ext_hi.x, v.x), std::max(ext_hi.y, v.y), 0};
+          }
+          for (int k = 0; k < w.n; ++k) {  // inradius about the centroid
+            const Vec2 a = w.v[k], b = w.v[(k + 1) % w.n];
+            p.inner = std::min(p.inner, std::abs(cross(b - a, a)) / norm(b - a));
+          }
+          p.poly = static_cast<int>(outlines_.size());
+          outlines_.push_back(w);
+        }
+      }
+      for (int k = 0; k < dim_; ++k) {
         if (!(x[k] >= lo[k] && x[k] <= hi[k]))
           throw_input_error(particle_loc(g, i),
                             fmt::format("particle {} at {} lies outside the domain {} - {}", i,
-                                        vec_text(x), vec_text(lo), vec_text(hi)));
-        if (!c_.domain.periodic[k] && (x[k] - r < lo[k] || x[k] + r > hi[k])) ++n_out;
+                                        text(x), text(lo), text(hi)));
+        if (!c_.domain.periodic[k] && (x[k] - ext_lo[k] < lo[k] || x[k] + ext_hi[k] > hi[k]))
+          ++n_out;
       }
-      placed_.push_back({x, r, g, i});
+      placed_.push_back(p);
     }
   }
   if (n_out > 0)
@@ -224,23 +444,42 @@ void Validator::check_explicit() {
                     n_out));
 }
 
-void Validator::check_overlaps(const std::vector<Placed>& all) const {
+/// Distance from the point d to the convex CCW polygon `w` (0 when inside), m.
+double point_polygon_distance(const Vec2& d, const ConvexPolygon& w) {
+  bool inside = true;
+  double best = inf;
+  for (int k = 0; k < w.n; ++k) {
+    const Vec2 a = w.v[k], b = w.v[(k + 1) % w.n], e = b - a;
+    if (cross(e, d - a) < 0) inside = false;
+    const double t = std::clamp(dot(d - a, e) / dot(e, e), 0.0, 1.0);
+    best = std::min(best, norm(d - (a + t * e)));
+  }
+  return inside ? 0.0 : best;
+}
+
+void Validator::check_overlaps(const std::vector<Placed>& all) {
   if (all.size() < 2) return;
-  double r_max = 0;
-  for (const auto& p : all) r_max = std::max(r_max, p.r);
-  const double h = 2 * r_max;
+  double reach_max = 0;
+  for (const auto& p : all) reach_max = std::max(reach_max, p.reach);
+  const double h = 2 * reach_max;
   const Vec3 lo = c_.domain.min, len = c_.domain.max - c_.domain.min;
   std::int64_t n[3];
   double size[3];
   for (int k = 0; k < 3; ++k) {
+    if (k >= dim_) {  // 2D: one layer of cells
+      n[k] = 1;
+      size[k] = 1;
+      continue;
+    }
     n[k] =
         std::clamp<std::int64_t>(static_cast<std::int64_t>(len[k] / h), 1, std::int64_t{1} << 20);
     size[k] = len[k] / static_cast<double>(n[k]);
   }
   auto cell_of = [&](const Vec3& x, std::int64_t ci[3]) {
     for (int k = 0; k < 3; ++k)
-      ci[k] = std::clamp<std::int64_t>(static_cast<std::int64_t>((x[k] - lo[k]) / size[k]), 0,
-                                       n[k] - 1);
+      ci[k] = k >= dim_ ? 0
+                        : std::clamp<std::int64_t>(
+                              static_cast<std::int64_t>((x[k] - lo[k]) / size[k]), 0, n[k] - 1);
   };
   auto id_of = [&](const std::int64_t ci[3]) { return (ci[0] * n[1] + ci[1]) * n[2] + ci[2]; };
   std::vector<std::pair<std::int64_t, std::size_t>> sorted(all.size());
@@ -267,6 +506,64 @@ void Validator::check_overlaps(const std::vector<Placed>& all) const {
     }
     return m;
   };
+  // Whether grains p (at x_j + dx) and q overlap; `detail` says how.
+  auto overlap = [&](const Placed& p, const Placed& q, const Vec3& dx, std::string& detail) {
+    const double dist = norm(dx);
+    if (!p.exact || !q.exact) {
+      const double sure = p.inner + q.inner;
+      if (dist < sure * (1 - 1e-9) || dist <= 1e-9 * (p.reach + q.reach)) {
+        detail = dist < sure * (1 - 1e-9)
+                     ? fmt::format(
+                           "centre distance {:.6g} m < {:.6g} m, the sum of the radii of "
+                           "circles inside the grains",
+                           dist, sure)
+                     : std::string("their centres coincide");
+        return true;
+      }
+      return false;
+    }
+    const double reach = p.r + q.r;
+    if (p.poly < 0 && q.poly < 0) {  // spheres, disks, spherocylinders: segment distance
+      if (p.shape == config::Shape::Spherocylinder || q.shape == config::Shape::Spherocylinder) {
+        const auto s = contact::closest_points_segments(dx - p.half_axis, dx + p.half_axis,
+                                                        -q.half_axis, q.half_axis);
+        const double d = std::sqrt(s.dist2);
+        if (!(d < reach * (1 - 1e-9))) return false;
+        detail =
+            fmt::format("distance of their axes {:.6g} m < {:.6g} m (sum of the radii)", d, reach);
+        return true;
+      }
+      if (!(dist < reach * (1 - 1e-9))) return false;
+      detail = fmt::format("centre distance {:.6g} m < {:.6g} m", dist, reach);
+      return true;
+    }
+    if (p.poly >= 0 && q.poly >= 0) {
+      ConvexPolygon a = outlines_[p.poly];
+      const ConvexPolygon& b = outlines_[q.poly];
+      for (int k = 0; k < a.n; ++k) a.v[k] = a.v[k] + Vec2{dx.x, dx.y};
+      contact::PolygonOverlap o;
+      if (!contact::polygon_overlap(a, b, o)) return false;
+      const double area =
+          std::min(contact::polygon_properties(a).area, contact::polygon_properties(b).area);
+      if (!(o.area > 1e-9 * area)) return false;
+      detail = fmt::format("their outlines intersect (overlap area {:.6g} m^2)", o.area);
+      return true;
+    }
+    // A disk and a polygon.
+    const bool p_is_poly = p.poly >= 0;
+    const ConvexPolygon& w = outlines_[p_is_poly ? p.poly : q.poly];
+    const double r = p_is_poly ? q.r : p.r;
+    const Vec2 d = p_is_poly ? Vec2{-dx.x, -dx.y} : Vec2{dx.x, dx.y};  // disk centre - polygon's
+    const double gap = point_polygon_distance(d, w);
+    if (!(gap < r * (1 - 1e-9))) return false;
+    detail = gap > 0 ? fmt::format(
+                           "the disk's centre is {:.6g} m from the polygon, less than "
+                           "its radius",
+                           gap)
+                     : std::string("the disk's centre lies inside the polygon");
+    return true;
+  };
+  std::size_t n_possible = 0;  // pairs of random polygons whose bounding circles intersect
   // The first particle (in input order) that overlaps an earlier one is reported.
   for (std::size_t i = 0; i < all.size(); ++i) {
     std::int64_t ci[3], nb[3][3];
@@ -285,51 +582,62 @@ void Validator::check_overlaps(const std::vector<Placed>& all) const {
             const std::size_t j = it->second;
             if (j >= i) continue;
             Vec3 dx = all[i].x - all[j].x;
-            for (int k = 0; k < 3; ++k) {
+            for (int k = 0; k < dim_; ++k) {
               if (!c_.domain.periodic[k]) continue;
               if (dx[k] > 0.5 * len[k])
                 dx[k] -= len[k];
               else if (dx[k] < -0.5 * len[k])
                 dx[k] += len[k];
             }
-            const double reach = all[i].r + all[j].r;
-            const double dist = norm(dx);
-            if (dist < reach * (1 - 1e-9)) {
-              const auto& p = all[i];
-              const auto& q = all[j];
-              throw_input_error(
-                  particle_loc(p.group, p.index),
-                  fmt::format(
-                      "particle {} of particles[{}] at {} (radius {}) overlaps particle {} of "
-                      "particles[{}] "
-                      "at {} (radius {}){}: centre distance {:.6g} m < {:.6g} m",
-                      p.index, p.group, vec_text(p.x), number_text(p.r), q.index, q.group,
-                      vec_text(q.x), number_text(q.r),
-                      q.index < c_.particles[q.group].explicit_particles->lines.size()
-                          ? fmt::format(", line {}",
-                                        c_.particles[q.group].explicit_particles->lines[q.index])
-                          : std::string(),
-                      dist, reach));
+            const auto& p = all[i];
+            const auto& q = all[j];
+            if (!(norm(dx) < p.reach + q.reach)) continue;  // bounding spheres apart
+            std::string detail;
+            if (!overlap(p, q, dx, detail)) {
+              if (!p.exact || !q.exact) ++n_possible;
+              continue;
             }
+            throw_input_error(
+                particle_loc(p.group, p.index),
+                fmt::format(
+                    "particle {} of particles[{}] at {} ({}) overlaps particle {} of "
+                    "particles[{}] at {} ({}){}: {}",
+                    p.index, p.group, text(p.x), describe(p), q.index, q.group, text(q.x),
+                    describe(q),
+                    q.index < c_.particles[q.group].explicit_particles->lines.size()
+                        ? fmt::format(", line {}",
+                                      c_.particles[q.group].explicit_particles->lines[q.index])
+                        : std::string(),
+                    detail));
           }
         }
   }
+  if (n_possible > 0)
+    report_.warnings.push_back(fmt::format(
+        "{} pair(s) of explicit random polygons may overlap: their centres are closer than the "
+        "sum of their estimated circumradii, and their outlines are drawn only at run time",
+        n_possible));
 }
 
 void Validator::check_periodic() const {
-  double r_max = 0;
-  for (const auto& [name, gs] : grains_) r_max = std::max(r_max, gs.r_max);
+  double reach_max = 0, r_max = 0;
+  for (const auto& [name, gs] : grains_) {
+    reach_max = std::max(reach_max, gs.reach_max);
+    r_max = std::max(r_max, gs.r_max);
+  }
+  // The simulation's default skin: half the largest contact radius (cap radius of
+  // spherocylinders, equal-area radius of polygons), not of the bounding radius.
   const double skin = c_.neighbor.skin.value_or(0.5 * r_max);
-  const double cutoff = 2 * r_max + skin;
-  for (int k = 0; k < 3; ++k) {
+  const double cutoff = 2 * reach_max + skin;
+  for (int k = 0; k < dim_; ++k) {
     const double len = c_.domain.max[k] - c_.domain.min[k];
     if (c_.domain.periodic[k] && !(len > 2 * cutoff)) {
       config::SourceLoc loc = at(c_.domain.loc, "domain");
       loc.key_path = "domain.periodic";
       throw_input_error(
           loc, fmt::format("the periodic length along {} ({} m) must exceed twice the neighbour "
-                           "cut-off 2 (2 r_max + skin) = {} m, so that a grain meets one image of "
-                           "another at most",
+                           "cut-off 2 (2 r_max + skin) = {} m (r_max: the largest bounding "
+                           "radius), so that a grain meets one image of another at most",
                            "xyz"[k], number_text(len), number_text(2 * cutoff)));
     }
   }
@@ -346,29 +654,28 @@ double mean_radius(const config::SizeDistribution& d) {
   }
 }
 
-/// Grains a lattice fill holds (spheres entirely inside the region), or the requested random count.
-double estimate_fill(const config::Fill& f, const config::SizeDistribution& radius,
-                     double& region_volume) {
-  const double r = radius.largest();
+/// Grains a lattice fill holds (bounding spheres or disks of radius `reach` entirely inside the
+/// region), or the requested random count; `region_measure` is the region's volume (3D, m^3) or
+/// area (2D, m^2). In 2D the hcp lattice is the hexagonal one.
+double estimate_fill(const config::Fill& f, double reach, int dim, double& region_measure) {
+  const double r = reach;
   const double s = f.spacing.value_or(2 * r * 1.01);
   const bool hcp = f.lattice == config::Fill::Lattice::Hcp;
   double est = 0;
   if (f.region.kind == config::Region::Kind::Box) {
     const Vec3 len = f.region.max - f.region.min;
-    region_volume = len.x * len.y * len.z;
+    region_measure = dim == 2 ? len.x * len.y : len.x * len.y * len.z;
     const double pitch[3] = {s, hcp ? s * std::sqrt(3.0) / 2 : s,
                              hcp ? s * std::sqrt(2.0 / 3.0) : s};
     est = 1;
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < dim; ++k) {
       const double inner = len[k] - 2 * r;
       est *= inner < 0 ? 0 : std::floor(inner / pitch[k] + 1e-9) + 1;
     }
   } else {
-    region_volume = std::numbers::pi * f.region.radius * f.region.radius * f.region.height;
+    region_measure = pi * f.region.radius * f.region.radius * f.region.height;
     const double rr = f.region.radius - r, hh = f.region.height - 2 * r;
-    est = (rr < 0 || hh < 0)
-              ? 0
-              : std::numbers::pi * rr * rr * hh / (s * s * s) * (hcp ? std::sqrt(2.0) : 1.0);
+    est = (rr < 0 || hh < 0) ? 0 : pi * rr * rr * hh / (s * s * s) * (hcp ? std::sqrt(2.0) : 1.0);
     est = std::floor(est);
   }
   if (f.lattice == config::Fill::Lattice::Random)
@@ -383,30 +690,53 @@ void Validator::estimate_counts() {
     const auto& group = c_.particles[g];
     if (group.fill) {
       const auto& f = *group.fill;
-      double volume = 0;
-      const double est = estimate_fill(f, group.radius, volume);
+      double measure = 0;
+      const double r_big = reach(g, group.radius.largest());
+      const double est = estimate_fill(f, r_big, dim_, measure);
       const char* lattice = f.lattice == config::Fill::Lattice::Cubic ? "cubic"
-                            : f.lattice == config::Fill::Lattice::Hcp ? "hcp"
-                                                                      : "random";
+                            : f.lattice == config::Fill::Lattice::Hcp
+                                ? (dim_ == 2 ? "hexagonal" : "hcp")
+                                : "random";
       report_.derived.emplace_back(
           fmt::format("particles[{}]: grains (fill, {})", g, lattice),
           fmt::format("{}{:.0f}", f.lattice == config::Fill::Lattice::Random ? "" : "~", est));
       total += est;
       if (est < 1)
         report_.warnings.push_back(fmt::format(
-            "particles[{}]: the fill region is too small to hold a grain of radius {} m", g,
-            number_text(group.radius.largest())));
-      if (f.lattice == config::Fill::Lattice::Random && volume > 0) {
-        const double r = mean_radius(group.radius);
-        const double fraction = est * 4.0 / 3.0 * std::numbers::pi * r * r * r / volume;
+            "particles[{}]: the fill region is too small to hold a grain of {} radius {} m", g,
+            group.kind == config::Shape::Sphere || group.kind == config::Shape::Disk ? ""
+                                                                                     : "bounding",
+            number_text(r_big)));
+      if (f.lattice == config::Fill::Lattice::Random && measure > 0) {
+        const double fraction = est * grain_measure(group, mean_radius(group.radius)) / measure;
+        // Random sequential insertion jams near 0.38 (spheres) and 0.55 (disks).
+        const double usual = dim_ == 2 ? 0.5 : 0.35;
         report_.derived.emplace_back(
-            fmt::format("particles[{}]: solid fraction asked of the random fill", g),
+            fmt::format("particles[{}]: solid {} fraction asked of the random fill", g,
+                        dim_ == 2 ? "area" : "volume"),
             fmt::format("{:.3f}", fraction));
-        if (fraction > 0.35)
+        if (fraction > usual)
           report_.warnings.push_back(
               fmt::format("particles[{}]: a random fill rarely exceeds a solid fraction of about "
-                          "0.35; {:.2f} is asked",
-                          g, fraction));
+                          "{}; {:.2f} is asked",
+                          g, usual, fraction));
+        if (group.kind == config::Shape::Spherocylinder || group.kind == config::Shape::Polygon) {
+          // Non-round grains inserted at random orientations need room for their bounding
+          // spheres (disks) when they are placed without overlap tests on the exact shape.
+          const double rb = reach(g, mean_radius(group.radius));
+          const double round_measure = dim_ == 2 ? pi * rb * rb : 4.0 / 3.0 * pi * rb * rb * rb;
+          const double bounding_fraction = est * round_measure / measure;
+          report_.derived.emplace_back(
+              fmt::format("particles[{}]: the same for the bounding {} of the grains", g,
+                          dim_ == 2 ? "disks" : "spheres"),
+              fmt::format("{:.3f}", bounding_fraction));
+          if (bounding_fraction > usual && fraction <= usual)
+            report_.warnings.push_back(fmt::format(
+                "particles[{}]: the bounding {} of the {} grains fill {:.2f} of the region; a "
+                "random insertion that keeps them apart rarely exceeds about {} (enlarge the "
+                "region or reduce count)",
+                g, dim_ == 2 ? "disks" : "spheres", group.shape, bounding_fraction, usual));
+        }
       } else if (f.count && est < 0.8 * static_cast<double>(*f.count)) {
         // The estimate is a few per cent off for cylinders: warn only when clearly short.
         report_.warnings.push_back(
@@ -421,6 +751,26 @@ void Validator::estimate_counts() {
                       ex.file.empty() ? "" : ", " + ex.file.filename().string()),
           fmt::format("{:.0f}", n));
       total += n;
+    }
+    if (group.kind != config::Shape::Sphere) {
+      const double r = group.explicit_particles && !group.explicit_particles->radii.empty()
+                           ? *std::max_element(group.explicit_particles->radii.begin(),
+                                               group.explicit_particles->radii.end())
+                           : group.radius.largest();
+      std::string what;
+      switch (group.kind) {
+        case config::Shape::Spherocylinder:
+          what = fmt::format("r = {:.4g} m, L = {:.4g} m", r, cylinder_length(group, r));
+          break;
+        case config::Shape::Polygon:
+          what = fmt::format("equal-area radius {:.4g} m", r);
+          break;
+        default:
+          what = fmt::format("r = {:.4g} m", r);
+      }
+      report_.derived.emplace_back(
+          fmt::format("particles[{}]: {} grains, largest ({})", g, group.shape, what),
+          fmt::format("mass {:.4g} kg, bounding radius {:.4g} m", mass(g, r), reach(g, r)));
     }
   }
   report_.derived.emplace_back("grains in total", fmt::format("~{:.0f}", total));
@@ -460,7 +810,7 @@ void Validator::check_time_step() {
   const double g = norm(c_.gravity);
   double height = 0;
   if (g > 0)
-    for (int k = 0; k < 3; ++k) height += std::abs(c_.gravity[k] / g) * len[k];
+    for (int k = 0; k < dim_; ++k) height += std::abs(c_.gravity[k] / g) * len[k];
   const double v_impact = std::max(0.1, v0 + std::sqrt(2 * g * height));
   report_.derived.emplace_back(
       "impact speed used for the Hertz contact time (grain-grain: twice this, head-on)",
@@ -470,27 +820,19 @@ void Validator::check_time_step() {
   auto to_material = [](const config::Material& m) {
     return Material{m.name, m.density, m.youngs_modulus, m.poisson_ratio};
   };
-  auto mass = [&](const std::string& mat, double r) {
-    return materials_.at(mat)->density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
-  };
 
   double tc_min = inf;
   std::string tc_what;
   std::set<std::string> elastic;  // materials whose contacts use the elastic moduli
+  // The shortest contact time over the smallest grain of each group of material a, against that
+  // of each group of material b (or a wall).
   auto pair_time = [&](const std::string& a, const std::string& b, bool wall,
                        const std::string& label) {
     const config::Contact* ct = contacts_.at(std::minmax(a, b));
     const Material ma = to_material(*materials_.at(a)), mb = to_material(*materials_.at(b));
     const GrainSizes& ga = grains_.at(a);
-    const double ra = ga.r_min;
-    double r_eff = ra, m_eff = mass(a, ra), r_ref = ga.r_max;
-    if (!wall) {
-      const GrainSizes& gb = grains_.at(b);
-      const double rb = gb.r_min, mb_ = mass(b, rb);
-      r_eff = ra * rb / (ra + rb);
-      m_eff = m_eff * mb_ / (m_eff + mb_);
-      r_ref = std::max(r_ref, gb.r_max);
-    }
+    double r_ref = ga.r_max;
+    if (!wall) r_ref = std::max(r_ref, grains_.at(b).r_max);
     contact::PairContext ctx{&ma, &mb, r_ref};
     contact::PairCoeffs coeffs;
     try {
@@ -501,8 +843,17 @@ void Validator::check_time_step() {
       throw_input_error(at(ct->loc, "contacts"),
                         fmt::format("contact model '{}': {}", ct->model, e.what()));
     }
-    // Two grains may meet head-on, each at the impact speed: twice that relative speed.
-    const double tc = contact::contact_time(coeffs, r_eff, m_eff, wall ? v_impact : 2 * v_impact);
+    double tc = inf;
+    for (const auto& sa : ga.smallest) {
+      if (wall) {
+        tc = std::min(tc, contact::contact_time(coeffs, sa.r, sa.m, v_impact));
+        continue;
+      }
+      // Two grains may meet head-on, each at the impact speed: twice that relative speed.
+      for (const auto& sb : grains_.at(b).smallest)
+        tc = std::min(tc, contact::contact_time(coeffs, sa.r * sb.r / (sa.r + sb.r),
+                                                sa.m * sb.m / (sa.m + sb.m), 2 * v_impact));
+    }
     report_.derived.emplace_back(fmt::format("contact time, {} ({})", label, ct->model),
                                  seconds(tc));
     if (tc < tc_min) {
@@ -569,12 +920,17 @@ void Validator::check_output() {
           fmt::format("output.{}.every ({} s) is longer than the run (time.end = {} s): only "
                       "the initial state will be written",
                       name, number_text(every), number_text(c_.time.end)));
-  double r_max = 0;
-  for (const auto& [name, gs] : grains_) r_max = std::max(r_max, gs.r_max);
+  double r_max = 0, reach_max = 0;
+  for (const auto& [name, gs] : grains_) {
+    r_max = std::max(r_max, gs.r_max);
+    reach_max = std::max(reach_max, gs.reach_max);
+  }
   report_.derived.emplace_back(
-      "neighbor skin", c_.neighbor.skin ? fmt::format("{} m", number_text(*c_.neighbor.skin))
-                                        : fmt::format("{} m (default: 0.25 x the largest diameter)",
-                                                      number_text(0.5 * r_max)));
+      "neighbor skin",
+      c_.neighbor.skin
+          ? fmt::format("{} m", number_text(*c_.neighbor.skin))
+          : fmt::format("{:.4g} m (default: half the largest {})", 0.5 * r_max,
+                        reach_max > r_max ? "contact radius: cap or equal-area radius" : "radius"));
 }
 
 CheckReport Validator::run() {

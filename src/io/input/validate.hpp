@@ -21,13 +21,39 @@ struct CheckReport {
 /// Checks what needs several blocks of the case at once and throws gf::InputError (with the
 /// file:line:column of the culprit) on the first failure:
 ///  - every referenced material exists and every used material pair has a contacts entry;
-///  - explicit particles lie inside the domain and do not overlap one another (cell method);
-///  - fill regions lie inside the domain; periodic lengths exceed 2 (2 r_max + skin);
+///  - explicit particles lie inside the domain and do not overlap one another (cell method on
+///    the bounding radii, then the shapes: sphere / disk radii, spherocylinder axis segments,
+///    polygon outlines; random polygons, drawn at run time, only by their centres, with a
+///    warning for pairs whose bounding circles intersect);
+///  - fill regions lie inside the domain; periodic lengths exceed 2 (2 r_max + skin), r_max the
+///    largest bounding radius; in 2D only x and y are checked;
 ///  - the time step is at most 0.3 x min(Rayleigh time, contact time) (warning above 0.15 x).
-///    The Rayleigh time (smallest grain of each material) counts for materials whose contacts
+///    The Rayleigh time (smallest grain of each material; contact radius: sphere / disk radius,
+///    spherocylinder cap radius, polygon equal-area radius) counts for materials whose contacts
 ///    use elastic moduli (every model except hooke, whose stiffness is given directly); the
-///    contact time is computed for every used pair with the two smallest grains, at an impact
-///    speed max(initial speeds) + sqrt(2 |g| H), H the domain height along gravity, >= 0.1 m/s.
+///    contact time is computed for every used pair with the smallest grain of each group (its
+///    contact radius and its mass, from grain_measure and, in 2D, the domain's thickness), at an
+///    impact speed max(initial speeds) + sqrt(2 |g| H), H the domain height along gravity,
+///    >= 0.1 m/s.
 CheckReport validate(const config::Case& c);
+
+/// Length L of the cylindrical part of a spherocylinder of cap radius r (m): `length`, or
+/// 2 r (aspect_ratio - 1); 0 for the other shapes.
+double cylinder_length(const config::ParticleGroup& g, double r);
+
+/// Ratio of a polygon's circumradius (about its centroid) to its equal-area radius. Vertices:
+/// exact; regular n-gon: sqrt(2 pi / (n sin(2 pi / n))); random: an estimate (the largest ratio
+/// of 2000 polygons drawn for each vertex count and elongation, plus 25 %), not a strict bound.
+double polygon_reach_factor(const config::PolygonSpec& p);
+
+/// Radius (m) of the sphere (3D) or disk (2D) about a grain's centre that contains the grain, for
+/// a grain of group g with radius r (sphere, disk: r; spherocylinder: r + L/2; polygon: its
+/// circumradius, r x polygon_reach_factor, or from the vertices).
+double bounding_radius(const config::ParticleGroup& g, double r);
+
+/// Volume (3D, m^3) or area (2D, m^2) of one grain of group g with radius r: sphere 4/3 pi r^3,
+/// spherocylinder pi r^2 L + 4/3 pi r^3, disk pi r^2, polygon pi R^2 (R the equal-area radius;
+/// the shoelace area for given vertices).
+double grain_measure(const config::ParticleGroup& g, double r);
 
 }  // namespace gf::input

@@ -271,6 +271,11 @@ std::string YamlNode::as_choice(std::initializer_list<std::string_view> choices)
 }
 
 Vec3 YamlNode::as_vec3() const {
+  if (node_.IsSequence() && node_.size() == 2)
+    fail(fmt::format(
+        "expected 3 components in a 3D case ([x, y, z]), found {} (2 components are for "
+        "dimension: 2)",
+        found()));
   if (!node_.IsSequence() || node_.size() != 3) fail_expected("a list of 3 numbers [x, y, z]");
   const auto items = as_list();
   return {items[0].as_number(), items[1].as_number(), items[2].as_number()};
@@ -280,6 +285,23 @@ Vec3 YamlNode::as_direction() const {
   const Vec3 v = as_vec3();
   const double n = norm(v);
   if (!(n > 0)) fail_expected("a non-zero vector [x, y, z]");
+  return v / n;
+}
+
+Vec3 YamlNode::as_vec(int dimension) const {
+  if (dimension != 2) return as_vec3();
+  if (node_.IsSequence() && node_.size() == 3)
+    fail(fmt::format("expected 2 components in a 2D case ([x, y]; z is 0), found {}", found()));
+  if (!node_.IsSequence() || node_.size() != 2) fail_expected("a list of 2 numbers [x, y]");
+  const auto items = as_list();
+  return {items[0].as_number(), items[1].as_number(), 0.0};
+}
+
+Vec3 YamlNode::as_direction(int dimension) const {
+  if (dimension != 2) return as_direction();
+  const Vec3 v = as_vec(dimension);
+  const double n = norm(v);
+  if (!(n > 0)) fail_expected("a non-zero vector [x, y]");
   return v / n;
 }
 

@@ -102,6 +102,11 @@ class YamlNode {
   Vec3 as_vec3() const;
   /// [x, y, z], not zero, returned normalised to unit length.
   Vec3 as_direction() const;
+  /// A vector of a case of dimension `dimension`: [x, y, z] in 3D, [x, y] in 2D (z = 0). The
+  /// other length is refused with "expected 2 components in a 2D case" (or 3 in 3D).
+  Vec3 as_vec(int dimension) const;
+  /// as_vec(dimension), not zero, returned normalised to unit length.
+  Vec3 as_direction(int dimension) const;
   /// The items of a list, each with path "PATH[i]"; at least `min_items` of them.
   std::vector<YamlNode> as_list(std::size_t min_items = 0) const;
 
