@@ -29,7 +29,7 @@ def load(path):
 
 with tempfile.TemporaryDirectory() as out:
     env = dict(os.environ, GF_VALIDATION_OUT=out)
-    subprocess.run([binary, "--gtest_filter=Validation*:AllLaws*"], env=env, check=True,
+    subprocess.run([binary, "--gtest_filter=Validation*:AllLaws*:Laws*"], env=env, check=True,
                    stdout=subprocess.DEVNULL)
 
     # Chung & Ooi test 1: force against overlap, with Hertz theory and the published extrema.
@@ -115,5 +115,55 @@ with tempfile.TemporaryDirectory() as out:
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(HERE, "dem_sliding_rolling.png"), dpi=120)
+
+    # Non-spherical grains and Gear (tests/validation/test_shape_validation.cpp).
+    fig, ax = plt.subplots(2, 2, figsize=(11, 8))
+    a = ax[0, 0]
+    for pattern, marker, label in (("shape_restitution_capsule_flat_hooke_*", "o", "capsule flat on plane, hooke"),
+                                   ("shape_restitution_capsule_flat_hertz_mindlin_*", "s", "capsule flat on plane, hertz_mindlin"),
+                                   ("shape_restitution_capsule_pair_*", "^", "capsule pair, crossed / parallel"),
+                                   ("shape_restitution_square_*", "D", "2D square on floor / pair")):
+        req, got = [], []
+        for f in sorted(glob.glob(os.path.join(out, pattern + ".csv"))):
+            d = load(f)
+            req.append(float(d["requested"]))
+            got.append(float(d["realised"]))
+        a.plot(req, got, marker, ls="none", label=label)
+    a.plot([0.2, 0.9], [0.2, 0.9], "k-", lw=0.8)
+    a.set_xlabel("requested restitution")
+    a.set_ylabel("realised restitution")
+    a.set_title("Impacts of non-spherical grains (1 % tolerance)")
+    a.legend(fontsize=7)
+    d = load(os.path.join(out, "shape_capsule_tilted.csv"))
+    a = ax[0, 1]
+    a.plot(d["t"] * 1e3, d["omega_y"], label="omega_y (rad/s)")
+    a2 = a.twinx()
+    a2.plot(d["t"] * 1e3, d["axis_z"], "C1", label="axis z component")
+    a2.plot(d["t"] * 1e3, d["energy_ratio"], "C2--", label="E / E0")
+    a.set_xlabel("t (ms)")
+    a.set_ylabel("omega_y (rad/s)")
+    a2.set_ylabel("axis z, E/E0")
+    a.set_title("Capsule tilted 30 deg hits a plane: turns towards flat")
+    a.legend(fontsize=7, loc="upper left")
+    a2.legend(fontsize=7, loc="lower left")
+    d = load(os.path.join(out, "shape_free_rotation.csv"))
+    a = ax[1, 0]
+    a.plot(d["t"], np.abs(d["energy_error"]) + 1e-18, label="|dE/E|")
+    a.plot(d["t"], np.abs(d["momentum_error"]) + 1e-18, label="|dL|/|L|")
+    a.set_yscale("log")
+    a.set_xlabel("t (s)")
+    a.set_title("Free rotation of a capsule (NO_SQUISH)")
+    a.legend(fontsize=7)
+    a = ax[1, 1]
+    for integ, marker in (("gear5", "o-"), ("velocity_verlet", "s-")):
+        rows = sorted((float(load(f)["steps_per_contact"]), float(load(f)["restitution_error"]))
+                      for f in glob.glob(os.path.join(out, f"gear_collision_{integ}_*.csv")))
+        a.loglog([r[0] for r in rows], [r[1] for r in rows], marker, label=integ)
+    a.set_xlabel("steps per contact time")
+    a.set_ylabel("relative restitution error")
+    a.set_title("Clipped spring-dashpot collision, e = 0.7")
+    a.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(HERE, "dem_shapes.png"), dpi=120)
 
 print("plots written to", HERE)

@@ -258,4 +258,27 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   return active;
 }
 
+double wall_elastic_energy(const ParticleStore& p, std::span<const Wall> walls,
+                           const WallContactList& list,
+                           const PairTable<contact::PairCoeffs>& pairs) {
+  std::optional<contact::ShapeView> shapes;
+  if (p.has_shapes()) shapes.emplace(p);
+  const contact::ShapeView* sv = shapes ? &*shapes : nullptr;
+  const std::int32_t* mat = p.material();
+  double e = 0;
+  for (const auto& entry : list.entries()) {
+    const int i = entry.particle;
+    const Wall& w = walls[static_cast<std::size_t>(entry.wall)];
+    const contact::PairCoeffs& c = pairs(mat[i], w.material);
+    for (int slot = 0; slot < list.slots(); ++slot) {
+      WallGeometry g;
+      if (!wall_slot_geometry(w, sv, i, p.x()[i], p.radius()[i], slot, g)) continue;
+      e += g.force_scale * dispatch_index(contact::ContactModels{}, c.model, [&]<class M>() {
+             return M::Law::elastic_energy(c, g.overlap, g.r_eff);
+           });
+    }
+  }
+  return e;
+}
+
 }  // namespace gf

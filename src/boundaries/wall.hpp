@@ -113,4 +113,9 @@ class WallContactList {
 std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
                                  const PairTable<contact::PairCoeffs>& pairs, double t, double dt);
 
+/// Elastic energy stored in all particle-wall contacts (J), for energy balances.
+double wall_elastic_energy(const ParticleStore& p, std::span<const Wall> walls,
+                           const WallContactList& list,
+                           const PairTable<contact::PairCoeffs>& pairs);
+
 }  // namespace gf

@@ -91,6 +91,10 @@ GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t 
                                                const Vec3& xi, const Vec3& xj,
                                                const ConvexPolygon* poly_i, ShapeGeometry& g) {
   const ShapeCode ci = s.code(i), cj = s.code(j);
+  // Bounding spheres (circles) apart: most pairs of the Verlet list end here, before any
+  // polygon transform or segment computation.
+  const double reach = s.radius[i] + s.radius[j];
+  if (norm2(xi - xj) >= reach * reach) return false;
   if (ci == ShapeCode::Polygon || cj == ShapeCode::Polygon) {
     if (ci != ShapeCode::Polygon || cj != ShapeCode::Polygon) return false;  // refused earlier
     const ConvexPolygon pj = s.world_polygon(j, xj);
