@@ -94,6 +94,7 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
       groups_.push_back(static_cast<std::int64_t>(k));
   groups_.push_back(static_cast<std::int64_t>(entries_.size()));
   reactions_.assign(2 * entries_.size(), Vec3{});
+  stiffness_.assign(entries_.size(), 0.0);
   // Carry the history: the old list is sorted by (old particle index, wall).
   const auto slots = static_cast<std::size_t>(slots_);
   history_.assign(slots * entries_.size(), Vec3{});
@@ -123,6 +124,7 @@ void WallContactList::restore(std::vector<Entry> entries, std::vector<Vec3> hist
       groups_.push_back(static_cast<std::int64_t>(k));
   groups_.push_back(static_cast<std::int64_t>(entries_.size()));
   reactions_.assign(2 * entries_.size(), Vec3{});
+  stiffness_.assign(entries_.size(), 0.0);
 }
 
 namespace {
@@ -181,6 +183,7 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   const auto entries = list.entries();
   auto history = list.history();
   auto reaction = list.reactions();
+  auto stiffness = list.stiffness();
   Vec3* x = p.x();
   Vec3* v = p.v();
   Vec3* om = p.omega();
@@ -205,6 +208,7 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
       const Wall& w = walls[static_cast<std::size_t>(entries[ku].wall)];
       const contact::PairCoeffs& c = pairs(mat[i], w.material);
       Vec3 reaction_force{}, reaction_torque{};
+      double k_sum = 0;
       // Geometry of every slot first: the grain's mass is shared by its simultaneous contacts
       // with this wall (a capsule lying flat: half at each end), so that a flat impact has the
       // damping, and hence the restitution, that the law was given for one contact.
@@ -225,7 +229,7 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
         contact::ContactKinematics kin;
         kin.overlap = g.overlap;
         kin.normal = g.normal;
-        kin.v_rel = v[i] + cross(om[i], arm) - w.motion.velocity_at(g.point, t);
+        kin.v_rel = v[i] + cross(om[i], arm) - w.velocity_at(g.point, t);
         kin.omega_rel = om[i] - w.motion.omega();
         kin.r_eff = g.r_eff;
         kin.m_eff = m[i] / (n_on * g.force_scale);
@@ -237,11 +241,13 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
         f[i] += res.force;
         tq[i] += cross(arm, res.force) + res.rolling_torque;
         reaction_force -= res.force;
+        if (g.overlap > 0) k_sum += 1.5 * res.normal_force / g.overlap;
         reaction_torque -= cross(g.point - w.torque_center(), res.force) + res.rolling_torque;
         ++touching;
       }
       reaction[2 * ku] = reaction_force;
       reaction[2 * ku + 1] = reaction_torque;
+      stiffness[ku] = k_sum;
     }
     return touching;
   });
@@ -249,11 +255,13 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   for (auto& w : walls) {
     w.force = {};
     w.torque = {};
+    w.contact_stiffness = 0;
   }
   for (std::size_t k = 0; k < entries.size(); ++k) {
     Wall& w = walls[static_cast<std::size_t>(entries[k].wall)];
     w.force += reaction[2 * k];
     w.torque += reaction[2 * k + 1];
+    w.contact_stiffness += stiffness[k];
   }
   return active;
 }

@@ -30,15 +30,50 @@ struct Wall {
   double radius = 0;   ///< cylinder radius, m
   bool inside = true;  ///< cylinder: particles inside
   RigidMotion motion;
+  /// Servo (stress control, plane walls): target force servo_force(t) along -dir, speed limit.
+  bool servo = false;
+  double servo_max_velocity = 0;  ///< m/s
+  double servo_until = 1e300;     ///< s
+  double servo_gain = 1e-2;       ///< fraction of the force error corrected per step
+  Vec3 servo_offset;              ///< displacement by the servo so far, m (checkpointed)
+  Vec3 servo_velocity;            ///< current servo velocity, m/s (checkpointed)
   // Current geometry (update_geometry).
   Vec3 point, dir;
   // Reactions of the last force evaluation: force by the particles on the wall, N; torque about
   // the motion centre (rotating walls) or point0's current image, N m.
   Vec3 force, torque;
+  /// Normal stiffness of the wall's contacts, sum of dF_n/d(delta) <= 1.5 F_n/delta (Hertz's
+  /// exponent; exact for Hertz, 1.5 x for linear springs), N/m: the servo's gain.
+  double contact_stiffness = 0;
 
   void update_geometry(double t) {
-    point = motion.point_at(point0, t);
+    point = motion.point_at(point0, t) + servo_offset;
     dir = motion.rotate(dir0, t);
+  }
+  /// Velocity of the wall surface at p (prescribed motion plus servo).
+  GF_HOST_DEVICE Vec3 velocity_at(const Vec3& p, double t) const {
+    return motion.velocity_at(p, t) + servo_velocity;
+  }
+  /// One servo step after a force evaluation: the wall moves along its normal by
+  /// dx = g (F_target - F) / K, K = contact_stiffness, F = -force . dir the push of the
+  /// particles: a relaxed Newton step on the force that corrects the fraction g (servo_gain) of
+  /// the error per step if the packing responded at once. It does not: its slowest mode takes
+  /// many steps, so g must be small (1e-3: the wall relaxes over ~1000 steps, slower than the
+  /// packing, which then follows quasi-statically; large g pumps the packing into oscillation).
+  /// Limited to v_max dt; with no contact, v_max dt towards the particles.
+  void servo_step(double t, double dt, double target_force) {
+    if (!servo) return;
+    if (t >= servo_until || !(target_force > 0)) {
+      servo_velocity = {};
+      return;
+    }
+    const double push = -dot(force, dir);
+    const double limit = servo_max_velocity * dt;
+    double dx =
+        contact_stiffness > 0 ? servo_gain * (target_force - push) / contact_stiffness : limit;
+    dx = dx > limit ? limit : (dx < -limit ? -limit : dx);
+    servo_velocity = (dx / dt) * dir;
+    servo_offset += dx * dir;
   }
   Vec3 torque_center() const { return point; }
 
@@ -95,6 +130,8 @@ class WallContactList {
   /// History: slots() vectors per entry, entry-major.
   /// Per entry: reaction force on the wall and its torque (2 per entry), of the last evaluation.
   std::span<Vec3> reactions() { return reactions_; }
+  /// Per entry: normal stiffness of its active contacts (servo gain), of the last evaluation.
+  std::span<double> stiffness() { return stiffness_; }
   std::size_t bytes() const {
     return (entries_.capacity() + old_entries_.capacity()) * sizeof(Entry) +
            (history_.capacity() + old_history_.capacity() + reactions_.capacity()) * sizeof(Vec3) +
@@ -104,6 +141,7 @@ class WallContactList {
  private:
   std::vector<Entry> entries_, old_entries_;
   std::vector<Vec3> history_, old_history_, reactions_;
+  std::vector<double> stiffness_;  ///< per entry: normal stiffness of its contacts, N/m
   std::vector<std::int64_t> groups_{0};
   int slots_ = 1;
 };

@@ -52,6 +52,13 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
     }
     h.write("walls/force", std::span<const Vec3>(wf));
     h.write("walls/torque", std::span<const Vec3>(wt));
+    std::vector<Vec3> so, sv;
+    for (const auto& w : walls_) {
+      so.push_back(w.servo_offset);
+      sv.push_back(w.servo_velocity);
+    }
+    h.write("walls/servo_offset", std::span<const Vec3>(so));
+    h.write("walls/servo_velocity", std::span<const Vec3>(sv));
   });
 }
 
@@ -92,7 +99,18 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   if (wf.size() != walls_.size() || wall_point_at_build_.size() != walls_.size())
     throw InputError(fmt::format("{}: checkpoint has {} walls, the case {}", file.string(),
                                  wf.size(), walls_.size()));
+  // Servo displacements (absent in checkpoints of older builds: walls without servo).
+  std::vector<Vec3> so(walls_.size()), sv(walls_.size());
+  if (h.exists("walls/servo_offset")) {
+    so = h.read_vec3("walls/servo_offset");
+    sv = h.read_vec3("walls/servo_velocity");
+    if (so.size() != walls_.size() || sv.size() != walls_.size())
+      throw InputError(fmt::format("{}: checkpoint has servo data for {} walls, the case {}",
+                                   file.string(), so.size(), walls_.size()));
+  }
   for (std::size_t w = 0; w < walls_.size(); ++w) {
+    walls_[w].servo_offset = so[w];
+    walls_[w].servo_velocity = sv[w];
     walls_[w].update_geometry(time());
     walls_[w].force = wf[w];
     walls_[w].torque = wt[w];

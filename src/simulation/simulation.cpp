@@ -278,6 +278,13 @@ void Simulation::build_walls() {
     w.group = wc.name;
     w.material = it->second;
     w.motion.velocity = wc.motion.velocity;
+    w.motion.start = wc.motion.start;
+    if (wc.servo) {
+      w.servo = true;
+      w.servo_max_velocity = wc.servo->max_velocity;
+      w.servo_until = wc.servo->until.value_or(1e300);
+      w.servo_gain = wc.servo->gain;
+    }
     if (wc.motion.rotates) {
       w.motion.axis = wc.motion.axis;
       w.motion.center = wc.motion.center;
@@ -320,6 +327,30 @@ void Simulation::build_walls() {
       }
     }
   }
+}
+
+double Simulation::servo_target_force(std::size_t w) const {
+  const config::Wall* wc = nullptr;
+  for (const auto& c : cfg_.walls)
+    if (c.name == walls_[w].name) wc = &c;
+  if (wc == nullptr || !wc->servo) return 0;
+  auto find = [&](const std::string& name) -> const Wall& {
+    for (const auto& x : walls_)
+      if (x.name == name) return x;
+    throw Error(fmt::format("servo span: no wall '{}'", name));
+  };
+  double area = two_d_ ? cfg_.domain.thickness : 1.0;
+  for (const auto& pr : wc->servo->spans) {
+    const Wall& a = find(pr[0]);
+    const Wall& b = find(pr[1]);
+    area *= std::abs(dot(a.point - b.point, a.dir));
+  }
+  return wc->servo->pressure * area;
+}
+
+void Simulation::update_servos() {
+  for (std::size_t w = 0; w < walls_.size(); ++w)
+    if (walls_[w].servo) walls_[w].servo_step(time(), dt_, servo_target_force(w));
 }
 
 void Simulation::update_neighbors(bool force) {
@@ -373,6 +404,7 @@ void Simulation::step() {
   for (auto& w : walls_) w.update_geometry(time());
   update_neighbors(false);
   compute_forces();
+  update_servos();
   StageTimers::Scope timer(timers_, Stage::Integrate);
   if (gear_) {
     Gear5Integrator::correct(particles_, domain_, dt_);
@@ -390,7 +422,8 @@ std::vector<std::string> Simulation::series_columns() const {
   // wall_force.NAME and wall_torque.NAME are vectors (three columns); NAME.x/.y/.z one component.
   std::vector<std::string> cols;
   for (const auto& q : cfg_.output.quantities) {
-    const bool wall = q.starts_with("wall_force.") || q.starts_with("wall_torque.");
+    const bool wall = q.starts_with("wall_force.") || q.starts_with("wall_torque.") ||
+                      q.starts_with("wall_position.");
     const bool component =
         q.size() > 2 && q[q.size() - 2] == '.' && (q.back() >= 'x' && q.back() <= 'z');
     if (wall && !component) {
@@ -425,7 +458,22 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
   std::vector<double> row;
   row.reserve(columns.size());
   for (const auto& name : columns) {
-    if (name.starts_with("wall_force.") || name.starts_with("wall_torque.")) {
+    if (name.starts_with("wall_position.")) {
+      // The current point of a plane wall (for a box: of its face NAME.xmin ...), m.
+      std::string rest = name.substr(14);
+      int comp = -1;
+      if (rest.size() > 2 && rest[rest.size() - 2] == '.' && rest.back() >= 'x' &&
+          rest.back() <= 'z') {
+        comp = rest.back() - 'x';
+        rest.resize(rest.size() - 2);
+      }
+      const Wall* found = nullptr;
+      for (const auto& w : walls_)
+        if (w.name == rest) found = &w;
+      REQUIRE(found, "no wall named '{}'", rest);
+      REQUIRE(comp >= 0, "wall_position needs a component");
+      row.push_back(found->point[comp]);
+    } else if (name.starts_with("wall_force.") || name.starts_with("wall_torque.")) {
       const bool force = name.starts_with("wall_force.");
       std::string rest = name.substr(force ? 11 : 12);
       int comp = 2;

@@ -86,6 +86,10 @@ class Simulation {
   void build_particles();
   void build_walls();
   void update_neighbors(bool force);
+  /// Target force of servo wall w: pressure x the current area between its span walls, N.
+  double servo_target_force(std::size_t w) const;
+  /// Moves the servo walls after a force evaluation (Wall::servo_step).
+  void update_servos();
   void compute_forces();
 
   config::Case cfg_;

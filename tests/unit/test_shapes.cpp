@@ -94,8 +94,10 @@ void expect_same_state(const Simulation& a, const Simulation& b) {
         a.particles().column(k));
   }
   EXPECT_TRUE(same_bits(a.neighbor_list().history(), b.neighbor_list().history()));
-  for (std::size_t w = 0; w < a.walls().size(); ++w)
+  for (std::size_t w = 0; w < a.walls().size(); ++w) {
     EXPECT_EQ(a.walls()[w].force, b.walls()[w].force);
+    EXPECT_EQ(a.walls()[w].point, b.walls()[w].point);
+  }
 }
 
 void check_restart(const config::Case& cfg, int steps, const char* tag) {
@@ -139,7 +141,41 @@ double min_pair_gap(const Simulation& sim) {
   return worst;
 }
 
+/// 2D disks under a servo lid (span: the side walls), the lid switching to a prescribed
+/// translation halfway: servo state and the translation start go through checkpoints.
+config::Case servo_case() {
+  auto c = test::base_case(5e-6, 1.0, {0, 0, 0}, {0.05, 0.1, 0});
+  c.dimension = 2;
+  c.domain.thickness = 0.01;
+  c.gravity = {0, -9.81, 0};
+  test::add_material(c, "glass", 2500, 1e8, 0.3);
+  test::add_contact(c, "glass", "glass", "hooke",
+                    {{"restitution", 0.3}, {"friction", 0.5}, {"stiffness", 1e6}});
+  auto& f = test::add_box_fill(c, "glass", 0.0025, 0.0035, {0, 0, 0}, {0.05, 0.06, 0},
+                               config::Fill::Lattice::Random);
+  f.count = 60;
+  f.seed = 3;
+  c.particles.back().kind = config::Shape::Disk;
+  test::add_plane(c, "floor", {0, 0, 0}, {0, 1, 0}, "glass");
+  test::add_plane(c, "left", {0, 0, 0}, {1, 0, 0}, "glass");
+  test::add_plane(c, "right", {0.05, 0, 0}, {-1, 0, 0}, "glass");
+  test::add_plane(c, "lid", {0, 0.065, 0}, {0, -1, 0}, "glass");
+  config::Servo servo;
+  servo.pressure = 1e4;
+  servo.max_velocity = 0.5;
+  servo.spans = {{"left", "right"}};
+  servo.until = 0.02;
+  c.walls.back().servo = servo;
+  c.walls.back().motion.velocity = {0, -0.01, 0};
+  c.walls.back().motion.start = 0.02;
+  return c;
+}
+
 }  // namespace
+
+TEST(RestartShapes, ServoWallsContinueBitIdentically) {
+  check_restart(servo_case(), 3000, "servo");
+}
 
 TEST(RestartShapes, CapsulesContinueBitIdentically) {
   check_restart(rods_case(300), 1500, "rods");

@@ -5,8 +5,9 @@
 
 The heap's surface is the top of the pile (y + bounding radius of the highest grain) in
 vertical columns two mean diameters wide. On each flank the columns between 20 % and 80 % of
-the heap height are fitted with a straight line; the angle of repose is the mean of the two
-flank angles with the horizontal (their difference is printed as the spread). Several output
+the heap height are fitted with a straight line; the angle of repose is the mean of the flank
+angles with the horizontal. A pile leaning on a wall (the shipped cases: the grains left behind
+when a gate is pulled away) has one flank only, which is then the measurement. Several output
 folders (e.g. polygons and disks) are compared on one plot."""
 import argparse
 import glob
@@ -42,9 +43,11 @@ def heap_angle(path):
     for side, mask in (("left", xs < peak), ("right", xs > peak)):
         sel = mask & (tops > 0.2 * h) & (tops < 0.8 * h)
         if sel.sum() < 3:
-            raise SystemExit(f"{path}: too few columns on the {side} flank to fit a slope")
+            continue  # no flank on this side (a pile against a wall)
         slope, icpt = np.polyfit(xs[sel], tops[sel], 1)
         out[side] = (math.degrees(math.atan(abs(slope))), slope, icpt, xs[sel], tops[sel])
+    if not out:
+        raise SystemExit(f"{path}: too few columns on either flank to fit a slope")
     return x, y, r, xs, tops, out
 
 
@@ -57,10 +60,11 @@ results = []
 for folder in args.outputs:
     path = last_csv(folder)
     x, y, r, xs, tops, fit = heap_angle(path)
-    left, right = fit["left"][0], fit["right"][0]
-    mean = 0.5 * (left + right)
-    print(f"{folder}: angle of repose {mean:.1f} deg (left {left:.1f}, right {right:.1f}; "
-          f"{len(x)} grains, height {tops.max() * 1000:.1f} mm, file {os.path.basename(path)})")
+    angles = {side: f[0] for side, f in fit.items()}
+    mean = sum(angles.values()) / len(angles)
+    flanks = ", ".join(f"{side} {a:.1f}" for side, a in angles.items())
+    print(f"{folder}: angle of repose {mean:.1f} deg ({flanks}; {len(x)} grains, height "
+          f"{tops.max() * 1000:.1f} mm, file {os.path.basename(path)})")
     results.append((folder, x, y, r, xs, tops, fit, mean))
 
 if args.plot:
@@ -73,7 +77,7 @@ if args.plot:
     for ax, (folder, x, y, r, xs, tops, fit, mean) in zip(axes[:, 0], results):
         ax.scatter(x, y, s=1, c="0.6")
         ax.plot(xs, tops, "k-", lw=0.8, label="surface")
-        for side in ("left", "right"):
+        for side in fit:
             ang, slope, icpt, fx, _ = fit[side]
             ax.plot(fx, slope * fx + icpt, "r-", lw=2)
         ax.set_title(f"{os.path.basename(os.path.normpath(folder))}: {mean:.1f} deg")

@@ -150,11 +150,24 @@ struct ParticleGroup {
 };
 
 struct Motion {
-  Vec3 velocity;  ///< translation, m/s
+  Vec3 velocity;     ///< translation, m/s
+  double start = 0;  ///< s: the translation begins at this time (the wall rests before)
   bool rotates = false;
   Vec3 axis{0, 0, 1};  ///< unit rotation axis
   Vec3 center;         ///< a point on the rotation axis at t = 0, m
   double rate = 0;     ///< rad/s (from `rpm` or `rate`)
+};
+
+/// Stress-controlled (servo) plane wall: it moves along its normal so that the particles push
+/// on it with pressure * area, area = the product of the distances between the named pairs of
+/// walls (each pair two parallel planes), times domain.thickness in 2D.
+struct Servo {
+  double pressure = 0;      ///< Pa
+  double max_velocity = 0;  ///< m/s: speed when the force is 0 (and the limit)
+  std::vector<std::array<std::string, 2>> spans;  ///< 2D: one pair, 3D: two pairs
+  std::optional<double> until;                    ///< s: control stops (the wall rests) after
+  double gain = 0.01;  ///< fraction of the force error corrected per step (Wall::servo_step)
+  SourceLoc loc;
 };
 
 struct Wall {
@@ -173,6 +186,7 @@ struct Wall {
   bool inside = true;  ///< particles inside the cylinder (drum) or outside (post)
   std::string material;
   Motion motion;
+  std::optional<Servo> servo;  ///< plane walls only
   SourceLoc loc;
 };
 

@@ -268,6 +268,7 @@ void emit_wall(YAML::Emitter& out, const config::Wall& w, int dim) {
     if (translates) {
       out << YAML::Key << "translate" << YAML::Value << YAML::Flow << YAML::BeginMap;
       key_vec(out, "velocity", w.motion.velocity, dim);
+      key_number(out, "start", w.motion.start);
       out << YAML::EndMap;
     }
     if (w.motion.rotates) {
@@ -277,6 +278,18 @@ void emit_wall(YAML::Emitter& out, const config::Wall& w, int dim) {
       key_number(out, "rate", w.motion.rate);
       out << YAML::EndMap << YAML::Comment("rate in rad/s");
     }
+    out << YAML::EndMap;
+  }
+  if (w.servo) {
+    out << YAML::Key << "servo" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    key_number(out, "pressure", w.servo->pressure);
+    key_number(out, "max_velocity", w.servo->max_velocity);
+    out << YAML::Key << "span" << YAML::Value << YAML::BeginSeq;
+    for (const auto& pr : w.servo->spans)
+      out << YAML::Flow << YAML::BeginSeq << pr[0] << pr[1] << YAML::EndSeq;
+    out << YAML::EndSeq;
+    key_number(out, "gain", w.servo->gain);
+    if (w.servo->until) key_number(out, "until", *w.servo->until);
     out << YAML::EndMap;
   }
   out << YAML::EndMap;

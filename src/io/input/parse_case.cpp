@@ -65,6 +65,8 @@ struct Reader {
   std::map<std::string, config::SourceLoc> particle_material_ref;
   std::vector<std::string> particle_materials;  ///< in order of first use
   std::vector<std::pair<std::string, config::SourceLoc>> wall_material_refs;
+  std::vector<std::pair<std::string, config::SourceLoc>>
+      servo_span_refs;  ///< wall names in servo spans
 
   std::vector<std::string> material_names() const {
     std::vector<std::string> out;
@@ -856,8 +858,9 @@ config::Motion Reader::read_motion(const YamlNode& node) {
   config::Motion m;
   YamlMap mm(node, {"translate", "rotate"});
   if (auto t = mm.find("translate")) {
-    YamlMap tm(*t, {"velocity"});
+    YamlMap tm(*t, {"velocity", "start"});
     m.velocity = vec(tm, "velocity");
+    m.start = tm.number_or("start", 0.0, Range::non_negative());
   }
   if (auto r = mm.find("rotate")) {
     YamlMap rm(*r, {"axis", "center", "rpm", "rate"});
@@ -887,7 +890,7 @@ void Reader::read_walls(const YamlMap& root) {
   if (!wn) return;
   std::map<std::string, int> names;  // name -> line
   for (const auto& item : wn->as_list()) {
-    YamlMap wm(item, {"name", "plane", "box", "cylinder", "mesh", "material", "motion"});
+    YamlMap wm(item, {"name", "plane", "box", "cylinder", "mesh", "material", "motion", "servo"});
     config::Wall w;
     w.loc = item.loc();
     const YamlNode name = wm.at("name");
@@ -955,7 +958,48 @@ void Reader::read_walls(const YamlMap& root) {
     w.material = material_ref(mat);
     wall_material_refs.emplace_back(w.material, mat.loc());
     if (auto mo = wm.find("motion")) w.motion = read_motion(*mo);
+    if (auto sv = wm.find("servo")) {
+      if (w.kind != config::Wall::Kind::Plane)
+        sv->fail(
+            "a servo (stress-controlled wall) needs a plane wall; give the faces of a box as "
+            "separate planes");
+      if (w.motion.rotates) sv->fail("a servo wall cannot also rotate; give it no 'rotate' motion");
+      YamlMap sm(*sv, {"pressure", "max_velocity", "span", "until", "gain"});
+      config::Servo servo;
+      servo.loc = sv->loc();
+      servo.pressure = sm.number("pressure", Range::positive());
+      servo.max_velocity = sm.number("max_velocity", Range::positive());
+      if (auto u = sm.find("until")) servo.until = u->as_number(Range::non_negative());
+      servo.gain = sm.number_or("gain", 0.01, Range{0.0, 1.0, true, false});
+      const YamlNode span = sm.at("span");
+      const auto pairs = span.as_list(1);
+      const std::size_t want = two_d() ? 1 : 2;
+      if (pairs.size() != want)
+        span.fail_expected(fmt::format(
+            "{} pair(s) of wall names [a, b] whose distance is the extent of this wall's face "
+            "({})",
+            want,
+            two_d() ? "2D: one pair; the area is that distance times domain.thickness"
+                    : "3D: two pairs; the area is the product of the two distances"));
+      for (const auto& pr : pairs) {
+        const auto pair = pr.as_list(2);
+        if (pair.size() != 2) pr.fail_expected("a pair of wall names [a, b]");
+        servo.spans.push_back({pair[0].as_string(), pair[1].as_string()});
+        servo_span_refs.push_back({pair[0].as_string(), pair[0].loc()});
+        servo_span_refs.push_back({pair[1].as_string(), pair[1].loc()});
+      }
+      w.servo = std::move(servo);
+    }
     c.walls.push_back(std::move(w));
+  }
+  // Spans must name plane walls of this case.
+  for (const auto& [name, loc] : servo_span_refs) {
+    const auto it = std::find_if(c.walls.begin(), c.walls.end(),
+                                 [&](const config::Wall& w) { return w.name == name; });
+    if (it == c.walls.end() || it->kind != config::Wall::Kind::Plane)
+      throw_input_error(loc, fmt::format("expected the name of a plane wall of this case, found "
+                                         "'{}'",
+                                         name));
   }
 }
 
@@ -998,7 +1042,7 @@ void Reader::read_output(const YamlMap& root) {
       for (const auto& item : q->as_list()) {
         const std::string name = item.as_string();
         if (!is_series_quantity(name, walls)) {
-          for (const char* prefix : {"wall_force.", "wall_torque."}) {
+          for (const char* prefix : {"wall_force.", "wall_torque.", "wall_position."}) {
             if (name.rfind(prefix, 0) == 0) {
               std::string wall = name.substr(std::string_view(prefix).size());
               for (const char* comp : {".x", ".y", ".z"})
@@ -1014,8 +1058,8 @@ void Reader::read_output(const YamlMap& root) {
           if (auto near = closest_match(name, series_quantity_names()))
             hint = fmt::format(" (did you mean '{}'?)", *near);
           item.fail(fmt::format(
-              "unknown series quantity '{}'{}; accepted: {}, wall_force.WALL, wall_torque.WALL "
-              "(optionally with .x, .y or .z)",
+              "unknown series quantity '{}'{}; accepted: {}, wall_force.WALL, wall_torque.WALL, "
+              "wall_position.WALL (optionally with .x, .y or .z)",
               name, hint, join(series_quantity_names())));
         }
         if (std::find(c.output.quantities.begin(), c.output.quantities.end(), name) !=
@@ -1057,7 +1101,7 @@ void Reader::check_pairs() const {
 config::Case parse(const YamlNode& root, const fs::path& file) {
   config::Case c;
   c.file = file;
-  Reader r{file.parent_path(), c, {}, {}, {}};
+  Reader r{file.parent_path(), c, {}, {}, {}, {}};
   YamlMap rm(root, {"name", "dimension", "time", "domain", "gravity", "integrator", "materials",
                     "contacts", "particles", "walls", "output", "neighbor"});
   if (auto n = rm.find("name")) {
@@ -1108,7 +1152,7 @@ const std::vector<std::string>& series_quantity_names() {
 bool is_series_quantity(std::string_view quantity, const std::vector<std::string>& wall_names) {
   const auto& names = series_quantity_names();
   if (std::find(names.begin(), names.end(), quantity) != names.end()) return true;
-  for (std::string_view prefix : {"wall_force.", "wall_torque."}) {
+  for (std::string_view prefix : {"wall_force.", "wall_torque.", "wall_position."}) {
     if (quantity.substr(0, prefix.size()) != prefix) continue;
     std::string_view wall = quantity.substr(prefix.size());
     if (std::find(wall_names.begin(), wall_names.end(), wall) != wall_names.end()) return true;
