@@ -26,9 +26,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 CASES = {
-    "rods_in_box (3000 spherocylinders, AR 4)": ROOT / "cases/dem/rods_in_box/case.yaml",
-    "polygon_heap (1200 polygons, 5-8 vertices)": ROOT / "cases/dem2d/polygon_heap/case.yaml",
-    "disk_heap (1200 disks)": ROOT / "cases/dem2d/disk_heap/case.yaml",
+    "rods_in_box (2000 spherocylinders, AR 4)": ROOT / "cases/dem/rods_in_box/case.yaml",
+    "polygon_heap (600 polygons, 5-7 vertices)": ROOT / "cases/dem2d/polygon_heap/case.yaml",
+    "disk_heap (600 disks)": ROOT / "cases/dem2d/disk_heap/case.yaml",
 }
 
 
