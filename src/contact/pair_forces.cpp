@@ -13,50 +13,99 @@ namespace gf::contact {
 
 namespace {
 
-template <class Eval>
+/// Displacement x_i - x_j: the minimum image only when some axis is periodic.
+template <bool Periodic>
+inline Vec3 pair_delta(const Domain& dom, const Vec3& a, const Vec3& b) {
+  if constexpr (Periodic)
+    return dom.delta(a, b);
+  else
+    return a - b;
+}
+
+/// The force loop over the rows of the half list. The narrow phase is sphere_sphere
+/// (pair_forces.hpp) inlined by hand: one reciprocal instead of three divisions for the normal,
+/// the minimum image only in periodic domains, the per-row values (x_i, r_i, the row of the
+/// material-pair table) loaded once per row. The row is inlined into the slab loop so that the
+/// array pointers stay in registers. Without rolling friction in any pair (Rolling = false) the
+/// law's rolling torque is zero and is left out of the torque sums.
+template <bool Periodic, bool Rolling, class Eval>
 std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
                        const PairTable<PairCoeffs>& pairs, double dt, Eval&& eval) {
-  const Vec3* x = p.x();
-  const Vec3* v = p.v();
-  const Vec3* om = p.omega();
-  Vec3* f = p.f();
-  Vec3* tq = p.torque();
-  const double* r = p.radius();
-  const double* m = p.mass();
-  const std::int32_t* mat = p.material();
-  const auto off = list.offsets();
-  const auto nb = list.neighbors();
-  auto hist = list.history();
-  auto row = [&](std::int64_t i) -> std::int64_t {
+  const Vec3* const x = p.x();
+  const Vec3* const v = p.v();
+  const Vec3* const om = p.omega();
+  Vec3* const f = p.f();
+  Vec3* const tq = p.torque();
+  const double* const r = p.radius();
+  const double* const m = p.mass();
+  const std::int32_t* const mat = p.material();
+  const std::int64_t* const off = list.offsets().data();
+  const std::int32_t* const nb = list.neighbors().data();
+  Vec3* const hist = list.history().data();
+  const PairCoeffs* const coeffs = pairs.data();
+  const std::size_t n_mat = static_cast<std::size_t>(pairs.n());
+  const Domain dom = domain;
+  auto row = [=, &eval](std::int64_t i) __attribute__((always_inline)) -> std::int64_t {
     const Vec3 xi = x[i];
     const double ri = r[i];
+    const double mi = m[i];
+    const PairCoeffs* const c_row = coeffs + static_cast<std::size_t>(mat[i]) * n_mat;
     std::int64_t touching = 0;
     Vec3 fi{}, ti{};
-    for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
+    const std::int64_t end = off[i + 1];
+    for (std::int64_t k = off[i]; k < end; ++k) {
       const std::int32_t j = nb[k];
-      ContactKinematics kin;
-      double arm_i, arm_j;
-      if (!sphere_sphere(domain, xi, x[j], ri, r[j], kin, arm_i, arm_j)) {
+      const Vec3 d = pair_delta<Periodic>(dom, xi, x[j]);
+      const double rj = r[j];
+      const double rs = ri + rj;
+      const double dist2 = norm2(d);
+      if (dist2 >= rs * rs) {
         hist[k] = {};
         continue;
       }
       ++touching;
+      ContactKinematics kin;
+      const double dist = std::sqrt(dist2);
+      kin.overlap = rs - dist;
+      kin.normal = dist > 0 ? (1.0 / dist) * d : Vec3{0, 0, 1};
+      const double arm_i = ri - 0.5 * kin.overlap;
+      const double arm_j = rj - 0.5 * kin.overlap;
+      kin.r_eff = ri * rj / rs;
+      const double mj = m[j];
+      kin.m_eff = mi * mj / (mi + mj);
       kin.v_rel = v[i] - v[j] - cross(arm_i * om[i] + arm_j * om[j], kin.normal);
       kin.omega_rel = om[i] - om[j];
-      kin.m_eff = m[i] * m[j] / (m[i] + m[j]);
-      const PairCoeffs& c = pairs(mat[i], mat[j]);
-      const ContactResult res = eval(c, kin, dt, hist[k]);
+      const ContactResult res = eval(c_row[mat[j]], kin, dt, hist[k]);
       const Vec3 nxf = cross(kin.normal, res.force);
       fi += res.force;
-      ti += res.rolling_torque - arm_i * nxf;
       f[j] -= res.force;
-      tq[j] -= res.rolling_torque + arm_j * nxf;
+      if constexpr (Rolling) {
+        ti += res.rolling_torque - arm_i * nxf;
+        tq[j] -= res.rolling_torque + arm_j * nxf;
+      } else {
+        ti -= arm_i * nxf;
+        tq[j] -= arm_j * nxf;
+      }
     }
     f[i] += fi;
     tq[i] += ti;
     return touching;
   };
   return for_rows_in_slabs(list, row);
+}
+
+template <class Eval>
+std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
+                       const PairTable<PairCoeffs>& pairs, double dt, Eval&& eval) {
+  bool rolling = false;
+  for (int a = 0; a < pairs.n(); ++a)
+    for (int b = 0; b < pairs.n(); ++b) rolling = rolling || pairs(a, b).rolling_friction != 0;
+  const bool periodic = domain.periodic[0] || domain.periodic[1] || domain.periodic[2];
+  if (periodic)
+    return rolling ? pair_loop<true, true>(p, domain, list, pairs, dt, eval)
+                   : pair_loop<true, false>(p, domain, list, pairs, dt, eval);
+  return rolling ? pair_loop<false, true>(p, domain, list, pairs, dt, eval)
+                 : pair_loop<false, false>(p, domain, list, pairs, dt, eval);
 }
 
 bool uniform_model(const PairTable<PairCoeffs>& pairs, int& model) {

@@ -18,12 +18,15 @@ void kick(ParticleStore& p, const Domain* domain, double h, double dt) {
   const Vec3* t = p.torque();
   const double* m = p.mass();
   const double* in = p.inertia();
+  // Wrapping is a no-op without periodic axes; skipping it keeps the loop short.
+  const bool periodic =
+      Drift && (domain->periodic[0] || domain->periodic[1] || domain->periodic[2]);
   exec::parallel_for(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
     v[i] += (h / m[i]) * f[i];
     w[i] += (h / in[i]) * t[i];
     if constexpr (Drift) {
       x[i] += dt * v[i];
-      domain->wrap(x[i]);
+      if (periodic) domain->wrap(x[i]);
     }
   });
 }
