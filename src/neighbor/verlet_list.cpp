@@ -12,7 +12,7 @@
 namespace gf {
 
 std::span<const std::int64_t> VerletList::sort_and_build(ParticleStore& p, const Domain& domain,
-                                                         double skin) {
+                                                         double skin, const PairFilter& filter) {
   const std::size_t n = p.size();
   REQUIRE(n < (std::size_t{1} << 31), "{} particles exceed the 32-bit neighbour index", n);
   double r_max = 0;
@@ -21,7 +21,7 @@ std::span<const std::int64_t> VerletList::sort_and_build(ParticleStore& p, const
   const auto& order = cells_.order();
   perm_.assign(order.begin(), order.end());
   p.permute(perm_);
-  build_rows(domain, p.x(), p.radius(), n, skin, true);
+  build_rows(domain, p.x(), p.radius(), n, skin, true, filter);
   carry_history(perm_);
 
   // Slabs: cell layers across the slab axis. With a periodic slab axis the first and the last
@@ -60,7 +60,7 @@ void VerletList::build(const Domain& domain, const Vec3* x, const double* r, std
 }
 
 void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n,
-                            double skin, bool sorted) {
+                            double skin, bool sorted, const PairFilter& filter) {
   skin_ = skin;
   old_offsets_.swap(offsets_);
   old_neighbors_.swap(neighbors_);
@@ -86,7 +86,9 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
         const std::int32_t j = member(k);
         if (static_cast<std::size_t>(j) <= i) continue;
         const double cut = ri + r[j];
-        if (norm2(domain.delta(xi, x[j])) < cut * cut) emit(j);
+        if (norm2(domain.delta(xi, x[j])) < cut * cut &&
+            (!filter || filter(static_cast<std::int32_t>(i), j)))
+          emit(j);
       }
     }
   };

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -13,13 +14,19 @@
 
 namespace gf {
 
+/// Extra condition for a candidate pair (i, j) within the bounding-sphere cutoff, in the
+/// (re-ordered) indices of the build; empty = keep every candidate. Used for elongated grains,
+/// whose bounding spheres are much larger than the grains (see Simulation::update_neighbors).
+using PairFilter = std::function<bool(std::int32_t i, std::int32_t j)>;
+
 class VerletList {
  public:
   /// Re-orders every column of the store by cell (slab-major, see CellList), then builds the
   /// list of pairs i < j with |x_i - x_j| < r_i + r_j + skin (minimum image); histories of
   /// pairs already in the list are carried over (negated when the pair's orientation flips).
   /// Returns the permutation: new index k holds the particle that had index perm[k].
-  std::span<const std::int64_t> sort_and_build(ParticleStore& p, const Domain& domain, double skin);
+  std::span<const std::int64_t> sort_and_build(ParticleStore& p, const Domain& domain, double skin,
+                                               const PairFilter& filter = {});
 
   /// Builds without re-ordering (the particle order is kept; no slabs for threading).
   void build(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin);
@@ -57,7 +64,7 @@ class VerletList {
 
  private:
   void build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin,
-                  bool sorted);
+                  bool sorted, const PairFilter& filter = {});
   void carry_history(std::span<const std::int64_t> perm);
 
   double skin_ = 0;

@@ -31,6 +31,7 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
     h.write("neighbor/reference_positions", nlist_.reference_positions());
     h.set_attribute("neighbor", "n_builds", static_cast<std::int64_t>(nlist_.n_builds()));
     h.write("neighbor/slab_starts", nlist_.slab_starts());
+    if (has_capsules_) h.write("neighbor/axis_reference", std::span<const Vec3>(axis_ref_));
     h.set_attribute("neighbor", "n_phases", static_cast<std::int64_t>(nlist_.n_phases()));
 
     h.create_group("walls");
@@ -83,6 +84,10 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
                  skin_, h.read_int_attribute("neighbor", "n_builds"),
                  h.read_int64("neighbor/slab_starts"),
                  static_cast<int>(h.read_int_attribute("neighbor", "n_phases")));
+  // Capsule ends at the last build (older checkpoints: none, which forces a rebuild).
+  axis_ref_.clear();
+  if (has_capsules_ && h.exists("neighbor/axis_reference"))
+    axis_ref_ = h.read_vec3("neighbor/axis_reference");
   if (nlist_.n_particles() != particles_.size())
     throw InputError(
         fmt::format("{}: neighbour list does not match the particle count", file.string()));

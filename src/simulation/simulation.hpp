@@ -86,6 +86,8 @@ class Simulation {
   void build_particles();
   void build_walls();
   void update_neighbors(bool force);
+  /// Whether an end of some spherocylinder moved more than skin/2 since the last build.
+  bool capsule_ends_moved() const;
   /// Target force of servo wall w: pressure x the current area between its span walls, N.
   double servo_target_force(std::size_t w) const;
   /// Moves the servo walls after a force evaluation (Wall::servo_step).
@@ -109,7 +111,9 @@ class Simulation {
   StageTimers timers_;
   std::int64_t n_contacts_ = 0, n_wall_contacts_ = 0;
   bool two_d_ = false;  ///< dimension: 2 (grains in z = 0, rotation about z)
-  bool gear_ = false;   ///< integrator: gear5
+  bool has_capsules_ = false;
+  std::vector<Vec3> axis_ref_;  ///< h * axis of each grain at the last build (capsules)
+  bool gear_ = false;           ///< integrator: gear5
 };
 
 }  // namespace gf
