@@ -16,8 +16,7 @@
 namespace {
 
 double now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 struct Result {
@@ -38,7 +37,8 @@ Result bandwidth(std::size_t bytes_total, int threads) {
     c[i] = 0.5;
   }
   // Enough repetitions for >= ~0.2 s per kernel.
-  const int reps = static_cast<int>(std::clamp<std::size_t>((std::size_t{1} << 31) / (n * 24), 5, 2000));
+  const int reps =
+      static_cast<int>(std::clamp<std::size_t>((std::size_t{1} << 31) / (n * 24), 5, 2000));
   double best_copy = 1e30, best_triad = 1e30, best_sum = 1e30;
   volatile double sink = 0;
   const double s = 1.0000001;

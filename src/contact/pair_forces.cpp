@@ -45,7 +45,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
   const PairCoeffs* const coeffs = pairs.data();
   const std::size_t n_mat = static_cast<std::size_t>(pairs.n());
   const Domain dom = domain;
-  auto row = [=, &eval](std::int64_t i) __attribute__((always_inline)) -> std::int64_t {
+  auto row = [ =, &eval ](std::int64_t i) __attribute__((always_inline))->std::int64_t {
     const Vec3 xi = x[i];
     const double ri = r[i];
     const double mi = m[i];
