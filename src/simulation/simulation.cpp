@@ -382,13 +382,26 @@ void Simulation::update_neighbors(bool force) {
   const std::size_t n = particles_.size();
   bool rebuild = force || nlist_.needs_rebuild(domain_, particles_.x(), n);
   if (!rebuild && has_capsules_) rebuild = capsule_ends_moved();
+  bool walls_moved = false;
   if (!rebuild && !walls_.empty()) {
     const double diag = norm(domain_.length());
-    for (std::size_t w = 0; w < walls_.size() && !rebuild; ++w) {
+    for (std::size_t w = 0; w < walls_.size() && !walls_moved; ++w) {
       const double moved = norm(walls_[w].point - wall_point_at_build_[w]) +
                            diag * norm(walls_[w].dir - wall_dir_at_build_[w]);
-      rebuild = moved > 0.5 * skin_;
+      walls_moved = moved > 0.5 * skin_;
     }
+  }
+  if (!rebuild && walls_moved) {
+    // Only walls moved (e.g. a gate pulled away, a servo plate): rebuild the wall list alone.
+    // Since the last full build every particle moved less than skin/2, so until the next one it
+    // moves less than skin relative to now; with the walls' skin/2, a pair further apart than
+    // 1.5 skin now cannot touch before the next rebuild.
+    wlist_.build(walls_, particles_.x(), particles_.radius(), n, 1.5 * skin_);
+    for (std::size_t w = 0; w < walls_.size(); ++w) {
+      wall_point_at_build_[w] = walls_[w].point;
+      wall_dir_at_build_[w] = walls_[w].dir;
+    }
+    return;
   }
   if (!rebuild) return;
   // Re-ordering the particles by cell at every rebuild keeps neighbours close in memory and
