@@ -2,6 +2,7 @@
 // Walls (infinite plane, cylinder) with prescribed motion, their contact lists and reactions.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -30,8 +31,12 @@ struct Wall {
   double radius = 0;   ///< cylinder radius, m
   bool inside = true;  ///< cylinder: particles inside
   RigidMotion motion;
-  /// Servo (stress control, plane walls): target force servo_force(t) along -dir, speed limit.
+  /// Servo (stress control, plane walls): target force servo_pressure x area along -dir, the
+  /// area the product of the distances between the walls of each span pair (indices into the
+  /// simulation's walls; times the thickness in 2D), speed limit.
   bool servo = false;
+  double servo_pressure = 0;  ///< Pa
+  std::vector<std::array<std::int32_t, 2>> servo_spans;
   double servo_max_velocity = 0;  ///< m/s
   double servo_until = 1e300;     ///< s
   double servo_gain = 1e-2;       ///< fraction of the force error corrected per step

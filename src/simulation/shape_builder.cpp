@@ -19,8 +19,7 @@ constexpr double kPi = std::numbers::pi;
 
 /// Half length of the cylindrical part of a spherocylinder of cap radius r.
 double half_length_of(const config::ParticleGroup& g, double r) {
-  if (g.length) return 0.5 * *g.length;
-  return r * (g.aspect_ratio.value_or(1.0) - 1.0);  // L = 2 r (alpha - 1)
+  return 0.5 * input::cylinder_length(g, r);
 }
 
 PolygonShape shape_of(const ConvexPolygon& outline) {

@@ -291,6 +291,7 @@ void Simulation::build_walls() {
       w.servo_max_velocity = wc.servo->max_velocity;
       w.servo_until = wc.servo->until.value_or(1e300);
       w.servo_gain = wc.servo->gain;
+      w.servo_pressure = wc.servo->pressure;  // spans resolved once all walls exist (below)
     }
     if (wc.motion.rotates) {
       w.motion.axis = wc.motion.axis;
@@ -334,25 +335,29 @@ void Simulation::build_walls() {
       }
     }
   }
+  // Servo spans by index (the parser checked that they name plane walls of the case).
+  for (const auto& wc : cfg_.walls) {
+    if (!wc.servo) continue;
+    auto index_of = [&](const std::string& name) {
+      for (std::size_t k = 0; k < walls_.size(); ++k)
+        if (walls_[k].name == name) return static_cast<std::int32_t>(k);
+      throw InputError(fmt::format("{}: servo span names no wall '{}'", where(wc.loc), name));
+    };
+    const std::int32_t self = index_of(wc.name);
+    for (const auto& pr : wc.servo->spans)
+      walls_[static_cast<std::size_t>(self)].servo_spans.push_back(
+          {index_of(pr[0]), index_of(pr[1])});
+  }
 }
 
 double Simulation::servo_target_force(std::size_t w) const {
-  const config::Wall* wc = nullptr;
-  for (const auto& c : cfg_.walls)
-    if (c.name == walls_[w].name) wc = &c;
-  if (wc == nullptr || !wc->servo) return 0;
-  auto find = [&](const std::string& name) -> const Wall& {
-    for (const auto& x : walls_)
-      if (x.name == name) return x;
-    throw Error(fmt::format("servo span: no wall '{}'", name));
-  };
+  const Wall& wall = walls_[w];
   double area = two_d_ ? cfg_.domain.thickness : 1.0;
-  for (const auto& pr : wc->servo->spans) {
-    const Wall& a = find(pr[0]);
-    const Wall& b = find(pr[1]);
-    area *= std::abs(dot(a.point - b.point, a.dir));
+  for (const auto& [ia, ib] : wall.servo_spans) {
+    const Wall& a = walls_[static_cast<std::size_t>(ia)];
+    area *= std::abs(dot(a.point - walls_[static_cast<std::size_t>(ib)].point, a.dir));
   }
-  return wc->servo->pressure * area;
+  return wall.servo_pressure * area;
 }
 
 void Simulation::update_servos() {

@@ -13,6 +13,7 @@
 #include "contact/shape_forces.hpp"
 #include "core/exec.hpp"
 #include "simulation/simulation.hpp"
+#include "state_compare.hpp"
 
 using namespace gf;
 
@@ -76,30 +77,6 @@ config::Case polygons_case() {
   return c;
 }
 
-template <class T>
-bool same_bits(std::span<const T> a, std::span<const T> b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
-}
-
-void expect_same_state(const Simulation& a, const Simulation& b) {
-  ASSERT_EQ(a.particles().size(), b.particles().size());
-  for (const auto& f : a.particles().fields()) {
-    const int k = a.particles().find_field(f.name);
-    std::visit(
-        [&](const auto& va) {
-          using V = std::decay_t<decltype(va)>;
-          const auto& vb = std::get<V>(b.particles().column(k));
-          EXPECT_TRUE(same_bits(std::span(va), std::span(vb))) << "field " << f.name;
-        },
-        a.particles().column(k));
-  }
-  EXPECT_TRUE(same_bits(a.neighbor_list().history(), b.neighbor_list().history()));
-  for (std::size_t w = 0; w < a.walls().size(); ++w) {
-    EXPECT_EQ(a.walls()[w].force, b.walls()[w].force);
-    EXPECT_EQ(a.walls()[w].point, b.walls()[w].point);
-  }
-}
-
 void check_restart(const config::Case& cfg, int steps, const char* tag) {
   const auto file = std::filesystem::temp_directory_path() /
                     (std::string("gf_restart_") + tag + "_" + std::to_string(::getpid()) + ".h5");
@@ -115,7 +92,7 @@ void check_restart(const config::Case& cfg, int steps, const char* tag) {
   b.load_checkpoint(file);
   for (int s = 0; s < steps; ++s) b.step();
   EXPECT_GT(contact_steps, 1000);
-  expect_same_state(a, b);
+  test::expect_same_state(a, b);
   std::filesystem::remove(file);
 }
 

@@ -40,17 +40,25 @@ config::Case capsule_wall_case(const std::string& model, double e, double mu, do
   return c;
 }
 
-/// Steps until particle 0 has touched a wall and left it again; returns the number of steps.
-int run_through_wall_contact(Simulation& sim, int max_steps = 2000000) {
+/// Steps until the grains have touched (each other or a wall) and come apart again, calling
+/// observe(step, contacts) after every step; returns the steps taken, -1 when no contact ended
+/// within max_steps.
+template <class Observe>
+int run_through_contact(Simulation& sim, int max_steps, Observe&& observe) {
   bool touched = false;
   for (int s = 0; s < max_steps; ++s) {
     sim.step();
-    if (sim.n_wall_contacts() > 0)
+    const auto n = sim.n_contacts() + sim.n_wall_contacts();
+    observe(s, n);
+    if (n > 0)
       touched = true;
     else if (touched)
-      return s;
+      return s + 1;
   }
   return -1;
+}
+int run_through_contact(Simulation& sim, int max_steps = 2000000) {
+  return run_through_contact(sim, max_steps, [](int, std::int64_t) {});
 }
 
 struct LawAndRestitution {
@@ -75,7 +83,7 @@ TEST_P(ValidationCapsuleFlat, ReboundsWithRequestedRestitution) {
   test::add_capsules(c, "pom", r, len, {{0, 0, r + 1e-4}}, {rotation_to({1, 0, 0})},
                      {{0, 0, -1.0}});
   Simulation sim(c);
-  ASSERT_GT(run_through_wall_contact(sim), 0);
+  ASSERT_GT(run_through_contact(sim), 0);
   const auto& p = sim.particles();
   const double e = p.v()[0].z / 1.0;
   std::printf("capsule flat drop %s: requested %.3f realised %.5f (%.3f %%)\n", prm.model, prm.e, e,
@@ -113,20 +121,18 @@ TEST(ValidationCapsuleTilted, RotatesTowardsFlatAndConservesEnergy) {
   Simulation sim(c);
   const double e0 = sim.total_energy();
   Dump trace("shape_capsule_tilted", "t,omega_y,axis_z,energy_ratio,wall_contacts");
-  bool touched = false;
   double worst = 0;  // largest |E/E0 - 1| during the contact (wall contacts' elastic energy in E)
-  for (int s = 0; s < 2000000; ++s) {
-    sim.step();
-    const int n = static_cast<int>(sim.n_wall_contacts());
-    if (n > 0) touched = true;
-    if (n > 0) worst = std::max(worst, std::abs(sim.total_energy() / e0 - 1));
-    if (s % 20 == 0)
-      trace.row(sim.time(), sim.particles().omega()[0].y,
-                rotate(sim.particles().orientation()[0], Vec3{0, 0, 1}).z, sim.total_energy() / e0,
-                n);
-    if (touched && n == 0) break;
-  }
-  ASSERT_TRUE(touched);
+  ASSERT_GT(run_through_contact(sim, 2000000,
+                                [&](int s, std::int64_t n) {
+                                  if (n > 0)
+                                    worst = std::max(worst, std::abs(sim.total_energy() / e0 - 1));
+                                  if (s % 20 == 0)
+                                    trace.row(
+                                        sim.time(), sim.particles().omega()[0].y,
+                                        rotate(sim.particles().orientation()[0], Vec3{0, 0, 1}).z,
+                                        sim.total_energy() / e0, n);
+                                }),
+            0);
   const auto& p = sim.particles();
   const Vec3 axis = rotate(p.orientation()[0], Vec3{0, 0, 1});
   std::printf("tilted capsule: omega_y %.4f rad/s, axis z %.5f -> %.5f, energy %.3e relative\n",
@@ -154,15 +160,7 @@ TEST(ValidationCapsulePair, CrossedAndParallelRestitution) {
         {rotation_to({1, 0, 0}), rotation_to(parallel ? Vec3{1, 0, 0} : Vec3{0, 1, 0})},
         {{0, 0, 0.5}, {0, 0, -0.5}});
     Simulation sim(c);
-    bool touched = false;
-    for (int s = 0; s < 1000000; ++s) {
-      sim.step();
-      if (sim.n_contacts() > 0)
-        touched = true;
-      else if (touched)
-        break;
-    }
-    ASSERT_TRUE(touched);
+    ASSERT_GT(run_through_contact(sim, 1000000), 0);
     const auto& p = sim.particles();
     const double e = (p.v()[1].z - p.v()[0].z) / 1.0;
     std::printf("capsule pair (%s): restitution %.5f\n", parallel ? "parallel" : "crossed", e);
@@ -239,15 +237,7 @@ TEST(ValidationPolygon, FlatImpactsRealiseRestitution) {
                          {flat, flat}, {{0, 0.5, 0}, {0, -0.5, 0}});
     }
     Simulation sim(c);
-    bool touched = false;
-    for (int s = 0; s < 1000000; ++s) {
-      sim.step();
-      if (sim.n_contacts() + sim.n_wall_contacts() > 0)
-        touched = true;
-      else if (touched)
-        break;
-    }
-    ASSERT_TRUE(touched);
+    ASSERT_GT(run_through_contact(sim, 1000000), 0);
     const auto& p = sim.particles();
     const double realised = wall ? p.v()[0].y : p.v()[1].y - p.v()[0].y;
     std::printf("square %s: restitution %.5f (requested %.2f)\n", wall ? "on floor" : "pair",
@@ -317,15 +307,7 @@ TEST(ValidationGear, CollisionAtATenthOfTheContactTime) {
       test::add_spheres(c, "glass", r, {{0, 0, -r - 0.0013}, {0, 0, r + 0.0013}},
                         {{0, 0, 0.5}, {0, 0, -0.5}});
       Simulation sim(c);
-      bool touched = false;
-      for (int s = 0; s < 100000; ++s) {
-        sim.step();
-        if (sim.n_contacts() > 0)
-          touched = true;
-        else if (touched)
-          break;
-      }
-      ASSERT_TRUE(touched);
+      ASSERT_GT(run_through_contact(sim, 100000), 0);
       // Gear's higher derivatives still carry the contact for a few steps after separation
       // (the corrector removes them): read the velocity 2 t_c later, as the kernel study does.
       for (int s = 0; s < 2 * static_cast<int>(per_contact); ++s) sim.step();

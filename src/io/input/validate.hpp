@@ -42,8 +42,9 @@ CheckReport validate(const config::Case& c);
 double cylinder_length(const config::ParticleGroup& g, double r);
 
 /// Ratio of a polygon's circumradius (about its centroid) to its equal-area radius. Vertices:
-/// exact; regular n-gon: sqrt(2 pi / (n sin(2 pi / n))); random: an estimate (the largest ratio
-/// of 2000 polygons drawn for each vertex count and elongation, plus 25 %), not a strict bound.
+/// exact; regular n-gon: sqrt(2 pi / (n sin(2 pi / n))); random: the largest ratio of ~2000
+/// polygons drawn from the generator, plus 5 %. The simulation redraws the rare outline beyond
+/// it (simulation/shape_builder.cpp), so it bounds every grain of a run.
 double polygon_reach_factor(const config::PolygonSpec& p);
 
 /// Radius (m) of the sphere (3D) or disk (2D) about a grain's centre that contains the grain, for

@@ -268,6 +268,40 @@ std::size_t count_polygon_grains(const ParticleStore& store) {
   return count;
 }
 
+namespace {
+
+/// Writes a PolyData file of polygon cells. `cell_data` holds the tags of the cell arrays
+/// already added to `arrays`, `cell_attrs` the CellData attributes (active scalars/vectors); the
+/// points, connectivity and offsets are added after them (blocks are laid out in that order).
+void write_polys_file(const std::filesystem::path& path, AppendedArrays& arrays,
+                      const std::string& cell_attrs, const std::string& cell_data,
+                      std::span<const Vec3> points, std::vector<std::int64_t> conn,
+                      std::vector<std::int64_t> offsets) {
+  std::string xml = kHeader;
+  xml += vtkfile_open("PolyData");
+  xml += "  <PolyData>\n";
+  xml += fmt::format(
+      "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
+      "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
+      points.size(), offsets.size());
+  const std::string points_tag = AppendedArrays::tag(arrays.add("position", points));
+  const std::string conn_tag =
+      AppendedArrays::tag(arrays.add_owned("connectivity", 1, std::move(conn)));
+  const std::string offsets_tag =
+      AppendedArrays::tag(arrays.add_owned("offsets", 1, std::move(offsets)));
+  xml += "      <CellData " + cell_attrs + ">\n" + cell_data + "      </CellData>\n";
+  xml += "      <Points>\n        " + points_tag + "\n      </Points>\n";
+  xml += "      <Polys>\n        " + conn_tag + "\n        " + offsets_tag + "\n      </Polys>\n";
+  xml += "    </Piece>\n  </PolyData>\n";
+  write_atomically(path, [&](std::ostream& out) {
+    out << xml;
+    arrays.write_appended(out);
+    out << "</VTKFile>\n";
+  });
+}
+
+}  // namespace
+
 void write_polygons_vtp(const std::filesystem::path& path, const ParticleStore& store) {
   const std::size_t n_cells = count_polygon_grains(store);
   std::vector<Vec3> points;
@@ -309,14 +343,6 @@ void write_polygons_vtp(const std::filesystem::path& path, const ParticleStore& 
   }
 
   AppendedArrays arrays;
-  std::string xml = kHeader;
-  xml += vtkfile_open("PolyData");
-  xml += "  <PolyData>\n";
-  xml += fmt::format(
-      "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
-      "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
-      points.size(), id.size());
-  // One statement per array: blocks are laid out in the order they are added.
   std::string cell_data;
   cell_data += "        " + AppendedArrays::tag(arrays.add_owned("id", 1, std::move(id))) + "\n";
   cell_data +=
@@ -331,23 +357,8 @@ void write_polygons_vtp(const std::filesystem::path& path, const ParticleStore& 
       "        " + AppendedArrays::tag(arrays.add_owned("speed", 1, std::move(speed))) + "\n";
   cell_data +=
       "        " + AppendedArrays::tag(arrays.add_owned("area", 1, std::move(area))) + "\n";
-  const std::string points_tag =
-      AppendedArrays::tag(arrays.add("position", std::span<const Vec3>(points)));
-  const std::string conn_tag =
-      AppendedArrays::tag(arrays.add_owned("connectivity", 1, std::move(conn)));
-  const std::string offsets_tag =
-      AppendedArrays::tag(arrays.add_owned("offsets", 1, std::move(offsets)));
-  xml += "      <CellData Scalars=\"speed\" Vectors=\"velocity\">\n" + cell_data +
-         "      </CellData>\n";
-  xml += "      <Points>\n        " + points_tag + "\n      </Points>\n";
-  xml += "      <Polys>\n        " + conn_tag + "\n        " + offsets_tag + "\n      </Polys>\n";
-  xml += "    </Piece>\n  </PolyData>\n";
-
-  write_atomically(path, [&](std::ostream& out) {
-    out << xml;
-    arrays.write_appended(out);
-    out << "</VTKFile>\n";
-  });
+  write_polys_file(path, arrays, "Scalars=\"speed\" Vectors=\"velocity\"", cell_data, points,
+                   std::move(conn), std::move(offsets));
 }
 
 void write_surfaces_vtp(const std::filesystem::path& path, std::span<const SurfaceMesh> meshes,
@@ -374,38 +385,14 @@ void write_surfaces_vtp(const std::filesystem::path& path, std::span<const Surfa
       force.push_back(force_per_mesh[m]);
     }
   }
-  const std::size_t n_points = points.size(), n_cells = wall_id.size();
-
   AppendedArrays arrays;
-  std::string xml = kHeader;
-  xml += vtkfile_open("PolyData");
-  xml += "  <PolyData>\n";
-  xml += fmt::format(
-      "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
-      "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
-      n_points, n_cells);
   // One statement per array: blocks are laid out in the order they are added.
-  const std::string id_tag =
-      AppendedArrays::tag(arrays.add_owned("wall_id", 1, std::move(wall_id)));
-  const std::string force_tag =
-      AppendedArrays::tag(arrays.add("wall_force", std::span<const Vec3>(force)));
-  const std::string points_tag =
-      AppendedArrays::tag(arrays.add("position", std::span<const Vec3>(points)));
-  const std::string conn_tag =
-      AppendedArrays::tag(arrays.add_owned("connectivity", 1, std::move(conn)));
-  const std::string offsets_tag =
-      AppendedArrays::tag(arrays.add_owned("offsets", 1, std::move(offsets)));
-  xml += "      <CellData Scalars=\"wall_id\" Vectors=\"wall_force\">\n        " + id_tag +
-         "\n        " + force_tag + "\n      </CellData>\n";
-  xml += "      <Points>\n        " + points_tag + "\n      </Points>\n";
-  xml += "      <Polys>\n        " + conn_tag + "\n        " + offsets_tag + "\n      </Polys>\n";
-  xml += "    </Piece>\n  </PolyData>\n";
-
-  write_atomically(path, [&](std::ostream& out) {
-    out << xml;
-    arrays.write_appended(out);
-    out << "</VTKFile>\n";
-  });
+  std::string cell_data =
+      "        " + AppendedArrays::tag(arrays.add_owned("wall_id", 1, std::move(wall_id))) + "\n";
+  cell_data += "        " +
+               AppendedArrays::tag(arrays.add("wall_force", std::span<const Vec3>(force))) + "\n";
+  write_polys_file(path, arrays, "Scalars=\"wall_id\" Vectors=\"wall_force\"", cell_data, points,
+                   std::move(conn), std::move(offsets));
 }
 
 PvdSeries::PvdSeries(std::filesystem::path pvd_file) : path_(std::move(pvd_file)) {}
