@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The grainflow command line: run | check | list-models | describe <key>.
+// The grainflow command line: run | sweep | check | list-models | describe <key>.
 #include <fmt/format.h>
 
 #include <CLI/CLI.hpp>
@@ -18,6 +18,7 @@
 #include "io/input/validate.hpp"
 #include "simulation/fem_case.hpp"
 #include "simulation/simulation.hpp"
+#include "simulation/sweep.hpp"
 
 namespace {
 
@@ -73,7 +74,13 @@ int describe(const std::string& key) {
   return 0;
 }
 
-int check(const std::string& file) {
+std::vector<gf::input::Override> overrides(const std::vector<std::string>& sets) {
+  std::vector<gf::input::Override> out;
+  for (const auto& s : sets) out.push_back(gf::input::parse_override(s));
+  return out;
+}
+
+int check(const std::string& file, const std::vector<std::string>& sets) {
   std::filesystem::path fem_dir;
   if (const auto fem_cfg = gf::load_fem_case(file, fem_dir)) {
     fmt::print("{}: OK (fluid_fem case)\n", file);
@@ -84,10 +91,12 @@ int check(const std::string& file) {
                fem_cfg->steady ? "steady (Newton)" : "unsteady (BDF)");
     return 0;
   }
-  const auto cfg = gf::input::load_case(file);
+  const auto cfg = gf::input::load_case(file, overrides(sets));
   const auto report = gf::input::validate(cfg);
   gf::Simulation sim(cfg);
   fmt::print("{}: OK\n", file);
+  if (cfg.sweep)
+    fmt::print("  {:<40} {}\n", "sweep runs (grainflow sweep)", gf::sweep_points(cfg).size());
   fmt::print("  {:<40} {}\n", "particles", sim.particles().size());
   fmt::print("  {:<40} {}\n", "walls (planes / cylinders)", sim.walls().size());
   fmt::print("  {:<40} {}\n", "steps", std::llround(cfg.time.end / cfg.time.step));
@@ -126,11 +135,35 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0L, 1L << 50));
   run->add_flag("--overwrite", opts.overwrite, "replace the contents of an existing output folder");
   run->add_flag("-q,--quiet", quiet, "no progress output, warnings only");
+  std::vector<std::string> sets;
+  run->add_option("--set", sets, "replace a key of the case, e.g. --set shear.rate=100")
+      ->type_name("KEY=VALUE");
+
+  auto* sweep = app.add_subcommand(
+      "sweep", "run every combination of a case's sweep lists (volume fraction x shear rate)");
+  std::string sweep_file, sweep_output;
+  gf::SweepOptions sweep_opts;
+  std::int64_t sweep_steps = -1;
+  sweep->add_option("case", sweep_file, "case file with a sweep: block")->required();
+  sweep->add_option("-o,--output", sweep_output, "output folder (default: output.directory)");
+  sweep
+      ->add_option("-j,--processes", sweep_opts.processes,
+                   "runs at a time (default: sweep.processes, else the number of cores)")
+      ->check(CLI::Range(1, 4096));
+  sweep->add_option("--steps", sweep_steps, "run this many steps in every run")
+      ->check(CLI::Range(0L, 1L << 50));
+  sweep->add_flag("--overwrite", sweep_opts.overwrite, "replace an existing output folder");
+  bool no_plots = false;
+  sweep->add_flag("--no-plots", no_plots, "write the table only");
+  sweep->add_option("--set", sets, "replace a key of the case in every run")
+      ->type_name("KEY=VALUE");
 
   auto* chk =
       app.add_subcommand("check", "validate a case and print derived numbers, without running");
   std::string check_file;
   chk->add_option("case", check_file, "case file (YAML)")->required();
+  chk->add_option("--set", sets, "replace a key of the case, e.g. --set shear.rate=100")
+      ->type_name("KEY=VALUE");
 
   app.add_subcommand("list-models", "list the registered models");
   auto* desc = app.add_subcommand("describe", "equation, reference and parameters of a model");
@@ -156,15 +189,35 @@ int main(int argc, char** argv) {
         gf::run_fem_case(*fem_cfg, fem_dir, opts);
         return 0;
       }
-      const auto cfg = gf::input::load_case(run_file);
+      const auto cfg = gf::input::load_case(run_file, overrides(sets));
       const auto report = gf::input::validate(cfg);
       for (const auto& w : report.warnings) gf::log::warn("{}", w);
+      if (cfg.sweep)
+        gf::log::info(
+            "the case has a sweep: block; this runs its base values only (grainflow "
+            "sweep runs every combination)");
       if (!restart.empty()) opts.restart = restart;
       gf::Simulation sim(cfg);
       sim.run(opts);
       return 0;
     }
-    if (*chk) return check(check_file);
+    if (*sweep) {
+      const auto cfg = gf::input::load_case(sweep_file, overrides(sets));
+      if (!cfg.sweep)
+        throw gf::InputError(fmt::format(
+            "{}: error: no sweep: block (give sweep: {{volume_fraction: [...], shear_rate: "
+            "[...]}})",
+            sweep_file));
+      const auto report = gf::input::validate(cfg);
+      for (const auto& w : report.warnings) gf::log::warn("{}", w);
+      sweep_opts.output = sweep_output;
+      sweep_opts.program = std::filesystem::read_symlink("/proc/self/exe");
+      if (sweep_steps >= 0) sweep_opts.steps = sweep_steps;
+      sweep_opts.plots = !no_plots;
+      sweep_opts.overrides = overrides(sets);
+      return gf::run_sweep(sweep_file, cfg, sweep_opts);
+    }
+    if (*chk) return check(check_file, sets);
     if (app.got_subcommand("list-models")) return list_models();
     if (*desc) return describe(key);
   } catch (const gf::InputError& e) {

@@ -70,37 +70,61 @@ namespace {
 std::vector<FilledSphere> lattice_fill(const FillSpec& spec, const RadiusDistribution& rad,
                                        Rng& rng) {
   const double rmax = rad.largest();
-  const double a = spec.spacing.value_or(2 * rmax * 1.01);
+  const Vec3 e = spec.extent.value_or(Vec3{rmax, rmax, rmax});
+  const bool hcp = spec.lattice == FillSpec::Lattice::Hcp;
+  const double emax = std::max({e.x, e.y, e.z});
+  const double a = spec.spacing.value_or(2 * emax * 1.01);
   REQUIRE(a > 0, "lattice spacing must be positive");
   Vec3 lo, hi;
   spec.region.bounds(lo, hi);
   const std::int64_t cap = spec.count.value_or(std::numeric_limits<std::int64_t>::max());
-  std::vector<FilledSphere> out;
-  const bool hcp = spec.lattice == FillSpec::Lattice::Hcp;
+  std::vector<Vec3> sites;
   // hcp: layers of a triangular lattice (row offset a/2, row pitch a sqrt(3)/2), ABAB stacking
-  // with layer pitch a sqrt(2/3).
-  const double dx = a, dy = hcp ? a * std::sqrt(3.0) / 2 : a,
-               dz = hcp ? a * std::sqrt(2.0 / 3.0) : a;
-  const Vec3 start = lo + Vec3{rmax, rmax, spec.two_d ? 0.0 : rmax};
-  for (int iz = 0;; ++iz) {
-    const double z = spec.two_d ? 0.0 : start.z + iz * dz;
-    if (spec.two_d ? iz > 0 : z + rmax > hi.z + 1e-12 * a) break;
-    for (int iy = 0;; ++iy) {
-      double y = start.y + iy * dy;
+  // with layer pitch a sqrt(2/3). cubic: pitch a, or 2 extent x 1.01 per axis by default.
+  Vec3 pitch{a, hcp ? a * std::sqrt(3.0) / 2 : a, hcp ? a * std::sqrt(2.0 / 3.0) : a};
+  if (!hcp && !spec.spacing) pitch = {2 * e.x * 1.01, 2 * e.y * 1.01, 2 * e.z * 1.01};
+  const Vec3 m = hcp ? Vec3{emax, emax, emax} : e;  // margin to the region's bounds
+  const Vec3 start = lo + Vec3{m.x, m.y, spec.two_d ? 0.0 : m.z};
+  const double tol = 1e-12 * std::max({pitch.x, pitch.y, pitch.z});
+  const std::int64_t want = spec.pick_random ? std::numeric_limits<std::int64_t>::max() : cap;
+  for (int iz = 0; static_cast<std::int64_t>(sites.size()) < want; ++iz) {
+    const double z = spec.two_d ? 0.0 : start.z + iz * pitch.z;
+    if (spec.two_d ? iz > 0 : z + m.z > hi.z + tol) break;
+    for (int iy = 0; static_cast<std::int64_t>(sites.size()) < want; ++iy) {
+      double y = start.y + iy * pitch.y;
       if (hcp && (iz % 2)) y += a / (2 * std::sqrt(3.0));
-      if (y + rmax > hi.y + 1e-12 * a) break;
-      for (int ix = 0;; ++ix) {
-        double x = start.x + ix * dx;
+      if (y + m.y > hi.y + tol) break;
+      for (int ix = 0; static_cast<std::int64_t>(sites.size()) < want; ++ix) {
+        double x = start.x + ix * pitch.x;
         if (hcp && (iy % 2)) x += a / 2;
         if (hcp && (iz % 2)) x += a / 2;
-        if (x + rmax > hi.x + 1e-12 * a) break;
+        if (x + m.x > hi.x + tol) break;
         const Vec3 p{x, y, z};
-        if (!spec.region.contains(p, rmax * (1 - 1e-12), spec.two_d)) continue;
-        out.push_back({p, rad.sample(rng)});
-        if (static_cast<std::int64_t>(out.size()) >= cap) return out;
+        if (!spec.region.contains(p, std::min({m.x, m.y, m.z}) * (1 - 1e-12), spec.two_d)) continue;
+        sites.push_back(p);
       }
     }
   }
+  if (spec.pick_random && static_cast<std::int64_t>(sites.size()) > cap) {
+    // Partial Fisher-Yates: the first `cap` sites become a uniform random subset, then sorted
+    // back into lattice order (neighbours stay close in memory).
+    std::vector<std::size_t> idx(sites.size());
+    for (std::size_t k = 0; k < idx.size(); ++k) idx[k] = k;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(cap); ++k) {
+      const auto left = static_cast<double>(idx.size() - k);
+      const auto j =
+          k + std::min(static_cast<std::size_t>(rng.uniform(0.0, left)), idx.size() - k - 1);
+      std::swap(idx[k], idx[j]);
+    }
+    idx.resize(static_cast<std::size_t>(cap));
+    std::sort(idx.begin(), idx.end());
+    std::vector<Vec3> chosen;
+    for (auto k : idx) chosen.push_back(sites[k]);
+    sites.swap(chosen);
+  }
+  std::vector<FilledSphere> out;
+  out.reserve(sites.size());
+  for (const auto& p : sites) out.push_back({p, rad.sample(rng)});
   return out;
 }
 

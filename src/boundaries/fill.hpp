@@ -42,6 +42,13 @@ struct FillSpec {
   std::optional<double> spacing;      ///< m; default 2 r_max * 1.01
   std::optional<std::int64_t> count;  ///< cap (lattice) or target (random)
   std::int64_t max_attempts = 0;      ///< random insertion attempts; 0 = 1000 * count
+  /// Lattices: half extents of a grain along x, y, z (an oriented elongated grain's bounding
+  /// box); default the largest radius along every axis. A cubic lattice without `spacing` then
+  /// spaces sites by 2 extent x 1.01 along each axis, so aligned rods pack tightly.
+  std::optional<Vec3> extent;
+  /// Lattices: take `count` sites at random among all sites of the region (uniform density)
+  /// instead of the first ones.
+  bool pick_random = false;
   /// 2D: grains in the plane z = 0 (the box's z range is ignored; cubic gives a square lattice,
   /// hcp a triangular one, random insertion in the plane). Cylinder regions are 3D only.
   bool two_d = false;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -81,6 +82,16 @@ struct Wall {
     servo_offset += dx * dir;
   }
   Vec3 torque_center() const { return point; }
+
+  /// How far the surface moved since it had `point_b`, `dir_b` (a bound for any point within
+  /// `diag` of it): a plane sliding in its own plane (a shear wall) has not moved, nor a
+  /// cylinder along its axis.
+  double moved_since(const Vec3& point_b, const Vec3& dir_b, double diag) const {
+    const Vec3 d = point - point_b;
+    const double along = dot(d, dir);
+    const double shift = kind == WallKind::Plane ? std::abs(along) : norm(d - along * dir);
+    return shift + diag * norm(dir - dir_b);
+  }
 
   /// Gap between a sphere surface and the wall (negative = overlap) and the unit normal that
   /// points from the wall to the sphere centre.

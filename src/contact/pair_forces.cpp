@@ -28,9 +28,10 @@ inline Vec3 pair_delta(const Domain& dom, const Vec3& a, const Vec3& b) {
 /// material-pair table) loaded once per row. The row is inlined into the slab loop so that the
 /// array pointers stay in registers. Without rolling friction in any pair (Rolling = false) the
 /// law's rolling torque is zero and is left out of the torque sums.
-template <bool Periodic, bool Rolling, class Eval>
+template <bool Periodic, bool Sheared, bool Rolling, bool Virial, class Eval>
 std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
-                       const PairTable<PairCoeffs>& pairs, double dt, Eval&& eval) {
+                       const PairTable<PairCoeffs>& pairs, double dt, const VirialSink* virial,
+                       Eval&& eval) {
   const Vec3* const x = p.x();
   const Vec3* const v = p.v();
   const Vec3* const om = p.omega();
@@ -45,6 +46,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
   const PairCoeffs* const coeffs = pairs.data();
   const std::size_t n_mat = static_cast<std::size_t>(pairs.n());
   const Domain dom = domain;
+  const VirialSink sink = virial ? *virial : VirialSink{};
   auto row = [ =, &eval ](std::int64_t i) __attribute__((always_inline))->std::int64_t {
     const Vec3 xi = x[i];
     const double ri = r[i];
@@ -52,6 +54,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
     const PairCoeffs* const c_row = coeffs + static_cast<std::size_t>(mat[i]) * n_mat;
     std::int64_t touching = 0;
     Vec3 fi{}, ti{};
+    [[maybe_unused]] Mat3 wi{};
     const std::int64_t end = off[i + 1];
     for (std::int64_t k = off[i]; k < end; ++k) {
       const std::int32_t j = nb[k];
@@ -73,12 +76,19 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
       kin.r_eff = ri * rj / rs;
       const double mj = m[j];
       kin.m_eff = mi * mj / (mi + mj);
-      kin.v_rel = v[i] - v[j] - cross(arm_i * om[i] + arm_j * om[j], kin.normal);
+      Vec3 vj = v[j];
+      if constexpr (Sheared) vj += dom.image_velocity(xi, x[j]);
+      kin.v_rel = v[i] - vj - cross(arm_i * om[i] + arm_j * om[j], kin.normal);
       kin.omega_rel = om[i] - om[j];
       const ContactResult res = eval(c_row[mat[j]], kin, dt, hist[k]);
       const Vec3 nxf = cross(kin.normal, res.force);
       fi += res.force;
       f[j] -= res.force;
+      if constexpr (Virial) {
+        if (sink.counts(xi, d))
+          for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) wi.a[a][b] += d[a] * res.force[b];
+      }
       if constexpr (Rolling) {
         ti += res.rolling_torque - arm_i * nxf;
         tq[j] -= res.rolling_torque + arm_j * nxf;
@@ -89,23 +99,38 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
     }
     f[i] += fi;
     tq[i] += ti;
+    if constexpr (Virial) sink.rows[i] = sink.rows[i] + wi;
     return touching;
   };
   return for_rows_in_slabs(list, row);
 }
 
+template <bool Periodic, bool Sheared, class Eval>
+std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
+                       const PairTable<PairCoeffs>& pairs, double dt, bool rolling,
+                       const VirialSink* virial, Eval&& eval) {
+  if (virial)
+    return rolling
+               ? pair_loop<Periodic, Sheared, true, true>(p, domain, list, pairs, dt, virial, eval)
+               : pair_loop<Periodic, Sheared, false, true>(p, domain, list, pairs, dt, virial,
+                                                           eval);
+  return rolling
+             ? pair_loop<Periodic, Sheared, true, false>(p, domain, list, pairs, dt, virial, eval)
+             : pair_loop<Periodic, Sheared, false, false>(p, domain, list, pairs, dt, virial, eval);
+}
+
 template <class Eval>
 std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
-                       const PairTable<PairCoeffs>& pairs, double dt, Eval&& eval) {
+                       const PairTable<PairCoeffs>& pairs, double dt, const VirialSink* virial,
+                       Eval&& eval) {
   bool rolling = false;
   for (int a = 0; a < pairs.n(); ++a)
     for (int b = 0; b < pairs.n(); ++b) rolling = rolling || pairs(a, b).rolling_friction != 0;
-  const bool periodic = domain.periodic[0] || domain.periodic[1] || domain.periodic[2];
-  if (periodic)
-    return rolling ? pair_loop<true, true>(p, domain, list, pairs, dt, eval)
-                   : pair_loop<true, false>(p, domain, list, pairs, dt, eval);
-  return rolling ? pair_loop<false, true>(p, domain, list, pairs, dt, eval)
-                 : pair_loop<false, false>(p, domain, list, pairs, dt, eval);
+  if (domain.sheared())
+    return pair_loop<true, true>(p, domain, list, pairs, dt, rolling, virial, eval);
+  if (domain.any_periodic())
+    return pair_loop<true, false>(p, domain, list, pairs, dt, rolling, virial, eval);
+  return pair_loop<false, false>(p, domain, list, pairs, dt, rolling, virial, eval);
 }
 
 bool uniform_model(const PairTable<PairCoeffs>& pairs, int& model) {
@@ -123,17 +148,18 @@ bool uniform_model(const PairTable<PairCoeffs>& pairs, int& model) {
 }  // namespace
 
 std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
-                                 const PairTable<PairCoeffs>& pairs, double dt) {
+                                 const PairTable<PairCoeffs>& pairs, double dt,
+                                 const VirialSink* virial) {
   int model;
   if (uniform_model(pairs, model)) {
     return dispatch_index(ContactModels{}, model, [&]<class M>() {
-      return pair_loop(p, domain, list, pairs, dt,
+      return pair_loop(p, domain, list, pairs, dt, virial,
                        [](const PairCoeffs& c, const ContactKinematics& k, double h, Vec3& xi) {
                          return M::Law::evaluate(c, k, h, xi);
                        });
     });
   }
-  return pair_loop(p, domain, list, pairs, dt,
+  return pair_loop(p, domain, list, pairs, dt, virial,
                    [](const PairCoeffs& c, const ContactKinematics& k, double h, Vec3& xi) {
                      return dispatch_index(ContactModels{}, c.model, [&]<class M>() {
                        return M::Law::evaluate(c, k, h, xi);

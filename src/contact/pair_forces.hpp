@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 
 #include "contact/laws/contact_io.hpp"
 #include "core/domain.hpp"
+#include "core/mat3.hpp"
 #include "neighbor/verlet_list.hpp"
 #include "particles/material.hpp"
 #include "particles/particle_store.hpp"
@@ -30,10 +32,29 @@ GF_HOST_DEVICE inline bool sphere_sphere(const Domain& dom, const Vec3& xi, cons
   return true;
 }
 
+/// Where a force loop adds the contact virial W = sum over pairs of d (x) F (W[a][b] = d_a F_b,
+/// d = x_i - x_j to the nearest image of j, F the force on i from j): rows[i] collects the pairs
+/// of row i whose branch midpoint x_i - d/2 has coordinate `axis` in [lo, hi). The collisional
+/// stress of a region of volume V is then sum_i rows[i] / V (analysis/rheology.hpp). Written
+/// only on the steps that ask for it; `rows` holds n zeroed entries.
+struct VirialSink {
+  Mat3* rows = nullptr;
+  int axis = 2;
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  GF_HOST_DEVICE bool counts(const Vec3& xi, const Vec3& d) const {
+    const double c = xi[axis] - 0.5 * d[axis];
+    return c >= lo && c < hi;
+  }
+};
+
 /// Adds contact forces and torques of all touching pairs to f and torque; clears the history of
-/// pairs that are apart. Returns the number of touching pairs.
+/// pairs that are apart. With Lees-Edwards images the relative velocity of a pair across the
+/// gradient boundary includes the image's velocity. With `virial`, also collects the virial.
+/// Returns the number of touching pairs.
 std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
-                                 const PairTable<PairCoeffs>& pairs, double dt);
+                                 const PairTable<PairCoeffs>& pairs, double dt,
+                                 const VirialSink* virial = nullptr);
 
 /// Elastic energy stored in all contacts (J), for energy balances.
 double pair_elastic_energy(const ParticleStore& p, const Domain& domain, const VerletList& list,

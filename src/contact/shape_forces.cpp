@@ -43,7 +43,8 @@ std::int64_t touching_rows(const ParticleStore& p, const Domain& domain, const V
 }  // namespace
 
 std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
-                                       const PairTable<PairCoeffs>& pairs, double dt) {
+                                       const PairTable<PairCoeffs>& pairs, double dt,
+                                       const VirialSink* virial) {
   const Vec3* x = p.x();
   const Vec3* v = p.v();
   const Vec3* om = p.omega();
@@ -60,7 +61,9 @@ std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, V
         kin.overlap = g.overlap;
         kin.normal = g.normal;
         kin.r_eff = g.r_eff;
-        kin.v_rel = v[i] + cross(om[i], arm_i) - v[j] - cross(om[j], arm_j);
+        // (xj is the image of j nearest to i; with Lees-Edwards it moves with the image.)
+        const Vec3 vj = v[j] + domain.image_velocity(x[i], x[j]);
+        kin.v_rel = v[i] + cross(om[i], arm_i) - vj - cross(om[j], arm_j);
         kin.omega_rel = om[i] - om[j];
         kin.m_eff = m[i] * m[j] / ((m[i] + m[j]) * g.force_scale);
         const PairCoeffs& c = pairs(mat[i], mat[j]);
@@ -73,6 +76,14 @@ std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, V
         tq[i] += res.rolling_torque + cross(arm_i, res.force);
         f[j] -= res.force;
         tq[j] -= res.rolling_torque + cross(arm_j, res.force);
+        if (virial) {
+          const Vec3 d = x[i] - xj;
+          if (virial->counts(x[i], d)) {
+            Mat3& w = virial->rows[i];
+            for (int a = 0; a < 3; ++a)
+              for (int b = 0; b < 3; ++b) w.a[a][b] += d[a] * res.force[b];
+          }
+        }
       },
       [&](std::int64_t k) { hist[k] = {}; });
 }

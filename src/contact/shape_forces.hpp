@@ -23,6 +23,7 @@
 #include "contact/geometry/capsule.hpp"
 #include "contact/geometry/polygon2d.hpp"
 #include "contact/laws/contact_io.hpp"
+#include "contact/pair_forces.hpp"
 #include "core/domain.hpp"
 #include "neighbor/verlet_list.hpp"
 #include "particles/material.hpp"
@@ -129,7 +130,8 @@ GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t 
 /// Force loop over the half Verlet list for a store with shapes (forces, torques at the
 /// contact point; histories of separated pairs cleared). Returns the touching pairs.
 std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
-                                       const PairTable<PairCoeffs>& pairs, double dt);
+                                       const PairTable<PairCoeffs>& pairs, double dt,
+                                       const VirialSink* virial = nullptr);
 
 /// Elastic energy stored in all contacts of a store with shapes, J.
 double shape_pair_elastic_energy(const ParticleStore& p, const Domain& domain,

@@ -26,7 +26,7 @@ void kick(ParticleStore& p, const Domain* domain, double h, double dt) {
     w[i] += (h / in[i]) * t[i];
     if constexpr (Drift) {
       x[i] += dt * v[i];
-      if (periodic) domain->wrap(x[i]);
+      if (periodic) domain->wrap(x[i], &v[i]);
     }
   });
 }

@@ -19,8 +19,16 @@ void CellList::build(const Domain& domain, const Vec3* x, std::size_t n, double 
     inv_size_[k] = nc_[k] / L[k];
   }
   // Slab axis: the one with the most layers (most parallel slabs); ties keep the later axis.
+  // With Lees-Edwards images, pairs across the gradient boundary are shifted along the flow
+  // axis, so slabs across the flow axis would not bound which slabs a row writes to: the flow
+  // axis is never the slab axis there.
   axis_ = {0, 1, 2};
-  std::stable_sort(axis_.begin(), axis_.end(), [&](int a, int b) { return nc_[a] < nc_[b]; });
+  std::stable_sort(axis_.begin(), axis_.end(), [&](int a, int b) {
+    const bool fa = domain.sheared() && a == domain.shear_flow;
+    const bool fb = domain.sheared() && b == domain.shear_flow;
+    if (fa != fb) return fb;  // the flow axis sorts first (never last)
+    return nc_[a] < nc_[b];
+  });
   const int nct = n_cells();
   start_.assign(static_cast<std::size_t>(nct) + 1, 0);
   cell_.resize(n);
@@ -48,11 +56,25 @@ int CellList::stencil(int c, int* out) const {
   cq[axis_[0]] = c % nc_[axis_[0]];
   cq[axis_[1]] = (c / nc_[axis_[0]]) % nc_[axis_[1]];
   cq[axis_[2]] = c / (nc_[axis_[0]] * nc_[axis_[1]]);
+  const int g = domain_.shear_gradient, fl = domain_.shear_flow;
+  // Lees-Edwards: across the gradient boundary the neighbour layer is the image shifted by
+  // +-offset along the flow axis, s cells. A point of cell q in the shifted image lies within
+  // one cell edge of the cells floor(q -+ s) - 1 .. floor(q -+ s) + 2 (four, not three).
+  const double shift_cells = g >= 0 ? domain_.shear_offset * inv_size_[fl] : 0.0;
+  int top[3] = {1, 1, 1};
+  if (g >= 0) top[fl] = 2;
   int count = 0;
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        int q[3] = {cq[0] + dx, cq[1] + dy, cq[2] + dz};
+  int d[3];
+  for (d[2] = -1; d[2] <= top[2]; ++d[2])
+    for (d[1] = -1; d[1] <= top[1]; ++d[1])
+      for (d[0] = -1; d[0] <= top[0]; ++d[0]) {
+        int q[3] = {cq[0] + d[0], cq[1] + d[1], cq[2] + d[2]};
+        int across = 0;  // +1: the upper image along the gradient axis, -1: the lower one
+        if (g >= 0) across = q[g] >= nc_[g] ? 1 : (q[g] < 0 ? -1 : 0);
+        if (across != 0)
+          q[fl] = static_cast<int>(std::floor(cq[fl] - across * shift_cells)) + d[fl];
+        else if (g >= 0 && d[fl] == 2)
+          continue;
         bool ok = true;
         for (int k = 0; k < 3; ++k) {
           if (q[k] < 0 || q[k] >= nc_[k]) {
@@ -60,7 +82,7 @@ int CellList::stencil(int c, int* out) const {
               ok = false;
               break;
             }
-            q[k] = (q[k] + nc_[k]) % nc_[k];
+            q[k] = ((q[k] % nc_[k]) + nc_[k]) % nc_[k];
           }
         }
         if (!ok) continue;

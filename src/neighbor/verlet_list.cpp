@@ -76,7 +76,7 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
   };
   // Visits the neighbours j > i of i in ascending order when sorted (stencil cells ascending).
   auto for_neighbours = [&](std::size_t i, auto&& emit) {
-    int stencil[27];
+    int stencil[36];
     const int ns = cells_.stencil(cell_of(i), stencil);
     std::sort(stencil, stencil + ns);
     const Vec3 xi = x[i];
@@ -111,6 +111,7 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
                 neighbors_.begin() + offsets_[static_cast<std::size_t>(i) + 1]);
   });
   x_ref_.assign(x, x + n);
+  shear_offset_ref_ = domain.shear_offset;
   ++n_builds_;
 }
 
@@ -139,9 +140,11 @@ void VerletList::carry_history(std::span<const std::int64_t> perm) {
 
 bool VerletList::needs_rebuild(const Domain& domain, const Vec3* x, std::size_t n) const {
   if (x_ref_.size() != n) return true;
-  const double lim2 = 0.25 * skin_ * skin_;
+  const double lim = displacement_limit(domain);
+  if (lim <= 0) return true;
+  const double lim2 = lim * lim;
   const Vec3* const ref = x_ref_.data();
-  const bool periodic = domain.periodic[0] || domain.periodic[1] || domain.periodic[2];
+  const bool periodic = domain.any_periodic();
   // Blocks of particles with one test per block (the largest squared displacement): no
   // branch per particle, and the minimum image only in periodic domains. Blocks are small so
   // that parallel_any still threads from ~130k particles on (it threads above 4096 items).

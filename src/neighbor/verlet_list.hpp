@@ -31,8 +31,20 @@ class VerletList {
   /// Builds without re-ordering (the particle order is kept; no slabs for threading).
   void build(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin);
 
-  /// True when some particle moved more than skin/2 since the last build (or the count changed).
+  /// True when some particle moved more than displacement_limit() since the last build (or the
+  /// count changed).
   bool needs_rebuild(const Domain& domain, const Vec3* x, std::size_t n) const;
+
+  /// How far a particle may move from its position at the last build before the list can miss
+  /// a pair: skin/2; with Lees-Edwards images, (skin - 3 |offset change|)/2, since a pair across
+  /// the gradient boundary also closes in by the change of the offset, and the displacement
+  /// measured through the boundary is off by up to that change (<= 0: rebuild now).
+  double displacement_limit(const Domain& domain) const {
+    return 0.5 * (skin_ - 3.0 * domain.offset_change(shear_offset_ref_));
+  }
+  /// Lees-Edwards offset at the last build (restart).
+  double shear_offset_at_build() const { return shear_offset_ref_; }
+  void set_shear_offset_at_build(double o) { shear_offset_ref_ = o; }
 
   std::size_t n_particles() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
   std::size_t n_pairs() const { return neighbors_.size(); }
@@ -68,6 +80,7 @@ class VerletList {
   void carry_history(std::span<const std::int64_t> perm);
 
   double skin_ = 0;
+  double shear_offset_ref_ = 0;
   std::int64_t n_builds_ = 0;
   std::vector<std::int64_t> offsets_;
   std::vector<std::int32_t> neighbors_;

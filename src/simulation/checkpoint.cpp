@@ -33,6 +33,7 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
     h.write("neighbor/slab_starts", nlist_.slab_starts());
     if (has_capsules_) h.write("neighbor/axis_reference", std::span<const Vec3>(axis_ref_));
     h.set_attribute("neighbor", "n_phases", static_cast<std::int64_t>(nlist_.n_phases()));
+    h.set_attribute("neighbor", "shear_offset_at_build", nlist_.shear_offset_at_build());
 
     h.create_group("walls");
     const auto entries = wlist_.entries();
@@ -84,6 +85,9 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
                  skin_, h.read_int_attribute("neighbor", "n_builds"),
                  h.read_int64("neighbor/slab_starts"),
                  static_cast<int>(h.read_int_attribute("neighbor", "n_phases")));
+  if (h.has_attribute("neighbor", "shear_offset_at_build"))
+    nlist_.set_shear_offset_at_build(h.read_double_attribute("neighbor", "shear_offset_at_build"));
+  domain_.set_shear_time(time());
   // Capsule ends at the last build (older checkpoints: none, which forces a rebuild).
   axis_ref_.clear();
   if (has_capsules_ && h.exists("neighbor/axis_reference"))

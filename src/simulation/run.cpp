@@ -16,6 +16,7 @@
 #include "io/csv/csv.hpp"
 #include "io/input/echo.hpp"
 #include "io/vtk/vtk.hpp"
+#include "simulation/rheology_output.hpp"
 #include "simulation/simulation.hpp"
 
 namespace gf {
@@ -91,6 +92,9 @@ RunSummary Simulation::run(const RunOptions& opts) {
     series = std::make_unique<io::SeriesCsv>(dir / "series.csv", columns);
   }
 
+  std::unique_ptr<RheologyOutput> rheology;
+  if (cfg_.analysis.rheology) rheology = std::make_unique<RheologyOutput>(dir, *this);
+
   auto last_flush = StageTimers::clock::now();
   auto write_outputs = [&](bool force_all) {
     StageTimers::Scope timer(timers_, Stage::Output);
@@ -138,7 +142,13 @@ RunSummary Simulation::run(const RunOptions& opts) {
   const auto t_start = StageTimers::clock::now();
   const double loop_before = timers_.loop_seconds() - timers_.seconds(Stage::Output);
   while (step_ < last) {
+    const bool sample = rheology && rheology->due(step_ + 1);
+    collect_virial(sample);
     step();
+    if (sample) {
+      StageTimers::Scope timer(timers_, Stage::Output);
+      rheology->sample(*this);
+    }
     write_outputs(false);
     if (!opts.quiet)
       progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first),
@@ -154,6 +164,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
       series->append(time(), series_row(columns));
     }
     if (series) series->flush();
+    if (rheology) rheology->finish(*this);
     save_checkpoint(dir / "checkpoint_final.h5");
   }
   const double wall = std::chrono::duration<double>(StageTimers::clock::now() - t_start).count();

@@ -18,6 +18,7 @@
 #include "integrators/gear5.hpp"
 #include "integrators/rigid_bodies.hpp"
 #include "integrators/velocity_verlet.hpp"
+#include "io/input/validate.hpp"
 #include "simulation/shape_builder.hpp"
 
 namespace gf {
@@ -86,6 +87,11 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   domain_.lo = cfg.domain.min;
   domain_.hi = cfg.domain.max;
   domain_.periodic = cfg.domain.periodic;
+  if (cfg.shear && cfg.shear->boundary == config::Shear::Boundary::LeesEdwards) {
+    domain_.shear_gradient = 2;
+    domain_.shear_flow = 0;
+    domain_.shear_velocity = cfg.shear->rate * (domain_.hi.z - domain_.lo.z);
+  }
   gravity_ = cfg.gravity;
   dt_ = cfg.time.step;
   std::uint64_t seed = 1;
@@ -121,6 +127,26 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
           "{}: the periodic length along {} ({} m) must exceed twice the neighbour cutoff "
           "2 (2 r_max + skin) = {} m",
           where(cfg.domain.loc), "xyz"[k], L[k], 2 * (2 * r_max + skin_)));
+  }
+  if (cfg.shear && cfg.shear->initial_profile) {
+    // Start on the mean flow u_x = rate (z - z_mid) (added to the fill velocities): steady
+    // shear is then reached in a few strain units instead of growing in from the walls.
+    const double zmid = 0.5 * (domain_.lo.z + domain_.hi.z);
+    for (std::size_t i = 0; i < particles_.size(); ++i)
+      particles_.v()[i].x += cfg.shear->rate * (particles_.x()[i].z - zmid);
+  }
+  if (cfg.analysis.rheology) {
+    const auto& rc = *cfg.analysis.rheology;
+    const double margin = rc.margin.value_or(walls_.empty() ? 0.0 : 2 * r_max);
+    rheo_region_.z_lo = domain_.lo.z + margin;
+    rheo_region_.z_hi = domain_.hi.z - margin;
+    rheo_region_.bins = rc.bins;
+    rheo_region_.area = L.x * L.y;
+    if (!(rheo_region_.z_hi > rheo_region_.z_lo))
+      throw InputError(fmt::format(
+          "{}: the rheology layer is empty: the margin {} m (default: one grain length next to "
+          "walls) leaves nothing of the box height {} m",
+          where(rc.loc), margin, L.z));
   }
   const double t0 = 0.0;
   for (auto& w : walls_) w.update_geometry(t0);
@@ -172,6 +198,12 @@ void Simulation::build_particles() {
       Rng rng(g.fill->seed);
       FillSpec spec = to_fill(*g.fill);
       spec.two_d = two_d_;
+      if (g.fill->volume_fraction) {
+        spec.count = input::volume_fraction_count(*g.fill, g, cfg_.dimension);
+        spec.pick_random = true;
+      }
+      if (!round && g.fill->lattice == config::Fill::Lattice::Cubic)
+        spec.extent = input::grain_extent(*g.fill, g, g.radius.largest());
       // Round grains are placed with their own radii; other shapes by a sphere that holds any
       // orientation of the largest grain, and their size is drawn afterwards.
       RadiusDistribution place = dist;
@@ -183,6 +215,10 @@ void Simulation::build_particles() {
       if (spheres.empty())
         throw InputError(fmt::format("{}: the fill region holds no grain of bounding radius {} m",
                                      where(g.loc), place.largest()));
+      if (g.fill->volume_fraction && static_cast<std::int64_t>(spheres.size()) < *spec.count)
+        throw InputError(fmt::format(
+            "{}: the lattice has {} sites, fewer than the {} grains volume_fraction {} asks for",
+            where(g.fill->loc), spheres.size(), *spec.count, *g.fill->volume_fraction));
       for (const auto& s : spheres) {
         Vec3 v = g.fill->velocity;
         if (g.fill->velocity_jitter > 0)
@@ -372,7 +408,9 @@ bool Simulation::capsule_ends_moved() const {
   const auto& p = particles_;
   const auto x_ref = nlist_.reference_positions();
   if (axis_ref_.size() != p.size() || x_ref.size() != p.size()) return true;
-  const double lim2 = 0.25 * skin_ * skin_;
+  const double lim = nlist_.displacement_limit(domain_);
+  if (lim <= 0) return true;
+  const double lim2 = lim * lim;
   return exec::parallel_any(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
     if (static_cast<ShapeCode>(p.shape()[i]) != ShapeCode::Spherocylinder) return false;
     const Vec3 d = domain_.delta(p.x()[i], x_ref[static_cast<std::size_t>(i)]);
@@ -391,8 +429,8 @@ void Simulation::update_neighbors(bool force) {
   if (!rebuild && !walls_.empty()) {
     const double diag = norm(domain_.length());
     for (std::size_t w = 0; w < walls_.size() && !walls_moved; ++w) {
-      const double moved = norm(walls_[w].point - wall_point_at_build_[w]) +
-                           diag * norm(walls_[w].dir - wall_dir_at_build_[w]);
+      const double moved =
+          walls_[w].moved_since(wall_point_at_build_[w], wall_dir_at_build_[w], diag);
       walls_moved = moved > 0.5 * skin_;
     }
   }
@@ -448,15 +486,35 @@ void Simulation::compute_forces() {
   {
     StageTimers::Scope timer(timers_, Stage::Force);
     reset_forces(particles_, gravity_);
-    n_contacts_ = particles_.has_shapes()
-                      ? contact::compute_shape_pair_forces(particles_, domain_, nlist_, pairs_, dt_)
-                      : contact::compute_pair_forces(particles_, domain_, nlist_, pairs_, dt_);
+    contact::VirialSink sink;
+    const contact::VirialSink* virial = nullptr;
+    if (collect_virial_) {
+      virial_rows_.assign(particles_.size(), Mat3{});
+      sink.rows = virial_rows_.data();
+      // Pairs across a periodic z boundary have their midpoint outside the box: a layer that
+      // spans the whole periodic box takes every pair.
+      if (!domain_.periodic[2]) {
+        sink.lo = rheo_region_.z_lo;
+        sink.hi = rheo_region_.z_hi;
+      }
+      virial = &sink;
+    }
+    n_contacts_ =
+        particles_.has_shapes()
+            ? contact::compute_shape_pair_forces(particles_, domain_, nlist_, pairs_, dt_, virial)
+            : contact::compute_pair_forces(particles_, domain_, nlist_, pairs_, dt_, virial);
+    if (collect_virial_) {
+      virial_sum_ = Mat3{};
+      for (const auto& w : virial_rows_) virial_sum_ = virial_sum_ + w;
+    }
   }
   StageTimers::Scope timer(timers_, Stage::Walls);
   n_wall_contacts_ = compute_wall_forces(particles_, walls_, wlist_, pairs_, time(), dt_);
 }
 
 void Simulation::step() {
+  // Lees-Edwards: the images' offset at the end of this step, where the drift puts the grains.
+  domain_.set_shear_time(static_cast<double>(step_ + 1) * dt_);
   {
     StageTimers::Scope timer(timers_, Stage::Integrate);
     if (gear_) {
@@ -478,6 +536,12 @@ void Simulation::step() {
     VelocityVerlet::post_force(particles_, dt_);
     RigidBodies::post_force(particles_, dt_);
   }
+}
+
+analysis::RheologySample Simulation::rheology_sample() const {
+  std::vector<double> density;
+  for (const auto& m : materials_) density.push_back(m.density);
+  return analysis::measure_rheology(particles_, rheo_region_, virial_sum_, density);
 }
 
 double Simulation::total_energy() const {

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/rheology.hpp"
 #include "boundaries/wall.hpp"
 #include "contact/laws/contact_io.hpp"
 #include "core/domain.hpp"
@@ -81,6 +82,14 @@ class Simulation {
   /// Series column names for the configured quantities (wall_force.X expands to .x/.y/.z).
   std::vector<std::string> series_columns() const;
 
+  /// Rheology (analysis.rheology): the measured layer, one grain length (2 x the largest
+  /// bounding radius) or analysis.rheology.margin away from walls.
+  const analysis::RheologyRegion& rheology_region() const { return rheo_region_; }
+  /// Whether the next force stages collect the contact virial of the measured layer.
+  void collect_virial(bool on) { collect_virial_ = on; }
+  /// A sample of the current state; the last force stage must have collected the virial.
+  analysis::RheologySample rheology_sample() const;
+
  private:
   void build_materials_and_pairs();
   void build_particles();
@@ -114,6 +123,10 @@ class Simulation {
   bool has_capsules_ = false;
   std::vector<Vec3> axis_ref_;  ///< h * axis of each grain at the last build (capsules)
   bool gear_ = false;           ///< integrator: gear5
+  analysis::RheologyRegion rheo_region_;
+  bool collect_virial_ = false;
+  std::vector<Mat3> virial_rows_;  ///< per row of the force loop (no races), summed in order
+  Mat3 virial_sum_;
 };
 
 }  // namespace gf

@@ -116,6 +116,9 @@ void emit_fill(YAML::Emitter& out, const config::Fill& f, const config::Particle
   if (!random) {
     if (f.spacing) {
       key_number(out, "spacing", *f.spacing);
+    } else if (g.kind == config::Shape::Spherocylinder && f.orientation &&
+               f.lattice == config::Fill::Lattice::Cubic) {
+      out << YAML::Comment("spacing: default, 2.02 x the grain's half extent along each axis");
     } else {
       key_number(out, "spacing", 2 * bounding_radius(g, g.radius.largest()) * 1.01);
       out << YAML::Comment(g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk
@@ -123,6 +126,7 @@ void emit_fill(YAML::Emitter& out, const config::Fill& f, const config::Particle
                                : "default: 2.02 x the largest bounding radius");
     }
   }
+  if (f.volume_fraction) key_number(out, "volume_fraction", *f.volume_fraction);
   if (f.count) out << YAML::Key << "count" << YAML::Value << *f.count;
   out << YAML::Key << "seed" << YAML::Value << f.seed;
   key_vec(out, "velocity", f.velocity, dim);
@@ -312,8 +316,12 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
   out << YAML::Key << "dimension" << YAML::Value << c.dimension;
   out << YAML::Key << "time" << YAML::Value << YAML::Flow << YAML::BeginMap;
   key_number(out, "step", c.time.step);
-  key_number(out, "end", c.time.end);
-  out << YAML::EndMap << YAML::Comment("s");
+  const bool by_strain = c.shear && c.shear->strain;
+  if (!by_strain) key_number(out, "end", c.time.end);
+  out << YAML::EndMap
+      << YAML::Comment(by_strain ? fmt::format("s; end = shear.strain / shear.rate = {} s",
+                                               number_text(c.time.end))
+                                 : std::string("s"));
   out << YAML::Key << "domain" << YAML::Value << YAML::Flow << YAML::BeginMap;
   key_vec(out, "min", c.domain.min, c.dimension);
   key_vec(out, "max", c.domain.max, c.dimension);
@@ -363,10 +371,48 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
   for (const auto& g : c.particles) emit_group(out, g, c);
   out << YAML::EndSeq;
 
-  if (!c.walls.empty()) {
+  // The shear walls are not echoed: the shear block makes them again.
+  if (std::any_of(c.walls.begin(), c.walls.end(), [](const auto& w) { return !w.from_shear; })) {
     out << YAML::Key << "walls" << YAML::Value << YAML::BeginSeq;
-    for (const auto& w : c.walls) emit_wall(out, w, c.dimension);
+    for (const auto& w : c.walls)
+      if (!w.from_shear) emit_wall(out, w, c.dimension);
     out << YAML::EndSeq;
+  }
+  if (c.shear) {
+    const auto& sh = *c.shear;
+    const bool walls = sh.boundary == config::Shear::Boundary::Walls;
+    out << YAML::Key << "shear" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    key_number(out, "rate", sh.rate);
+    out << YAML::Key << "boundary" << YAML::Value << (walls ? "walls" : "lees_edwards");
+    if (walls) out << YAML::Key << "wall_material" << YAML::Value << sh.wall_material;
+    if (sh.strain) key_number(out, "strain", *sh.strain);
+    out << YAML::Key << "initial_profile" << YAML::Value << sh.initial_profile;
+    out << YAML::EndMap << YAML::Comment("rate in 1/s");
+  }
+  if (c.analysis.rheology) {
+    const auto& r = *c.analysis.rheology;
+    out << YAML::Key << "analysis" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "rheology" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    if (r.every_strain)
+      key_number(out, "every_strain", *r.every_strain);
+    else
+      key_number(out, "every", r.every);
+    out << YAML::Key << "bins" << YAML::Value << r.bins;
+    if (r.margin) key_number(out, "margin", *r.margin);
+    if (r.start) key_number(out, "start", *r.start);
+    out << YAML::EndMap;
+    if (!r.margin) out << YAML::Comment("margin: one grain length next to walls");
+    out << YAML::EndMap;
+  }
+  if (c.sweep) {
+    const auto& sw = *c.sweep;
+    out << YAML::Key << "sweep" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    if (!sw.volume_fractions.empty())
+      out << YAML::Key << "volume_fraction" << YAML::Value << YAML::Flow << sw.volume_fractions;
+    if (!sw.shear_rates.empty())
+      out << YAML::Key << "shear_rate" << YAML::Value << YAML::Flow << sw.shear_rates;
+    if (sw.processes > 0) out << YAML::Key << "processes" << YAML::Value << sw.processes;
+    out << YAML::EndMap;
   }
 
   out << YAML::Key << "output" << YAML::Value << YAML::BeginMap;

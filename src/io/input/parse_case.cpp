@@ -115,16 +115,170 @@ struct Reader {
   void read_walls(const YamlMap& root);
   config::Motion read_motion(const YamlNode& node);
   void read_output(const YamlMap& root);
+  void read_shear(const YamlMap& root);
+  void read_analysis(const YamlMap& root);
+  void read_sweep(const YamlMap& root);
   void check_pairs() const;
 };
 
 void Reader::read_time(const YamlMap& root) {
   YamlMap t(root.at("time"), {"step", "end"});
   c.time.step = t.number("step", Range::positive());
+  c.time.loc = t.at("step").loc();
+  // With shear.strain the end time follows from the strain (read_shear); otherwise it is needed.
+  bool strain = false;
+  if (auto sh = root.find("shear"); sh && sh->is_map()) strain = YamlMap(*sh).has("strain");
+  if (strain) {
+    if (auto e = t.find("end"))
+      e->fail("give either time.end or shear.strain (the end time is shear.strain / shear.rate)");
+    return;
+  }
   c.time.end = t.number("end", Range::positive());
   if (c.time.end < c.time.step)
     t.at("end").fail_expected(fmt::format("a number >= time.step ({})", number_text(c.time.step)));
-  c.time.loc = t.at("step").loc();
+}
+
+void Reader::read_shear(const YamlMap& root) {
+  auto sn = root.find("shear");
+  if (!sn) return;
+  YamlMap sm(*sn, {"rate", "boundary", "wall_material", "strain", "initial_profile"});
+  config::Shear sh;
+  sh.loc = sn->loc();
+  if (two_d())
+    sn->fail("simple shear is available in 3D cases only (flow along x, gradient along z)");
+  sh.rate = sm.number("rate", Range::positive());
+  if (auto b = sm.find("boundary"))
+    sh.boundary = b->as_choice({"walls", "lees_edwards"}) == "walls"
+                      ? config::Shear::Boundary::Walls
+                      : config::Shear::Boundary::LeesEdwards;
+  sh.initial_profile = sm.boolean_or("initial_profile", true);
+  if (auto st = sm.find("strain")) {
+    sh.strain = st->as_number(Range::positive());
+    c.time.end = *sh.strain / sh.rate;
+    if (c.time.end < c.time.step)
+      st->fail_expected(fmt::format("a strain >= shear.rate x time.step ({})",
+                                    number_text(sh.rate * c.time.step)));
+  }
+  const auto& per = c.domain.periodic;
+  if (sh.boundary == config::Shear::Boundary::Walls) {
+    if (!per[0] || !per[1] || per[2])
+      sn->fail(
+          "shear between walls needs domain.periodic: [true, true, false] (periodic along the "
+          "flow x and the vorticity y, walls at z = min and z = max)");
+    const YamlNode mat = sm.at("wall_material");
+    sh.wall_material = material_ref(mat);
+    wall_material_refs.emplace_back(sh.wall_material, mat.loc());
+    const double h = c.domain.max.z - c.domain.min.z;
+    for (int side = 0; side < 2; ++side) {
+      config::Wall w;
+      w.name = side == 0 ? "shear_bottom" : "shear_top";
+      for (const auto& other : c.walls)
+        if (other.name == w.name)
+          sn->fail(
+              fmt::format("the shear walls are named shear_bottom and shear_top; rename the "
+                          "wall '{}' declared under walls:",
+                          w.name));
+      w.kind = config::Wall::Kind::Plane;
+      w.point = side == 0 ? c.domain.min : c.domain.max;
+      w.normal = {0, 0, side == 0 ? 1.0 : -1.0};
+      w.material = sh.wall_material;
+      w.motion.velocity = {(side == 0 ? -0.5 : 0.5) * sh.rate * h, 0, 0};
+      w.from_shear = true;
+      w.loc = sh.loc;
+      w.loc.key_path = sn->path();
+      c.walls.push_back(std::move(w));
+    }
+  } else {
+    if (!per[0] || !per[1] || !per[2])
+      sn->fail(
+          "Lees-Edwards shear needs domain.periodic: [true, true, true] (the images along z "
+          "slide along x)");
+    if (auto m = sm.find("wall_material"))
+      m->fail("'wall_material' applies to boundary: walls only; a Lees-Edwards box has no walls");
+    if (c.integrator == "gear5")
+      sn->fail(
+          "Lees-Edwards shear needs integrator: velocity_verlet (gear5 does not remap its "
+          "derivatives across the sliding boundary)");
+    for (const auto& w : c.walls)
+      if (!w.from_shear)
+        sn->fail(
+            fmt::format("a Lees-Edwards shear box has no walls, but walls: declares '{}'", w.name));
+  }
+  c.shear = std::move(sh);
+}
+
+void Reader::read_analysis(const YamlMap& root) {
+  auto an = root.find("analysis");
+  if (!an) return;
+  YamlMap am(*an, {"rheology"});
+  if (auto rn = am.find("rheology")) {
+    if (two_d()) rn->fail("rheology measurements are available in 3D cases only");
+    YamlMap rm(*rn, {"every", "every_strain", "bins", "margin", "start"});
+    config::Rheology r;
+    r.loc = rn->loc();
+    const std::string how = rm.exactly_one_of({"every", "every_strain"});
+    if (how == "every") {
+      r.every = rm.number("every", Range::positive());
+    } else {
+      if (!c.shear)
+        rm.at("every_strain")
+            .fail(
+                "'every_strain' needs a shear: block (its rate turns strain into time); use "
+                "'every' (s)");
+      r.every_strain = rm.number("every_strain", Range::positive());
+      r.every = *r.every_strain / c.shear->rate;
+    }
+    const YamlNode every = rm.at(how);
+    if (r.every < c.time.step)
+      every.fail_expected(fmt::format("an interval >= time.step ({} s)", number_text(c.time.step)));
+    if (r.every > 0.5 * c.time.end)
+      every.fail_expected(
+          fmt::format("an interval that gives at least 2 samples before the end "
+                      "({} s)",
+                      number_text(c.time.end)));
+    if (auto b = rm.find("bins")) r.bins = static_cast<int>(b->as_integer({1, 4096}));
+    r.margin = rm.optional_number("margin", Range::non_negative());
+    if (r.margin) {
+      const double h = c.domain.max.z - c.domain.min.z;
+      if (!(2 * *r.margin < h))
+        rm.at("margin").fail_expected(
+            fmt::format("a margin < half the box height ({} m)", number_text(0.5 * h)));
+    }
+    r.start = rm.optional_number("start", Range::non_negative());
+    if (r.start && *r.start >= c.time.end)
+      rm.at("start").fail_expected(
+          fmt::format("a time before time.end ({} s)", number_text(c.time.end)));
+    c.analysis.rheology = std::move(r);
+  }
+}
+
+void Reader::read_sweep(const YamlMap& root) {
+  auto sn = root.find("sweep");
+  if (!sn) return;
+  YamlMap sm(*sn, {"volume_fraction", "shear_rate", "processes"});
+  config::Sweep sw;
+  sw.loc = sn->loc();
+  if (!c.shear)
+    sn->fail("a sweep varies shear.rate and fill.volume_fraction: the case needs a shear: block");
+  if (auto v = sm.find("volume_fraction")) {
+    int fills = 0;
+    for (const auto& g : c.particles)
+      if (g.fill && g.fill->volume_fraction) ++fills;
+    if (fills != 1)
+      v->fail(
+          fmt::format("a volume-fraction sweep needs exactly one fill with volume_fraction, "
+                      "found {}",
+                      fills));
+    for (const auto& item : v->as_list(1))
+      sw.volume_fractions.push_back(item.as_number(Range{0.0, 0.74, true, false}));
+  }
+  if (auto v = sm.find("shear_rate"))
+    for (const auto& item : v->as_list(1))
+      sw.shear_rates.push_back(item.as_number(Range::positive()));
+  if (sw.volume_fractions.empty() && sw.shear_rates.empty())
+    sn->fail("a sweep needs a list volume_fraction: [...] or shear_rate: [...] (or both)");
+  if (auto pn = sm.find("processes")) sw.processes = static_cast<int>(pn->as_integer({1, 1024}));
+  c.sweep = std::move(sw);
 }
 
 void Reader::read_domain(const YamlMap& root) {
@@ -312,8 +466,8 @@ config::SizeDistribution Reader::read_radius(const YamlNode& node) {
 
 config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup& g) {
   config::Fill f;
-  YamlMap fm(node, {"box", "cylinder", "lattice", "spacing", "count", "seed", "velocity",
-                    "velocity_jitter", "max_attempts", "orientation"});
+  YamlMap fm(node, {"box", "cylinder", "lattice", "spacing", "count", "volume_fraction", "seed",
+                    "velocity", "velocity_jitter", "max_attempts", "orientation"});
   f.loc = node.loc();
   const std::string region = fm.exactly_one_of({"box", "cylinder"});
   if (region == "box") {
@@ -359,12 +513,24 @@ config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup
                               g.shape, number_text(min_spacing)));
   }
   if (auto n = fm.find("count")) {
+    if (fm.has("volume_fraction"))
+      n->fail("give either 'count' or 'volume_fraction' (the count then follows from it)");
     f.count = n->as_integer(Range::at_least(1));
+  } else if (auto vf = fm.find("volume_fraction")) {
+    f.volume_fraction = vf->as_number(Range{0.0, 0.74, true, false});
+    if (g.radius.kind != config::SizeDistribution::Kind::Fixed)
+      vf->fail(
+          "'volume_fraction' needs grains of one size (a fixed radius); give 'count' for a "
+          "size distribution");
+    if (g.kind == config::Shape::Polygon && g.polygon.kind == config::PolygonSpec::Kind::Random)
+      vf->fail("'volume_fraction' needs grains of one size; random polygons vary: give 'count'");
   } else if (random) {
     config::SourceLoc loc = node.key_loc();
     loc.key_path = node.path() + ".count";
     throw_input_error(
-        loc, "missing required key 'count' (lattice: random needs the number of grains to insert)");
+        loc,
+        "missing required key 'count' or 'volume_fraction' (lattice: random needs the number of "
+        "grains to insert)");
   }
   if (auto s = fm.find("seed"))
     f.seed = static_cast<std::uint64_t>(s->as_integer(Range::non_negative()));
@@ -1102,8 +1268,9 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   config::Case c;
   c.file = file;
   Reader r{file.parent_path(), c, {}, {}, {}, {}};
-  YamlMap rm(root, {"name", "dimension", "time", "domain", "gravity", "integrator", "materials",
-                    "contacts", "particles", "walls", "output", "neighbor"});
+  YamlMap rm(
+      root, {"name", "dimension", "time", "domain", "gravity", "integrator", "materials",
+             "contacts", "particles", "walls", "output", "neighbor", "shear", "analysis", "sweep"});
   if (auto n = rm.find("name")) {
     c.name = n->as_string();
     if (c.name.empty()) n->fail_expected("a case name");
@@ -1124,7 +1291,10 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   r.read_contacts(rm);
   r.read_particles(rm);
   r.read_walls(rm);
+  r.read_shear(rm);
   r.read_output(rm);
+  r.read_analysis(rm);
+  r.read_sweep(rm);
   if (auto n = rm.find("neighbor")) {
     YamlMap nm(*n, {"skin"});
     c.neighbor.skin = nm.optional_number("skin", Range::positive());
@@ -1167,6 +1337,84 @@ bool is_series_quantity(std::string_view quantity, const std::vector<std::string
 
 config::Case load_case(const fs::path& file) {
   return parse(YamlNode::parse_file(file), file);
+}
+
+Override parse_override(std::string_view text) {
+  const auto eq = text.find('=');
+  if (eq == std::string_view::npos || eq == 0)
+    throw InputError(fmt::format("--set '{}': expected KEY.PATH=VALUE, e.g. shear.rate=100", text));
+  return {std::string(text.substr(0, eq)), std::string(text.substr(eq + 1))};
+}
+
+namespace {
+
+/// The value of an override as YAML (so that lists work: sweep.shear_rate=[50, 100]).
+YAML::Node value_node(const Override& o) {
+  try {
+    return YAML::Load(o.value);
+  } catch (const YAML::Exception& e) {
+    throw InputError(fmt::format("--set {}={}: not a YAML value ({})", o.path, o.value, e.msg));
+  }
+}
+
+}  // namespace
+
+config::Case load_case(const fs::path& file, const std::vector<Override>& overrides) {
+  const YamlNode root = YamlNode::parse_file(file);
+  for (const auto& o : overrides) {
+    YAML::Node node = root.raw();
+    std::string_view rest = o.path;
+    std::string done;
+    while (!rest.empty()) {
+      // Next step: "key", "key[i]" or "[i]".
+      const auto dot = rest.find('.');
+      std::string_view step = rest.substr(0, dot);
+      rest = dot == std::string_view::npos ? std::string_view{} : rest.substr(dot + 1);
+      const auto br = step.find('[');
+      const std::string key(step.substr(0, br));
+      auto fail = [&](std::string_view why) -> void {
+        throw InputError(fmt::format("{}: --set {}={}: {}", file.string(), o.path, o.value, why));
+      };
+      if (key.empty() && br != 0) fail("empty key");
+      const bool last_step = rest.empty() && br == std::string_view::npos;
+      if (!key.empty()) {
+        if (!node.IsMap() && !node.IsNull())
+          fail(fmt::format("'{}' is not a map", done.empty() ? "the case" : done));
+        done += (done.empty() ? "" : ".") + key;
+        if (last_step) {
+          node[key] = value_node(o);
+          break;
+        }
+        if (!node[key]) node[key] = YAML::Node(YAML::NodeType::Map);
+        YAML::Node child = node[key];
+        node.reset(child);
+      }
+      std::string_view idx = br == std::string_view::npos ? std::string_view{} : step.substr(br);
+      while (!idx.empty()) {
+        const auto close = idx.find(']');
+        if (idx.front() != '[' || close == std::string_view::npos) fail("malformed [index]");
+        const std::string num(idx.substr(1, close - 1));
+        idx = idx.substr(close + 1);
+        std::size_t pos = 0;
+        long i = -1;
+        try {
+          i = std::stol(num, &pos);
+        } catch (const std::exception&) {
+        }
+        if (pos != num.size() || i < 0) fail(fmt::format("'[{}]' is not a list index", num));
+        if (!node.IsSequence() || static_cast<std::size_t>(i) >= node.size())
+          fail(fmt::format("'{}' has no item [{}]", done, i));
+        done += fmt::format("[{}]", i);
+        if (rest.empty() && idx.empty()) {
+          node[static_cast<std::size_t>(i)] = value_node(o);
+          break;
+        }
+        YAML::Node child = node[static_cast<std::size_t>(i)];
+        node.reset(child);
+      }
+    }
+  }
+  return parse(root, file);
 }
 
 config::Case load_case_text(const std::string& yaml_text, const fs::path& file) {

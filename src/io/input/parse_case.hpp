@@ -17,6 +17,20 @@ namespace gf::input {
 /// step) are done by validate() (validate.hpp).
 config::Case load_case(const std::filesystem::path& file);
 
+/// A value that replaces (or adds) one key of a case file before it is read, as given on the
+/// command line: `shear.rate=100`, `particles[0].fill.volume_fraction=0.3`.
+struct Override {
+  std::string path;   ///< dot-separated keys, [i] for list items
+  std::string value;  ///< YAML scalar text
+};
+
+/// Parses "KEY.PATH=VALUE"; throws gf::InputError for a malformed text.
+Override parse_override(std::string_view text);
+
+/// load_case with overrides applied to the YAML first (a missing list item is an error; a
+/// missing map key is added). Messages about an overridden value name its key path.
+config::Case load_case(const std::filesystem::path& file, const std::vector<Override>& overrides);
+
 /// Same as load_case, from text; `file` names the text in messages and locates relative paths.
 config::Case load_case_text(const std::string& yaml_text, const std::filesystem::path& file);
 

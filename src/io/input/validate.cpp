@@ -116,6 +116,29 @@ double grain_measure(const config::ParticleGroup& g, double r) {
   return 0;
 }
 
+Vec3 grain_extent(const config::Fill& f, const config::ParticleGroup& g, double r) {
+  const double reach = bounding_radius(g, r);
+  if (g.kind != config::Shape::Spherocylinder || !f.orientation) return {reach, reach, reach};
+  const double h = 0.5 * cylinder_length(g, r);
+  const Vec3 u = rotate(*f.orientation, Vec3{0, 0, 1});
+  return {r + h * std::fabs(u.x), r + h * std::fabs(u.y), r + h * std::fabs(u.z)};
+}
+
+double region_measure(const config::Region& region, int dimension) {
+  if (region.kind == config::Region::Kind::Cylinder)
+    return pi * region.radius * region.radius * region.height;
+  const Vec3 len = region.max - region.min;
+  return dimension == 2 ? len.x * len.y : len.x * len.y * len.z;
+}
+
+std::int64_t volume_fraction_count(const config::Fill& f, const config::ParticleGroup& g,
+                                   int dimension) {
+  if (!f.volume_fraction) return f.count.value_or(0);
+  const double n = *f.volume_fraction * region_measure(f.region, dimension) /
+                   grain_measure(g, g.radius.largest());
+  return std::max<std::int64_t>(1, std::llround(n));
+}
+
 namespace {
 
 std::string vec_text(const Vec3& v, int dimension) {
@@ -657,7 +680,8 @@ double mean_radius(const config::SizeDistribution& d) {
 /// Grains a lattice fill holds (bounding spheres or disks of radius `reach` entirely inside the
 /// region), or the requested random count; `region_measure` is the region's volume (3D, m^3) or
 /// area (2D, m^2). In 2D the hcp lattice is the hexagonal one.
-double estimate_fill(const config::Fill& f, double reach, int dim, double& region_measure) {
+double estimate_fill(const config::Fill& f, double reach, const Vec3& extent, int dim,
+                     double& region_measure) {
   const double r = reach;
   const double s = f.spacing.value_or(2 * r * 1.01);
   const bool hcp = f.lattice == config::Fill::Lattice::Hcp;
@@ -665,11 +689,14 @@ double estimate_fill(const config::Fill& f, double reach, int dim, double& regio
   if (f.region.kind == config::Region::Kind::Box) {
     const Vec3 len = f.region.max - f.region.min;
     region_measure = dim == 2 ? len.x * len.y : len.x * len.y * len.z;
-    const double pitch[3] = {s, hcp ? s * std::sqrt(3.0) / 2 : s,
-                             hcp ? s * std::sqrt(2.0 / 3.0) : s};
+    // As boundaries/fill.cpp: a cubic lattice without spacing uses the grain's extents.
+    const bool own = !hcp && !f.spacing;
+    const double pitch[3] = {own ? 2 * extent.x * 1.01 : s,
+                             own ? 2 * extent.y * 1.01 : (hcp ? s * std::sqrt(3.0) / 2 : s),
+                             own ? 2 * extent.z * 1.01 : (hcp ? s * std::sqrt(2.0 / 3.0) : s)};
     est = 1;
     for (int k = 0; k < dim; ++k) {
-      const double inner = len[k] - 2 * r;
+      const double inner = len[k] - 2 * (hcp ? r : extent[k]);
       est *= inner < 0 ? 0 : std::floor(inner / pitch[k] + 1e-9) + 1;
     }
   } else {
@@ -689,10 +716,26 @@ void Validator::estimate_counts() {
   for (std::size_t g = 0; g < c_.particles.size(); ++g) {
     const auto& group = c_.particles[g];
     if (group.fill) {
-      const auto& f = *group.fill;
+      config::Fill f = *group.fill;
       double measure = 0;
       const double r_big = reach(g, group.radius.largest());
-      const double est = estimate_fill(f, r_big, dim_, measure);
+      const Vec3 extent = grain_extent(f, group, group.radius.largest());
+      std::optional<double> sites;
+      if (f.volume_fraction) {
+        sites = estimate_fill(f, r_big, extent, dim_, measure);
+        f.count = volume_fraction_count(f, group, dim_);
+        report_.derived.emplace_back(fmt::format("particles[{}]: grains for volume_fraction {}", g,
+                                                 number_text(*f.volume_fraction)),
+                                     fmt::format("{}", *f.count));
+      }
+      const double est = estimate_fill(f, r_big, extent, dim_, measure);
+      if (sites && f.lattice != config::Fill::Lattice::Random && *sites < *f.count)
+        throw_input_error(
+            f.loc,
+            fmt::format("particles[{}].fill: the lattice has about {:.0f} sites, fewer than the "
+                        "{} grains volume_fraction {} asks for (give a smaller spacing, a "
+                        "fixed orientation for elongated grains, or a larger region)",
+                        g, *sites, *f.count, number_text(*f.volume_fraction)));
       const char* lattice = f.lattice == config::Fill::Lattice::Cubic ? "cubic"
                             : f.lattice == config::Fill::Lattice::Hcp
                                 ? (dim_ == 2 ? "hexagonal" : "hcp")

@@ -2,6 +2,7 @@
 // Whole-case cross-checks (domain, overlaps, time step vs contact times) and derived numbers.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -56,5 +57,17 @@ double bounding_radius(const config::ParticleGroup& g, double r);
 /// spherocylinder pi r^2 L + 4/3 pi r^3, disk pi r^2, polygon pi R^2 (R the equal-area radius;
 /// the shoelace area for given vertices).
 double grain_measure(const config::ParticleGroup& g, double r);
+
+/// Half extents along x, y, z of a grain of group g with radius r as a fill places it: the
+/// bounding box of a spherocylinder of the fill's fixed orientation, else the bounding radius.
+Vec3 grain_extent(const config::Fill& f, const config::ParticleGroup& g, double r);
+
+/// Volume (3D) or area (2D) of a fill region, m^3 or m^2.
+double region_measure(const config::Region& region, int dimension);
+
+/// Grains of a fill: round(volume_fraction x region measure / grain measure) when the fill
+/// gives a volume fraction, else its count (0 when none).
+std::int64_t volume_fraction_count(const config::Fill& f, const config::ParticleGroup& g,
+                                   int dimension);
 
 }  // namespace gf::input

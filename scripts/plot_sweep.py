@@ -1,0 +1,118 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Plots of a rheology sweep table (sweep.csv, written by `grainflow sweep`), in the manner of
+Mahajan et al. (2019): log-log granular temperature, pressure and shear stress against the
+measured shear rate for each volume fraction (kinetic theory of volume-equivalent spheres dashed),
+apparent friction and viscosity, -N2/N1, and the alignment angle against shear rate and volume
+fraction. Usage: plot_sweep.py sweep.csv OUTPUT_FOLDER [PREFIX]"""
+import sys
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def load(path):
+    d = np.genfromtxt(path, delimiter=",", names=True, dtype=None, encoding="utf-8")
+    return np.atleast_1d(d)
+
+
+def groups(d):
+    """Runs grouped by nominal volume fraction (NaN: one group), sorted by shear rate."""
+    phis = d["volume_fraction_nominal"]
+    keys = sorted(set(np.where(np.isnan(phis), -1.0, phis)))
+    for k in keys:
+        sel = np.where(np.isnan(phis), -1.0, phis) == k
+        sub = d[sel]
+        sub = sub[np.argsort(sub["shear_rate"])]
+        yield (None if k < 0 else k), sub
+
+
+def errorbars(ax, x, y, e, **kw):
+    ax.errorbar(x, y, yerr=np.where(np.isfinite(e), e, 0), capsize=2, **kw)
+
+
+def main():
+    table, out = sys.argv[1], sys.argv[2]
+    prefix = sys.argv[3] if len(sys.argv) > 3 else "rheology"
+    d = load(table)
+    colors = plt.cm.viridis(np.linspace(0, 0.9, max(1, len(list(groups(d))))))
+
+    # 1. T, P, -sigma_xz against shear rate (log-log), kinetic theory dashed.
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    for (phi, g), c in zip(groups(d), colors):
+        lab = "measured" if phi is None else f"phi = {phi:g}"
+        rate = np.abs(g["shear_rate"])
+        for ax, q, sign in zip(axes, ["granular_temperature", "pressure", "sigma_xz"], [1, 1, -1]):
+            errorbars(ax, rate, sign * g[q], g[q + "_err"], fmt="o-", color=c, label=lab)
+            kt = sign * g[q + "_kt"]
+            if np.any(np.isfinite(kt)):
+                ax.plot(rate, kt, "--", color=c, alpha=0.8)
+    for ax, t in zip(axes, ["granular temperature T (m$^2$/s$^2$)", "pressure P (Pa)",
+                            "shear stress $-\\sigma_{xz}$ (Pa)"]):
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("measured shear rate (1/s)")
+        ax.set_ylabel(t)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=8, title="dashed: kinetic theory,\nvolume-equivalent spheres",
+                   title_fontsize=7)
+    fig.tight_layout()
+    fig.savefig(f"{out}/{prefix}_stresses.png", dpi=110)
+    plt.close(fig)
+
+    # 2. Apparent friction and viscosity; -N2/N1.
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    for (phi, g), c in zip(groups(d), colors):
+        lab = "measured" if phi is None else f"phi = {phi:g}"
+        rate = np.abs(g["shear_rate"])
+        errorbars(axes[0], rate, g["friction"], g["friction_err"], fmt="o-", color=c, label=lab)
+        errorbars(axes[1], rate, g["viscosity"], g["viscosity_err"], fmt="o-", color=c, label=lab)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = -g["N2"] / g["N1"]
+            rerr = np.abs(ratio) * np.hypot(g["N2_err"] / g["N2"], g["N1_err"] / g["N1"])
+        errorbars(axes[2], rate, ratio, rerr, fmt="o-", color=c, label=lab)
+    axes[0].set_ylabel("apparent friction $|\\sigma_{xz}|/P$")
+    axes[1].set_ylabel("viscosity $-\\sigma_{xz}/\\dot\\gamma$ (Pa s)")
+    axes[1].set_yscale("log")
+    axes[2].set_ylabel("$-N_2/N_1$")
+    axes[2].axhline(0.5, color="k", lw=0.8, ls=":")
+    for ax in axes:
+        ax.set_xscale("log")
+        ax.set_xlabel("measured shear rate (1/s)")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(f"{out}/{prefix}_friction_normal_stress.png", dpi=110)
+    plt.close(fig)
+
+    # 3. Alignment angle against shear rate and against volume fraction (highest rate).
+    if np.any(np.abs(d["order_parameter"]) > 0):
+        fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+        phis, angles, errs = [], [], []
+        for (phi, g), c in zip(groups(d), colors):
+            lab = "measured" if phi is None else f"phi = {phi:g}"
+            errorbars(axes[0], np.abs(g["shear_rate"]), g["alignment_angle"],
+                      g["alignment_angle_err"], fmt="o-", color=c, label=lab)
+            top = np.argmax(np.abs(g["shear_rate"]))
+            phis.append(g["volume_fraction"][top])
+            angles.append(g["alignment_angle"][top])
+            errs.append(g["alignment_angle_err"][top])
+        axes[0].set_xscale("log")
+        axes[0].set_xlabel("measured shear rate (1/s)")
+        axes[0].legend(fontsize=8)
+        errorbars(axes[1], np.array(phis), np.array(angles), np.array(errs), fmt="o-", color="k")
+        axes[1].set_xlabel("measured volume fraction")
+        for ax in axes:
+            ax.set_ylabel("alignment angle (degrees)")
+            ax.grid(True, alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(f"{out}/{prefix}_alignment.png", dpi=110)
+        plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()

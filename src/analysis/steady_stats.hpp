@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Steady-state averages of a sampled time series: MSER-5 truncation and blocking standard errors.
+//
+// - MSER-5 (White 1997, Simulation 69:323; Franklin & White 2008): the series is cut into batch
+//   means b_0 .. b_{m-1} of `batch` consecutive samples (an incomplete last batch is dropped); the
+//   truncation d (in batches, 0 <= d <= min(m/2, m-2)) minimises
+//       MSER(d) = sum_{k >= d} (b_k - mean_{k >= d} b)^2 / (m - d)^2,
+//   the smallest d on ties; the start of the steady window is d * batch samples.
+// - Blocking (Flyvbjerg & Petersen 1989, J. Chem. Phys. 91:461): the naive standard error of the
+//   mean, sqrt(sum (x - mean)^2 / (n (n - 1))), is computed on the series and on its successive
+//   pairwise averages (an odd last value is dropped) while at least `min_blocks` blocks remain;
+//   the largest estimate over the levels is reported (conservative plateau value).
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace gf::analysis {
+
+/// MSER truncation of `x`, in samples (a multiple of `batch`); 0 for fewer than 2 batches.
+std::size_t mser_truncation(std::span<const double> x, std::size_t batch = 5);
+
+/// The largest MSER truncation of several series of equal sampling, so that they share one
+/// steady window; 0 for none.
+std::size_t common_truncation(const std::vector<std::span<const double>>& series,
+                              std::size_t batch = 5);
+
+struct BlockAverage {
+  double mean = 0;             ///< mean of all samples (NaN for none); unit of the series
+  double std_error = 0;        ///< standard error of the mean (NaN for fewer than 2 samples)
+  std::size_t samples = 0;     ///< samples averaged
+  std::size_t blocks = 0;      ///< blocks at the level that gave std_error
+  std::size_t block_size = 1;  ///< samples per block at that level (a power of 2)
+};
+
+/// Mean and blocking standard error of `x`; levels with at least `min_blocks` blocks are used
+/// (level 0, the samples themselves, always).
+BlockAverage block_average(std::span<const double> x, std::size_t min_blocks = 16);
+
+struct SteadyAverage {
+  BlockAverage avg;       ///< over x[start..]
+  std::size_t start = 0;  ///< first sample of the steady window
+};
+
+/// Block average over x[start..], with `start` given or else mser_truncation(x).
+SteadyAverage steady_average(std::span<const double> x, std::optional<std::size_t> start = {});
+
+}  // namespace gf::analysis

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The `analysis.rheology` output of a run: samples (analysis/rheology.hpp) written to
+// rheology.csv, and at the end steady-state averages with standard errors next to the kinetic
+// theory of Lun et al. (1984) for volume-equivalent spheres, in rheology_summary.csv.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "analysis/rheology.hpp"
+#include "io/csv/csv.hpp"
+
+namespace gf {
+
+class Simulation;
+
+/// Steady-state mean of one quantity, its standard error and the kinetic-theory value (NaN when
+/// the theory has none).
+struct RheologySummaryRow {
+  std::string quantity;
+  double mean = 0, std_error = 0, kinetic_theory = 0;
+};
+
+struct RheologySummary {
+  double steady_start = 0;  ///< s, first sample of the average
+  std::size_t samples = 0;  ///< samples averaged
+  std::vector<RheologySummaryRow> rows;
+  const RheologySummaryRow* find(const std::string& q) const;
+};
+
+class RheologyOutput {
+ public:
+  /// Opens dir/rheology.csv for the case's analysis.rheology block.
+  RheologyOutput(const std::filesystem::path& dir, const Simulation& sim);
+
+  /// Whether the step `step` ends on a sample (the force stage then collects the virial).
+  bool due(std::int64_t step) const { return every_ > 0 && step % every_ == 0; }
+  /// Takes a sample of the state after a step whose forces collected the virial.
+  void sample(const Simulation& sim);
+  /// Steady-state averages of the samples so far (also written to rheology_summary.csv).
+  RheologySummary finish(const Simulation& sim);
+
+  const std::vector<double>& times() const { return times_; }
+  /// The sampled values of column k of analysis::rheology_columns().
+  const std::vector<double>& column(std::size_t k) const { return values_[k]; }
+
+ private:
+  std::filesystem::path dir_;
+  std::int64_t every_ = 0;
+  std::unique_ptr<io::SeriesCsv> csv_;
+  std::vector<double> times_;
+  std::vector<std::vector<double>> values_;
+};
+
+}  // namespace gf

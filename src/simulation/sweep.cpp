@@ -1,0 +1,207 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Sweep runner: child processes through posix_spawn, a bounded number at a time.
+#include "simulation/sweep.hpp"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include "core/error.hpp"
+#include "core/files.hpp"
+#include "core/log.hpp"
+#include "simulation/simulation.hpp"
+
+extern char** environ;
+
+namespace gf {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Index of the particle group whose fill gives a volume fraction (-1: none).
+int fraction_group(const config::Case& c) {
+  for (std::size_t g = 0; g < c.particles.size(); ++g)
+    if (c.particles[g].fill && c.particles[g].fill->volume_fraction) return static_cast<int>(g);
+  return -1;
+}
+
+/// Starts `args` with stdout and stderr to `log`; returns the child's pid.
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  std::vector<char*> argv;
+  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) throw std::runtime_error(fmt::format("cannot start {}: error {}", args[0], rc));
+  return pid;
+}
+
+/// Reads a rheology_summary.csv: quantity -> (mean, std_error, kinetic_theory).
+std::map<std::string, std::array<double, 3>> read_summary(const fs::path& file) {
+  std::map<std::string, std::array<double, 3>> out;
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string q, a, b, k;
+    std::getline(ss, q, ',');
+    std::getline(ss, a, ',');
+    std::getline(ss, b, ',');
+    std::getline(ss, k, ',');
+    auto num = [](const std::string& t) {
+      try {
+        return std::stod(t);
+      } catch (const std::exception&) {
+        return std::nan("");
+      }
+    };
+    out[q] = {num(a), num(b), num(k)};
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<SweepPoint> sweep_points(const config::Case& c) {
+  REQUIRE(c.sweep && c.shear, "the case has no sweep (or no shear) block");
+  std::vector<double> phis = c.sweep->volume_fractions;
+  std::vector<double> rates = c.sweep->shear_rates;
+  if (phis.empty()) phis.push_back(std::nan(""));
+  if (rates.empty()) rates.push_back(c.shear->rate);
+  std::vector<SweepPoint> out;
+  for (double phi : phis)
+    for (double rate : rates) {
+      SweepPoint p{phi, rate, ""};
+      p.name = std::isnan(phi) ? fmt::format("rate_{:g}", rate)
+                               : fmt::format("phi_{:g}_rate_{:g}", phi, rate);
+      out.push_back(p);
+    }
+  return out;
+}
+
+int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptions& opts) {
+  const auto points = sweep_points(c);
+  const fs::path dir = opts.output.empty() ? c.output.directory : opts.output;
+  prepare_output_dir(dir, opts.overwrite);
+  int procs = opts.processes > 0 ? opts.processes : c.sweep->processes;
+  if (procs <= 0) procs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int group = fraction_group(c);
+  log::info("sweep: {} runs, {} at a time, output in '{}'", points.size(), procs, dir.string());
+
+  std::map<pid_t, std::size_t> running;
+  std::vector<int> status(points.size(), -1);
+  std::size_t next = 0;
+  auto reap = [&]() {
+    int st = 0;
+    const pid_t pid = waitpid(-1, &st, 0);
+    if (pid <= 0) return;
+    const std::size_t k = running.at(pid);
+    running.erase(pid);
+    status[k] = WIFEXITED(st) ? WEXITSTATUS(st) : 128;
+    log::info("sweep: {} {} ({} of {} done)", points[k].name,
+              status[k] == 0 ? "finished" : fmt::format("FAILED (exit {})", status[k]),
+              std::count_if(status.begin(), status.end(), [](int s) { return s >= 0; }),
+              points.size());
+  };
+  while (next < points.size() || !running.empty()) {
+    while (next < points.size() && static_cast<int>(running.size()) < procs) {
+      const auto& p = points[next];
+      std::vector<std::string> args{opts.program.string(),
+                                    "run",
+                                    case_file.string(),
+                                    "--output",
+                                    (dir / p.name).string(),
+                                    "--threads",
+                                    "1",
+                                    "--quiet",
+                                    "--set",
+                                    fmt::format("shear.rate={}", p.shear_rate)};
+      if (!std::isnan(p.volume_fraction)) {
+        args.push_back("--set");
+        args.push_back(
+            fmt::format("particles[{}].fill.volume_fraction={}", group, p.volume_fraction));
+      }
+      if (opts.steps) {
+        args.push_back("--steps");
+        args.push_back(std::to_string(*opts.steps));
+      }
+      for (const auto& o : opts.overrides) {
+        args.push_back("--set");
+        args.push_back(o.path + "=" + o.value);
+      }
+      running[spawn(args, dir / (p.name + ".log"))] = next;
+      ++next;
+    }
+    reap();
+  }
+
+  // One table: nominal values, then mean, standard error and kinetic theory per quantity.
+  std::vector<std::string> quantities;
+  std::vector<std::string> lines;
+  int failed = 0;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const fs::path summary = dir / points[k].name / "rheology_summary.csv";
+    if (status[k] != 0 || !fs::exists(summary)) {
+      ++failed;
+      continue;
+    }
+    const auto s = read_summary(summary);
+    if (quantities.empty())
+      for (const auto& [q, v] : s) quantities.push_back(q);
+    std::string line =
+        fmt::format("{},{:g},{}", points[k].name, points[k].volume_fraction, points[k].shear_rate);
+    for (const auto& q : quantities) {
+      const auto it = s.find(q);
+      const std::array<double, 3> v =
+          it == s.end() ? std::array<double, 3>{NAN, NAN, NAN} : it->second;
+      line += fmt::format(",{:.10g},{:.10g},{:.10g}", v[0], v[1], v[2]);
+    }
+    lines.push_back(line);
+  }
+  write_atomically(dir / "sweep.csv", [&](std::ostream& o) {
+    o << "run,volume_fraction_nominal,shear_rate_nominal";
+    for (const auto& q : quantities) o << fmt::format(",{0},{0}_err,{0}_kt", q);
+    o << "\n";
+    for (const auto& l : lines) o << l << "\n";
+  });
+  log::info("sweep: table of {} runs in '{}'", lines.size(), (dir / "sweep.csv").string());
+  if (failed > 0)
+    log::warn("sweep: {} of {} runs failed or wrote no rheology summary (see their .log files)",
+              failed, points.size());
+  if (opts.plots && !lines.empty()) {
+    const fs::path script = fs::path(GF_SCRIPTS_DIR) / "plot_sweep.py";
+    const std::vector<std::string> args{"/usr/bin/python3", script.string(),
+                                        (dir / "sweep.csv").string(), dir.string()};
+    if (!fs::exists(script) || !fs::exists(args[0])) {
+      log::warn("sweep: no plots ({} or python3 not found); run: python3 plot_sweep.py {} {}",
+                script.string(), args[2], args[3]);
+    } else {
+      const pid_t pid = spawn(args, dir / "plots.log");
+      int st = 0;
+      waitpid(pid, &st, 0);
+      if (WIFEXITED(st) && WEXITSTATUS(st) == 0)
+        log::info("sweep: plots in '{}'", dir.string());
+      else
+        log::warn("sweep: plotting failed (see {}); needs python3-matplotlib",
+                  (dir / "plots.log").string());
+    }
+  }
+  return failed == 0 ? 0 : 1;
+}
+
+}  // namespace gf

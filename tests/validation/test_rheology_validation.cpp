@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Granular shear rheology against the kinetic theory of Lun et al. (1984), on the shipped
+// rheology cases (cases/rheology/): homogeneous shear between Lees-Edwards images, shear
+// between walls, and rods of aspect ratio 4 (Mahajan et al. 2019). Runs use dt = 1e-6 s
+// (t_c / 30 for k_n = 6e5 N/m) instead of the cases' 5e-7 s to halve the cost.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "analysis/kinetic_theory.hpp"
+#include "dump.hpp"
+#include "io/input/parse_case.hpp"
+#include "simulation/simulation.hpp"
+#include "temp_dir.hpp"
+
+using namespace gf;
+
+namespace {
+
+using Summary = std::map<std::string, std::array<double, 3>>;  // mean, std_error, KT
+
+/// Runs a shipped case with overrides and reads its rheology_summary.csv.
+Summary run_case(const std::string& rel, const std::vector<input::Override>& sets,
+                 const test::TempDir& dir, const std::string& name) {
+  const auto cfg = input::load_case(std::string(GF_SOURCE_DIR) + "/cases/rheology/" + rel, sets);
+  Simulation sim(cfg);
+  RunOptions o;
+  o.output = dir / name;
+  o.quiet = true;
+  sim.run(o);
+  Summary s;
+  std::ifstream in(dir / name / "rheology_summary.csv");
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string q, a, b, k;
+    std::getline(ss, q, ',');
+    std::getline(ss, a, ',');
+    std::getline(ss, b, ',');
+    std::getline(ss, k, ',');
+    s[q] = {std::stod(a), std::stod(b), std::stod(k)};
+  }
+  return s;
+}
+
+double mean(const Summary& s, const std::string& q) {
+  return s.at(q)[0];
+}
+double kt(const Summary& s, const std::string& q) {
+  return s.at(q)[2];
+}
+
+}  // namespace
+
+// Nearly elastic spheres (e = 0.95), where Lun et al.'s first-order theory is meant to hold:
+// T, P and sigma_xz of homogeneous shear (phi = 0.1, 213 spheres) within 6 %. Measured: T +0.9 %,
+// P +1.3 %, sigma_xz +3 % below theory. Statistics: standard errors ~1-2 % after strain 100;
+// the theory's own error is O(1 - e) in the viscosity's inelastic correction. 6 % is ~3 standard
+// errors plus that, and fails for a missing image velocity (the shear would not heat the gas),
+// a wrong virial, or a factor in the temperature.
+TEST(RheologyValidation, LeesEdwardsNearlyElasticSpheresMatchLun) {
+  test::TempDir dir;
+  const auto s = run_case("lees_edwards_spheres/case.yaml",
+                          {{"contacts[0].restitution", "0.95"},
+                           {"time.step", "1.0e-6"},
+                           {"shear.strain", "100"},
+                           {"output.vtk.every", "0"}},
+                          dir, "e095");
+  test::Dump dump("rheology_lees_edwards_e095", "quantity,measured,std_error,lun");
+  for (const char* q : {"granular_temperature", "pressure", "sigma_xz"}) {
+    dump.row(0, mean(s, q), s.at(q)[1], kt(s, q));
+    EXPECT_NEAR(mean(s, q) / kt(s, q), 1.0, 0.06) << q;
+  }
+  EXPECT_NEAR(mean(s, "shear_rate"), 100.0, 3.0);  // Lees-Edwards imposes the rate exactly
+}
+
+// The dilute case (e = 0.7, phi = 0.1, d = 5.3 mm, rho = 1395, k_n = 6e5 N/m) at two
+// shear rates. Bagnold scaling: T, P and sigma_xz grow as gamma_dot^2 (hard grains: no other
+// time scale), checked to 10 % (two runs, ~2-3 % standard error each).
+// Against Lun et al.: the constitutive parts hold at the measured temperature (P = rho phi T
+// (1 + 4 alpha phi g0) within 8 %; apparent friction within 10 %); the temperature itself is
+// 24 % below the theory's (measured 0.487 vs 0.640 m^2/s^2 at 100 1/s), as is known for
+// first-order (Navier-Stokes) kinetic theory at e = 0.7 in uniform shear, where the shear rate
+// is set by the inelasticity and the velocity distribution is strongly anisotropic (here
+// sigma_xx / sigma_zz = 1.5); at e = 0.95 the same code agrees within 1 % (test above). The
+// window [0.68, 0.86] guards that deviation against drifting either way.
+TEST(RheologyValidation, DiluteSpheresBagnoldScalingAndLun) {
+  test::TempDir dir;
+  std::array<Summary, 2> s;
+  const std::array<double, 2> rates{50, 100};
+  for (int k = 0; k < 2; ++k)
+    s[k] = run_case("lees_edwards_spheres/case.yaml",
+                    {{"time.step", "1.0e-6"},
+                     {"shear.rate", std::to_string(rates[k])},
+                     {"shear.strain", "80"},
+                     {"output.vtk.every", "0"}},
+                    dir, "rate" + std::to_string(k));
+  test::Dump dump("rheology_lees_edwards_e07",
+                  "shear_rate,T,T_err,T_lun,P,P_err,P_lun,sxz,sxz_err,sxz_lun");
+  for (int k = 0; k < 2; ++k)
+    dump.row(mean(s[k], "shear_rate"), mean(s[k], "granular_temperature"),
+             s[k].at("granular_temperature")[1], kt(s[k], "granular_temperature"),
+             mean(s[k], "pressure"), s[k].at("pressure")[1], kt(s[k], "pressure"),
+             mean(s[k], "sigma_xz"), s[k].at("sigma_xz")[1], kt(s[k], "sigma_xz"));
+  const double g = mean(s[1], "shear_rate") / mean(s[0], "shear_rate");
+  for (const char* q : {"granular_temperature", "pressure", "sigma_xz"})
+    EXPECT_NEAR(mean(s[1], q) / mean(s[0], q) / (g * g), 1.0, 0.10) << q;
+  for (const auto& r : s) {
+    const double phi = mean(r, "volume_fraction"), T = mean(r, "granular_temperature");
+    const double alpha = 0.85, g0 = analysis::carnahan_starling_g0(phi);
+    EXPECT_NEAR(mean(r, "pressure") / (1395 * phi * T * (1 + 4 * alpha * phi * g0)), 1.0, 0.08);
+    EXPECT_NEAR(mean(r, "friction") / kt(r, "friction"), 1.0, 0.10);
+    const double ratio = T / kt(r, "granular_temperature");
+    EXPECT_GT(ratio, 0.68);
+    EXPECT_LT(ratio, 0.86);
+  }
+}
+
+// Rods of aspect ratio 4 (Mahajan et al.'s dry case, frictionless, e = 0.7, phi = 0.2, 427 rods,
+// 6 x 4 x 4 L box between walls, 100 1/s apparent), strain 15: the paper's robust findings.
+// Rods attain a far lower temperature and pressure than volume-equivalent spheres at the same
+// volume fraction and measured rate (paper Fig. 6: a factor 3-10; here measured T / T_spheres
+// = 0.22, P / P_spheres = 0.26 in the sweep of docs/validation), so < 0.5 leaves room for
+// statistics (~5-10 % standard errors) and still fails if the rods behaved like spheres. They
+// align with the flow: the order tensor's alignment angle lies between 0 and 35 degrees (the
+// paper: 10-25 degrees; measured 18.9) with a clear nematic order (measured 0.31; isotropic 0).
+TEST(RheologyValidation, RodsBelowSpheresAndAlignedWithTheFlow) {
+  test::TempDir dir;
+  const auto s = run_case("shear_box_rods/case.yaml",
+                          {{"time.step", "1.0e-6"},
+                           {"shear.strain", "15"},
+                           {"particles[0].fill.volume_fraction", "0.2"},
+                           {"output.vtk.every", "0"}},
+                          dir, "rods");
+  EXPECT_NEAR(mean(s, "volume_fraction"), 0.2, 0.03);
+  EXPECT_LT(mean(s, "granular_temperature"), 0.5 * kt(s, "granular_temperature"));
+  EXPECT_LT(mean(s, "pressure"), 0.5 * kt(s, "pressure"));
+  EXPECT_LT(mean(s, "sigma_xz"), 0.0);
+  EXPECT_GT(mean(s, "alignment_angle"), 0.0);
+  EXPECT_LT(mean(s, "alignment_angle"), 35.0);
+  EXPECT_GT(mean(s, "order_parameter"), 0.15);
+  EXPECT_GT(mean(s, "shear_rate"), 10.0);
+}
