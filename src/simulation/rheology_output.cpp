@@ -6,7 +6,9 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <sstream>
 
 #include "analysis/kinetic_theory.hpp"
 #include "analysis/steady_stats.hpp"
@@ -39,6 +41,29 @@ double grain_restitution(const config::Case& c) {
 }
 
 }  // namespace
+
+std::map<std::string, std::array<double, 3>> read_rheology_summary(
+    const std::filesystem::path& file) {
+  std::map<std::string, std::array<double, 3>> out;
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);  // header
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string field[4];
+    for (auto& f : field) std::getline(ss, f, ',');
+    std::array<double, 3> v{};
+    for (int k = 0; k < 3; ++k) {
+      try {
+        v[static_cast<std::size_t>(k)] = std::stod(field[k + 1]);
+      } catch (const std::exception&) {
+        v[static_cast<std::size_t>(k)] = std::nan("");
+      }
+    }
+    out[field[0]] = v;
+  }
+  return out;
+}
 
 const RheologySummaryRow* RheologySummary::find(const std::string& q) const {
   for (const auto& r : rows)

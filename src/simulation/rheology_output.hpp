@@ -4,7 +4,9 @@
 // theory of Lun et al. (1984) for volume-equivalent spheres, in rheology_summary.csv.
 #pragma once
 
+#include <array>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +31,11 @@ struct RheologySummary {
   std::vector<RheologySummaryRow> rows;
   const RheologySummaryRow* find(const std::string& q) const;
 };
+
+/// Reads a rheology_summary.csv: quantity -> {mean, std_error, kinetic_theory} (NaN where a
+/// field does not parse).
+std::map<std::string, std::array<double, 3>> read_rheology_summary(
+    const std::filesystem::path& file);
 
 class RheologyOutput {
  public:

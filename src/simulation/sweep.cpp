@@ -17,6 +17,7 @@
 #include "core/error.hpp"
 #include "core/files.hpp"
 #include "core/log.hpp"
+#include "simulation/rheology_output.hpp"
 #include "simulation/simulation.hpp"
 
 extern char** environ;
@@ -48,31 +49,6 @@ pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0) throw std::runtime_error(fmt::format("cannot start {}: error {}", args[0], rc));
   return pid;
-}
-
-/// Reads a rheology_summary.csv: quantity -> (mean, std_error, kinetic_theory).
-std::map<std::string, std::array<double, 3>> read_summary(const fs::path& file) {
-  std::map<std::string, std::array<double, 3>> out;
-  std::ifstream in(file);
-  std::string line;
-  std::getline(in, line);  // header
-  while (std::getline(in, line)) {
-    std::stringstream ss(line);
-    std::string q, a, b, k;
-    std::getline(ss, q, ',');
-    std::getline(ss, a, ',');
-    std::getline(ss, b, ',');
-    std::getline(ss, k, ',');
-    auto num = [](const std::string& t) {
-      try {
-        return std::stod(t);
-      } catch (const std::exception&) {
-        return std::nan("");
-      }
-    };
-    out[q] = {num(a), num(b), num(k)};
-  }
-  return out;
 }
 
 }  // namespace
@@ -160,7 +136,7 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
       ++failed;
       continue;
     }
-    const auto s = read_summary(summary);
+    const auto s = read_rheology_summary(summary);
     if (quantities.empty())
       for (const auto& [q, v] : s) quantities.push_back(q);
     std::string line =

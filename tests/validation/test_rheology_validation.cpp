@@ -14,6 +14,7 @@
 #include "analysis/kinetic_theory.hpp"
 #include "dump.hpp"
 #include "io/input/parse_case.hpp"
+#include "simulation/rheology_output.hpp"
 #include "simulation/simulation.hpp"
 #include "temp_dir.hpp"
 
@@ -32,20 +33,7 @@ Summary run_case(const std::string& rel, const std::vector<input::Override>& set
   o.output = dir / name;
   o.quiet = true;
   sim.run(o);
-  Summary s;
-  std::ifstream in(dir / name / "rheology_summary.csv");
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    std::stringstream ss(line);
-    std::string q, a, b, k;
-    std::getline(ss, q, ',');
-    std::getline(ss, a, ',');
-    std::getline(ss, b, ',');
-    std::getline(ss, k, ',');
-    s[q] = {std::stod(a), std::stod(b), std::stod(k)};
-  }
-  return s;
+  return read_rheology_summary(dir / name / "rheology_summary.csv");
 }
 
 double mean(const Summary& s, const std::string& q) {
