@@ -13,11 +13,14 @@ namespace gf::contact {
 
 namespace {
 
-/// Displacement x_i - x_j: the minimum image only when some axis is periodic.
-template <bool Periodic>
+/// Displacement x_i - x_j: the minimum image only when some axis is periodic, the Lees-Edwards
+/// shift only in a sheared box (the periodic loop of other runs stays as it was).
+template <bool Periodic, bool Sheared>
 inline Vec3 pair_delta(const Domain& dom, const Vec3& a, const Vec3& b) {
-  if constexpr (Periodic)
+  if constexpr (Sheared)
     return dom.delta(a, b);
+  else if constexpr (Periodic)
+    return dom.min_image(a - b);
   else
     return a - b;
 }
@@ -58,7 +61,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
     const std::int64_t end = off[i + 1];
     for (std::int64_t k = off[i]; k < end; ++k) {
       const std::int32_t j = nb[k];
-      const Vec3 d = pair_delta<Periodic>(dom, xi, x[j]);
+      const Vec3 d = pair_delta<Periodic, Sheared>(dom, xi, x[j]);
       const double rj = r[j];
       const double rs = ri + rj;
       const double dist2 = norm2(d);

@@ -49,16 +49,9 @@ struct Domain {
     return u;
   }
 
-  /// Displacement a - b to the nearest image of b (minimum image in periodic directions, the
-  /// image shifted by the Lees-Edwards offset when it lies across the gradient boundary).
-  GF_HOST_DEVICE Vec3 delta(const Vec3& a, const Vec3& b) const {
-    Vec3 d = a - b;
+  /// Minimum image of a displacement along the periodic directions (no Lees-Edwards shift).
+  GF_HOST_DEVICE Vec3 min_image(Vec3 d) const {
     const Vec3 L = length();
-    if (shear_gradient >= 0) {
-      const int s = shear_image(a, b);
-      d[shear_gradient] -= s * L[shear_gradient];
-      d[shear_flow] -= s * shear_offset;
-    }
     for (int k = 0; k < 3; ++k) {
       if (periodic[k]) {
         if (d[k] > 0.5 * L[k])
@@ -68,6 +61,18 @@ struct Domain {
       }
     }
     return d;
+  }
+
+  /// Displacement a - b to the nearest image of b (minimum image in periodic directions, the
+  /// image shifted by the Lees-Edwards offset when it lies across the gradient boundary).
+  GF_HOST_DEVICE Vec3 delta(const Vec3& a, const Vec3& b) const {
+    Vec3 d = a - b;
+    if (shear_gradient >= 0) {
+      const int s = shear_image(a, b);
+      d[shear_gradient] -= s * (hi[shear_gradient] - lo[shear_gradient]);
+      d[shear_flow] -= s * shear_offset;
+    }
+    return min_image(d);
   }
 
   /// Brings a position back into the box along periodic directions. With Lees-Edwards, a
