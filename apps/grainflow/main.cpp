@@ -5,6 +5,9 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <cstdlib>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <filesystem>
 #include <iostream>
 #include <string>
@@ -112,6 +115,13 @@ int main(int argc, char** argv) {
   // threads make a run on a shared or oversubscribed machine ~10x slower, and the few barriers
   // per step cost microseconds against milliseconds of work.
   if (std::getenv("OMP_WAIT_POLICY") == nullptr) setenv("OMP_WAIT_POLICY", "passive", 0);
+#if defined(__GLIBC__)
+  // Arrays of 1 MiB and more (particle columns, neighbour lists) get their own mappings, which
+  // go back to the system when freed. glibc's default threshold rises to the size of the
+  // largest block freed so far, after which such arrays come from the heap and their memory
+  // stays resident after a neighbour rebuild frees them: peak RSS then counts freed lists.
+  mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
   CLI::App app{"grainflow: simulation of granular matter (DEM)", "grainflow"};
   app.set_version_flag("--version", std::string("grainflow ") + gf::version_string);
   app.require_subcommand(1);

@@ -4,6 +4,7 @@
 #include "neighbor/verlet_list.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <numeric>
 
 #include "core/error.hpp"
@@ -62,9 +63,7 @@ void VerletList::build(const Domain& domain, const Vec3* x, const double* r, std
 void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n,
                             double skin, bool sorted, const PairFilter& filter) {
   skin_ = skin;
-  old_offsets_.swap(offsets_);
-  old_neighbors_.swap(neighbors_);
-  old_history_.swap(history_);
+  keep_old_histories();
   const auto& order = cells_.order();
   // In a sorted store the members of a cell are a contiguous index range.
   auto member = [&](std::int64_t k) {
@@ -92,16 +91,16 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
       }
     }
   };
-  counts_.resize(n);
+  // Pass 1 counts the row lengths into offsets_[i + 1], pass 2 fills the rows. The arrays are
+  // sized exactly (no growth slack): memory per particle is one of issue 3's figures.
+  offsets_.assign(n + 1, 0);
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
-    std::int32_t c = 0;
+    std::int64_t c = 0;
     for_neighbours(static_cast<std::size_t>(i), [&](std::int32_t) { ++c; });
-    counts_[static_cast<std::size_t>(i)] = c;
+    offsets_[static_cast<std::size_t>(i) + 1] = c;
   });
-  offsets_.resize(n + 1);
-  offsets_[0] = 0;
-  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] = offsets_[i] + counts_[i];
-  neighbors_.resize(static_cast<std::size_t>(offsets_[n]));
+  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] += offsets_[i];
+  neighbors_ = std::vector<std::int32_t>(static_cast<std::size_t>(offsets_[n]));
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
     std::int64_t k = offsets_[static_cast<std::size_t>(i)];
     for_neighbours(static_cast<std::size_t>(i),
@@ -115,10 +114,47 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
   ++n_builds_;
 }
 
+void VerletList::keep_old_histories() {
+  // Compacts the current list in place to its entries with a non-zero history (touching pairs,
+  // about half of the entries in a dense bed) and frees the rest before the new list is built:
+  // the peak memory of a rebuild is then the new list plus the old contacts, not two lists.
+  // A missing entry and a zero history carry the same thing, so results are unchanged.
+  const std::size_t n = n_particles();
+  std::int64_t w = 0;
+  for (std::size_t a = 0; a < n; ++a) {
+    const std::int64_t first = offsets_[a], last = offsets_[a + 1];
+    offsets_[a] = w;
+    for (std::int64_t k = first; k < last; ++k) {
+      const auto ks = static_cast<std::size_t>(k);
+      const Vec3& h = history_[ks];
+      // Bitwise zero (a -0.0 component is kept, so the carried values are exactly the old ones).
+      if ((std::bit_cast<std::uint64_t>(h.x) | std::bit_cast<std::uint64_t>(h.y) |
+           std::bit_cast<std::uint64_t>(h.z)) == 0)
+        continue;
+      neighbors_[static_cast<std::size_t>(w)] = neighbors_[ks];
+      history_[static_cast<std::size_t>(w)] = history_[ks];
+      ++w;
+    }
+  }
+  if (n > 0) offsets_[n] = w;
+  const auto kept = static_cast<std::ptrdiff_t>(w);
+  old_offsets_ = std::move(offsets_);
+  old_neighbors_.assign(neighbors_.begin(), neighbors_.begin() + kept);
+  old_history_.assign(history_.begin(), history_.begin() + kept);
+  offsets_ = {};
+  neighbors_ = {};
+  history_ = {};
+}
+
 void VerletList::carry_history(std::span<const std::int64_t> perm) {
   const std::size_t n = n_particles();
-  history_.assign(neighbors_.size(), Vec3{});
-  if (old_offsets_.size() != n + 1) return;  // first build, or the particle count changed
+  history_ = std::vector<Vec3>(neighbors_.size());
+  if (old_offsets_.size() != n + 1) {  // first build, or the particle count changed
+    old_offsets_ = {};
+    old_neighbors_ = {};
+    old_history_ = {};
+    return;
+  }
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     const std::int64_t oi = perm[i];
@@ -136,6 +172,9 @@ void VerletList::carry_history(std::span<const std::int64_t> perm) {
       history_[static_cast<std::size_t>(k)] = oi < oj ? h : -h;
     }
   });
+  old_offsets_ = {};
+  old_neighbors_ = {};
+  old_history_ = {};
 }
 
 bool VerletList::needs_rebuild(const Domain& domain, const Vec3* x, std::size_t n) const {
@@ -186,7 +225,7 @@ std::size_t VerletList::bytes() const {
   return offsets_.capacity() * 8 + neighbors_.capacity() * 4 + history_.capacity() * sizeof(Vec3) +
          x_ref_.capacity() * sizeof(Vec3) + old_offsets_.capacity() * 8 +
          old_neighbors_.capacity() * 4 + old_history_.capacity() * sizeof(Vec3) +
-         perm_.capacity() * 8 + counts_.capacity() * 4 + slab_starts_.capacity() * 8;
+         perm_.capacity() * 8 + slab_starts_.capacity() * 8;
 }
 
 }  // namespace gf

@@ -77,6 +77,7 @@ class VerletList {
  private:
   void build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin,
                   bool sorted, const PairFilter& filter = {});
+  void keep_old_histories();
   void carry_history(std::span<const std::int64_t> perm);
 
   double skin_ = 0;
@@ -90,8 +91,8 @@ class VerletList {
   int n_phases_ = 1;
   CellList cells_;
   std::vector<std::int64_t> perm_;
-  std::vector<std::int32_t> counts_;
-  // The previous list, for the history transfer (kept to avoid re-allocation).
+  // During a rebuild: the pairs of the previous list that carry a history (the others have
+  // none to carry), for the history transfer; freed once it is done.
   std::vector<std::int64_t> old_offsets_;
   std::vector<std::int32_t> old_neighbors_;
   std::vector<Vec3> old_history_;

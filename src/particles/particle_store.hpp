@@ -129,8 +129,13 @@ class ParticleStore {
   std::size_t add_sphere(std::int64_t id, int material, double radius, double density,
                          const Vec3& x, const Vec3& v = {}, const Vec3& omega = {});
 
-  /// Re-orders every column: new[i] = old[order[i]].
+  /// Re-orders every column in place: new[i] = old[order[i]] (no copy of a column: the
+  /// permutation's cycles are followed, with one bit per particle of scratch).
   void permute(std::span<const std::int64_t> order);
+
+  /// Gives back the memory of unused capacity (after the particles are placed; before a
+  /// checkpoint replaces them).
+  void shrink_to_fit();
 
   /// Bytes held by all columns (capacity), for memory reports.
   std::size_t bytes() const;
@@ -139,8 +144,8 @@ class ParticleStore {
   std::size_t n_ = 0;
   std::vector<FieldInfo> info_;
   std::vector<Column> cols_;
-  std::array<Column, 5> scratch_;  ///< one reusable column per type, for permute()
-  int shape_field_ = -1;           ///< index of `shape`; the other shape fields follow it
+  std::vector<std::uint64_t> done_;  ///< permute(): one bit per particle, cycle visited
+  int shape_field_ = -1;             ///< index of `shape`; the other shape fields follow it
   std::vector<PolygonShape> polygons_;
 };
 

@@ -73,6 +73,11 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
     throw InputError(
         fmt::format("{}: checkpoint time step {} s differs from the case's time.step {} s",
                     file.string(), dt, dt_));
+  // The particles and lists built from the case file are about to be replaced: free them
+  // first, so that a restart holds one copy of the state at its peak, not two.
+  particles_.resize(0);
+  particles_.shrink_to_fit();
+  nlist_ = VerletList{};
   step_ = h.read_int_attribute("/", "step");
   skin_ = h.read_double_attribute("/", "skin");
   rng_.set_state(h.read_string_attribute("/", "rng_state"));

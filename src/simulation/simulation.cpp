@@ -219,6 +219,7 @@ void Simulation::build_particles() {
         throw InputError(fmt::format(
             "{}: the lattice has {} sites, fewer than the {} grains volume_fraction {} asks for",
             where(g.fill->loc), spheres.size(), *spec.count, *g.fill->volume_fraction));
+      particles_.reserve(particles_.size() + spheres.size());  // exact size, no growth slack
       for (const auto& s : spheres) {
         Vec3 v = g.fill->velocity;
         if (g.fill->velocity_jitter > 0)
@@ -235,6 +236,7 @@ void Simulation::build_particles() {
     }
     if (g.explicit_particles) {
       const auto& e = *g.explicit_particles;
+      particles_.reserve(particles_.size() + e.positions.size());
       for (std::size_t k = 0; k < e.positions.size(); ++k) {
         const double r = e.radii.empty() ? dist.largest() : e.radii[k];
         const Vec3 v = e.velocities.empty() ? Vec3{} : e.velocities[k];

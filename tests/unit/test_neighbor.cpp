@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
+#include <map>
+#include <numeric>
 #include <random>
 
 #include "neighbor/brute_force.hpp"
@@ -97,4 +100,92 @@ TEST(Neighbor, HistorySurvivesRebuildAndSkinCriterion) {
   EXPECT_EQ(l.neighbors()[0], 1);
   EXPECT_EQ(l.history()[0], (Vec3{1e-6, 2e-6, 0}));
   EXPECT_EQ(l.history()[1], (Vec3{}));
+}
+
+// The in-place re-ordering (cycle following) against a gathered copy, for every column type.
+TEST(Neighbor, StorePermuteInPlaceEqualsGather) {
+  ParticleStore p;
+  p.enable_shapes();  // adds Quat and int32 columns
+  const int n = 1000;
+  std::mt19937_64 g(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int i = 0; i < n; ++i)
+    p.add_sphere(100 + i, i % 3, 0.01 + 0.001 * u(g), 2500, {u(g), u(g), u(g)}, {u(g), 0, 0});
+  for (int i = 0; i < n; ++i) p.orientation()[i] = Quat{u(g), u(g), u(g), u(g)};
+  // Fixed points (0..5) and long cycles (the shuffled rest) both occur.
+  std::vector<std::int64_t> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin() + 6, order.end(), g);
+  const ParticleStore before = p;
+  p.permute(order);
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(order[static_cast<std::size_t>(i)]);
+    EXPECT_EQ(p.id()[i], before.id()[k]);
+    EXPECT_EQ(p.x()[i], before.x()[k]);
+    EXPECT_EQ(p.v()[i], before.v()[k]);
+    EXPECT_EQ(p.radius()[i], before.radius()[k]);
+    EXPECT_EQ(p.material()[i], before.material()[k]);
+    EXPECT_EQ(p.orientation()[i].w, before.orientation()[k].w);
+    EXPECT_EQ(p.orientation()[i].z, before.orientation()[k].z);
+  }
+  std::vector<std::int64_t> bad(static_cast<std::size_t>(n), 0);  // not a permutation
+  EXPECT_THROW(p.permute(bad), std::exception);
+}
+
+// Histories follow their pairs through re-ordering rebuilds: only the touching pairs' entries
+// are kept between the old and the new list (the rest carry zero), checked by particle ids.
+TEST(Neighbor, HistoryFollowsPairsThroughSortedRebuilds) {
+  Domain d{{0, 0, 0}, {0.3, 0.3, 0.3}, {true, false, true}};
+  const Cloud c = random_cloud(d, 2000, 0.004, 0.008, 11);
+  ParticleStore p;
+  for (std::size_t i = 0; i < c.x.size(); ++i)
+    p.add_sphere(static_cast<std::int64_t>(i), 0, c.r[i], 2500, c.x[i]);
+  VerletList l;
+  const double skin = 0.003;
+  l.sort_and_build(p, d, skin);
+  // Give every other entry a history (one with a negative zero component), keyed by ids.
+  std::map<std::pair<std::int64_t, std::int64_t>, Vec3> by_ids;
+  std::mt19937_64 g(3);
+  std::uniform_real_distribution<double> u(-1e-5, 1e-5);
+  for (std::size_t i = 0; i < l.n_particles(); ++i)
+    for (auto k = l.offsets()[i]; k < l.offsets()[i + 1]; ++k) {
+      if (k % 2 == 1) continue;
+      const std::int32_t j = l.neighbors()[static_cast<std::size_t>(k)];
+      const Vec3 h = k % 4 == 0 ? Vec3{u(g), u(g), u(g)} : Vec3{u(g), -0.0, 0.0};
+      l.history()[static_cast<std::size_t>(k)] = h;
+      by_ids[{p.id()[i], p.id()[j]}] = h;
+    }
+  ASSERT_GT(by_ids.size(), 500u);
+  // Move everything a little (most pairs stay, many grains change cells), then rebuild: the
+  // store is re-ordered by the new cells.
+  std::mt19937_64 gm(5);
+  std::uniform_real_distribution<double> du(-0.002, 0.002);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p.x()[i] += Vec3{du(gm), du(gm), du(gm)};
+    d.wrap(p.x()[i]);
+  }
+  const auto perm = l.sort_and_build(p, d, skin);
+  std::size_t moved = 0;
+  for (std::size_t k = 0; k < perm.size(); ++k) moved += perm[k] != static_cast<std::int64_t>(k);
+  EXPECT_GT(moved, 100u);
+  std::size_t carried = 0, zero = 0;
+  for (std::size_t i = 0; i < l.n_particles(); ++i)
+    for (auto k = l.offsets()[i]; k < l.offsets()[i + 1]; ++k) {
+      const std::int32_t j = l.neighbors()[static_cast<std::size_t>(k)];
+      const std::int64_t a = p.id()[i], b = p.id()[j];
+      const Vec3 h = l.history()[static_cast<std::size_t>(k)];
+      if (auto it = by_ids.find({a, b}); it != by_ids.end()) {
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(h.y), std::bit_cast<std::uint64_t>(it->second.y));
+        EXPECT_EQ(h, it->second);
+        ++carried;
+      } else if (auto it2 = by_ids.find({b, a}); it2 != by_ids.end()) {
+        EXPECT_EQ(h, -it2->second);
+        ++carried;
+      } else {
+        EXPECT_EQ(h, Vec3{});
+        ++zero;
+      }
+    }
+  EXPECT_GT(carried, 400u);
+  EXPECT_GT(zero, 400u);
 }
