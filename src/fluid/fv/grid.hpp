@@ -48,6 +48,34 @@ struct Grid {
     }
     return c < 0 ? 0 : (c >= n[a] ? n[a] - 1 : c);
   }
+
+  // Faces of the staggered (MAC) grid. Faces normal to axis a carry the velocity component a;
+  // along a there are n[a] + 1 of them (face i is the lower face of cell i), also on a
+  // periodic axis, where face n[a] is the image of face 0 and holds the same value.
+
+  /// Cells along each axis of the face array normal to axis a (n with n[a] + 1).
+  GF_HOST_DEVICE std::array<int, 3> face_dims(int a) const {
+    std::array<int, 3> d = n;
+    d[a] += 1;
+    return d;
+  }
+  /// Number of faces normal to axis a.
+  GF_HOST_DEVICE std::int64_t face_count(int a) const {
+    const std::array<int, 3> d = face_dims(a);
+    return static_cast<std::int64_t>(d[0]) * d[1] * d[2];
+  }
+  /// Linear index of the face normal to axis a at (i, j, k), x fastest; i, j, k count faces
+  /// along a and cells along the other axes.
+  GF_HOST_DEVICE std::int64_t face_index(int a, int i, int j, int k) const {
+    const std::array<int, 3> d = face_dims(a);
+    return (static_cast<std::int64_t>(k) * d[1] + j) * d[0] + i;
+  }
+  /// Centre of the face normal to axis a at (i, j, k) [m].
+  GF_HOST_DEVICE Vec3 face_center(int a, int i, int j, int k) const {
+    Vec3 c = cell_center(i, j, k);
+    c[a] -= 0.5 * h[a];
+    return c;
+  }
 };
 
 }  // namespace gf::fluid
