@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Fluid fraction from deposited solid volume.
+#include "coupling/cfd_dem/fluid_fraction.hpp"
+
+#include <algorithm>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/exec.hpp"
+
+namespace gf::cfd_dem {
+
+void deposit_solid_volume(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                          std::span<double> solid, DepositScratch* scratch) {
+  std::vector<double> volume(p.size());
+  exec::parallel_for(static_cast<exec::index_t>(p.size()),
+                     [&](exec::index_t i) { volume[i] = p.volume(i); });
+  deposit(g, p, scheme, std::span<const double>(volume), solid, 1.0, scratch);
+}
+
+FluidFractionStats fluid_fraction_from_solid(const fluid::Grid& g, std::span<const double> solid,
+                                             double min_fraction, std::span<double> eps) {
+  REQUIRE(min_fraction > 0.0 && min_fraction <= 1.0,
+          "fluid fraction: min_fraction = {} is outside (0, 1]", min_fraction);
+  REQUIRE(solid.size() == eps.size() && static_cast<std::int64_t>(eps.size()) == g.cell_count(),
+          "fluid fraction: {} solid and {} eps values for {} cells", solid.size(), eps.size(),
+          g.cell_count());
+  const double inv_cell = 1.0 / g.cell_volume();
+  FluidFractionStats st;
+  // Serial: one pass over cells, cheap next to the deposit, and the sums are then in cell order.
+  for (std::size_t c = 0; c < eps.size(); ++c) {
+    const double vs = solid[c];
+    const double e = 1.0 - vs * inv_cell;
+    st.solid_volume += vs;
+    st.min_unclamped = std::min(st.min_unclamped, e);
+    if (e < min_fraction) {
+      eps[c] = min_fraction;
+      ++st.n_clamped;
+    } else {
+      eps[c] = e;
+    }
+  }
+  return st;
+}
+
+FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& p,
+                                  const FluidFractionOptions& options, std::span<double> eps,
+                                  DepositScratch* scratch) {
+  REQUIRE(static_cast<std::int64_t>(eps.size()) == g.cell_count(),
+          "fluid fraction: {} values for {} cells", eps.size(), g.cell_count());
+  std::fill(eps.begin(), eps.end(), 0.0);
+  deposit_solid_volume(g, p, options.scheme, eps, scratch);
+  return fluid_fraction_from_solid(g, eps, options.min_fraction, eps);
+}
+
+}  // namespace gf::cfd_dem

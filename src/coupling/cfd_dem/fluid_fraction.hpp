@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Fluid (void) fraction per cell from the particles: eps_c = 1 - V_solid,c / V_cell, with the
+// solid volume deposited by one of the schemes of mapping.hpp (centre-in-cell, divided, or
+// trilinear). Volume is conserved before clamping: sum_c (1 - eps_c) V_cell = sum_p V_p.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "coupling/cfd_dem/mapping.hpp"
+#include "fluid/fv/grid.hpp"
+
+namespace gf::cfd_dem {
+
+struct FluidFractionOptions {
+  DepositScheme scheme = DepositScheme::Divided;
+  /// Lower bound of eps: a cell whose deposited solid volume would leave less fluid is clamped
+  /// (random close packing is eps ~ 0.36; lower values are deposition artefacts of cells not
+  /// much larger than grains, and the drag laws are not fitted there). In (0, 1].
+  double min_fraction = 0.3;
+};
+
+struct FluidFractionStats {
+  std::int64_t n_clamped = 0;  ///< cells raised to min_fraction
+  double min_unclamped = 1.0;  ///< smallest eps before clamping
+  double solid_volume = 0.0;   ///< sum over cells of the deposited solid volume, m^3
+};
+
+/// solid[c] += solid volume of the particles in cell c (m^3; adds, the caller zeroes).
+void deposit_solid_volume(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                          std::span<double> solid, DepositScratch* scratch = nullptr);
+
+/// eps[c] = max(1 - solid[c] / V_cell, min_fraction); returns the clamp count. eps may alias
+/// solid (converted in place).
+FluidFractionStats fluid_fraction_from_solid(const fluid::Grid& g, std::span<const double> solid,
+                                             double min_fraction, std::span<double> eps);
+
+/// The fluid fraction of every cell (overwrites eps, g.cell_count() entries).
+FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& p,
+                                  const FluidFractionOptions& options, std::span<double> eps,
+                                  DepositScratch* scratch = nullptr);
+
+}  // namespace gf::cfd_dem

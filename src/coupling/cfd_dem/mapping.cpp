@@ -1,0 +1,359 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Footprints of particles on the fluid grid, deterministic deposits and interpolation.
+#include "coupling/cfd_dem/mapping.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "core/error.hpp"
+#include "core/exec.hpp"
+#include "core/quaternion.hpp"
+#include "coupling/cfd_dem/shape_factors.hpp"
+#include "coupling/cfd_dem/stencil.hpp"
+#include "particles/particle_store.hpp"
+
+namespace gf::cfd_dem {
+
+namespace {
+
+constexpr int kShells = 3, kBands = 4, kSectors = 4;
+constexpr int kSpherePoints = kShells * kBands * kSectors;
+constexpr int kRings = 2, kDiskSectors = 4, kDiskPoints = kRings * kDiskSectors;
+constexpr int kDiskVariants = 8;  // slab j uses variant j % 8 (turned sectors)
+constexpr int kMaxSlabs = 64;
+constexpr double kGolden = 0.6180339887498949;  // fractional turn between neighbouring layers
+
+double frac(double v) {
+  return v - std::floor(v);
+}
+
+/// Mean over [phi0, phi1] of (cos, sin): the azimuthal part of a sector's centroid.
+Vec3 sector_mean(double phi0, double phi1) {
+  const double d = phi1 - phi0;
+  return {(std::sin(phi1) - std::sin(phi0)) / d, (std::cos(phi0) - std::cos(phi1)) / d, 0.0};
+}
+
+std::array<Vec3, kSpherePoints> make_sphere_points() {
+  std::array<Vec3, kSpherePoints> pts{};
+  // Antiderivative of sqrt(1 - mu^2): the in-plane radius of the unit sphere at height mu.
+  auto ring = [](double mu) { return 0.5 * (mu * std::sqrt(1.0 - mu * mu) + std::asin(mu)); };
+  int q = 0;
+  for (int k = 0; k < kShells; ++k) {
+    // Shells of equal volume: r^3 in [k/3, (k+1)/3]. Radial centroid: int r^3 dr / int r^2 dr.
+    const double r0 = std::cbrt(double(k) / kShells), r1 = std::cbrt(double(k + 1) / kShells);
+    const double rbar = 0.75 * (std::pow(r1, 4) - std::pow(r0, 4)) / (r1 * r1 * r1 - r0 * r0 * r0);
+    for (int b = 0; b < kBands; ++b) {
+      // Bands of equal area: mu = cos(theta) uniform in [-1, 1] (Archimedes).
+      const double mu0 = -1.0 + 2.0 * b / kBands, mu1 = -1.0 + 2.0 * (b + 1) / kBands;
+      const double zc = 0.5 * (mu0 + mu1);
+      const double sc = (ring(mu1) - ring(mu0)) / (mu1 - mu0);
+      const double off = frac((k * kBands + b) * kGolden);
+      for (int s = 0; s < kSectors; ++s) {
+        const double phi0 = 2.0 * kPi * (s + off) / kSectors;
+        const Vec3 m = sector_mean(phi0, phi0 + 2.0 * kPi / kSectors);
+        pts[q++] = rbar * Vec3{sc * m.x, sc * m.y, zc};
+      }
+    }
+  }
+  return pts;
+}
+
+using DiskSet = std::array<Vec3, kDiskPoints>;  // (x, y) on the unit disk, z = 0
+
+std::array<DiskSet, kDiskVariants> make_disk_points() {
+  std::array<DiskSet, kDiskVariants> out{};
+  for (int v = 0; v < kDiskVariants; ++v) {
+    int q = 0;
+    for (int k = 0; k < kRings; ++k) {
+      // Rings of equal area: rho^2 in [k/2, (k+1)/2]; centroid int rho^2 / int rho.
+      const double r0 = std::sqrt(double(k) / kRings), r1 = std::sqrt(double(k + 1) / kRings);
+      const double rbar = 2.0 / 3.0 * (r1 * r1 * r1 - r0 * r0 * r0) / (r1 * r1 - r0 * r0);
+      const double off = frac((v * kRings + k) * kGolden);
+      for (int s = 0; s < kDiskSectors; ++s) {
+        const double phi0 = 2.0 * kPi * (s + off) / kDiskSectors;
+        out[v][q++] = rbar * sector_mean(phi0, phi0 + 2.0 * kPi / kDiskSectors);
+      }
+    }
+  }
+  return out;
+}
+
+const std::array<Vec3, kSpherePoints>& sphere_points() {
+  static const auto pts = make_sphere_points();
+  return pts;
+}
+
+/// The set used for spheres: turned by a fixed rotation so that no two points share an x, y or
+/// z coordinate (the bands of the construction share z). Chosen by a search over rotations for
+/// the largest smallest gap between projections on the three axes: 0.0016 r (a sphere moving
+/// along an axis by less than that moves at most one point across a face).
+const std::array<Vec3, kSpherePoints>& sphere_points_turned() {
+  static const auto pts = [] {
+    auto q = sphere_points();
+    const Quat turn = quat_from_axis_angle(normalized(Vec3{1.0, 0.7, 0.759}), 0.5);
+    for (auto& v : q) v = rotate(turn, v);
+    return q;
+  }();
+  return pts;
+}
+
+/// Order in which a slab's 8 thin sub-slabs take the disk points (ring * 4 + sector): each
+/// next point on the other ring and a different sector, so that neighbours are far apart.
+constexpr int kDiskOrder[kDiskPoints] = {0, 6, 2, 4, 1, 7, 3, 5};
+const std::array<DiskSet, kDiskVariants>& disk_points() {
+  static const auto pts = make_disk_points();
+  return pts;
+}
+
+/// Orthonormal e1, e2 completing the unit vector u (Duff et al., J. Comput. Graph. Tech. 6
+/// (2017) 1: branch on the sign of u.z only, continuous elsewhere).
+void complete_basis(const Vec3& u, Vec3& e1, Vec3& e2) {
+  const double sign = std::copysign(1.0, u.z);
+  const double a = -1.0 / (sign + u.z);
+  const double b = u.x * u.y * a;
+  e1 = {1.0 + sign * u.x * u.x * a, sign * b, -sign * u.x};
+  e2 = {b, sign + u.y * u.y * a, -u.y};
+}
+
+void check_geometry(const fluid::Grid& g, const ParticleGeometry& p) {
+  const std::size_t n = p.size();
+  REQUIRE(p.radius.size() == n, "particle geometry: {} radii for {} particles", p.radius.size(), n);
+  REQUIRE(p.half_length.empty() || p.half_length.size() == n,
+          "particle geometry: {} half lengths for {} particles", p.half_length.size(), n);
+  REQUIRE(p.half_length.empty() || p.axis.size() == n,
+          "particle geometry: {} axes for {} spherocylinders", p.axis.size(), n);
+  REQUIRE(g.n[0] > 0 && g.n[1] > 0 && g.n[2] > 0 && g.h.x > 0 && g.h.y > 0 && g.h.z > 0,
+          "fluid grid: cells {}x{}x{} of size {}x{}x{} m", g.n[0], g.n[1], g.n[2], g.h.x, g.h.y,
+          g.h.z);
+  const bool bad = exec::parallel_any(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    if (!(p.radius[i] > 0.0) || !(p.half(i) >= 0.0)) return true;
+    if (p.half(i) > 0.0 && std::abs(norm2(p.axis[i]) - 1.0) > 1e-6) return true;
+    return false;
+  });
+  REQUIRE(!bad,
+          "particle geometry: a radius <= 0, a negative half length, or a spherocylinder "
+          "axis that is not a unit vector");
+}
+
+constexpr std::size_t kBlock = 8192;  // particles per footprint block (> 4096: threaded)
+constexpr std::int64_t kMinParallelShares = 1 << 15;
+
+/// Adds scale * value(p) * w_pc to out[c] for every particle, deterministically (see header).
+template <class T, class Value>
+void deposit_impl(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                  Value&& value, T* out, DepositScratch& scratch) {
+  const std::size_t n = p.size();
+  const std::int64_t n_cells = g.cell_count();
+  const int parts = std::max(1, exec::n_threads());
+  for (std::size_t start = 0; start < n; start += kBlock) {
+    const std::size_t nb = std::min(kBlock, n - start);
+    auto& off = scratch.offsets;
+    off.resize(nb + 1);
+    off[0] = 0;
+    for (std::size_t i = 0; i < nb; ++i)
+      off[i + 1] = off[i] + footprint_size(g, p, start + i, scheme);
+    scratch.shares.resize(static_cast<std::size_t>(off[nb]));
+    CellShare* shares = scratch.shares.data();
+    exec::parallel_for(static_cast<exec::index_t>(nb), [&](exec::index_t i) {
+      footprint(g, p, start + i, scheme, shares + off[i]);
+    });
+    // Each part owns a contiguous range of cells and adds, in particle order, only what falls
+    // into it: every cell sees the same sequence of additions for any number of parts. Small
+    // deposits stay on one thread (a parallel region costs more than they do).
+    const int n_parts = off[nb] < kMinParallelShares ? 1 : parts;
+    exec::parallel_for_dynamic(n_parts, [&](exec::index_t part) {
+      const std::int64_t c0 = n_cells * part / n_parts, c1 = n_cells * (part + 1) / n_parts;
+      for (std::size_t i = 0; i < nb; ++i) {
+        const T v = value(start + i);
+        for (std::int64_t s = off[i]; s < off[i + 1]; ++s) {
+          const std::int64_t c = shares[s].cell;
+          if (c >= c0 && c < c1) out[c] += shares[s].weight * v;
+        }
+      }
+    });
+  }
+}
+
+}  // namespace
+
+double ParticleGeometry::volume(std::size_t i) const {
+  return spherocylinder_volume(radius[i], 2.0 * half(i));
+}
+
+ParticleGeometry geometry_of(const ParticleStore& s, StoreGeometry& b) {
+  const std::size_t n = s.size();
+  ParticleGeometry p;
+  p.x = std::span<const Vec3>(s.x(), n);
+  if (!s.has_shapes()) {
+    p.radius = std::span<const double>(s.radius(), n);
+    return p;
+  }
+  b.radius.resize(n);
+  b.half_length.resize(n);
+  b.axis.resize(n);
+  const bool other = exec::parallel_any(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    const auto code = static_cast<ShapeCode>(s.shape()[i]);
+    return code != ShapeCode::Sphere && code != ShapeCode::Spherocylinder;
+  });
+  REQUIRE(!other,
+          "CFD-DEM coupling supports spheres and spherocylinders only (found a disk or "
+          "polygon grain)");
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    const bool rod = static_cast<ShapeCode>(s.shape()[i]) == ShapeCode::Spherocylinder;
+    const double h = rod ? s.half_length()[i] : 0.0;
+    b.half_length[i] = h;
+    b.radius[i] = s.radius()[i] - h;  // the store keeps the bounding radius r + l/2
+    b.axis[i] = rotate(s.orientation()[i], Vec3{0, 0, 1});
+  });
+  p.radius = b.radius;
+  p.half_length = b.half_length;
+  p.axis = b.axis;
+  return p;
+}
+
+std::span<const Vec3> sphere_sample_points() {
+  return sphere_points();
+}
+
+int cylinder_slabs(double r, double half_length) {
+  if (!(half_length > 0.0)) return 0;
+  const double n = std::ceil(2.0 * half_length / r);
+  return n < 1 ? 1 : (n > kMaxSlabs ? kMaxSlabs : static_cast<int>(n));
+}
+
+int footprint_size(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i,
+                   DepositScheme scheme) {
+  switch (scheme) {
+    case DepositScheme::CentreInCell:
+      return 1;
+    case DepositScheme::Trilinear:
+      return g.dimension == 2 ? 4 : 8;
+    case DepositScheme::Divided:
+      return kSpherePoints + kDiskPoints * cylinder_slabs(p.radius[i], p.half(i));
+  }
+  return 0;
+}
+
+void footprint(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i, DepositScheme scheme,
+               CellShare* out) {
+  const Vec3 c = p.x[i];
+  if (scheme == DepositScheme::CentreInCell) {
+    out[0] = {cell_containing(g, c), 1.0};
+    return;
+  }
+  if (scheme == DepositScheme::Trilinear) {
+    const CellStencil s = trilinear_stencil(g, c);
+    for (int q = 0; q < s.n; ++q) out[q] = {s.cell[q], s.weight[q]};
+    return;
+  }
+  const double r = p.radius[i], h = p.half(i);
+  const int n_slabs = cylinder_slabs(r, h);
+  if (n_slabs == 0) {  // a sphere: the turned set in the world frame
+    const double w = 1.0 / kSpherePoints;
+    int q = 0;
+    for (const Vec3& s : sphere_points_turned()) out[q++] = {cell_containing(g, c + r * s), w};
+    return;
+  }
+  Vec3 e1, e2;
+  const Vec3 u = p.axis[i];
+  complete_basis(u, e1, e2);
+  // Shares of the volume: the caps make one sphere, the cylinder pi r^2 l.
+  const double v_sphere = 4.0 / 3.0 * kPi * r * r * r, v_cyl = kPi * r * r * 2.0 * h;
+  const double v_total = v_sphere + v_cyl;
+  const double w_sphere = v_sphere / kSpherePoints / v_total;
+  int q = 0;
+  for (const Vec3& s : sphere_points()) {   // in the rod's frame: bands split at the equator
+    const double shift = s.z > 0 ? h : -h;  // the upper half of the set goes to the upper cap
+    const Vec3 x = c + (r * s.x) * e1 + (r * s.y) * e2 + (r * s.z + shift) * u;
+    out[q++] = {cell_containing(g, x), w_sphere};
+  }
+  const double w_cyl = v_cyl / (n_slabs * kDiskPoints) / v_total;
+  // Slab j is cut into 8 thin sub-slabs along the axis, one point each at the sub-slab's
+  // mid-plane and at one of the 8 cross-section centroids: every point has its own axial
+  // position (a rod moving along its axis moves one point at a time across a face) and each
+  // slab still samples the whole cross-section.
+  const double dz = 2.0 * h / (n_slabs * kDiskPoints);
+  for (int j = 0; j < n_slabs; ++j) {
+    const DiskSet& disk = disk_points()[j % kDiskVariants];
+    for (int m = 0; m < kDiskPoints; ++m) {
+      const Vec3& d = disk[kDiskOrder[m]];
+      const double z = -h + (j * kDiskPoints + m + 0.5) * dz;
+      const Vec3 x = c + (r * d.x) * e1 + (r * d.y) * e2 + z * u;
+      out[q++] = {cell_containing(g, x), w_cyl};
+    }
+  }
+}
+
+void deposit(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+             std::span<const double> value, std::span<double> per_cell, double scale,
+             DepositScratch* scratch) {
+  check_geometry(g, p);
+  REQUIRE(value.size() == p.size(), "deposit: {} values for {} particles", value.size(), p.size());
+  REQUIRE(static_cast<std::int64_t>(per_cell.size()) == g.cell_count(),
+          "deposit: {} cell values for {} cells", per_cell.size(), g.cell_count());
+  DepositScratch local;
+  deposit_impl<double>(
+      g, p, scheme, [&](std::size_t i) { return scale * value[i]; }, per_cell.data(),
+      scratch ? *scratch : local);
+}
+
+void deposit(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+             std::span<const Vec3> value, std::span<Vec3> per_cell, double scale,
+             DepositScratch* scratch) {
+  check_geometry(g, p);
+  REQUIRE(value.size() == p.size(), "deposit: {} values for {} particles", value.size(), p.size());
+  REQUIRE(static_cast<std::int64_t>(per_cell.size()) == g.cell_count(),
+          "deposit: {} cell values for {} cells", per_cell.size(), g.cell_count());
+  DepositScratch local;
+  deposit_impl<Vec3>(
+      g, p, scheme, [&](std::size_t i) { return scale * value[i]; }, per_cell.data(),
+      scratch ? *scratch : local);
+}
+
+void deposit_reaction_forces(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                             std::span<const Vec3> force, std::span<Vec3> cell_force,
+                             DepositScratch* scratch) {
+  deposit(g, p, scheme, force, cell_force, -1.0, scratch);
+}
+
+void drag_exchange_source(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                          std::span<const double> beta, std::span<const Vec3> v,
+                          std::span<Vec3> s_explicit, std::span<double> k,
+                          DepositScratch* scratch) {
+  REQUIRE(v.size() == p.size() && beta.size() == p.size(),
+          "drag exchange: {} velocities and {} beta for {} particles", v.size(), beta.size(),
+          p.size());
+  REQUIRE(static_cast<std::int64_t>(s_explicit.size()) == g.cell_count(),
+          "drag exchange: {} source values for {} cells", s_explicit.size(), g.cell_count());
+  std::fill(s_explicit.begin(), s_explicit.end(), Vec3{});
+  std::fill(k.begin(), k.end(), 0.0);
+  const double inv_cell = 1.0 / g.cell_volume();
+  deposit(g, p, scheme, beta, k, inv_cell, scratch);  // checks the geometry and k's size
+  DepositScratch local;
+  deposit_impl<Vec3>(
+      g, p, scheme, [&](std::size_t i) { return (inv_cell * beta[i]) * v[i]; }, s_explicit.data(),
+      scratch ? *scratch : local);
+}
+
+void interpolate_to_points(const fluid::Grid& g, std::span<const double> field,
+                           std::span<const Vec3> x, std::span<double> out) {
+  REQUIRE(static_cast<std::int64_t>(field.size()) == g.cell_count(),
+          "interpolate: {} cell values for {} cells", field.size(), g.cell_count());
+  REQUIRE(out.size() == x.size(), "interpolate: {} outputs for {} points", out.size(), x.size());
+  exec::parallel_for(static_cast<exec::index_t>(x.size()), [&](exec::index_t i) {
+    out[i] = interpolate(trilinear_stencil(g, x[i]), field.data());
+  });
+}
+
+void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> field,
+                           std::span<const Vec3> x, std::span<Vec3> out) {
+  REQUIRE(static_cast<std::int64_t>(field.size()) == g.cell_count(),
+          "interpolate: {} cell values for {} cells", field.size(), g.cell_count());
+  REQUIRE(out.size() == x.size(), "interpolate: {} outputs for {} points", out.size(), x.size());
+  exec::parallel_for(static_cast<exec::index_t>(x.size()), [&](exec::index_t i) {
+    out[i] = interpolate(trilinear_stencil(g, x[i]), field.data());
+  });
+}
+
+}  // namespace gf::cfd_dem

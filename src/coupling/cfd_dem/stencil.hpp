@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Point <-> cell weights on the fluid grid: the cell containing a point, and the trilinear
+// (2D: bilinear) stencil between cell centres used both to interpolate cell-centred fields to a
+// point and, with the same weights, to deposit a particle's force back onto the cells (so the
+// two operations are adjoint and the deposit conserves momentum exactly).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "core/host_device.hpp"
+#include "core/vec3.hpp"
+#include "fluid/fv/grid.hpp"
+
+namespace gf::cfd_dem {
+
+/// Linear index of the cell containing x. Periodic axes wrap; along a wall axis a point outside
+/// the box belongs to the nearest boundary cell (nothing deposited there is lost). 2D grids have
+/// one layer: z is ignored.
+GF_HOST_DEVICE inline std::int64_t cell_containing(const fluid::Grid& g, const Vec3& x) {
+  const int i = g.fold(0, g.cell_of(0, x.x));
+  const int j = g.fold(1, g.cell_of(1, x.y));
+  const int k = g.dimension == 2 ? 0 : g.fold(2, g.cell_of(2, x.z));
+  return g.index(i, j, k);
+}
+
+/// Up to 8 cells and weights (sum 1) of the trilinear stencil between cell centres.
+struct CellStencil {
+  std::int64_t cell[8];
+  double weight[8];
+  int n = 0;
+};
+
+namespace detail {
+
+/// The two cells (lo, hi) and the weight t of hi along axis a for coordinate c. Periodic: wrap.
+/// Wall: beyond the outermost centres the stencil clamps to the boundary cell (constant
+/// extrapolation), so values are bounded and deposits stay inside. One cell: (0, 0, t = 0).
+GF_HOST_DEVICE inline void axis_stencil(const fluid::Grid& g, int a, double c, int& lo, int& hi,
+                                        double& t) {
+  const int n = g.n[a];
+  const double s = (c - g.lo[a]) / g.h[a] - 0.5;  // position in units of cells from centre 0
+  if (n == 1) {
+    lo = hi = 0;
+    t = 0.0;
+    return;
+  }
+  if (g.periodic[a]) {
+    const double f = std::floor(s);
+    t = s - f;
+    const int i = static_cast<int>(f);
+    lo = g.fold(a, i);
+    hi = g.fold(a, i + 1);
+    return;
+  }
+  if (s <= 0.0) {
+    lo = 0, hi = 1, t = 0.0;
+  } else if (s >= n - 1) {
+    lo = n - 2, hi = n - 1, t = 1.0;
+  } else {
+    const double f = std::floor(s);
+    lo = static_cast<int>(f);
+    hi = lo + 1;
+    t = s - f;
+  }
+}
+
+}  // namespace detail
+
+/// Trilinear stencil of point x (bilinear on 2D grids).
+GF_HOST_DEVICE inline CellStencil trilinear_stencil(const fluid::Grid& g, const Vec3& x) {
+  int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  double t[3] = {0, 0, 0};
+  const int dims = g.dimension == 2 ? 2 : 3;
+  for (int a = 0; a < dims; ++a) detail::axis_stencil(g, a, x[a], lo[a], hi[a], t[a]);
+  CellStencil s;
+  const int nk = dims == 3 ? 2 : 1;
+  for (int c = 0; c < nk; ++c) {
+    const int k = c ? hi[2] : lo[2];
+    const double wk = dims == 3 ? (c ? t[2] : 1.0 - t[2]) : 1.0;
+    for (int b = 0; b < 2; ++b) {
+      const int j = b ? hi[1] : lo[1];
+      const double wj = b ? t[1] : 1.0 - t[1];
+      for (int d = 0; d < 2; ++d) {
+        const int i = d ? hi[0] : lo[0];
+        const double wi = d ? t[0] : 1.0 - t[0];
+        s.cell[s.n] = g.index(i, j, k);
+        s.weight[s.n] = wi * wj * wk;
+        ++s.n;
+      }
+    }
+  }
+  return s;
+}
+
+/// Value of a cell-centred scalar field at the stencil's point.
+GF_HOST_DEVICE inline double interpolate(const CellStencil& s, const double* field) {
+  double v = 0;
+  for (int q = 0; q < s.n; ++q) v += s.weight[q] * field[s.cell[q]];
+  return v;
+}
+
+/// Value of a cell-centred vector field at the stencil's point.
+GF_HOST_DEVICE inline Vec3 interpolate(const CellStencil& s, const Vec3* field) {
+  Vec3 v{};
+  for (int q = 0; q < s.n; ++q) v += s.weight[q] * field[s.cell[q]];
+  return v;
+}
+
+}  // namespace gf::cfd_dem
