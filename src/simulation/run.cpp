@@ -78,9 +78,10 @@ RunSummary Simulation::run(const RunOptions& opts) {
   const std::int64_t series_every = every_steps(out.series.every, dt_);
   const std::int64_t ckpt_every = every_steps(out.checkpoint.every, dt_);
 
-  std::unique_ptr<io::PvdSeries> pvd_particles, pvd_walls, pvd_polygons;
+  std::unique_ptr<io::PvdSeries> pvd_particles, pvd_walls, pvd_polygons, pvd_fluid;
   if (vtk_every > 0) {
     pvd_particles = std::make_unique<io::PvdSeries>(dir / "particles.pvd");
+    if (cfd_) pvd_fluid = std::make_unique<io::PvdSeries>(dir / "fluid.pvd");
     if (!walls_.empty()) pvd_walls = std::make_unique<io::PvdSeries>(dir / "walls.pvd");
     if (io::count_polygon_grains(particles_) > 0)
       pvd_polygons = std::make_unique<io::PvdSeries>(dir / "polygons.pvd");
@@ -107,6 +108,11 @@ RunSummary Simulation::run(const RunOptions& opts) {
         const std::string polyf = fmt::format("polygons_{:09d}.vtp", step_);
         io::write_polygons_vtp(dir / polyf, particles_);
         pvd_polygons->add(t, polyf);
+      }
+      if (pvd_fluid) {
+        const std::string ff = fmt::format("fluid_{:09d}.vti", step_);
+        write_atomically(dir / ff, [&](std::ostream& o) { cfd_->write_vti(o); });
+        pvd_fluid->add(t, ff);
       }
       if (pvd_walls) {
         std::vector<SurfaceMesh> meshes;
@@ -140,7 +146,10 @@ RunSummary Simulation::run(const RunOptions& opts) {
 
   Progress progress(time(), static_cast<double>(last) * dt_, stderr, 5.0);
   const auto t_start = StageTimers::clock::now();
-  const double loop_before = timers_.loop_seconds() - timers_.seconds(Stage::Output);
+  // The fluid's time is its own stage, "fluid" (kept by the coupling).
+  auto fluid_seconds = [this] { return cfd_ ? cfd_->seconds() : 0.0; };
+  const double loop_before =
+      timers_.loop_seconds() - timers_.seconds(Stage::Output) + fluid_seconds();
   while (step_ < last) {
     const bool sample = rheology && rheology->due(step_ + 1);
     collect_virial(sample);
@@ -168,7 +177,8 @@ RunSummary Simulation::run(const RunOptions& opts) {
     save_checkpoint(dir / "checkpoint_final.h5");
   }
   const double wall = std::chrono::duration<double>(StageTimers::clock::now() - t_start).count();
-  const double loop = timers_.loop_seconds() - timers_.seconds(Stage::Output) - loop_before;
+  const double loop =
+      timers_.loop_seconds() - timers_.seconds(Stage::Output) + fluid_seconds() - loop_before;
 
   RunSummary s;
   s.n_particles = static_cast<std::int64_t>(particles_.size());
@@ -182,6 +192,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
     const auto st = static_cast<Stage>(k);
     stages += fmt::format("{}\"{}\": {:.6f}", k ? ", " : "", stage_names[k], timers_.seconds(st));
   }
+  if (cfd_) stages += fmt::format(", \"fluid\": {:.6f}", cfd_->seconds());
   write_atomically(dir / "summary.json", [&](std::ostream& o) {
     o << fmt::format(
         "{{\n  \"program\": \"grainflow {}\",\n  \"n_particles\": {},\n  \"steps\": {},\n  "
@@ -195,12 +206,15 @@ RunSummary Simulation::run(const RunOptions& opts) {
 
   log::info("timing summary ({} steps, {} thread{}):", steps, exec::n_threads(),
             exec::n_threads() > 1 ? "s" : "");
-  const double total = timers_.loop_seconds();
+  const double total = timers_.loop_seconds() + fluid_seconds();
   for (int k = 0; k < static_cast<int>(Stage::Setup); ++k) {
     const double sec = timers_.seconds(static_cast<Stage>(k));
     log::info("  {:<10} {:10.3f} s  {:5.1f} %", stage_names[k], sec,
               total > 0 ? 100 * sec / total : 0.0);
   }
+  if (cfd_)
+    log::info("  {:<10} {:10.3f} s  {:5.1f} %", "fluid", cfd_->seconds(),
+              total > 0 ? 100 * cfd_->seconds() / total : 0.0);
   log::info(
       "  {:<10} {:10.3f} s  ({:.3g} particle-steps/s without output, {} neighbour builds, peak "
       "memory {:.1f} MiB)",

@@ -152,6 +152,12 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   for (auto& w : walls_) w.update_geometry(t0);
   RigidBodies::init_angular_momentum(particles_);
   if (gear_) Gear5Integrator::enable(particles_);
+  if (cfg.fluid && cfg.coupling) {
+    // The first fluid step (over the first `interval` DEM steps) from the initial grains; its
+    // drag then acts from the first force evaluation on (docs/models/cfd_dem.md).
+    cfd_ = std::make_unique<CfdDemCoupling>(cfg, particles_, dt_);
+    cfd_->fluid_step(particles_);
+  }
   update_neighbors(true);
   compute_forces();
   if (gear_) Gear5Integrator::start(particles_);
@@ -510,8 +516,13 @@ void Simulation::compute_forces() {
       for (const auto& w : virial_rows_) virial_sum_ = virial_sum_ + w;
     }
   }
-  StageTimers::Scope timer(timers_, Stage::Walls);
-  n_wall_contacts_ = compute_wall_forces(particles_, walls_, wlist_, pairs_, time(), dt_);
+  {
+    StageTimers::Scope timer(timers_, Stage::Walls);
+    n_wall_contacts_ = compute_wall_forces(particles_, walls_, wlist_, pairs_, time(), dt_);
+  }
+  // Drag with the grains' current velocities and the pressure-gradient force (timed by the
+  // coupling: its "fluid" time).
+  if (cfd_) cfd_->add_forces(particles_);
 }
 
 void Simulation::step() {
@@ -531,13 +542,18 @@ void Simulation::step() {
   update_neighbors(false);
   compute_forces();
   update_servos();
-  StageTimers::Scope timer(timers_, Stage::Integrate);
-  if (gear_) {
-    Gear5Integrator::correct(particles_, domain_, dt_);
-  } else {
-    VelocityVerlet::post_force(particles_, dt_);
-    RigidBodies::post_force(particles_, dt_);
+  {
+    StageTimers::Scope timer(timers_, Stage::Integrate);
+    if (gear_) {
+      Gear5Integrator::correct(particles_, domain_, dt_);
+    } else {
+      VelocityVerlet::post_force(particles_, dt_);
+      RigidBodies::post_force(particles_, dt_);
+    }
   }
+  // The next fluid step, from the grains at the end of this step (the fluid leads the DEM by
+  // one interval: explicit sub-cycling, docs/models/cfd_dem.md).
+  if (cfd_ && cfd_->due(step_)) cfd_->fluid_step(particles_);
 }
 
 analysis::RheologySample Simulation::rheology_sample() const {
@@ -647,6 +663,14 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       row.push_back(static_cast<double>(n_wall_contacts_));
     } else if (name == "coordination_number") {
       row.push_back(analysis::coordination_number(n_contacts_, particles_.size()));
+    } else if (cfd_ && name == "fluid_pressure_drop") {
+      row.push_back(cfd_->pressure_drop());
+    } else if (cfd_ && name == "superficial_velocity") {
+      row.push_back(cfd_->superficial_velocity());
+    } else if (cfd_ && name == "fluid_kinetic_energy") {
+      row.push_back(cfd_->fluid().kinetic_energy());
+    } else if (cfd_ && name == "min_fluid_fraction") {
+      row.push_back(cfd_->min_fluid_fraction());
     } else {
       throw InputError(fmt::format("unknown series quantity '{}'", name));
     }

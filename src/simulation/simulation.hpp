@@ -19,6 +19,7 @@
 #include "neighbor/verlet_list.hpp"
 #include "particles/material.hpp"
 #include "particles/particle_store.hpp"
+#include "simulation/cfd_dem_coupling.hpp"
 
 namespace gf {
 
@@ -72,6 +73,8 @@ class Simulation {
   const VerletList& neighbor_list() const { return nlist_; }
   const StageTimers& timers() const { return timers_; }
   const config::Case& config() const { return cfg_; }
+  /// The CFD-DEM fluid and its coupling (cases with fluid: and coupling:), else nullptr.
+  const CfdDemCoupling* cfd_dem() const { return cfd_.get(); }
 
   /// Total energy (kinetic + gravitational + elastic in contacts), J.
   double total_energy() const;
@@ -127,6 +130,7 @@ class Simulation {
   bool collect_virial_ = false;
   std::vector<Mat3> virial_rows_;  ///< per row of the force loop (no races), summed in order
   Mat3 virial_sum_;
+  std::unique_ptr<CfdDemCoupling> cfd_;  ///< unresolved CFD-DEM (optional)
 };
 
 }  // namespace gf

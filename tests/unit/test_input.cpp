@@ -1210,3 +1210,120 @@ TEST(InputShear, CommandLineOverrides) {
   EXPECT_THROW(input::load_case(file, {input::parse_override("particles[3].radius=1")}),
                InputError);
 }
+
+// ---------------------------------------------------------------------------------------------
+// CFD-DEM: the fluid: and coupling: blocks
+
+namespace {
+
+/// minimal_case (header lines 1-9) made periodic along x and y, plus `blocks`.
+std::string cfd_case(const std::string& blocks) {
+  std::string text = minimal_case;
+  const std::string box = "max: [0.1, 0.1, 0.1]}";
+  text.replace(text.find(box), box.size(), "max: [0.1, 0.1, 0.1], periodic: [true, true, false]}");
+  return text + blocks;
+}
+
+const std::string good_fluid = R"(fluid:
+  density: 1000
+  viscosity: 1.0e-3
+  cells: [4, 4, 8]
+  boundary: {zmin: {velocity_inlet: [0, 0, 0.01]}, zmax: {pressure_outlet: 0}}
+coupling: {drag: gidaspow}
+)";
+
+}  // namespace
+
+TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
+  const auto c = input::load_case_text(cfd_case(good_fluid), "t.yaml");
+  ASSERT_TRUE(c.fluid && c.coupling);
+  EXPECT_EQ(c.fluid->density, 1000);
+  EXPECT_EQ(c.fluid->viscosity, 1e-3);
+  EXPECT_EQ(c.fluid->cells, (std::array<int, 3>{4, 4, 8}));
+  using K = config::FluidBoundary::Kind;
+  // Faces not given: periodic on the periodic axes x and y.
+  EXPECT_EQ(c.fluid->boundary[0].kind, K::Periodic);
+  EXPECT_EQ(c.fluid->boundary[3].kind, K::Periodic);
+  EXPECT_EQ(c.fluid->boundary[4].kind, K::VelocityInlet);
+  EXPECT_EQ(c.fluid->boundary[4].velocity, (Vec3{0, 0, 0.01}));
+  EXPECT_EQ(c.fluid->boundary[5].kind, K::PressureOutlet);
+  EXPECT_EQ(c.fluid->convection, "van_leer");
+  EXPECT_EQ(c.coupling->drag, "gidaspow");
+  EXPECT_EQ(c.coupling->fluid_fraction, "divided");
+  EXPECT_EQ(c.coupling->interval, 100);
+  EXPECT_EQ(c.coupling->min_fraction, 0.3);
+  const auto report = input::validate(c);
+  // Smallest cell 0.1 m / 8 along z over the grain diameter 0.01 m.
+  EXPECT_NEAR(leading_number(derived(report, "cell size / particle diameter")), 1.25, 1e-9);
+  EXPECT_FALSE(derived(report, "particle Reynolds number").empty());
+  EXPECT_NEAR(leading_number(derived(report, "fluid time step")), 1e-3, 1e-15);
+  // 1.25 < 3: warned.
+  bool warned = false;
+  for (const auto& w : report.warnings)
+    warned |= w.find("particle diameters wide") != std::string::npos;
+  EXPECT_TRUE(warned);
+
+  TempDir dir;
+  const auto again = input::load_case(dir.write("echo.yaml", input::echo_yaml(c, "9.9.9")));
+  ASSERT_TRUE(again.fluid && again.coupling);
+  EXPECT_EQ(again.fluid->cells, c.fluid->cells);
+  for (int f = 0; f < 6; ++f) {
+    EXPECT_EQ(again.fluid->boundary[f].kind, c.fluid->boundary[f].kind) << f;
+    EXPECT_EQ(again.fluid->boundary[f].velocity, c.fluid->boundary[f].velocity) << f;
+  }
+  EXPECT_EQ(again.coupling->drag, c.coupling->drag);
+  EXPECT_EQ(again.coupling->interval, c.coupling->interval);
+  EXPECT_EQ(again.coupling->min_fraction, c.coupling->min_fraction);
+}
+
+TEST(InputCfdDem, UnknownDragLawListsTheKeys) {
+  std::string blocks = good_fluid;
+  blocks.replace(blocks.find("gidaspow"), 8, "gidaspw");
+  const std::string message = error_of(cfd_case(blocks));
+  // The coupling line is line 16 of the case (10 lines of minimal_case + 5 of fluid).
+  EXPECT_NE(message.find("t.yaml:16:"), std::string::npos) << message;
+  EXPECT_NE(message.find("coupling.drag"), std::string::npos) << message;
+  EXPECT_NE(message.find("did you mean 'gidaspow'"), std::string::npos) << message;
+  EXPECT_NE(message.find("schiller_naumann, di_felice"), std::string::npos) << message;
+}
+
+TEST(InputCfdDem, PeriodicFacesMustMatchTheDomain) {
+  std::string blocks = good_fluid;
+  blocks.replace(blocks.find("zmax: {pressure_outlet: 0}"), 26, "zmax: periodic");
+  std::string message = error_of(cfd_case(blocks));
+  EXPECT_NE(message.find("t.yaml:15:"), std::string::npos) << message;
+  EXPECT_NE(message.find("fluid.boundary.zmax"), std::string::npos) << message;
+  EXPECT_NE(message.find("not periodic along z"), std::string::npos) << message;
+
+  blocks = good_fluid;
+  blocks.replace(blocks.find("{zmin:"), 6, "{xmin: no_slip, zmin:");
+  message = error_of(cfd_case(blocks));
+  EXPECT_NE(message.find("fluid.boundary.xmin"), std::string::npos) << message;
+  EXPECT_NE(message.find("must be periodic too"), std::string::npos) << message;
+}
+
+TEST(InputCfdDem, BlocksNeedEachOtherAndValidValues) {
+  const std::string fluid_only = good_fluid.substr(0, good_fluid.find("coupling:"));
+  std::string message = error_of(cfd_case(fluid_only));
+  EXPECT_NE(message.find("t.yaml:11:"), std::string::npos) << message;
+  EXPECT_NE(message.find("needs a coupling: block"), std::string::npos) << message;
+
+  message = error_of(cfd_case("coupling: {drag: di_felice}\n"));
+  EXPECT_NE(message.find("t.yaml:11:"), std::string::npos) << message;
+  EXPECT_NE(message.find("needs a fluid: block"), std::string::npos) << message;
+
+  std::string blocks = good_fluid;
+  blocks.replace(blocks.find("{drag: gidaspow}"), 16, "{drag: gidaspow, interval: 0}");
+  message = error_of(cfd_case(blocks));
+  EXPECT_NE(message.find("coupling.interval"), std::string::npos) << message;
+
+  blocks = good_fluid;
+  blocks.replace(blocks.find("[4, 4, 8]"), 9, "[4, 4]");
+  message = error_of(cfd_case(blocks));
+  EXPECT_NE(message.find("t.yaml:14:"), std::string::npos) << message;
+  EXPECT_NE(message.find("fluid.cells"), std::string::npos) << message;
+
+  message = error_of(minimal_case +
+                     "output: {series: {every: 0.01, quantities: [fluid_pressure_drop]}}\n");
+  EXPECT_NE(message.find("needs a fluid: block"), std::string::npos) << message;
+}

@@ -232,6 +232,38 @@ struct Sweep {
   SourceLoc loc;
 };
 
+/// Condition on one face of the fluid grid's box (fluid.boundary.xmin ...).
+struct FluidBoundary {
+  enum class Kind { Periodic, NoSlip, MovingWall, VelocityInlet, PressureOutlet };
+  Kind kind = Kind::NoSlip;
+  Vec3 velocity;        ///< moving_wall: wall velocity; velocity_inlet: superficial velocity, m/s
+  double pressure = 0;  ///< pressure_outlet: static pressure, Pa
+  bool given = false;   ///< written in the case (else the default: periodic or no_slip)
+};
+
+/// The interstitial fluid of unresolved CFD-DEM (src/fluid/fv): a uniform Cartesian grid over
+/// the DEM domain box.
+struct Fluid {
+  double density = 0;    ///< kg/m^3
+  double viscosity = 0;  ///< dynamic, Pa s
+  std::array<int, 3> cells{1, 1, 1};
+  /// Indexed like gf::fluid::box_face_index: xmin, xmax, ymin, ymax, zmin, zmax. Faces not given
+  /// are periodic on periodic axes of the domain, no_slip otherwise.
+  std::array<FluidBoundary, 6> boundary{};
+  Vec3 initial_velocity;                ///< m/s
+  std::string convection = "van_leer";  ///< van_leer | central
+  SourceLoc loc;
+};
+
+/// Particle-fluid coupling (docs/models/cfd_dem.md).
+struct Coupling {
+  std::string drag;                        ///< drag registry key (coupling/cfd_dem/drag_registry)
+  std::string fluid_fraction = "divided";  ///< centre | divided
+  int interval = 100;                      ///< DEM steps per fluid step
+  double min_fraction = 0.3;               ///< lower clamp of the fluid fraction
+  SourceLoc loc;
+};
+
 struct OutputEvery {
   double every = 0;  ///< s; 0 = disabled
 };
@@ -264,6 +296,8 @@ struct Case {
   std::optional<Shear> shear;
   Analysis analysis;
   std::optional<Sweep> sweep;
+  std::optional<Fluid> fluid;
+  std::optional<Coupling> coupling;
 };
 
 }  // namespace gf::config

@@ -415,6 +415,56 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     out << YAML::EndMap;
   }
 
+  if (c.fluid) {
+    const auto& f = *c.fluid;
+    out << YAML::Key << "fluid" << YAML::Value << YAML::BeginMap;
+    key_number(out, "density", f.density);
+    key_number(out, "viscosity", f.viscosity);
+    out << YAML::Key << "cells" << YAML::Value << YAML::Flow << YAML::BeginSeq << f.cells[0]
+        << f.cells[1] << f.cells[2] << YAML::EndSeq;
+    out << YAML::Key << "boundary" << YAML::Value << YAML::BeginMap;
+    static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+    for (int face = 0; face < 6; ++face) {
+      const auto& b = f.boundary[static_cast<std::size_t>(face)];
+      out << YAML::Key << faces[face] << YAML::Value;
+      using K = config::FluidBoundary::Kind;
+      switch (b.kind) {
+        case K::Periodic:
+          out << "periodic";
+          break;
+        case K::NoSlip:
+          out << "no_slip";
+          break;
+        case K::MovingWall:
+        case K::VelocityInlet:
+          out << YAML::Flow << YAML::BeginMap;
+          key_vec(out, b.kind == K::MovingWall ? "moving_wall" : "velocity_inlet", b.velocity,
+                  c.dimension);
+          out << YAML::EndMap;
+          break;
+        case K::PressureOutlet:
+          out << YAML::Flow << YAML::BeginMap;
+          key_number(out, "pressure_outlet", b.pressure);
+          out << YAML::EndMap;
+          break;
+      }
+      if (!b.given) out << YAML::Comment("default");
+    }
+    out << YAML::EndMap;
+    key_vec(out, "initial_velocity", f.initial_velocity, c.dimension);
+    out << YAML::Key << "convection" << YAML::Value << f.convection;
+    out << YAML::EndMap;
+  }
+  if (c.coupling) {
+    const auto& cp = *c.coupling;
+    out << YAML::Key << "coupling" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "drag" << YAML::Value << cp.drag;
+    out << YAML::Key << "fluid_fraction" << YAML::Value << cp.fluid_fraction;
+    out << YAML::Key << "interval" << YAML::Value << cp.interval;
+    key_number(out, "min_fraction", cp.min_fraction);
+    out << YAML::EndMap << YAML::Comment("fluid dt = interval x time.step");
+  }
+
   out << YAML::Key << "output" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "directory" << YAML::Value << c.output.directory.string();
   emit_every(out, "vtk", c.output.vtk);

@@ -15,6 +15,7 @@
 
 #include "contact/registry.hpp"
 #include "core/error.hpp"
+#include "coupling/cfd_dem/drag_registry.hpp"
 #include "io/input/validate.hpp"
 #include "io/input/yaml_reader.hpp"
 #include "particles/shapes.hpp"
@@ -118,6 +119,8 @@ struct Reader {
   void read_shear(const YamlMap& root);
   void read_analysis(const YamlMap& root);
   void read_sweep(const YamlMap& root);
+  void read_fluid(const YamlMap& root);
+  void read_coupling(const YamlMap& root);
   void check_pairs() const;
 };
 
@@ -279,6 +282,112 @@ void Reader::read_sweep(const YamlMap& root) {
     sn->fail("a sweep needs a list volume_fraction: [...] or shear_rate: [...] (or both)");
   if (auto pn = sm.find("processes")) sw.processes = static_cast<int>(pn->as_integer({1, 1024}));
   c.sweep = std::move(sw);
+}
+
+void Reader::read_fluid(const YamlMap& root) {
+  auto fn = root.find("fluid");
+  if (!fn) return;
+  YamlMap fm(*fn, {"density", "viscosity", "cells", "boundary", "initial_velocity", "convection"});
+  config::Fluid f;
+  f.loc = fn->key_loc();  // the `fluid:` line, for errors about the block as a whole
+  // The coupling maps spheres and spherocylinders onto a 3D grid; 2D grains (disks, polygons)
+  // have no solid volume per cell yet (docs/models/cfd_dem.md).
+  if (two_d()) fn->fail("the CFD-DEM fluid is available in 3D cases only");
+  f.density = fm.number("density", Range::positive());
+  f.viscosity = fm.number("viscosity", Range::positive());
+  const YamlNode cn = fm.at("cells");
+  if (!cn.is_list() || cn.raw().size() != 3)
+    cn.fail_expected("a list of 3 cell counts [nx, ny, nz]");
+  const auto items = cn.as_list();
+  for (int k = 0; k < 3; ++k) f.cells[k] = static_cast<int>(items[k].as_integer({1, 4096}));
+  const double cells = static_cast<double>(f.cells[0]) * f.cells[1] * f.cells[2];
+  if (cells > 2.0e7)
+    cn.fail_expected(fmt::format("at most 2e7 cells in all, found {}", number_text(cells)));
+  const auto& per = c.domain.periodic;
+  static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+  for (int face = 0; face < 6; ++face)
+    if (per[face / 2]) f.boundary[face].kind = config::FluidBoundary::Kind::Periodic;
+  if (auto bn = fm.find("boundary")) {
+    YamlMap bm(*bn, {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"});
+    for (int face = 0; face < 6; ++face) {
+      auto v = bm.find(faces[face]);
+      if (!v) continue;
+      config::FluidBoundary b;
+      b.given = true;
+      if (v->is_scalar()) {
+        b.kind = v->as_choice({"periodic", "no_slip"}) == "periodic"
+                     ? config::FluidBoundary::Kind::Periodic
+                     : config::FluidBoundary::Kind::NoSlip;
+      } else {
+        if (!v->is_map())
+          v->fail_expected(
+              "periodic, no_slip, {moving_wall: [vx, vy, vz]}, {velocity_inlet: [vx, vy, vz]} or "
+              "{pressure_outlet: p}");
+        YamlMap m(*v, {"moving_wall", "velocity_inlet", "pressure_outlet"});
+        const std::string kind =
+            m.exactly_one_of({"moving_wall", "velocity_inlet", "pressure_outlet"});
+        if (kind == "pressure_outlet") {
+          b.kind = config::FluidBoundary::Kind::PressureOutlet;
+          b.pressure = m.number("pressure_outlet");
+        } else {
+          b.velocity = vec(m, kind);
+          if (kind == "moving_wall") {
+            b.kind = config::FluidBoundary::Kind::MovingWall;
+            if (b.velocity[face / 2] != 0)
+              m.at(kind).fail_expected(fmt::format(
+                  "a wall velocity in the plane of the face (zero {} component)", "xyz"[face / 2]));
+          } else {
+            b.kind = config::FluidBoundary::Kind::VelocityInlet;
+          }
+        }
+      }
+      const bool periodic = b.kind == config::FluidBoundary::Kind::Periodic;
+      if (periodic != per[face / 2])
+        v->fail(periodic ? fmt::format("face {} is periodic but the domain is not periodic along "
+                                       "{} (domain.periodic)",
+                                       faces[face], "xyz"[face / 2])
+                         : fmt::format("the domain is periodic along {} (domain.periodic), so "
+                                       "the fluid face {} must be periodic too",
+                                       "xyz"[face / 2], faces[face]));
+      f.boundary[face] = b;
+    }
+  }
+  f.initial_velocity = vec_or(fm, "initial_velocity", Vec3{});
+  if (auto cv = fm.find("convection")) f.convection = cv->as_choice({"van_leer", "central"});
+  c.fluid = std::move(f);
+}
+
+void Reader::read_coupling(const YamlMap& root) {
+  auto cn = root.find("coupling");
+  if (!cn) {
+    if (c.fluid) {
+      config::SourceLoc loc = c.fluid->loc;
+      loc.key_path = "fluid";
+      throw_input_error(loc,
+                        "a fluid: block needs a coupling: block (e.g. 'coupling: {drag: "
+                        "di_felice}'); the fluid only exists to act on the particles");
+    }
+    return;
+  }
+  if (!c.fluid)
+    cn->fail("a coupling: block needs a fluid: block (density, viscosity, cells, boundary)");
+  YamlMap cm(*cn, {"drag", "fluid_fraction", "interval", "min_fraction"});
+  config::Coupling cp;
+  cp.loc = cn->loc();
+  const YamlNode dn = cm.at("drag");
+  cp.drag = dn.as_string();
+  if (!cfd_dem::find_drag(cp.drag)) {
+    std::vector<std::string> keys;
+    for (const auto& d : cfd_dem::drag_infos()) keys.emplace_back(d.key);
+    std::string hint;
+    if (auto near = closest_match(cp.drag, keys))
+      hint = fmt::format(" (did you mean '{}'?)", *near);
+    dn.fail(fmt::format("unknown drag law '{}'{}; accepted: {}", cp.drag, hint, join(keys)));
+  }
+  if (auto ff = cm.find("fluid_fraction")) cp.fluid_fraction = ff->as_choice({"centre", "divided"});
+  if (auto in = cm.find("interval")) cp.interval = static_cast<int>(in->as_integer({1, 1e6}));
+  cp.min_fraction = cm.number_or("min_fraction", 0.3, Range{0.0, 1.0, true, false});
+  c.coupling = std::move(cp);
 }
 
 void Reader::read_domain(const YamlMap& root) {
@@ -1228,6 +1337,9 @@ void Reader::read_output(const YamlMap& root) {
               "wall_position.WALL (optionally with .x, .y or .z)",
               name, hint, join(series_quantity_names())));
         }
+        if (!c.fluid && (name.rfind("fluid_", 0) == 0 || name == "superficial_velocity" ||
+                         name == "min_fluid_fraction"))
+          item.fail(fmt::format("series quantity '{}' needs a fluid: block", name));
         if (std::find(c.output.quantities.begin(), c.output.quantities.end(), name) !=
             c.output.quantities.end())
           item.fail(fmt::format("quantity '{}' is listed twice", name));
@@ -1268,9 +1380,9 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   config::Case c;
   c.file = file;
   Reader r{file.parent_path(), c, {}, {}, {}, {}};
-  YamlMap rm(
-      root, {"name", "dimension", "time", "domain", "gravity", "integrator", "materials",
-             "contacts", "particles", "walls", "output", "neighbor", "shear", "analysis", "sweep"});
+  YamlMap rm(root, {"name", "dimension", "time", "domain", "gravity", "integrator", "materials",
+                    "contacts", "particles", "walls", "output", "neighbor", "shear", "analysis",
+                    "sweep", "fluid", "coupling"});
   if (auto n = rm.find("name")) {
     c.name = n->as_string();
     if (c.name.empty()) n->fail_expected("a case name");
@@ -1292,6 +1404,8 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   r.read_particles(rm);
   r.read_walls(rm);
   r.read_shear(rm);
+  r.read_fluid(rm);
+  r.read_coupling(rm);
   r.read_output(rm);
   r.read_analysis(rm);
   r.read_sweep(rm);
@@ -1315,7 +1429,11 @@ const std::vector<std::string>& series_quantity_names() {
                                               "max_z",
                                               "mean_z",
                                               "contact_count",
-                                              "coordination_number"};
+                                              "coordination_number",
+                                              "fluid_pressure_drop",
+                                              "superficial_velocity",
+                                              "fluid_kinetic_energy",
+                                              "min_fluid_fraction"};
   return names;
 }
 

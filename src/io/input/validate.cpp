@@ -222,6 +222,7 @@ class Validator {
   void estimate_counts();
   void check_time_step();
   void check_output();
+  void check_fluid();
 
   const config::Case& c_;
   int dim_;
@@ -976,6 +977,72 @@ void Validator::check_output() {
                         reach_max > r_max ? "contact radius: cap or equal-area radius" : "radius"));
 }
 
+void Validator::check_fluid() {
+  if (!c_.fluid || !c_.coupling) return;
+  const auto& f = *c_.fluid;
+  const auto& cp = *c_.coupling;
+  double h_min = 1e300;
+  for (int k = 0; k < 3; ++k)
+    h_min = std::min(h_min,
+                     (c_.domain.max[k] - c_.domain.min[k]) / f.cells[static_cast<std::size_t>(k)]);
+  // The largest grain (volume-equivalent diameter) sets the worst cell-to-grain ratio; its
+  // material the Stokes number.
+  double d = 0, rho_p = 0;
+  for (std::size_t g = 0; g < c_.particles.size(); ++g) {
+    const auto& group = c_.particles[g];
+    const double r = group.radius.largest();
+    const double dv = std::cbrt(6.0 * grain_measure(group, r) / std::numbers::pi);
+    if (dv > d) {
+      d = dv;
+      rho_p = materials_.at(group.material)->density;
+    }
+  }
+  // Reference speed: the fastest inlet (superficial), else the initial fluid speed, else the
+  // Stokes settling speed of the largest grain (a quiescent fluid).
+  double u = 0;
+  std::string u_what = "inlet superficial velocity";
+  for (const auto& b : f.boundary)
+    if (b.kind == config::FluidBoundary::Kind::VelocityInlet) u = std::max(u, norm(b.velocity));
+  if (u == 0) {
+    u = norm(f.initial_velocity);
+    u_what = "initial fluid speed";
+  }
+  const double g = norm(c_.gravity);
+  if (u == 0 && d > 0) {
+    u = std::abs(rho_p - f.density) * g * d * d / (18.0 * f.viscosity);
+    u_what = "Stokes settling speed";
+  }
+  const double dt_f = cp.interval * c_.time.step;
+  report_.derived.emplace_back(
+      "fluid cells",
+      fmt::format("{} x {} x {}, h_min = {:.4g} m", f.cells[0], f.cells[1], f.cells[2], h_min));
+  if (d > 0) {
+    const double ratio = h_min / d;
+    report_.derived.emplace_back("cell size / particle diameter", fmt::format("{:.3g}", ratio));
+    if (ratio < 3)
+      report_.warnings.push_back(fmt::format(
+          "fluid cells are {:.3g} particle diameters wide; unresolved CFD-DEM wants >= 3 (the "
+          "fluid fraction of a cell then averages over several grains)",
+          ratio));
+    const double re = f.density * u * d / f.viscosity;
+    const double tau_p = rho_p * d * d / (18.0 * f.viscosity);
+    report_.derived.emplace_back(fmt::format("particle Reynolds number ({})", u_what),
+                                 fmt::format("{:.3g} (U = {:.3g} m/s, d = {:.3g} m)", re, u, d));
+    report_.derived.emplace_back("Stokes number tau_p U / d",
+                                 fmt::format("{:.3g} (tau_p = {:.3g} s)", tau_p * u / d, tau_p));
+  }
+  const double courant = u * dt_f / h_min;
+  report_.derived.emplace_back("fluid time step (interval x time.step)",
+                               fmt::format("{:.4g} s", dt_f));
+  report_.derived.emplace_back(fmt::format("fluid Courant number at U"),
+                               fmt::format("{:.3g}", courant));
+  if (courant > 0.5)
+    report_.warnings.push_back(fmt::format(
+        "the fluid Courant number at U is {:.3g}; the interstitial speed in a bed is U / eps, and "
+        "the fluid step stops above 1: lower coupling.interval",
+        courant));
+}
+
 CheckReport Validator::run() {
   check_basics();
   check_materials();
@@ -986,6 +1053,7 @@ CheckReport Validator::run() {
   estimate_counts();
   check_time_step();
   check_output();
+  check_fluid();
   return std::move(report_);
 }
 

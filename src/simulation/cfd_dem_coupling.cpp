@@ -1,0 +1,236 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Unresolved CFD-DEM in the time loop: fluid sub-cycling, fluid fraction, drag, exchange.
+#include "simulation/cfd_dem_coupling.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+#include "core/error.hpp"
+#include "core/exec.hpp"
+#include "coupling/cfd_dem/shape_factors.hpp"
+#include "particles/particle_store.hpp"
+
+namespace gf {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+fluid::BoundaryCondition to_bc(const config::FluidBoundary& b) {
+  using K = config::FluidBoundary::Kind;
+  switch (b.kind) {
+    case K::Periodic:
+      return fluid::BoundaryCondition::periodic();
+    case K::NoSlip:
+      return fluid::BoundaryCondition::no_slip();
+    case K::MovingWall:
+      return fluid::BoundaryCondition::moving_wall(b.velocity);
+    case K::VelocityInlet:
+      // The case gives the superficial velocity eps u (what a bed's flow rate is): the solver
+      // divides it by the fluid fraction of the cell next to the inlet.
+      return fluid::BoundaryCondition::velocity_inlet(b.velocity, true);
+    case K::PressureOutlet:
+      return fluid::BoundaryCondition::pressure_outlet(b.pressure);
+  }
+  return fluid::BoundaryCondition::no_slip();
+}
+
+/// Body volume of grain i (sphere, or spherocylinder from its cap radius and half length), m^3.
+double grain_volume(const ParticleStore& p, std::size_t i) {
+  const double half = p.has_shapes() ? p.half_length()[i] : 0.0;
+  return cfd_dem::spherocylinder_volume(p.radius()[i] - half, 2.0 * half);
+}
+
+}  // namespace
+
+CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles, double dem_dt) {
+  REQUIRE(cfg.fluid && cfg.coupling, "CFD-DEM needs both a fluid and a coupling block");
+  const auto& f = *cfg.fluid;
+  const auto& cp = *cfg.coupling;
+  grid_.dimension = 3;
+  grid_.n = f.cells;
+  grid_.lo = cfg.domain.min;
+  for (int k = 0; k < 3; ++k) grid_.h[k] = (cfg.domain.max[k] - cfg.domain.min[k]) / f.cells[k];
+  grid_.periodic = cfg.domain.periodic;
+
+  fluid::FluidSettings s;
+  s.density = f.density;
+  s.dynamic_viscosity = f.viscosity;
+  s.gravity = cfg.gravity;
+  for (int face = 0; face < 6; ++face) s.boundary[face] = to_bc(f.boundary[face]);
+  s.convection =
+      f.convection == "central" ? fluid::Convection::Central : fluid::Convection::VanLeer;
+  try {
+    fluid_ = std::make_unique<fluid::VolumeAveragedNS>(grid_, s);
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    throw InputError(fmt::format("{}: fluid: {}", cfg.file.string(), e.what()));
+  }
+  if (norm2(f.initial_velocity) > 0) {
+    const Vec3 u0 = f.initial_velocity;
+    fluid_->set_velocity([u0](const Vec3&) { return u0; });
+  }
+  rho_f_ = f.density;
+  mu_f_ = f.viscosity;
+  interval_ = cp.interval;
+  dt_fluid_ = cp.interval * dem_dt;
+  law_ = cfd_dem::drag_index(cp.drag);
+  REQUIRE(law_ >= 0, "unknown drag law '{}'", cp.drag);
+  drag_params_ = cfd_dem::prepare_drag(cp.drag);
+  ff_options_.scheme = cp.fluid_fraction == "centre" ? cfd_dem::DepositScheme::CentreInCell
+                                                     : cfd_dem::DepositScheme::Divided;
+  ff_options_.min_fraction = cp.min_fraction;
+
+  // Pressure drop and superficial velocity along gravity's axis (the axis of a bed).
+  const Vec3 g = cfg.gravity;
+  if (norm2(g) > 0) {
+    flow_axis_ = 0;
+    for (int k = 1; k < 3; ++k)
+      if (std::abs(g[k]) > std::abs(g[flow_axis_])) flow_axis_ = k;
+  }
+  closed_ = std::none_of(s.boundary.begin(), s.boundary.end(),
+                         [](const auto& b) { return b.kind == fluid::BcKind::PressureOutlet; });
+
+  // Per-grain exchange state as particle fields: the re-ordering at neighbour rebuilds and the
+  // checkpoints carry them with the grains.
+  f_beta_ = particles.add_field("fluid_beta", FieldType::Real, "N s/m", kRestart);
+  f_uf_ = particles.add_field("fluid_velocity", FieldType::Vec3, "m/s", kRestart | kOutput);
+  f_gradp_ = particles.add_field("fluid_pressure_gradient", FieldType::Vec3, "Pa/m", kRestart);
+}
+
+void CfdDemCoupling::fluid_step(ParticleStore& particles) {
+  const auto t0 = Clock::now();
+  const cfd_dem::ParticleGeometry geo = cfd_dem::geometry_of(particles, geo_buffers_);
+  const std::size_t n = geo.size();
+  const auto nc = static_cast<std::size_t>(grid_.cell_count());
+  // resize() is a no-op once the sizes are reached: no allocation after the first step.
+  for (auto* v : {&eps_, &eps_prev_, &eps_rate_, &k_}) v->resize(nc);
+  for (auto* v : {&s_explicit_, &cell_u_, &cell_gradp_}) v->resize(nc);
+  eps_p_.resize(n);
+  u_p_.resize(n);
+
+  cfd_dem::fluid_fraction(grid_, geo, ff_options_, eps_, &scratch_);
+  if (first_) std::copy(eps_.begin(), eps_.end(), eps_prev_.begin());
+  const double inv_dt = 1.0 / dt_fluid_;
+  exec::parallel_for(static_cast<exec::index_t>(nc),
+                     [&](exec::index_t c) { eps_rate_[c] = (eps_[c] - eps_prev_[c]) * inv_dt; });
+  if (closed_) {
+    // Without an outlet the fluid volume is fixed, so sum(d eps/dt) must vanish. Moving grains
+    // conserve the solid volume, but the clamp at min_fraction does not: remove its (small)
+    // net rate uniformly, or the pressure equation has no solution.
+    double sum = 0;
+    for (double r : eps_rate_) sum += r;
+    const double mean = sum / static_cast<double>(nc);
+    for (double& r : eps_rate_) r -= mean;
+  }
+
+  // Drag coefficients with the fluid velocity before the step and the grains' velocities now.
+  fluid_->cell_velocities(cell_u_);
+  cfd_dem::interpolate_to_points(grid_, cell_u_, geo.x, u_p_);
+  cfd_dem::interpolate_to_points(grid_, std::span<const double>(eps_), geo.x, eps_p_);
+  const Vec3* v = particles.v();
+  auto beta = particles.get<double>(f_beta_);
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    const Vec3 slip = u_p_[i] - v[i];
+    const double half = geo.half(static_cast<std::size_t>(i));
+    cfd_dem::DragInput in;
+    if (half > 0) {
+      in = cfd_dem::spherocylinder_drag_input(rho_f_, mu_f_, eps_p_[i], geo.radius[i], 2.0 * half,
+                                              geo.axis[i], slip);
+    } else {
+      in.rho_f = rho_f_;
+      in.mu_f = mu_f_;
+      in.eps = eps_p_[i];
+      in.d_v = 2.0 * geo.radius[i];
+      in.slip = slip;
+    }
+    beta[i] = cfd_dem::drag_force(law_, in, drag_params_).beta;
+  });
+  cfd_dem::drag_exchange_source(grid_, geo, ff_options_.scheme, beta, std::span<const Vec3>(v, n),
+                                s_explicit_, k_, &scratch_);
+
+  fluid_->set_fluid_fraction(eps_, eps_rate_);
+  fluid_->set_momentum_source(s_explicit_, k_);
+  fluid_->step(dt_fluid_);
+  std::copy(eps_.begin(), eps_.end(), eps_prev_.begin());
+  first_ = false;
+
+  // What the grains see until the next fluid step.
+  fluid_->cell_velocities(cell_u_);
+  fluid_->pressure_gradients(cell_gradp_);
+  cfd_dem::interpolate_to_points(grid_, cell_u_, geo.x, particles.get<Vec3>(f_uf_));
+  cfd_dem::interpolate_to_points(grid_, cell_gradp_, geo.x, particles.get<Vec3>(f_gradp_));
+  seconds_ += seconds_since(t0);
+}
+
+void CfdDemCoupling::add_forces(ParticleStore& particles) const {
+  const auto t0 = Clock::now();
+  const std::size_t n = particles.size();
+  const auto beta = std::as_const(particles).get<double>(f_beta_);
+  const auto uf = std::as_const(particles).get<Vec3>(f_uf_);
+  const auto gradp = std::as_const(particles).get<Vec3>(f_gradp_);
+  const Vec3* v = particles.v();
+  Vec3* f = particles.f();
+  const ParticleStore& p = particles;
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    const auto k = static_cast<std::size_t>(i);
+    f[i] +=
+        beta[k] * (uf[k] - v[i]) + cfd_dem::pressure_gradient_force(grain_volume(p, k), gradp[k]);
+  });
+  force_seconds_ += seconds_since(t0);
+}
+
+double CfdDemCoupling::pressure_drop() const {
+  // The dynamic part: the hydrostatic difference rho_f |g| L of a fluid at rest is taken off,
+  // so that a fixed bed reads its frictional loss and a fluidised bed its buoyant weight / area.
+  const int a = flow_axis_;
+  const double lo = grid_.lo[a], hi = grid_.hi()[a];
+  return fluid_->pressure_drop(a, lo, hi) + rho_f_ * fluid_->settings().gravity[a] * (hi - lo);
+}
+
+double CfdDemCoupling::superficial_velocity() const {
+  return fluid_->superficial_velocity(flow_axis_, grid_.n[flow_axis_] / 2);
+}
+
+double CfdDemCoupling::min_fluid_fraction() const {
+  const auto eps = fluid_->fluid_fraction();
+  return eps.empty() ? 1.0 : *std::min_element(eps.begin(), eps.end());
+}
+
+void CfdDemCoupling::write_vti(std::ostream& out) const {
+  const auto& g = grid_;
+  std::vector<Vec3> u(static_cast<std::size_t>(g.cell_count()));
+  fluid_->cell_velocities(u);
+  const std::string extent = fmt::format("0 {} 0 {} 0 {}", g.n[0], g.n[1], g.n[2]);
+  out << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"ImageData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << fmt::format(
+             "  <ImageData WholeExtent=\"{}\" Origin=\"{:.17g} {:.17g} {:.17g}\" "
+             "Spacing=\"{:.17g} {:.17g} {:.17g}\">\n",
+             extent, g.lo.x, g.lo.y, g.lo.z, g.h.x, g.h.y, g.h.z)
+      << fmt::format("    <Piece Extent=\"{}\">\n", extent)
+      << "      <CellData Scalars=\"fluid_fraction\" Vectors=\"velocity\">\n";
+  auto scalars = [&](const char* name, std::span<const double> v) {
+    out << fmt::format("        <DataArray type=\"Float64\" Name=\"{}\" format=\"ascii\">\n", name);
+    for (double x : v) out << fmt::format("{:.9g}\n", x);
+    out << "        </DataArray>\n";
+  };
+  scalars("fluid_fraction", fluid_->fluid_fraction());
+  scalars("pressure", fluid_->pressure());
+  out << "        <DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
+         "format=\"ascii\">\n";
+  for (const Vec3& x : u) out << fmt::format("{:.9g} {:.9g} {:.9g}\n", x.x, x.y, x.z);
+  out << "        </DataArray>\n      </CellData>\n    </Piece>\n  </ImageData>\n</VTKFile>\n";
+}
+
+}  // namespace gf

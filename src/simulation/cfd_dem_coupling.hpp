@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Unresolved CFD-DEM in the time loop: the volume-averaged fluid (fluid/fv) sub-cycled against
+// the DEM, with the particle <-> cell mappings and drag laws of coupling/cfd_dem.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <ostream>
+#include <span>
+#include <vector>
+
+#include "coupling/cfd_dem/drag_registry.hpp"
+#include "coupling/cfd_dem/fluid_fraction.hpp"
+#include "coupling/cfd_dem/mapping.hpp"
+#include "fluid/fv/navier_stokes.hpp"
+#include "io/input/config.hpp"
+
+namespace gf {
+
+class ParticleStore;
+
+/// The fluid of a case with `fluid:` and `coupling:` blocks and its exchange with the grains
+/// (algorithm: docs/models/cfd_dem.md).
+///
+/// Every `interval` DEM steps (and once at the start), fluid_step():
+///  1. fluid fraction eps per cell from the grains (centre-in-cell or divided volume), clamped
+///     at min_fraction, and d eps/dt = (eps - eps_prev) / (interval dt);
+///  2. per grain: u_f and eps interpolated to its centre, the drag law's beta_i (slip with the
+///     grain's velocity now);
+///  3. the reaction -beta_i (u_f - v_i) spread over the cells semi-implicitly as S = s_explicit
+///     - K u (K = sum w beta / V_c taken implicitly by the fluid solver, so a stiff drag cannot
+///     make the exchange unstable);
+///  4. one fluid step of interval x dt;
+///  5. u_f,i and grad p interpolated at the grains from the new fluid state, stored per grain.
+/// On every DEM step, add_forces() adds beta_i (u_f,i - v_i) (the grain's current velocity) and
+/// -V_i grad p_i to each grain.
+///
+/// The per-grain values live in ParticleStore fields (fluid_beta, fluid_velocity,
+/// fluid_pressure_gradient), so the re-ordering at neighbour rebuilds and checkpoints carry them.
+class CfdDemCoupling {
+ public:
+  /// Builds the grid over the domain box and the fluid solver; registers the particle fields.
+  CfdDemCoupling(const config::Case& cfg, ParticleStore& particles, double dem_dt);
+
+  /// Steps 1-5 above (advances the fluid by interval x dem_dt).
+  void fluid_step(ParticleStore& particles);
+  /// Adds drag and pressure-gradient forces to the particles' force column.
+  void add_forces(ParticleStore& particles) const;
+  /// Whether DEM step number `step` (after it was taken) is due a fluid step.
+  [[nodiscard]] bool due(std::int64_t step) const { return step % interval_ == 0; }
+
+  [[nodiscard]] const fluid::VolumeAveragedNS& fluid() const { return *fluid_; }
+  [[nodiscard]] const fluid::Grid& grid() const { return grid_; }
+  [[nodiscard]] int interval() const { return interval_; }
+  /// Wall-clock seconds spent in fluid_step and add_forces.
+  [[nodiscard]] double seconds() const { return seconds_ + force_seconds_; }
+
+  /// Axis of the pressure drop and superficial velocity series: gravity's axis, else z.
+  [[nodiscard]] int flow_axis() const { return flow_axis_; }
+  /// p(bottom plane) - p(top plane) along flow_axis, Pa.
+  [[nodiscard]] double pressure_drop() const;
+  /// Superficial velocity through the middle face plane along flow_axis, m/s.
+  [[nodiscard]] double superficial_velocity() const;
+  /// Smallest fluid fraction of a cell (as last set).
+  [[nodiscard]] double min_fluid_fraction() const;
+
+  /// The fluid's cell fields (fluid_fraction, pressure [Pa], velocity [m/s] at cell centres) as
+  /// a VTK ImageData file (.vti, ASCII), for ParaView next to the particles.
+  void write_vti(std::ostream& out) const;
+
+ private:
+  fluid::Grid grid_;
+  std::unique_ptr<fluid::VolumeAveragedNS> fluid_;
+  int interval_ = 1;
+  double dt_fluid_ = 0;
+  double rho_f_ = 0, mu_f_ = 0;
+  int law_ = -1;
+  cfd_dem::DragParams drag_params_;
+  cfd_dem::FluidFractionOptions ff_options_;
+  int flow_axis_ = 2;
+  bool first_ = true;
+  bool closed_ = false;                         // no pressure outlet: the fluid volume is fixed
+  int f_beta_ = -1, f_uf_ = -1, f_gradp_ = -1;  // particle field indices
+  double seconds_ = 0;
+  mutable double force_seconds_ = 0;
+
+  // Reused between fluid steps (sized on the first one).
+  cfd_dem::StoreGeometry geo_buffers_;
+  cfd_dem::DepositScratch scratch_;
+  std::vector<double> eps_, eps_prev_, eps_rate_, k_, eps_p_;
+  std::vector<Vec3> s_explicit_, cell_u_, cell_gradp_, u_p_;
+};
+
+}  // namespace gf
