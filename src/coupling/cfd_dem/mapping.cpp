@@ -285,30 +285,35 @@ void footprint(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i, D
   }
 }
 
-void deposit(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
-             std::span<const double> value, std::span<double> per_cell, double scale,
-             DepositScratch* scratch) {
+namespace {
+
+/// The checks and the scratch of both deposit overloads (scalar and vector values).
+template <class T>
+void deposit_values(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                    std::span<const T> value, std::span<T> per_cell, double scale,
+                    DepositScratch* scratch) {
   check_geometry(g, p);
   REQUIRE(value.size() == p.size(), "deposit: {} values for {} particles", value.size(), p.size());
   REQUIRE(static_cast<std::int64_t>(per_cell.size()) == g.cell_count(),
           "deposit: {} cell values for {} cells", per_cell.size(), g.cell_count());
   DepositScratch local;
-  deposit_impl<double>(
+  deposit_impl<T>(
       g, p, scheme, [&](std::size_t i) { return scale * value[i]; }, per_cell.data(),
       scratch ? *scratch : local);
+}
+
+}  // namespace
+
+void deposit(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+             std::span<const double> value, std::span<double> per_cell, double scale,
+             DepositScratch* scratch) {
+  deposit_values<double>(g, p, scheme, value, per_cell, scale, scratch);
 }
 
 void deposit(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
              std::span<const Vec3> value, std::span<Vec3> per_cell, double scale,
              DepositScratch* scratch) {
-  check_geometry(g, p);
-  REQUIRE(value.size() == p.size(), "deposit: {} values for {} particles", value.size(), p.size());
-  REQUIRE(static_cast<std::int64_t>(per_cell.size()) == g.cell_count(),
-          "deposit: {} cell values for {} cells", per_cell.size(), g.cell_count());
-  DepositScratch local;
-  deposit_impl<Vec3>(
-      g, p, scheme, [&](std::size_t i) { return scale * value[i]; }, per_cell.data(),
-      scratch ? *scratch : local);
+  deposit_values<Vec3>(g, p, scheme, value, per_cell, scale, scratch);
 }
 
 void deposit_reaction_forces(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
