@@ -12,6 +12,7 @@ namespace gf::cfd_dem {
 
 void deposit_solid_volume(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
                           std::span<double> solid, DepositScratch* scratch) {
+  check_geometry(g, p);  // before the volumes, which read the geometry arrays
   std::vector<double> volume(p.size());
   exec::parallel_for(static_cast<exec::index_t>(p.size()),
                      [&](exec::index_t i) { volume[i] = p.volume(i); });

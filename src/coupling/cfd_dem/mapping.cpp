@@ -116,26 +116,6 @@ void complete_basis(const Vec3& u, Vec3& e1, Vec3& e2) {
   e2 = {b, sign + u.y * u.y * a, -u.y};
 }
 
-void check_geometry(const fluid::Grid& g, const ParticleGeometry& p) {
-  const std::size_t n = p.size();
-  REQUIRE(p.radius.size() == n, "particle geometry: {} radii for {} particles", p.radius.size(), n);
-  REQUIRE(p.half_length.empty() || p.half_length.size() == n,
-          "particle geometry: {} half lengths for {} particles", p.half_length.size(), n);
-  REQUIRE(p.half_length.empty() || p.axis.size() == n,
-          "particle geometry: {} axes for {} spherocylinders", p.axis.size(), n);
-  REQUIRE(g.n[0] > 0 && g.n[1] > 0 && g.n[2] > 0 && g.h.x > 0 && g.h.y > 0 && g.h.z > 0,
-          "fluid grid: cells {}x{}x{} of size {}x{}x{} m", g.n[0], g.n[1], g.n[2], g.h.x, g.h.y,
-          g.h.z);
-  const bool bad = exec::parallel_any(static_cast<exec::index_t>(n), [&](exec::index_t i) {
-    if (!(p.radius[i] > 0.0) || !(p.half(i) >= 0.0)) return true;
-    if (p.half(i) > 0.0 && std::abs(norm2(p.axis[i]) - 1.0) > 1e-6) return true;
-    return false;
-  });
-  REQUIRE(!bad,
-          "particle geometry: a radius <= 0, a negative half length, or a spherocylinder "
-          "axis that is not a unit vector");
-}
-
 constexpr std::size_t kBlock = 8192;  // particles per footprint block (> 4096: threaded)
 constexpr std::int64_t kMinParallelShares = 1 << 15;
 
@@ -176,6 +156,26 @@ void deposit_impl(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme
 }
 
 }  // namespace
+
+void check_geometry(const fluid::Grid& g, const ParticleGeometry& p) {
+  const std::size_t n = p.size();
+  REQUIRE(p.radius.size() == n, "particle geometry: {} radii for {} particles", p.radius.size(), n);
+  REQUIRE(p.half_length.empty() || p.half_length.size() == n,
+          "particle geometry: {} half lengths for {} particles", p.half_length.size(), n);
+  REQUIRE(p.half_length.empty() || p.axis.size() == n,
+          "particle geometry: {} axes for {} spherocylinders", p.axis.size(), n);
+  REQUIRE(g.n[0] > 0 && g.n[1] > 0 && g.n[2] > 0 && g.h.x > 0 && g.h.y > 0 && g.h.z > 0,
+          "fluid grid: cells {}x{}x{} of size {}x{}x{} m", g.n[0], g.n[1], g.n[2], g.h.x, g.h.y,
+          g.h.z);
+  const bool bad = exec::parallel_any(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    if (!(p.radius[i] > 0.0) || !(p.half(i) >= 0.0)) return true;
+    if (p.half(i) > 0.0 && std::abs(norm2(p.axis[i]) - 1.0) > 1e-6) return true;
+    return false;
+  });
+  REQUIRE(!bad,
+          "particle geometry: a radius <= 0, a negative half length, or a spherocylinder "
+          "axis that is not a unit vector");
+}
 
 double ParticleGeometry::volume(std::size_t i) const {
   return spherocylinder_volume(radius[i], 2.0 * half(i));

@@ -82,6 +82,10 @@ std::span<const Vec3> sphere_sample_points();
 /// Returns n_seg (0 for a sphere).
 int cylinder_slabs(double r, double half_length);
 
+/// Throws gf::Error unless the geometry has one radius (> 0) per particle, one half length
+/// (>= 0) and one unit axis per particle when half lengths are given, and the grid has cells.
+void check_geometry(const fluid::Grid& g, const ParticleGeometry& p);
+
 /// Number of (cell, weight) pairs of particle i under `scheme`.
 int footprint_size(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i,
                    DepositScheme scheme);
