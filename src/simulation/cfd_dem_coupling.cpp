@@ -119,7 +119,9 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   eps_p_.resize(n);
   u_p_.resize(n);
 
-  cfd_dem::fluid_fraction(grid_, geo, ff_options_, eps_, &scratch_);
+  // The grains stay put during this call: one set of footprints serves every deposit.
+  cfd_dem::compute_footprints(grid_, geo, ff_options_.scheme, footprints_);
+  cfd_dem::fluid_fraction(grid_, geo, footprints_, ff_options_.min_fraction, eps_);
   if (first_) std::copy(eps_.begin(), eps_.end(), eps_prev_.begin());
   const double inv_dt = 1.0 / dt_fluid_;
   exec::parallel_for(static_cast<exec::index_t>(nc),
@@ -156,8 +158,7 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
     }
     beta[i] = cfd_dem::drag_force(law_, in, drag_params_).beta;
   });
-  cfd_dem::drag_exchange_source(grid_, geo, ff_options_.scheme, beta, std::span<const Vec3>(v, n),
-                                s_explicit_, k_, &scratch_);
+  cfd_dem::drag_exchange_source(footprints_, beta, std::span<const Vec3>(v, n), s_explicit_, k_);
 
   fluid_->set_fluid_fraction(eps_, eps_rate_);
   fluid_->set_momentum_source(s_explicit_, k_);

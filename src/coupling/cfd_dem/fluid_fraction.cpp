@@ -10,13 +10,22 @@
 
 namespace gf::cfd_dem {
 
-void deposit_solid_volume(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
-                          std::span<double> solid, DepositScratch* scratch) {
-  check_geometry(g, p);  // before the volumes, which read the geometry arrays
+void deposit_solid_volume(const ParticleGeometry& p, const Footprints& fp,
+                          std::span<double> solid) {
+  REQUIRE(p.size() == fp.size(), "solid volume: {} particles and footprints of {}", p.size(),
+          fp.size());
   std::vector<double> volume(p.size());
   exec::parallel_for(static_cast<exec::index_t>(p.size()),
                      [&](exec::index_t i) { volume[i] = p.volume(i); });
-  deposit(g, p, scheme, std::span<const double>(volume), solid, 1.0, scratch);
+  deposit(fp, std::span<const double>(volume), solid);
+}
+
+void deposit_solid_volume(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                          std::span<double> solid, DepositScratch* scratch) {
+  Footprints local;
+  Footprints& fp = scratch ? *scratch : local;
+  compute_footprints(g, p, scheme, fp);  // checks the geometry before the volumes read it
+  deposit_solid_volume(p, fp, solid);
 }
 
 FluidFractionStats fluid_fraction_from_solid(const fluid::Grid& g, std::span<const double> solid,
@@ -45,13 +54,24 @@ FluidFractionStats fluid_fraction_from_solid(const fluid::Grid& g, std::span<con
 }
 
 FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& p,
+                                  const Footprints& fp, double min_fraction,
+                                  std::span<double> eps) {
+  REQUIRE(static_cast<std::int64_t>(eps.size()) == g.cell_count(),
+          "fluid fraction: {} values for {} cells", eps.size(), g.cell_count());
+  std::fill(eps.begin(), eps.end(), 0.0);
+  deposit_solid_volume(p, fp, eps);
+  return fluid_fraction_from_solid(g, eps, min_fraction, eps);
+}
+
+FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& p,
                                   const FluidFractionOptions& options, std::span<double> eps,
                                   DepositScratch* scratch) {
   REQUIRE(static_cast<std::int64_t>(eps.size()) == g.cell_count(),
           "fluid fraction: {} values for {} cells", eps.size(), g.cell_count());
-  std::fill(eps.begin(), eps.end(), 0.0);
-  deposit_solid_volume(g, p, options.scheme, eps, scratch);
-  return fluid_fraction_from_solid(g, eps, options.min_fraction, eps);
+  Footprints local;
+  Footprints& fp = scratch ? *scratch : local;
+  compute_footprints(g, p, options.scheme, fp);
+  return fluid_fraction(g, p, fp, options.min_fraction, eps);
 }
 
 }  // namespace gf::cfd_dem

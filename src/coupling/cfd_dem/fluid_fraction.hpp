@@ -30,6 +30,9 @@ struct FluidFractionStats {
 void deposit_solid_volume(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
                           std::span<double> solid, DepositScratch* scratch = nullptr);
 
+/// The same with footprints of p built by compute_footprints (p gives the volumes).
+void deposit_solid_volume(const ParticleGeometry& p, const Footprints& fp, std::span<double> solid);
+
 /// eps[c] = max(1 - solid[c] / V_cell, min_fraction); returns the clamp count. eps may alias
 /// solid (converted in place).
 FluidFractionStats fluid_fraction_from_solid(const fluid::Grid& g, std::span<const double> solid,
@@ -39,5 +42,8 @@ FluidFractionStats fluid_fraction_from_solid(const fluid::Grid& g, std::span<con
 FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& p,
                                   const FluidFractionOptions& options, std::span<double> eps,
                                   DepositScratch* scratch = nullptr);
+/// The same with footprints of p built on g by compute_footprints.
+FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& p,
+                                  const Footprints& fp, double min_fraction, std::span<double> eps);
 
 }  // namespace gf::cfd_dem

@@ -58,11 +58,27 @@ struct CellShare {
   double weight;
 };
 
-/// Reusable buffers of the deposit, so that a time loop allocates only on its first call.
-struct DepositScratch {
+/// The footprints of a set of particles, compacted: particle i's pairs are
+/// shares[offsets[i] .. offsets[i + 1]), one per distinct cell in the order the cells first
+/// occur in its footprint, weights summed per cell. Built by `compute_footprints` and read by
+/// every deposit of one coupling step (the grains do not move in between), so the sample
+/// points of the divided scheme (48+ per grain) are placed once per step, not once per deposit,
+/// and a deposit adds one value per cell touched (a grain inside one cell: a single pair).
+/// Memory: 16 bytes per pair + 8 per particle, plus one block's raw footprints (8192 grains).
+/// The buffers are kept between calls: a time loop allocates only while the counts grow.
+struct Footprints {
   std::vector<CellShare> shares;
-  std::vector<std::int64_t> offsets;
+  std::vector<std::int64_t> offsets;  ///< n + 1 entries
+  std::int64_t n_cells = 0;           ///< cells of the grid the footprints were built on
+  double cell_volume = 0.0;           ///< m^3
+  std::size_t size() const { return offsets.empty() ? 0 : offsets.size() - 1; }
+  // Block buffers of compute_footprints.
+  std::vector<CellShare> raw;
+  std::vector<std::int64_t> raw_offsets;
+  std::vector<int> counts;
 };
+/// The name the deposit functions below take their reusable buffers by.
+using DepositScratch = Footprints;
 
 /// The divided scheme's sample points of the unit sphere (48 points of equal volume share):
 /// 3 shells of equal volume x 4 polar bands of equal area (z split at 0 and +-1/2) x 4
@@ -93,8 +109,23 @@ int footprint_size(const fluid::Grid& g, const ParticleGeometry& p, std::size_t 
 void footprint(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i, DepositScheme scheme,
                CellShare* out);
 
+/// Builds the compacted footprints of all particles under `scheme` into fp (checks the
+/// geometry). With the divided scheme a grain whose bounding box lies inside one cell gets the
+/// single pair (cell, 1) without placing its sample points: every point would fall there.
+void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                        Footprints& fp);
+
+/// per_cell[c] += scale * sum_p w_pc value[p] with footprints built by compute_footprints
+/// (adds; the caller zeroes). value has one entry per particle, per_cell one per cell.
+void deposit(const Footprints& fp, std::span<const double> value, std::span<double> per_cell,
+             double scale = 1.0);
+void deposit(const Footprints& fp, std::span<const Vec3> value, std::span<Vec3> per_cell,
+             double scale = 1.0);
+
 /// per_cell[c] += scale * sum_p w_pc value[p] (adds; the caller zeroes). per_cell has
-/// g.cell_count() entries, value one per particle.
+/// g.cell_count() entries, value one per particle. Builds the footprints into *scratch (or a
+/// local set): to deposit several quantities of the same particles, call compute_footprints
+/// once and the overloads above.
 void deposit(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
              std::span<const double> value, std::span<double> per_cell, double scale = 1.0,
              DepositScratch* scratch = nullptr);
@@ -120,6 +151,9 @@ void drag_exchange_source(const fluid::Grid& g, const ParticleGeometry& p, Depos
                           std::span<const double> beta, std::span<const Vec3> v,
                           std::span<Vec3> s_explicit, std::span<double> k,
                           DepositScratch* scratch = nullptr);
+/// The same with footprints built by compute_footprints.
+void drag_exchange_source(const Footprints& fp, std::span<const double> beta,
+                          std::span<const Vec3> v, std::span<Vec3> s_explicit, std::span<double> k);
 
 /// out[i] = cell-centred `field` interpolated (trilinear between cell centres, periodic wrap,
 /// constant beyond the outermost centres at walls) to x[i].
