@@ -119,6 +119,55 @@ TEST(FluidFraction, SolidVolumeConservedSpheresAndRods) {
   }
 }
 
+// Brute-force oracle for compute_footprints (one pair per distinct cell, a grain inside one
+// cell as a single pair, and the divided scheme's face comparisons): deposits through it equal
+// the sum over every raw sample point, each located with cell_containing, cell by cell. Radii
+// from 0.05 to 1.3 cells (inside one cell, across faces, and wider than a cell, where the face
+// comparison is not used), rods up to 4 cells long; the pairs are summed in another order, so
+// the tolerance is round-off of ~600 terms: 1e-13 of the particle's value.
+TEST(FluidFraction, CompactedFootprintsEqualTheRawSamplePoints) {
+  for (int dim : {3, 2}) {
+    const auto g =
+        dim == 3
+            ? box_grid({6, 5, 7}, {-1e-3, 0, 2e-3}, {1e-3, 1.1e-3, 0.9e-3}, {true, false, true})
+            : box_grid({8, 6, 1}, {0, 0, 0}, {1e-3, 1e-3, 1e-3}, {false, true, false}, 2);
+    const auto parts = random_particles(g, 300, 0.05, 1.3, 0.5, 23);
+    const auto p = parts.view();
+    for (auto scheme : kSchemes) {
+      Footprints fp;
+      compute_footprints(g, p, scheme, fp);
+      ASSERT_EQ(fp.size(), p.size());
+      std::vector<double> ones(p.size(), 1.0), fast(g.cell_count(), 0.0), slow(fast);
+      deposit(fp, std::span<const double>(ones), std::span<double>(fast));
+      std::vector<CellShare> raw;
+      int single = 0;
+      for (std::size_t i = 0; i < p.size(); ++i) {
+        if (scheme == DepositScheme::Divided && p.half(i) == 0.0) {
+          // A sphere's points located independently, with cell_containing.
+          const auto pts = turned_sphere_sample_points();
+          for (const Vec3& s : pts)
+            slow[cell_containing(g, p.x[i] + p.radius[i] * s)] += 1.0 / pts.size();
+        } else {
+          raw.resize(footprint_size(g, p, i, scheme));
+          footprint(g, p, i, scheme, raw.data());
+          for (const auto& sh : raw) slow[sh.cell] += sh.weight;
+        }
+        const auto n_pairs = fp.offsets[i + 1] - fp.offsets[i];
+        single += n_pairs == 1;
+        std::vector<std::int64_t> cells;
+        for (auto s = fp.offsets[i]; s < fp.offsets[i + 1]; ++s) cells.push_back(fp.shares[s].cell);
+        std::sort(cells.begin(), cells.end());
+        EXPECT_EQ(std::adjacent_find(cells.begin(), cells.end()), cells.end()) << "repeated cell";
+      }
+      for (std::int64_t c = 0; c < g.cell_count(); ++c)
+        EXPECT_NEAR(fast[c], slow[c], 1e-13 * static_cast<double>(p.size())) << "cell " << c;
+      if (scheme == DepositScheme::Divided) {
+        EXPECT_GT(single, 10) << "no grain inside one cell";
+      }
+    }
+  }
+}
+
 // 2D grid (one layer, depth h_z): volumes still conserved; z plays no role.
 TEST(FluidFraction, SolidVolumeConserved2D) {
   const auto g = box_grid({9, 7, 1}, {0, 0, -0.5e-3}, {1e-3, 1e-3, 1e-3}, {true, false, false}, 2);

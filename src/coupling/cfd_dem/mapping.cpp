@@ -270,6 +270,10 @@ std::span<const Vec3> sphere_sample_points() {
   return sphere_points();
 }
 
+std::span<const Vec3> turned_sphere_sample_points() {
+  return sphere_points_turned();
+}
+
 int cylinder_slabs(double r, double half_length) {
   if (!(half_length > 0.0)) return 0;
   const double n = std::ceil(2.0 * half_length / r);

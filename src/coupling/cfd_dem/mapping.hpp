@@ -89,6 +89,8 @@ using DepositScratch = Footprints;
 /// volume cut off by a plane it is within 0.1 V_p for every offset and direction tried (48
 /// points; other layouts of 48-64 points tried gave 0.08-0.11).
 std::span<const Vec3> sphere_sample_points();
+/// The turned set a sphere's divided footprint uses (points c + r s, each weight 1/48).
+std::span<const Vec3> turned_sphere_sample_points();
 
 /// The divided scheme's points of a spherocylinder (frame: axis u and two normals): the
 /// unturned sphere set split at its equator onto the two caps (shifted by +-l/2 along u), plus
