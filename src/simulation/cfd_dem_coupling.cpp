@@ -76,7 +76,14 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   } catch (const Error& e) {
     throw InputError(fmt::format("{}: fluid: {}", cfg.file.string(), e.what()));
   }
-  if (norm2(f.initial_velocity) > 0) {
+  if (cfg.shear && cfg.shear->initial_profile) {
+    // Between shear walls the fluid starts, like the grains, on the steady Couette profile:
+    // viscous diffusion across the gap takes h^2 / nu (~180 s for 48 mm of air), far longer
+    // than a run, so a fluid started at rest would be set in motion by the grains alone.
+    const Vec3 u0 = f.initial_velocity;
+    const double rate = cfg.shear->rate, zmid = 0.5 * (cfg.domain.min.z + cfg.domain.max.z);
+    fluid_->set_velocity([=](const Vec3& x) { return u0 + Vec3{rate * (x.z - zmid), 0, 0}; });
+  } else if (norm2(f.initial_velocity) > 0) {
     const Vec3 u0 = f.initial_velocity;
     fluid_->set_velocity([u0](const Vec3&) { return u0; });
   }

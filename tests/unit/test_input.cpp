@@ -1327,3 +1327,36 @@ TEST(InputCfdDem, BlocksNeedEachOtherAndValidValues) {
                      "output: {series: {every: 0.01, quantities: [fluid_pressure_drop]}}\n");
   EXPECT_NE(message.find("needs a fluid: block"), std::string::npos) << message;
 }
+
+// With shear walls the fluid's zmin and zmax are those walls: no-slip, moving at -+ rate h / 2
+// along x; writing them again is refused, and a fluid in a Lees-Edwards box is refused.
+TEST(InputCfdDem, ShearWallsDriveTheFluid) {
+  const std::string fluid = "fluid: {density: 1.2, viscosity: 1.8e-5, cells: [2, 2, 4]}\n"
+                            "coupling: {drag: holzer_sommerfeld}\n";
+  const std::string walls = "shear: {rate: 50, boundary: walls, wall_material: glass}\n";
+  const auto c = input::load_case_text(cfd_case(walls + fluid), "t.yaml");
+  ASSERT_TRUE(c.fluid);
+  using K = config::FluidBoundary::Kind;
+  EXPECT_EQ(c.fluid->boundary[4].kind, K::MovingWall);
+  EXPECT_EQ(c.fluid->boundary[5].kind, K::MovingWall);
+  EXPECT_NEAR(c.fluid->boundary[4].velocity.x, -2.5, 1e-12);  // 50 1/s x 0.1 m / 2
+  EXPECT_NEAR(c.fluid->boundary[5].velocity.x, 2.5, 1e-12);
+  EXPECT_EQ(c.fluid->boundary[0].kind, K::Periodic);
+  // The echoed case reads back the same (the shear walls are not written under fluid:).
+  TempDir dir;
+  const auto again = input::load_case(dir.write("echo.yaml", input::echo_yaml(c, "9.9.9")));
+  ASSERT_TRUE(again.fluid);
+  EXPECT_EQ(again.fluid->boundary[5].velocity, c.fluid->boundary[5].velocity);
+
+  std::string explicit_wall = fluid;
+  explicit_wall.replace(explicit_wall.find("}\n"), 2, ", boundary: {zmax: no_slip}}\n");
+  std::string message = error_of(cfd_case(walls + explicit_wall));
+  EXPECT_NE(message.find("fluid.boundary.zmax"), std::string::npos) << message;
+  EXPECT_NE(message.find("is a shear wall"), std::string::npos) << message;
+
+  std::string le = cfd_case("shear: {rate: 50, boundary: lees_edwards}\n" + fluid);
+  le.replace(le.find("periodic: [true, true, false]"), 29, "periodic: [true, true, true]");
+  message = error_of(le);
+  EXPECT_NE(message.find("Lees-Edwards"), std::string::npos) << message;
+  EXPECT_NE(message.find("t.yaml:12:"), std::string::npos) << message;
+}

@@ -424,7 +424,9 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
         << f.cells[1] << f.cells[2] << YAML::EndSeq;
     out << YAML::Key << "boundary" << YAML::Value << YAML::BeginMap;
     static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+    const bool shear_walls = c.shear && c.shear->boundary == config::Shear::Boundary::Walls;
     for (int face = 0; face < 6; ++face) {
+      if (shear_walls && face >= 4) continue;  // the shear walls (shear: block)
       const auto& b = f.boundary[static_cast<std::size_t>(face)];
       out << YAML::Key << faces[face] << YAML::Value;
       using K = config::FluidBoundary::Kind;

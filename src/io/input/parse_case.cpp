@@ -312,6 +312,11 @@ void Reader::read_fluid(const YamlMap& root) {
     for (int face = 0; face < 6; ++face) {
       auto v = bm.find(faces[face]);
       if (!v) continue;
+      if (c.shear && c.shear->boundary == config::Shear::Boundary::Walls && face >= 4)
+        v->fail(
+            fmt::format("the fluid face {} is a shear wall (shear: boundary: walls) and "
+                        "moves with it; leave it out of fluid.boundary",
+                        faces[face]));
       config::FluidBoundary b;
       b.given = true;
       if (v->is_scalar()) {
@@ -350,6 +355,19 @@ void Reader::read_fluid(const YamlMap& root) {
                                        "the fluid face {} must be periodic too",
                                        "xyz"[face / 2], faces[face]));
       f.boundary[face] = b;
+    }
+  }
+  if (c.shear && c.shear->boundary == config::Shear::Boundary::LeesEdwards)
+    fn->fail(
+        "a fluid in a Lees-Edwards shear box is not supported (the fluid grid has no sliding "
+        "images); shear it between walls (shear: {boundary: walls})");
+  if (c.shear) {
+    // The fluid's zmin and zmax are the shear walls: no-slip, moving with them.
+    const double h = c.domain.max.z - c.domain.min.z;
+    for (int side = 0; side < 2; ++side) {
+      auto& b = f.boundary[4 + side];
+      b.kind = config::FluidBoundary::Kind::MovingWall;
+      b.velocity = {(side == 0 ? -0.5 : 0.5) * c.shear->rate * h, 0, 0};
     }
   }
   f.initial_velocity = vec_or(fm, "initial_velocity", Vec3{});
