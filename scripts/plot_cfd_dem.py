@@ -1,0 +1,166 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Plots of the CFD-DEM validation (tests/validation/test_cfd_dem_validation.cpp) and of the
+shear box of rods in air and water against the dry box (Mahajan et al. 2019).
+
+Usage:
+  /usr/bin/python3 scripts/plot_cfd_dem.py [BUILD_DIR]
+      runs gf_validation_tests --gtest_filter='CfdDem*' with GF_VALIDATION_OUT set and writes
+      docs/validation/cfd_dem_ergun.png and cfd_dem_hindered_settling.png;
+  /usr/bin/python3 scripts/plot_cfd_dem.py --shear DRY.csv AIR.csv WATER.csv
+      reads three sweep.csv tables of `grainflow sweep` (cases/rheology/shear_box_rods,
+      cases/cfd_dem/shear_box_rods_air, .../shear_box_rods_water) and writes
+      docs/validation/cfd_dem_shear_box_temperature.png and cfd_dem_shear_box_stresses.png.
+Uses Debian's python3-numpy and python3-matplotlib."""
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OUT = os.path.join(ROOT, "docs", "validation")
+
+
+def load(path):
+    return np.atleast_1d(np.genfromtxt(path, delimiter=",", names=True, dtype=None,
+                                       encoding="utf-8"))
+
+
+def ergun(folder):
+    d = load(os.path.join(folder, "cfd_dem_min_fluidisation.csv"))
+    fixed = d[d["ergun_dp"] > 0]
+    fluid = d[d["ergun_dp"] == 0]
+    # Ergun is a U + b U^2 at fixed voidage: the two coefficients from the test's own values.
+    A = np.column_stack([fixed["u"], fixed["u"] ** 2])
+    (a, b), *_ = np.linalg.lstsq(A, fixed["ergun_dp"], rcond=None)
+    w = fixed["w"][0]
+    u_mf = (-a + np.sqrt(a * a + 4 * b * w)) / (2 * b)
+    # Measured U_mf: where the line through the fixed-bed points meets the bed weight.
+    (am, bm), *_ = np.linalg.lstsq(A, fixed["dp"], rcond=None)
+    u_mf_meas = (-am + np.sqrt(am * am + 4 * bm * w)) / (2 * bm)
+    u = np.linspace(0, 1.15 * max(d["u"]), 200)
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    ax.plot(u * 100, a * u + b * u * u, "k-", lw=1, label="Ergun (eps = %.4f)" % fixed["eps"][0])
+    ax.fill_between(u * 100, 0.9 * (a * u + b * u * u), 1.1 * (a * u + b * u * u), color="0.88",
+                    label="Ergun +- 10 %")
+    ax.axhline(w, color="tab:gray", ls="--", lw=1, label="bed weight / area")
+    ax.plot(fixed["u"] * 100, fixed["dp"], "o", color="tab:blue", label="grainflow, fixed bed")
+    ax.plot(fluid["u"] * 100, fluid["dp"], "s", color="tab:red", label="grainflow, fluidised")
+    ax.axvline(u_mf * 100, color="k", ls=":", lw=1)
+    ax.axvline(u_mf_meas * 100, color="tab:blue", ls=":", lw=1)
+    ax.set_xlabel("superficial velocity U (cm/s)")
+    ax.set_ylabel("pressure drop (Pa)")
+    ax.set_title("Packed bed: U_mf %.4f m/s vs Ergun %.4f m/s (%+.1f %%)"
+                 % (u_mf_meas, u_mf, 100 * (u_mf_meas / u_mf - 1)), fontsize=10)
+    ax.set_xlim(0, u[-1] * 100)
+    ax.set_ylim(0, 1.25 * w)
+    ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "cfd_dem_ergun.png"), dpi=120)
+    plt.close(fig)
+
+
+def hindered(folder):
+    d = load(os.path.join(folder, "cfd_dem_hindered_settling.csv"))
+    n = d["n"][0]
+    eps = np.linspace(0.75, 1.0, 100)
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    ax.plot(eps, eps ** n, "k-", lw=1, label="Richardson-Zaki eps^n, n = %.3f" % n)
+    ax.fill_between(eps, 0.85 * eps ** n, 1.15 * eps ** n, color="0.88", label="+- 15 %")
+    ax.plot(d["eps"], d["v"] / d["vt"], "o", color="tab:blue", label="grainflow")
+    for r in d:
+        ax.annotate("%+.1f %%" % (100 * (r["v"] / r["rz"] - 1)), (r["eps"], r["v"] / r["vt"]),
+                    textcoords="offset points", xytext=(6, -10), fontsize=8)
+    ax.set_xlabel("fluid fraction eps")
+    ax.set_ylabel("settling speed / single-grain terminal speed")
+    ax.set_title("Hindered settling of a homogeneous suspension", fontsize=10)
+    ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "cfd_dem_hindered_settling.png"), dpi=120)
+    plt.close(fig)
+
+
+def shear(dry, air, water):
+    media = [("dry", load(dry), "k", "o"), ("air", load(air), "tab:blue", "s"),
+             ("water", load(water), "tab:red", "^")]
+    phis = sorted(set(float(p) for p in media[0][1]["volume_fraction_nominal"]) &
+                  set(float(p) for p in media[2][1]["volume_fraction_nominal"]))
+    qty = [("granular_temperature", "T (m$^2$/s$^2$)"), ("pressure", "P (Pa)"),
+           ("sigma_xz", "-sigma_xz (Pa)")]
+    fig, ax = plt.subplots(len(qty), len(phis), figsize=(4 * len(phis), 3.2 * len(qty)),
+                           squeeze=False)
+    for j, phi in enumerate(phis):
+        for i, (q, label) in enumerate(qty):
+            a = ax[i][j]
+            for name, d, col, mk in media:
+                s = d[np.isclose(d["volume_fraction_nominal"], phi)]
+                s = s[np.argsort(s["shear_rate"])]
+                y = np.abs(s[q])
+                a.errorbar(s["shear_rate"], y, yerr=s[q + "_err"], fmt=mk + "-", color=col,
+                           capsize=2, label=name, ms=4)
+            g = np.array([40, 200])
+            ref = np.abs(media[0][1][np.isclose(media[0][1]["volume_fraction_nominal"], phi)][q])
+            a.plot(g, np.nanmax(ref) * (g / 200.0) ** 2, ":", color="0.5", label="slope 2")
+            a.set_xscale("log")
+            a.set_yscale("log")
+            a.set_xlabel("measured shear rate (1/s)")
+            a.set_ylabel(label)
+            if i == 0:
+                a.set_title("phi = %.1f" % phi)
+            a.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "cfd_dem_shear_box_stresses.png"), dpi=110)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    rates = sorted(set(float(r) for r in media[2][1]["shear_rate_nominal"]))
+    for name, d, col, mk in media:
+        for k, rate in enumerate(rates):
+            s = d[np.isclose(d["shear_rate_nominal"], rate)]
+            s = s[np.argsort(s["volume_fraction"])]
+            style = ["-", "--", ":"][k % 3]
+            ax[0].errorbar(s["volume_fraction"], s["granular_temperature"],
+                           yerr=s["granular_temperature_err"], fmt=mk + style, color=col,
+                           capsize=2, ms=4, label="%s, %g 1/s" % (name, rate))
+            ax[1].plot(s["volume_fraction"], s["alignment_angle"], mk + style, color=col, ms=4,
+                       label="%s, %g 1/s" % (name, rate))
+    ax[0].set_yscale("log")
+    ax[0].set_xlabel("measured volume fraction")
+    ax[0].set_ylabel("T (m$^2$/s$^2$)")
+    ax[0].set_title("granular temperature against phi")
+    ax[1].set_xlabel("measured volume fraction")
+    ax[1].set_ylabel("alignment angle (deg)")
+    ax[1].set_title("alignment against phi")
+    for a in ax:
+        a.legend(fontsize=6, ncol=3)
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "cfd_dem_shear_box_temperature.png"), dpi=110)
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "--shear":
+        if len(sys.argv) != 5:
+            sys.exit(__doc__)
+        shear(*sys.argv[2:5])
+        return
+    build = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "release")
+    exe = os.path.join(build, "tests", "gf_validation_tests")
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ, GF_VALIDATION_OUT=tmp)
+        subprocess.run([exe, "--gtest_filter=CfdDem*"], env=env, check=True,
+                       stdout=subprocess.DEVNULL)
+        ergun(tmp)
+        hindered(tmp)
+    print("wrote docs/validation/cfd_dem_ergun.png, cfd_dem_hindered_settling.png")
+
+
+if __name__ == "__main__":
+    main()
