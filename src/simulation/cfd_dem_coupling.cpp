@@ -181,6 +181,26 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   seconds_ += seconds_since(t0);
 }
 
+fluid::VolumeAveragedNS::State CfdDemCoupling::state() const {
+  auto st = fluid_->state();
+  std::vector<double> prev(eps_prev_);
+  prev.resize(static_cast<std::size_t>(grid_.cell_count()), 1.0);  // before the first step
+  st.arrays.emplace_back("coupling_eps_prev", std::move(prev));
+  return st;
+}
+
+void CfdDemCoupling::restore(const fluid::VolumeAveragedNS::State& st) {
+  fluid_->restore(st);
+  const auto nc = static_cast<std::size_t>(grid_.cell_count());
+  for (const auto& [name, v] : st.arrays)
+    if (name == "coupling_eps_prev") {
+      REQUIRE(v.size() == nc, "coupling restore: {} fluid fractions for {} cells", v.size(), nc);
+      eps_prev_ = v;
+    }
+  REQUIRE(eps_prev_.size() == nc, "coupling restore: no fluid fraction of the last fluid step");
+  first_ = st.n_steps == 0;
+}
+
 void CfdDemCoupling::add_forces(ParticleStore& particles) const {
   const auto t0 = Clock::now();
   const std::size_t n = particles.size();

@@ -49,6 +49,12 @@ class CfdDemCoupling {
   /// Whether DEM step number `step` (after it was taken) is due a fluid step.
   [[nodiscard]] bool due(std::int64_t step) const { return step % interval_ == 0; }
 
+  /// The fluid's state and the coupling's own (the fluid fraction of the last fluid step) for a
+  /// checkpoint; the grains' exchange fields are particle fields and travel with the grains.
+  [[nodiscard]] fluid::VolumeAveragedNS::State state() const;
+  /// Restores a state() written by the same case (gf::Error on a missing or mis-sized array).
+  void restore(const fluid::VolumeAveragedNS::State& state);
+
   [[nodiscard]] const fluid::VolumeAveragedNS& fluid() const { return *fluid_; }
   [[nodiscard]] const fluid::Grid& grid() const { return grid_; }
   [[nodiscard]] int interval() const { return interval_; }

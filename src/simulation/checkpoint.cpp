@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "core/version.hpp"
 #include "io/restart/h5.hpp"
 #include "simulation/simulation.hpp"
@@ -61,6 +62,16 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
     }
     h.write("walls/servo_offset", std::span<const Vec3>(so));
     h.write("walls/servo_velocity", std::span<const Vec3>(sv));
+
+    if (cfd_) {
+      const auto st = cfd_->state();
+      h.create_group("fluid");
+      h.set_attribute("fluid", "time", st.time);
+      h.set_attribute("fluid", "dt_prev", st.dt_prev);
+      h.set_attribute("fluid", "n_steps", st.n_steps);
+      h.set_attribute("fluid", "history", static_cast<std::int64_t>(st.history));
+      for (const auto& [name, v] : st.arrays) h.write("fluid/" + name, std::span<const double>(v));
+    }
   });
 }
 
@@ -121,6 +132,39 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
     if (so.size() != walls_.size() || sv.size() != walls_.size())
       throw InputError(fmt::format("{}: checkpoint has servo data for {} walls, the case {}",
                                    file.string(), so.size(), walls_.size()));
+  }
+  if (cfd_) {
+    // The fluid continues where it was (checkpoints of builds before the fluid was saved:
+    // it restarts from its initial condition).
+    if (h.exists("fluid")) {
+      auto st = cfd_->state();  // the names and sizes this case needs
+      st.time = h.read_double_attribute("fluid", "time");
+      st.dt_prev = h.read_double_attribute("fluid", "dt_prev");
+      st.n_steps = h.read_int_attribute("fluid", "n_steps");
+      st.history = static_cast<int>(h.read_int_attribute("fluid", "history"));
+      for (auto& [name, v] : st.arrays) {
+        if (!h.exists("fluid/" + name))
+          throw InputError(
+              fmt::format("{}: the checkpoint's fluid state has no '{}'", file.string(), name));
+        v = h.read_double("fluid/" + name);
+      }
+      try {
+        cfd_->restore(st);
+      } catch (const InputError&) {
+        throw;
+      } catch (const Error& e) {
+        throw InputError(
+            fmt::format("{}: {} (was it written by another case?)", file.string(), e.what()));
+      }
+    } else {
+      log::warn(
+          "{}: no fluid state in the checkpoint; the fluid restarts from its initial "
+          "condition",
+          file.string());
+    }
+  } else if (h.exists("fluid")) {
+    throw InputError(fmt::format(
+        "{}: the checkpoint has a fluid state but the case has no fluid: block", file.string()));
   }
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     walls_[w].servo_offset = so[w];

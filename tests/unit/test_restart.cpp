@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -99,5 +101,47 @@ TEST(Restart, LeesEdwardsContinuesBitIdentically) {
   EXPECT_GT(a.neighbor_list().n_builds(), builds + 2);
   EXPECT_GT(a.n_contacts(), 5);
   test::expect_same_state(a, b);
+  std::filesystem::remove(file);
+}
+
+TEST(Restart, CfdDemContinuesBitIdentically) {
+  // The fluidized bed, checkpointed between two fluid steps (510 is not a multiple of the
+  // coupling interval 25): grains, exchange fields and the fluid (velocities of two steps,
+  // pressure, solver guesses, fluid fraction of the last fluid step) must all carry over.
+  const auto cfg = input::load_case(std::string(GF_SOURCE_DIR) +
+                                    "/cases/cfd_dem/fluidized_bed/case.yaml");
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("gf_restart_cfd_" + std::to_string(::getpid()) + ".h5");
+  Simulation a(cfg);
+  for (int s = 0; s < 510; ++s) a.step();
+  a.save_checkpoint(file);
+  for (int s = 0; s < 500; ++s) a.step();
+  Simulation b(cfg);
+  b.load_checkpoint(file);
+  for (int s = 0; s < 500; ++s) b.step();
+  test::expect_same_state(a, b);
+  ASSERT_TRUE(a.cfd_dem() && b.cfd_dem());
+  const auto& fa = a.cfd_dem()->fluid();
+  const auto& fb = b.cfd_dem()->fluid();
+  EXPECT_EQ(fa.step_count(), fb.step_count());
+  EXPECT_EQ(fa.time(), fb.time());
+  for (int k = 0; k < 3; ++k) {
+    const auto ua = fa.face_velocity(k), ub = fb.face_velocity(k);
+    ASSERT_EQ(ua.size(), ub.size());
+    EXPECT_EQ(0, std::memcmp(ua.data(), ub.data(), ua.size() * sizeof(double))) << "u" << k;
+  }
+  const auto pa = fa.pressure(), pb = fb.pressure();
+  EXPECT_EQ(0, std::memcmp(pa.data(), pb.data(), pa.size() * sizeof(double)));
+  double umax = 0;
+  for (double u : fa.face_velocity(2)) umax = std::max(umax, std::abs(u));
+  EXPECT_GT(umax, 1.0);  // the fluid is moving (inlet 2.5 m/s)
+
+  // A checkpoint with a fluid state refused by a case without fluid.
+  auto dry = cfg;
+  dry.fluid.reset();
+  dry.coupling.reset();
+  dry.output.quantities.clear();
+  Simulation c(dry);
+  EXPECT_THROW(c.load_checkpoint(file), InputError);
   std::filesystem::remove(file);
 }

@@ -24,8 +24,11 @@
 // values and the viscous stencil, so every stencil sees the boundary the same way.
 #include "fluid/fv/navier_stokes.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "core/error.hpp"
@@ -769,6 +772,72 @@ void VolumeAveragedNS::set_boundary(BoxFace face, const BoundaryCondition& b) {
     throw;
   }
   links_dirty_ = true;
+}
+
+VolumeAveragedNS::State VolumeAveragedNS::state() const {
+  State st;
+  st.time = time_;
+  st.dt_prev = dt_prev_;
+  st.n_steps = n_steps_;
+  st.history = history_;
+  auto add = [&](std::string name, std::vector<double> v) {
+    st.arrays.emplace_back(std::move(name), std::move(v));
+  };
+  for (int a = 0; a < dim_; ++a) {
+    const std::string k = std::to_string(a);
+    add("u" + k, u_[a]);
+    add("u_old" + k, u_old_[a]);
+    add("conv_old" + k, conv_old_[a]);
+    add("momentum_guess" + k,
+        std::vector<double>(mom_[a].x.data(), mom_[a].x.data() + mom_[a].x.size()));
+  }
+  add("p", p_);
+  add("phi_cell", phi_cell_);
+  add("pressure_guess", std::vector<double>(phi_.data(), phi_.data() + phi_.size()));
+  add("eps", eps_);
+  add("eps_rate", eps_rate_);
+  add("drag", drag_);
+  std::vector<double> src(3 * source_.size());
+  for (std::size_t c = 0; c < source_.size(); ++c)
+    for (int a = 0; a < 3; ++a) src[3 * c + a] = source_[c][a];
+  add("source", std::move(src));
+  return st;
+}
+
+void VolumeAveragedNS::restore(const State& st) {
+  auto get = [&](const std::string& name, std::size_t n) -> const std::vector<double>& {
+    for (const auto& [key, v] : st.arrays)
+      if (key == name) {
+        REQUIRE(v.size() == n, "fluid restore: '{}' has {} values, the grid needs {}", name,
+                v.size(), n);
+        return v;
+      }
+    throw Error(fmt::format("fluid restore: no array '{}'", name));
+  };
+  for (int a = 0; a < dim_; ++a) {
+    const std::string k = std::to_string(a);
+    u_[a] = get("u" + k, u_[a].size());
+    u_old_[a] = get("u_old" + k, u_old_[a].size());
+    conv_old_[a] = get("conv_old" + k, conv_old_[a].size());
+    const auto& x = get("momentum_guess" + k, static_cast<std::size_t>(mom_[a].x.size()));
+    for (std::size_t i = 0; i < x.size(); ++i) mom_[a].x[static_cast<Eigen::Index>(i)] = x[i];
+  }
+  p_ = get("p", p_.size());
+  phi_cell_ = get("phi_cell", phi_cell_.size());
+  const auto& guess = get("pressure_guess", static_cast<std::size_t>(phi_.size()));
+  for (std::size_t i = 0; i < guess.size(); ++i) phi_[static_cast<Eigen::Index>(i)] = guess[i];
+  eps_ = get("eps", eps_.size());
+  eps_rate_ = get("eps_rate", eps_rate_.size());
+  drag_ = get("drag", drag_.size());
+  const auto& src = get("source", 3 * source_.size());
+  for (std::size_t c = 0; c < source_.size(); ++c)
+    for (int a = 0; a < 3; ++a) source_[c][a] = src[3 * c + a];
+  time_ = st.time;
+  dt_prev_ = st.dt_prev;
+  n_steps_ = st.n_steps;
+  history_ = st.history;
+  update_face_fraction();
+  coefficients_dirty_ = true;
 }
 
 StepReport VolumeAveragedNS::step(double dt) {

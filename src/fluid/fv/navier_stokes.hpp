@@ -24,6 +24,8 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "core/vec3.hpp"
@@ -112,6 +114,20 @@ class VolumeAveragedNS {
   /// One time step of size dt [s] (BDF2 after the first step if time_order = 2). Throws
   /// gf::Error when max_cfl(dt) exceeds settings().max_courant.
   StepReport step(double dt);
+
+  /// Everything a restart needs to continue bit-identically: the velocities of the last two
+  /// steps, the convection term of the last step, pressure, the inputs last set, the linear
+  /// solvers' starting guesses, and the clock. Arrays are named; Vec3 arrays are flattened.
+  struct State {
+    double time = 0.0, dt_prev = 0.0;
+    std::int64_t n_steps = 0;
+    int history = 0;
+    std::vector<std::pair<std::string, std::vector<double>>> arrays;
+  };
+  [[nodiscard]] State state() const;
+  /// Restores a state() of a solver on the same grid and settings (gf::Error when an array is
+  /// missing or has another size).
+  void restore(const State& state);
 
   // --- results ------------------------------------------------------------------------------
 
