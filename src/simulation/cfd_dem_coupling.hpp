@@ -92,6 +92,8 @@ class CfdDemCoupling {
 
   // Reused between fluid steps (sized on the first one).
   cfd_dem::StoreGeometry geo_buffers_;
+  bool rate_from_flux_ = true;  // d eps/dt from the solid flux (else from the eps difference)
+  cfd_dem::SolidFluxScratch solid_flux_;
   cfd_dem::Footprints footprints_;  // of the grains at the current fluid step
   std::vector<double> eps_, eps_prev_, eps_rate_, k_, eps_p_;
   std::vector<Vec3> s_explicit_, cell_u_, cell_gradp_, u_p_;

@@ -1252,6 +1252,7 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_EQ(c.coupling->fluid_fraction, "divided");
   EXPECT_EQ(c.coupling->interval, 100);
   EXPECT_EQ(c.coupling->min_fraction, 0.3);
+  EXPECT_EQ(c.coupling->fluid_fraction_rate, "flux");
   const auto report = input::validate(c);
   // Smallest cell 0.1 m / 8 along z over the grain diameter 0.01 m.
   EXPECT_NEAR(leading_number(derived(report, "cell size / particle diameter")), 1.25, 1e-9);
@@ -1274,6 +1275,7 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_EQ(again.coupling->drag, c.coupling->drag);
   EXPECT_EQ(again.coupling->interval, c.coupling->interval);
   EXPECT_EQ(again.coupling->min_fraction, c.coupling->min_fraction);
+  EXPECT_EQ(again.coupling->fluid_fraction_rate, c.coupling->fluid_fraction_rate);
 }
 
 TEST(InputCfdDem, UnknownDragLawListsTheKeys) {
@@ -1318,6 +1320,14 @@ TEST(InputCfdDem, BlocksNeedEachOtherAndValidValues) {
   EXPECT_NE(message.find("coupling.interval"), std::string::npos) << message;
 
   blocks = good_fluid;
+  blocks.replace(blocks.find("{drag: gidaspow}"), 16,
+                 "{drag: gidaspow, fluid_fraction_rate: differences}");
+  message = error_of(cfd_case(blocks));
+  EXPECT_NE(message.find("t.yaml:16:"), std::string::npos) << message;
+  EXPECT_NE(message.find("coupling.fluid_fraction_rate"), std::string::npos) << message;
+  EXPECT_NE(message.find("difference"), std::string::npos) << message;
+
+  blocks = good_fluid;
   blocks.replace(blocks.find("[4, 4, 8]"), 9, "[4, 4]");
   message = error_of(cfd_case(blocks));
   EXPECT_NE(message.find("t.yaml:14:"), std::string::npos) << message;
@@ -1331,8 +1341,9 @@ TEST(InputCfdDem, BlocksNeedEachOtherAndValidValues) {
 // With shear walls the fluid's zmin and zmax are those walls: no-slip, moving at -+ rate h / 2
 // along x; writing them again is refused, and a fluid in a Lees-Edwards box is refused.
 TEST(InputCfdDem, ShearWallsDriveTheFluid) {
-  const std::string fluid = "fluid: {density: 1.2, viscosity: 1.8e-5, cells: [2, 2, 4]}\n"
-                            "coupling: {drag: holzer_sommerfeld}\n";
+  const std::string fluid =
+      "fluid: {density: 1.2, viscosity: 1.8e-5, cells: [2, 2, 4]}\n"
+      "coupling: {drag: holzer_sommerfeld}\n";
   const std::string walls = "shear: {rate: 50, boundary: walls, wall_material: glass}\n";
   const auto c = input::load_case_text(cfd_case(walls + fluid), "t.yaml");
   ASSERT_TRUE(c.fluid);

@@ -74,4 +74,46 @@ FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& 
   return fluid_fraction(g, p, fp, options.min_fraction, eps);
 }
 
+void fluid_fraction_rate_from_flux(const fluid::Grid& g, const ParticleGeometry& p,
+                                   const Footprints& fp, std::span<const Vec3> v,
+                                   std::span<double> rate, SolidFluxScratch& scratch) {
+  const auto nc = static_cast<std::size_t>(g.cell_count());
+  REQUIRE(v.size() == p.size() && p.size() == fp.size(),
+          "solid flux: {} velocities, {} particles, footprints of {}", v.size(), p.size(),
+          fp.size());
+  REQUIRE(rate.size() == nc, "solid flux: {} rates for {} cells", rate.size(), nc);
+  auto& vol_v = scratch.volume_velocity;
+  auto& q = scratch.flux;
+  vol_v.resize(p.size());
+  q.resize(nc);
+  exec::parallel_for(static_cast<exec::index_t>(p.size()),
+                     [&](exec::index_t i) { vol_v[i] = p.volume(i) * v[i]; });
+  std::fill(q.begin(), q.end(), Vec3{});
+  deposit(fp, std::span<const Vec3>(vol_v), q, 1.0 / g.cell_volume());
+  const int dims = g.dimension == 2 ? 2 : 3;
+  exec::parallel_for(static_cast<exec::index_t>(nc), [&](exec::index_t c) {
+    const int i = static_cast<int>(c % g.n[0]);
+    const int j = static_cast<int>((c / g.n[0]) % g.n[1]);
+    const int k = static_cast<int>(c / (static_cast<std::int64_t>(g.n[0]) * g.n[1]));
+    const int idx[3] = {i, j, k};
+    double div = 0.0;
+    for (int a = 0; a < dims; ++a) {
+      // Flux through the upper and the lower face of the cell along a.
+      for (int side = 0; side < 2; ++side) {
+        int nb[3] = {idx[0], idx[1], idx[2]};
+        nb[a] += side == 0 ? -1 : 1;
+        double face = 0.0;  // a wall: no solid crosses it
+        if (nb[a] >= 0 && nb[a] < g.n[a]) {
+          face = 0.5 * (q[c][a] + q[g.index(nb[0], nb[1], nb[2])][a]);
+        } else if (g.periodic[a]) {
+          nb[a] = g.fold(a, nb[a]);
+          face = 0.5 * (q[c][a] + q[g.index(nb[0], nb[1], nb[2])][a]);
+        }
+        div += (side == 0 ? -face : face) / g.h[a];
+      }
+    }
+    rate[c] = div;  // d eps/dt = -d(1 - eps)/dt = div((1 - eps) v)
+  });
+}
+
 }  // namespace gf::cfd_dem

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "coupling/cfd_dem/mapping.hpp"
 #include "fluid/fv/grid.hpp"
@@ -45,5 +46,20 @@ FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& 
 /// The same with footprints of p built on g by compute_footprints.
 FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& p,
                                   const Footprints& fp, double min_fraction, std::span<double> eps);
+
+/// d eps/dt per cell from the grains' velocities v (one per particle of fp): the solid volume
+/// flux density q_c = sum_p w_pc V_p v_p / V_cell (m/s), deposited with the footprints fp,
+/// averaged onto the faces between cells (zero on walls, wrapped across periodic faces), and
+/// rate_c = div q (1/s), from the solid continuity d(1 - eps)/dt + div((1 - eps) v) = 0. Unlike
+/// the change of the deposited eps, which moves in steps as sample points cross faces, it is
+/// smooth in time; it sums to zero over the box (to round-off). rate has g.cell_count()
+/// entries; scratch keeps its buffers between calls (no allocation once sized).
+struct SolidFluxScratch {
+  std::vector<Vec3> volume_velocity;  ///< V_p v_p per particle, m^4/s
+  std::vector<Vec3> flux;             ///< q per cell, m/s
+};
+void fluid_fraction_rate_from_flux(const fluid::Grid& g, const ParticleGeometry& p,
+                                   const Footprints& fp, std::span<const Vec3> v,
+                                   std::span<double> rate, SolidFluxScratch& scratch);
 
 }  // namespace gf::cfd_dem

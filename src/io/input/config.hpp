@@ -261,6 +261,9 @@ struct Coupling {
   std::string fluid_fraction = "divided";  ///< centre | divided
   int interval = 100;                      ///< DEM steps per fluid step
   double min_fraction = 0.3;               ///< lower clamp of the fluid fraction
+  /// d eps/dt in the fluid's continuity: "flux" (divergence of the grains' solid volume flux)
+  /// or "difference" (change of the deposited eps over the fluid step)
+  std::string fluid_fraction_rate = "flux";
   SourceLoc loc;
 };
 

@@ -389,7 +389,7 @@ void Reader::read_coupling(const YamlMap& root) {
   }
   if (!c.fluid)
     cn->fail("a coupling: block needs a fluid: block (density, viscosity, cells, boundary)");
-  YamlMap cm(*cn, {"drag", "fluid_fraction", "interval", "min_fraction"});
+  YamlMap cm(*cn, {"drag", "fluid_fraction", "interval", "min_fraction", "fluid_fraction_rate"});
   config::Coupling cp;
   cp.loc = cn->loc();
   const YamlNode dn = cm.at("drag");
@@ -405,6 +405,8 @@ void Reader::read_coupling(const YamlMap& root) {
   if (auto ff = cm.find("fluid_fraction")) cp.fluid_fraction = ff->as_choice({"centre", "divided"});
   if (auto in = cm.find("interval")) cp.interval = static_cast<int>(in->as_integer({1, 1e6}));
   cp.min_fraction = cm.number_or("min_fraction", 0.3, Range{0.0, 1.0, true, false});
+  if (auto r = cm.find("fluid_fraction_rate"))
+    cp.fluid_fraction_rate = r->as_choice({"flux", "difference"});
   c.coupling = std::move(cp);
 }
 

@@ -1015,8 +1015,8 @@ void Validator::check_fluid() {
     u = c_.shear->rate * d;
     u_what = "shear rate x d";
     const double h = c_.domain.max.z - c_.domain.min.z;
-    u_courant = c_.shear->rate * h *
-                (c_.shear->boundary == config::Shear::Boundary::Walls ? 0.5 : 1.0);
+    u_courant =
+        c_.shear->rate * h * (c_.shear->boundary == config::Shear::Boundary::Walls ? 0.5 : 1.0);
   }
   const double g = norm(c_.gravity);
   if (u == 0 && d > 0) {
