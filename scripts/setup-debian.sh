@@ -12,7 +12,7 @@ PKGS=(
   python3 python3-numpy python3-matplotlib python3-vtk9
 )
 # Peers for side-by-side benchmarks (bench/ only): pass --bench.
-BENCH_PKGS=(liggghts lammps python3-dolfinx hyperfine valgrind time)
+BENCH_PKGS=(liggghts lammps python3-dolfinx openfoam hyperfine valgrind time)
 
 want=("${PKGS[@]}")
 if [[ "${1:-}" == "--bench" ]]; then want+=("${BENCH_PKGS[@]}"); fi

@@ -7,7 +7,7 @@ Runs the case twice with the same grains and steps: as given (fluid + coupling) 
 Reads grainflow's summary.json (loop_seconds, steps, n_particles, stages) and prints
 particle-steps/s, fluid cell-steps/s and the ratio coupled / DEM-only. With --append, adds a
 dated section to bench/RESULTS-cfd_dem.md. Target (issue): fluid + coupling add < 50 %.
-No peer is run: OpenFOAM (CFDEM) is not installed on the benchmark machine.
+The peer run against OpenFOAM DPMFoam is vs_openfoam.py.
 """
 import argparse, datetime, json, os, platform, subprocess, sys, tempfile
 
@@ -115,7 +115,7 @@ def main():
     if a.append:
         head = (f"\n## {datetime.date.today().isoformat()}: fluidized_bed, {a.steps} steps\n\n"
                 f"Machine: {model}, {cores} CPUs (shared machine), "
-                f"grainflow {a.grainflow}. OpenFOAM / CFDEM not installed: no peer run.\n\n")
+                f"grainflow {a.grainflow}. Peer: see vs_openfoam.py.\n\n")
         res = os.path.join(ROOT, "bench/RESULTS-cfd_dem.md")
         new = not os.path.exists(res)
         with open(res, "a") as f:
