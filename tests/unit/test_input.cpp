@@ -1253,6 +1253,7 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_EQ(c.coupling->interval, 100);
   EXPECT_EQ(c.coupling->min_fraction, 0.3);
   EXPECT_EQ(c.coupling->fluid_fraction_rate, "flux");
+  EXPECT_EQ(c.coupling->rate_relaxation, 0.3);
   const auto report = input::validate(c);
   // Smallest cell 0.1 m / 8 along z over the grain diameter 0.01 m.
   EXPECT_NEAR(leading_number(derived(report, "cell size / particle diameter")), 1.25, 1e-9);
@@ -1276,6 +1277,7 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_EQ(again.coupling->interval, c.coupling->interval);
   EXPECT_EQ(again.coupling->min_fraction, c.coupling->min_fraction);
   EXPECT_EQ(again.coupling->fluid_fraction_rate, c.coupling->fluid_fraction_rate);
+  EXPECT_EQ(again.coupling->rate_relaxation, c.coupling->rate_relaxation);
 }
 
 TEST(InputCfdDem, UnknownDragLawListsTheKeys) {
@@ -1326,6 +1328,12 @@ TEST(InputCfdDem, BlocksNeedEachOtherAndValidValues) {
   EXPECT_NE(message.find("t.yaml:16:"), std::string::npos) << message;
   EXPECT_NE(message.find("coupling.fluid_fraction_rate"), std::string::npos) << message;
   EXPECT_NE(message.find("difference"), std::string::npos) << message;
+
+  blocks = good_fluid;
+  blocks.replace(blocks.find("{drag: gidaspow}"), 16, "{drag: gidaspow, rate_relaxation: 0}");
+  message = error_of(cfd_case(blocks));
+  EXPECT_NE(message.find("coupling.rate_relaxation"), std::string::npos) << message;
+  EXPECT_NE(message.find("(0, 1]"), std::string::npos) << message;
 
   blocks = good_fluid;
   blocks.replace(blocks.find("[4, 4, 8]"), 9, "[4, 4]");

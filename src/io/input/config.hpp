@@ -264,6 +264,8 @@ struct Coupling {
   /// d eps/dt in the fluid's continuity: "flux" (divergence of the grains' solid volume flux)
   /// or "difference" (change of the deposited eps over the fluid step)
   std::string fluid_fraction_rate = "flux";
+  /// Under-relaxation a of the flux rate between fluid steps: rate = rate_prev + a (new - prev)
+  double rate_relaxation = 0.3;
   SourceLoc loc;
 };
 
