@@ -108,8 +108,8 @@ TEST(Restart, CfdDemContinuesBitIdentically) {
   // The fluidized bed, checkpointed between two fluid steps (510 is not a multiple of the
   // coupling interval 25): grains, exchange fields and the fluid (velocities of two steps,
   // pressure, solver guesses, fluid fraction of the last fluid step) must all carry over.
-  const auto cfg = input::load_case(std::string(GF_SOURCE_DIR) +
-                                    "/cases/cfd_dem/fluidized_bed/case.yaml");
+  const auto cfg =
+      input::load_case(std::string(GF_SOURCE_DIR) + "/cases/cfd_dem/fluidized_bed/case.yaml");
   const auto file = std::filesystem::temp_directory_path() /
                     ("gf_restart_cfd_" + std::to_string(::getpid()) + ".h5");
   Simulation a(cfg);
