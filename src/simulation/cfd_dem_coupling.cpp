@@ -130,7 +130,7 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
 
   // The grains stay put during this call: one set of footprints serves every deposit.
   cfd_dem::compute_footprints(grid_, geo, ff_options_.scheme, footprints_);
-  cfd_dem::fluid_fraction(grid_, geo, footprints_, ff_options_.min_fraction, eps_);
+  cfd_dem::fluid_fraction(grid_, footprints_, ff_options_.min_fraction, eps_);
   if (first_) std::copy(eps_.begin(), eps_.end(), eps_prev_.begin());
   if (rate_from_flux_) {
     // The divergence of the grains' solid volume flux: smooth, where the deposited eps moves in
@@ -145,7 +145,7 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
     // ~1/a fluid steps, short against a grain's response time.
     rate_new_.resize(nc);
     cfd_dem::fluid_fraction_rate_from_flux(
-        grid_, geo, footprints_, std::span<const Vec3>(particles.v(), n), rate_new_, solid_flux_);
+        grid_, footprints_, std::span<const Vec3>(particles.v(), n), rate_new_, solid_flux_);
     const double a = first_ ? 1.0 : rate_relaxation_;
     exec::parallel_for(static_cast<exec::index_t>(nc),
                        [&](exec::index_t c) { eps_rate_[c] += a * (rate_new_[c] - eps_rate_[c]); });

@@ -10,14 +10,8 @@
 
 namespace gf::cfd_dem {
 
-void deposit_solid_volume(const ParticleGeometry& p, const Footprints& fp,
-                          std::span<double> solid) {
-  REQUIRE(p.size() == fp.size(), "solid volume: {} particles and footprints of {}", p.size(),
-          fp.size());
-  std::vector<double> volume(p.size());
-  exec::parallel_for(static_cast<exec::index_t>(p.size()),
-                     [&](exec::index_t i) { volume[i] = p.volume(i); });
-  deposit(fp, std::span<const double>(volume), solid);
+void deposit_solid_volume(const Footprints& fp, std::span<double> solid) {
+  deposit(fp, std::span<const double>(fp.volume), solid);
 }
 
 void deposit_solid_volume(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
@@ -25,7 +19,7 @@ void deposit_solid_volume(const fluid::Grid& g, const ParticleGeometry& p, Depos
   Footprints local;
   Footprints& fp = scratch ? *scratch : local;
   compute_footprints(g, p, scheme, fp);  // checks the geometry before the volumes read it
-  deposit_solid_volume(p, fp, solid);
+  deposit_solid_volume(fp, solid);
 }
 
 FluidFractionStats fluid_fraction_from_solid(const fluid::Grid& g, std::span<const double> solid,
@@ -53,13 +47,12 @@ FluidFractionStats fluid_fraction_from_solid(const fluid::Grid& g, std::span<con
   return st;
 }
 
-FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& p,
-                                  const Footprints& fp, double min_fraction,
+FluidFractionStats fluid_fraction(const fluid::Grid& g, const Footprints& fp, double min_fraction,
                                   std::span<double> eps) {
   REQUIRE(static_cast<std::int64_t>(eps.size()) == g.cell_count(),
           "fluid fraction: {} values for {} cells", eps.size(), g.cell_count());
   std::fill(eps.begin(), eps.end(), 0.0);
-  deposit_solid_volume(p, fp, eps);
+  deposit_solid_volume(fp, eps);
   return fluid_fraction_from_solid(g, eps, min_fraction, eps);
 }
 
@@ -71,45 +64,36 @@ FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& 
   Footprints local;
   Footprints& fp = scratch ? *scratch : local;
   compute_footprints(g, p, options.scheme, fp);
-  return fluid_fraction(g, p, fp, options.min_fraction, eps);
+  return fluid_fraction(g, fp, options.min_fraction, eps);
 }
 
-void fluid_fraction_rate_from_flux(const fluid::Grid& g, const ParticleGeometry& p,
-                                   const Footprints& fp, std::span<const Vec3> v,
-                                   std::span<double> rate, SolidFluxScratch& scratch) {
+void fluid_fraction_rate_from_flux(const fluid::Grid& g, const Footprints& fp,
+                                   std::span<const Vec3> v, std::span<double> rate,
+                                   SolidFluxScratch& scratch) {
   const auto nc = static_cast<std::size_t>(g.cell_count());
-  REQUIRE(v.size() == p.size() && p.size() == fp.size(),
-          "solid flux: {} velocities, {} particles, footprints of {}", v.size(), p.size(),
+  REQUIRE(v.size() == fp.size(), "solid flux: {} velocities for footprints of {}", v.size(),
           fp.size());
   REQUIRE(rate.size() == nc, "solid flux: {} rates for {} cells", rate.size(), nc);
   auto& vol_v = scratch.volume_velocity;
   auto& q = scratch.flux;
-  vol_v.resize(p.size());
+  vol_v.resize(v.size());
   q.resize(nc);
-  exec::parallel_for(static_cast<exec::index_t>(p.size()),
-                     [&](exec::index_t i) { vol_v[i] = p.volume(i) * v[i]; });
+  exec::parallel_for(static_cast<exec::index_t>(v.size()),
+                     [&](exec::index_t i) { vol_v[i] = fp.volume[i] * v[i]; });
   std::fill(q.begin(), q.end(), Vec3{});
   deposit(fp, std::span<const Vec3>(vol_v), q, 1.0 / g.cell_volume());
   const int dims = g.dimension == 2 ? 2 : 3;
   exec::parallel_for(static_cast<exec::index_t>(nc), [&](exec::index_t c) {
-    const int i = static_cast<int>(c % g.n[0]);
-    const int j = static_cast<int>((c / g.n[0]) % g.n[1]);
-    const int k = static_cast<int>(c / (static_cast<std::int64_t>(g.n[0]) * g.n[1]));
-    const int idx[3] = {i, j, k};
+    const std::array<int, 3> idx = g.cell_coords(c);
     double div = 0.0;
     for (int a = 0; a < dims; ++a) {
-      // Flux through the upper and the lower face of the cell along a.
-      for (int side = 0; side < 2; ++side) {
-        int nb[3] = {idx[0], idx[1], idx[2]};
-        nb[a] += side == 0 ? -1 : 1;
-        double face = 0.0;  // a wall: no solid crosses it
-        if (nb[a] >= 0 && nb[a] < g.n[a]) {
-          face = 0.5 * (q[c][a] + q[g.index(nb[0], nb[1], nb[2])][a]);
-        } else if (g.periodic[a]) {
-          nb[a] = g.fold(a, nb[a]);
-          face = 0.5 * (q[c][a] + q[g.index(nb[0], nb[1], nb[2])][a]);
-        }
-        div += (side == 0 ? -face : face) / g.h[a];
+      for (int side : {-1, 1}) {  // the lower and the upper face of the cell along a
+        std::array<int, 3> nb = idx;
+        nb[a] += side;
+        const bool inside = nb[a] >= 0 && nb[a] < g.n[a];
+        if (!inside && !g.periodic[a]) continue;  // a wall: no solid crosses it
+        nb[a] = g.fold(a, nb[a]);
+        div += side * 0.5 * (q[c][a] + q[g.index(nb[0], nb[1], nb[2])][a]) / g.h[a];
       }
     }
     rate[c] = div;  // d eps/dt = -d(1 - eps)/dt = div((1 - eps) v)

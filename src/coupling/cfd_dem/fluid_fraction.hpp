@@ -31,8 +31,8 @@ struct FluidFractionStats {
 void deposit_solid_volume(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
                           std::span<double> solid, DepositScratch* scratch = nullptr);
 
-/// The same with footprints of p built by compute_footprints (p gives the volumes).
-void deposit_solid_volume(const ParticleGeometry& p, const Footprints& fp, std::span<double> solid);
+/// The same with footprints built by compute_footprints (which keep the volumes).
+void deposit_solid_volume(const Footprints& fp, std::span<double> solid);
 
 /// eps[c] = max(1 - solid[c] / V_cell, min_fraction); returns the clamp count. eps may alias
 /// solid (converted in place).
@@ -43,9 +43,9 @@ FluidFractionStats fluid_fraction_from_solid(const fluid::Grid& g, std::span<con
 FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& p,
                                   const FluidFractionOptions& options, std::span<double> eps,
                                   DepositScratch* scratch = nullptr);
-/// The same with footprints of p built on g by compute_footprints.
-FluidFractionStats fluid_fraction(const fluid::Grid& g, const ParticleGeometry& p,
-                                  const Footprints& fp, double min_fraction, std::span<double> eps);
+/// The same with footprints built on g by compute_footprints.
+FluidFractionStats fluid_fraction(const fluid::Grid& g, const Footprints& fp, double min_fraction,
+                                  std::span<double> eps);
 
 /// d eps/dt per cell from the grains' velocities v (one per particle of fp): the solid volume
 /// flux density q_c = sum_p w_pc V_p v_p / V_cell (m/s), deposited with the footprints fp,
@@ -58,8 +58,8 @@ struct SolidFluxScratch {
   std::vector<Vec3> volume_velocity;  ///< V_p v_p per particle, m^4/s
   std::vector<Vec3> flux;             ///< q per cell, m/s
 };
-void fluid_fraction_rate_from_flux(const fluid::Grid& g, const ParticleGeometry& p,
-                                   const Footprints& fp, std::span<const Vec3> v,
-                                   std::span<double> rate, SolidFluxScratch& scratch);
+void fluid_fraction_rate_from_flux(const fluid::Grid& g, const Footprints& fp,
+                                   std::span<const Vec3> v, std::span<double> rate,
+                                   SolidFluxScratch& scratch);
 
 }  // namespace gf::cfd_dem

@@ -352,6 +352,7 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
   fp.cell_volume = g.cell_volume();
   fp.offsets.resize(n + 1);
   fp.offsets[0] = 0;
+  fp.volume.resize(n);
   fp.shares.clear();
   for (std::size_t start = 0; start < n; start += kBlock) {
     const std::size_t nb = std::min(kBlock, n - start);
@@ -366,6 +367,7 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
     exec::parallel_for(static_cast<exec::index_t>(nb), [&](exec::index_t i) {
       CellShare* f = raw + off[i];
       const std::size_t k = start + static_cast<std::size_t>(i);
+      fp.volume[k] = p.volume(k);
       if (scheme == DepositScheme::Divided && inside_one_cell(g, p, k)) {
         f[0] = {cell_containing(g, p.x[k]), 1.0};
         fp.counts[i] = 1;

@@ -64,11 +64,12 @@ struct CellShare {
 /// every deposit of one coupling step (the grains do not move in between), so the sample
 /// points of the divided scheme (48+ per grain) are placed once per step, not once per deposit,
 /// and a deposit adds one value per cell touched (a grain inside one cell: a single pair).
-/// Memory: 16 bytes per pair + 8 per particle, plus one block's raw footprints (8192 grains).
+/// Memory: 16 bytes per pair + 16 per particle, plus one block's raw footprints (8192 grains).
 /// The buffers are kept between calls: a time loop allocates only while the counts grow.
 struct Footprints {
   std::vector<CellShare> shares;
   std::vector<std::int64_t> offsets;  ///< n + 1 entries
+  std::vector<double> volume;         ///< body volume per particle, m^3
   std::int64_t n_cells = 0;           ///< cells of the grid the footprints were built on
   double cell_volume = 0.0;           ///< m^3
   std::size_t size() const { return offsets.empty() ? 0 : offsets.size() - 1; }

@@ -29,6 +29,11 @@ struct Grid {
   GF_HOST_DEVICE std::int64_t index(int i, int j, int k) const {
     return (static_cast<std::int64_t>(k) * n[1] + j) * n[0] + i;
   }
+  /// Cell (i, j, k) of linear index c (the inverse of index).
+  GF_HOST_DEVICE std::array<int, 3> cell_coords(std::int64_t c) const {
+    return {static_cast<int>(c % n[0]), static_cast<int>((c / n[0]) % n[1]),
+            static_cast<int>(c / (static_cast<std::int64_t>(n[0]) * n[1]))};
+  }
   GF_HOST_DEVICE Vec3 hi() const {
     return {lo.x + n[0] * h.x, lo.y + n[1] * h.y, lo.z + n[2] * h.z};
   }

@@ -168,9 +168,7 @@ VolumeAveragedNS::Index3 VolumeAveragedNS::unflatten_face(int a, std::int64_t f)
 }
 
 VolumeAveragedNS::Index3 VolumeAveragedNS::unflatten_cell(std::int64_t c) const {
-  const auto& n = grid_.n;
-  return {static_cast<int>(c % n[0]), static_cast<int>((c / n[0]) % n[1]),
-          static_cast<int>(c / (static_cast<std::int64_t>(n[0]) * n[1]))};
+  return grid_.cell_coords(c);
 }
 
 // Cells outside the grid: wrapped on periodic axes, else the nearest cell (eps has zero normal
