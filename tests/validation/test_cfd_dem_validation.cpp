@@ -28,6 +28,17 @@ constexpr double kPiD = std::numbers::pi;
 
 class CfdDemValidation : public ::testing::Test {};
 
+/// The grains of every case below: glass spheres of d = 2 mm (material, contact law, shape).
+constexpr const char* kGlassSpheres = R"(materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+particles:
+  - shape: sphere
+    radius: 0.001
+    material: glass
+)";
+
 /// Terminal velocity of a sphere by Schiller-Naumann: (rho_p - rho_f) V g = 3 pi mu d v f(Re),
 /// f = 1 + 0.15 Re^0.687 (Re < 1000), solved by fixed-point iteration (contracting: f grows
 /// slower than v).
@@ -47,15 +58,8 @@ TEST_F(CfdDemValidation, SphereSettlesAtTheSchillerNaumannTerminalVelocity) {
   // time tau_p = rho_p d^2 / (18 mu) = 5.6 ms. Closed box of 3 x 3 x 10 cells of 10 d.
   const std::string text = R"(time: {step: 1.0e-5, end: 0.2}
 domain: {min: [0, 0, 0], max: [0.06, 0.06, 0.2]}
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
-contacts:
-  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
-particles:
-  - shape: sphere
-    radius: 0.001
-    material: glass
-    positions: [[0.03, 0.03, 0.17]]
+)" + std::string(kGlassSpheres) +
+                           R"(    positions: [[0.03, 0.03, 0.17]]
 fluid: {density: 1000, viscosity: 0.1, cells: [3, 3, 10]}
 coupling: {drag: schiller_naumann, interval: 100}
 )";
@@ -131,17 +135,11 @@ constexpr double kBedHeight = 0.036;  // 18 layers of d = 2 mm
 /// 60 mm up (4 free cells above the bed: room to expand). Runs t_end, averages the pressure drop
 /// over the second half.
 BedRun run_bed(double u, double t_end) {
-  const std::string text = "time: {step: 1.0e-5, end: " + std::to_string(t_end) + R"(}
+  const std::string text =
+      "time: {step: 1.0e-5, end: " + std::to_string(t_end) + R"(}
 domain: {min: [0, 0, 0], max: [0.012, 0.012, 0.06], periodic: [true, true, false]}
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
-contacts:
-  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
-particles:
-  - shape: sphere
-    radius: 0.001
-    material: glass
-    fill: {box: {min: [0, 0, 0], max: [0.012, 0.012, 0.036]}, lattice: cubic, spacing: 0.002}
+)" + std::string(kGlassSpheres) +
+      R"(    fill: {box: {min: [0, 0, 0], max: [0.012, 0.012, 0.036]}, lattice: cubic, spacing: 0.002}
 walls:
   - {name: floor, plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: glass}
 fluid:
@@ -149,8 +147,8 @@ fluid:
   viscosity: 1.0e-3
   cells: [2, 2, 10]
   boundary: {zmin: {velocity_inlet: [0, 0, )" +
-                           std::to_string(u) +
-                           R"(]}, zmax: {pressure_outlet: 0}}
+      std::to_string(u) +
+      R"(]}, zmax: {pressure_outlet: 0}}
 coupling: {drag: gidaspow, fluid_fraction: divided, interval: 50}
 )";
   const auto cfg = input::load_case_text(text, "umf.yaml");
@@ -279,21 +277,13 @@ Settling run_suspension(double phi, int per_cell, int cells_z) {
   char buf[2048];
   std::snprintf(buf, sizeof buf, R"(time: {step: 1.0e-5, end: 0.12}
 domain: {min: [0, 0, 0], max: [%.9g, %.9g, %.9g], periodic: [true, true, false]}
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
-contacts:
-  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
-particles:
-  - shape: sphere
-    radius: 0.001
-    material: glass
-    fill: {box: {min: [%.9g, %.9g, %.9g], max: [%.9g, %.9g, %.9g]}, lattice: cubic, spacing: %.9g}
+%s    fill: {box: {min: [%.9g, %.9g, %.9g], max: [%.9g, %.9g, %.9g]}, lattice: cubic, spacing: %.9g}
 walls:
   - {name: floor, plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: glass}
 fluid: {density: 1000, viscosity: 0.2, cells: [2, 2, %d]}
 coupling: {drag: di_felice, fluid_fraction: divided, interval: 25}
 )",
-                lx, lx, lz, o, o, o, lx, lx, hs, s, cells_z);
+                lx, lx, lz, kGlassSpheres, o, o, o, lx, lx, hs, s, cells_z);
   const auto cfg = input::load_case_text(buf, "hindered.yaml");
   input::validate(cfg);
   Simulation sim(cfg);
