@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "case_builder.hpp"
@@ -44,26 +45,41 @@ config::Case settling_case() {
   return c;
 }
 
+/// Two runs of one case: a takes `before` steps, writes a checkpoint and takes `after` more; b
+/// loads that checkpoint and takes `after` steps. The checkpoint is removed with the object.
+struct RestartedPair {
+  std::filesystem::path file;
+  std::unique_ptr<Simulation> a, b;
+  std::int64_t b_steps_at_load = 0;   // b's step count right after loading
+  std::int64_t a_builds_at_save = 0;  // a's neighbour-list builds when it saved
+  ~RestartedPair() { std::filesystem::remove(file); }
+};
+
+std::unique_ptr<RestartedPair> run_restarted(const config::Case& cfg, const std::string& tag,
+                                             int before, int after) {
+  auto r = std::make_unique<RestartedPair>();
+  r->file = std::filesystem::temp_directory_path() /
+            ("gf_restart_" + tag + "_" + std::to_string(::getpid()) + ".h5");
+  r->a = std::make_unique<Simulation>(cfg);
+  for (int s = 0; s < before; ++s) r->a->step();
+  r->a->save_checkpoint(r->file);
+  r->a_builds_at_save = r->a->neighbor_list().n_builds();
+  for (int s = 0; s < after; ++s) r->a->step();
+  r->b = std::make_unique<Simulation>(cfg);
+  r->b->load_checkpoint(r->file);
+  r->b_steps_at_load = r->b->step_count();
+  for (int s = 0; s < after; ++s) r->b->step();
+  return r;
+}
+
 }  // namespace
 
 TEST(Restart, ContinuesBitIdentically) {
-  const auto cfg = settling_case();
-  const auto file = std::filesystem::temp_directory_path() /
-                    ("gf_restart_test_" + std::to_string(::getpid()) + ".h5");
-  Simulation a(cfg);
-  for (int s = 0; s < 1500; ++s) a.step();
-  a.save_checkpoint(file);
-  for (int s = 0; s < 1500; ++s) a.step();
-
-  Simulation b(cfg);
-  b.load_checkpoint(file);
-  EXPECT_EQ(b.step_count(), 1500);
-  for (int s = 0; s < 1500; ++s) b.step();
-
-  EXPECT_GT(a.neighbor_list().n_builds(), 3);  // rebuilds happened after the checkpoint
-  EXPECT_GT(a.n_contacts(), 50);
-  test::expect_same_state(a, b);
-  std::filesystem::remove(file);
+  const auto r = run_restarted(settling_case(), "settling", 1500, 1500);
+  EXPECT_EQ(r->b_steps_at_load, 1500);
+  EXPECT_GT(r->a->neighbor_list().n_builds(), 3);  // rebuilds happened after the checkpoint
+  EXPECT_GT(r->a->n_contacts(), 50);
+  test::expect_same_state(*r->a, *r->b);
 }
 
 TEST(Restart, RejectsForeignFileAndMismatchedTimeStep) {
@@ -88,20 +104,10 @@ TEST(Restart, LeesEdwardsContinuesBitIdentically) {
       {{"particles[0].fill.volume_fraction", "0.35"},
        {"shear.rate", "400"},
        {"time.step", "1.0e-6"}});
-  const auto file = std::filesystem::temp_directory_path() /
-                    ("gf_restart_le_" + std::to_string(::getpid()) + ".h5");
-  Simulation a(cfg);
-  for (int s = 0; s < 3000; ++s) a.step();
-  a.save_checkpoint(file);
-  const auto builds = a.neighbor_list().n_builds();
-  for (int s = 0; s < 3000; ++s) a.step();
-  Simulation b(cfg);
-  b.load_checkpoint(file);
-  for (int s = 0; s < 3000; ++s) b.step();
-  EXPECT_GT(a.neighbor_list().n_builds(), builds + 2);
-  EXPECT_GT(a.n_contacts(), 5);
-  test::expect_same_state(a, b);
-  std::filesystem::remove(file);
+  const auto r = run_restarted(cfg, "le", 3000, 3000);
+  EXPECT_GT(r->a->neighbor_list().n_builds(), r->a_builds_at_save + 2);
+  EXPECT_GT(r->a->n_contacts(), 5);
+  test::expect_same_state(*r->a, *r->b);
 }
 
 TEST(Restart, CfdDemContinuesBitIdentically) {
@@ -110,15 +116,9 @@ TEST(Restart, CfdDemContinuesBitIdentically) {
   // pressure, solver guesses, fluid fraction of the last fluid step) must all carry over.
   const auto cfg =
       input::load_case(std::string(GF_SOURCE_DIR) + "/cases/cfd_dem/fluidized_bed/case.yaml");
-  const auto file = std::filesystem::temp_directory_path() /
-                    ("gf_restart_cfd_" + std::to_string(::getpid()) + ".h5");
-  Simulation a(cfg);
-  for (int s = 0; s < 510; ++s) a.step();
-  a.save_checkpoint(file);
-  for (int s = 0; s < 500; ++s) a.step();
-  Simulation b(cfg);
-  b.load_checkpoint(file);
-  for (int s = 0; s < 500; ++s) b.step();
+  const auto r = run_restarted(cfg, "cfd", 510, 500);
+  const Simulation& a = *r->a;
+  const Simulation& b = *r->b;
   test::expect_same_state(a, b);
   ASSERT_TRUE(a.cfd_dem() && b.cfd_dem());
   const auto& fa = a.cfd_dem()->fluid();
@@ -142,6 +142,5 @@ TEST(Restart, CfdDemContinuesBitIdentically) {
   dry.coupling.reset();
   dry.output.quantities.clear();
   Simulation c(dry);
-  EXPECT_THROW(c.load_checkpoint(file), InputError);
-  std::filesystem::remove(file);
+  EXPECT_THROW(c.load_checkpoint(r->file), InputError);
 }
