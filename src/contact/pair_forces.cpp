@@ -3,6 +3,7 @@
 // instantiated for that law alone (no dispatch per contact); otherwise a switch per contact.
 #include "contact/pair_forces.hpp"
 
+#include <algorithm>
 #include <array>
 
 #include "contact/registry.hpp"
@@ -108,6 +109,271 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
   return for_rows_in_slabs(list, row);
 }
 
+/// The touching contacts of a run of rows, in structure-of-arrays form, so that the contact law
+/// runs as a loop over contacts the compiler vectorises (the per-entry loop of a row is short,
+/// ~4.5 entries, and half of its touch tests go either way at random: as branches they are
+/// mispredicted about half the time). Lives on the stack of the thread that fills it (~45 KiB).
+struct ContactBatch {
+  static constexpr int cap = 128;
+  std::int32_t i[cap], j[cap];
+  std::int64_t k[cap];
+  double dx[cap], dy[cap], dz[cap];  // x_i - x_j
+  double hx[cap], hy[cap], hz[cap];  // tangential history, in and out
+  // gathered per contact: radii, masses, v_i - v_j, omega_i, omega_j
+  double ri[cap], rj[cap], mi[cap], mj[cap];
+  double vx[cap], vy[cap], vz[cap];
+  double oix[cap], oiy[cap], oiz[cap], ojx[cap], ojy[cap], ojz[cap];
+  // material-pair constants, gathered only when there is more than one material
+  double kn[cap], ktr[cap], sktr[cap], zeta[cap], mu[cap], mur[cap];
+  double fx[cap], fy[cap], fz[cap];     // force on i (j gets the opposite)
+  double tix[cap], tiy[cap], tiz[cap];  // torque on i
+  double tjx[cap], tjy[cap], tjz[cap];  // minus the torque on j
+};
+
+/// Forces of the n contacts of a batch: the kinematics of the row loop (pair_loop) with fewer
+/// divisions, the same law; one contact per iteration from contiguous arrays, no branch (the laws
+/// are written with selects) and no loop-carried dependence, so each iteration is a vector lane.
+template <class Law, bool Rolling, bool OneType>
+__attribute__((always_inline)) inline void batch_body(ContactBatch& b, int n,
+                                                      const PairCoeffs& c_in, double dt) {
+  const PairCoeffs c0 = c_in;  // a local copy: no aliasing with the batch's stores
+  for (int c = 0; c < n; ++c) {
+    const double ri = b.ri[c];
+    const double rj = b.rj[c];
+    const double rs = ri + rj;
+    const Vec3 d{b.dx[c], b.dy[c], b.dz[c]};
+    ContactKinematics kin;
+    const double dist = std::sqrt(norm2(d));
+    kin.overlap = rs - dist;
+    const double arm_i = ri - 0.5 * kin.overlap;
+    const double arm_j = rj - 0.5 * kin.overlap;
+    const double mi = b.mi[c];
+    const double mj = b.mj[c];
+    const double ms = mi + mj;
+    // 1/|d|, R* = r_i r_j / (r_i + r_j) and m* = m_i m_j / (m_i + m_j) from one division: the
+    // divider (sqrt and division share it) is what limits the vectorised loop.
+    const double dist_or_1 = dist > 0 ? dist : 1.0;
+    const double q = 1.0 / (dist_or_1 * rs * ms);
+    kin.normal = dist > 0 ? (rs * ms * q) * d : Vec3{0, 0, 1};
+    kin.r_eff = ri * rj * ms * (dist_or_1 * q);
+    kin.m_eff = mi * mj * rs * (dist_or_1 * q);
+    const Vec3 omi{b.oix[c], b.oiy[c], b.oiz[c]};
+    const Vec3 omj{b.ojx[c], b.ojy[c], b.ojz[c]};
+    kin.v_rel = Vec3{b.vx[c], b.vy[c], b.vz[c]} - cross(arm_i * omi + arm_j * omj, kin.normal);
+    kin.omega_rel = omi - omj;
+    Vec3 h{b.hx[c], b.hy[c], b.hz[c]};
+    // One material pair: the loop-invariant c0; otherwise the gathered constants.
+    const PairCoeffs cc = OneType ? c0 : PairCoeffs{c0.model,  b.kn[c],   0.0,     b.ktr[c],
+                                                    b.sktr[c], b.zeta[c], b.mu[c], b.mur[c]};
+    const ContactResult res = Law::evaluate(cc, kin, dt, h);
+    b.hx[c] = h.x;
+    b.hy[c] = h.y;
+    b.hz[c] = h.z;
+    const Vec3 nxf = cross(kin.normal, res.force);
+    Vec3 ti = -arm_i * nxf;
+    Vec3 tj = arm_j * nxf;
+    if constexpr (Rolling) {
+      ti += res.rolling_torque;
+      tj += res.rolling_torque;
+    }
+    b.fx[c] = res.force.x;
+    b.fy[c] = res.force.y;
+    b.fz[c] = res.force.z;
+    b.tix[c] = ti.x;
+    b.tiy[c] = ti.y;
+    b.tiz[c] = ti.z;
+    b.tjx[c] = tj.x;
+    b.tjy[c] = tj.y;
+    b.tjz[c] = tj.z;
+  }
+}
+
+// The batch loop built twice: for AVX2 (4 lanes), chosen at run time where the CPU has it, and
+// for the baseline x86-64 of the build (2 lanes of SSE2). No FMA in either, and the vector
+// add/mul/div/sqrt round exactly as the scalar ones, so both give the same bits.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+template <class Law, bool Rolling, bool OneType>
+__attribute__((target("avx2"), noinline, flatten)) void batch_avx2(ContactBatch& b, int n,
+                                                                   const PairCoeffs& c0,
+                                                                   double dt) {
+  batch_body<Law, Rolling, OneType>(b, n, c0, dt);
+}
+inline bool cpu_has_avx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+#endif
+using BatchKernel = void (*)(ContactBatch&, int, const PairCoeffs&, double);
+template <class Law, bool Rolling, bool OneType>
+__attribute__((noinline, flatten)) void batch_default(ContactBatch& b, int n, const PairCoeffs& c0,
+                                                      double dt) {
+  batch_body<Law, Rolling, OneType>(b, n, c0, dt);
+}
+
+/// The batch kernel for law Law (AVX2 where the CPU has it), with or without rolling friction,
+/// for one material pair or several.
+bool baseline_only = false;  // use_baseline_kernels
+
+template <class Law>
+BatchKernel batch_kernel(bool rolling, bool one_type) {
+  auto pick = [&]<bool Rolling, bool OneType>() -> BatchKernel {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+    if (!baseline_only && cpu_has_avx2()) return batch_avx2<Law, Rolling, OneType>;
+#endif
+    return batch_default<Law, Rolling, OneType>;
+  };
+  if (rolling)
+    return one_type ? pick.template operator()<true, true>()
+                    : pick.template operator()<true, false>();
+  return one_type ? pick.template operator()<false, true>()
+                  : pick.template operator()<false, false>();
+}
+
+/// The force loop for one law: rows are scanned for touching pairs (branch-free: every entry is
+/// written to the batch, the count advances only for a touching one), the particle data of the
+/// touching ones gathered, the histories of the scanned entries cleared, the batch's forces
+/// computed by `compute` in one vectorised loop, then added to the particles (and the touching
+/// histories written back, and the virial collected) in the order of the list, so that the sums
+/// do not depend on the thread count. Geometry: minimum image when some axis is periodic
+/// (Periodic), Lees-Edwards images and their velocities (Sheared).
+template <bool Periodic, bool Sheared, bool Virial, bool OneType>
+std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
+                               const PairTable<PairCoeffs>& pairs, double dt,
+                               const VirialSink* virial, BatchKernel compute) {
+  const Vec3* const x = p.x();
+  Vec3* const f = p.f();
+  Vec3* const tq = p.torque();
+  const double* const r = p.radius();
+  const std::int64_t* const off = list.offsets().data();
+  const std::int32_t* const nb = list.neighbors().data();
+  Vec3* const hist = list.history().data();
+  const Domain dom = domain;
+  const Vec3* const v = p.v();
+  const Vec3* const om = p.omega();
+  const double* const m = p.mass();
+  const std::int32_t* const mat = p.material();
+  const PairCoeffs* const coeffs = pairs.data();
+  const std::size_t n_mat = static_cast<std::size_t>(pairs.n());
+  const PairCoeffs c0 = coeffs[0];
+  const VirialSink sink = virial ? *virial : VirialSink{};
+  // The batch holds the touching entries among the list entries [k_lo, k_hi).
+  auto flush = [=](ContactBatch& b, int n, std::int64_t k_lo, std::int64_t k_hi) {
+    for (int c = 0; c < n; ++c) {  // gather
+      const std::int32_t i = b.i[c];
+      const std::int32_t j = b.j[c];
+      const Vec3 h = hist[b.k[c]];
+      b.hx[c] = h.x;
+      b.hy[c] = h.y;
+      b.hz[c] = h.z;
+      b.ri[c] = r[i];
+      b.rj[c] = r[j];
+      b.mi[c] = m[i];
+      b.mj[c] = m[j];
+      Vec3 vj = v[j];
+      if constexpr (Sheared) vj += dom.image_velocity(x[i], x[j]);
+      const Vec3 dv = v[i] - vj;
+      b.vx[c] = dv.x;
+      b.vy[c] = dv.y;
+      b.vz[c] = dv.z;
+      const Vec3 oi = om[i];
+      const Vec3 oj = om[j];
+      b.oix[c] = oi.x;
+      b.oiy[c] = oi.y;
+      b.oiz[c] = oi.z;
+      b.ojx[c] = oj.x;
+      b.ojy[c] = oj.y;
+      b.ojz[c] = oj.z;
+      if constexpr (!OneType) {
+        const PairCoeffs& cc = coeffs[static_cast<std::size_t>(mat[i]) * n_mat + mat[j]];
+        b.kn[c] = cc.stiffness;
+        b.ktr[c] = cc.kt_ratio;
+        b.sktr[c] = cc.sqrt_kt_ratio;
+        b.zeta[c] = cc.damping_ratio;
+        b.mu[c] = cc.friction;
+        b.mur[c] = cc.rolling_friction;
+      }
+    }
+    // Pairs that are apart lose their history; the touching ones get theirs back below.
+    std::fill(hist + k_lo, hist + k_hi, Vec3{});
+    compute(b, n, c0, dt);
+    for (int c = 0; c < n; ++c) {  // scatter, in list order
+      const std::int32_t i = b.i[c];
+      const std::int32_t j = b.j[c];
+      const Vec3 fc{b.fx[c], b.fy[c], b.fz[c]};
+      f[i] += fc;
+      f[j] -= fc;
+      tq[i] += Vec3{b.tix[c], b.tiy[c], b.tiz[c]};
+      tq[j] -= Vec3{b.tjx[c], b.tjy[c], b.tjz[c]};
+      hist[b.k[c]] = {b.hx[c], b.hy[c], b.hz[c]};
+      if constexpr (Virial) {
+        const Vec3 d{b.dx[c], b.dy[c], b.dz[c]};
+        if (sink.counts(x[i], d)) {
+          Mat3& w = sink.rows[i];
+          for (int a = 0; a < 3; ++a)
+            for (int e = 0; e < 3; ++e) w.a[a][e] += d[a] * fc[e];
+        }
+      }
+    }
+  };
+  // The scan captures the arrays by value: the batch's stores could alias a captured reference,
+  // which would reload every pointer at every list entry.
+  return for_slab_ranges(list, [=](std::int64_t begin, std::int64_t end) -> std::int64_t {
+    ContactBatch b;
+    int n = 0;
+    std::int64_t touching = 0;
+    std::int64_t k_lo = off[begin];
+    for (std::int64_t i = begin; i < end; ++i) {
+      const Vec3 xi = x[i];
+      const double ri = r[i];
+      const std::int64_t row_end = off[i + 1];
+      for (std::int64_t k = off[i]; k < row_end; ++k) {
+        const std::int32_t j = nb[k];
+        const Vec3 d = pair_delta<Periodic, Sheared>(dom, xi, x[j]);
+        const double rs = ri + r[j];
+        b.i[n] = static_cast<std::int32_t>(i);
+        b.j[n] = j;
+        b.k[n] = k;
+        b.dx[n] = d.x;
+        b.dy[n] = d.y;
+        b.dz[n] = d.z;
+        n += norm2(d) < rs * rs;
+        if (n == ContactBatch::cap) {
+          flush(b, n, k_lo, k + 1);
+          touching += n;
+          n = 0;
+          k_lo = k + 1;
+        }
+      }
+    }
+    flush(b, n, k_lo, off[end]);
+    return touching + n;
+  });
+}
+
+/// batched_pair_loop for law M, with the geometry, virial and material choices made once.
+template <class M>
+std::int64_t batched_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
+                                 const PairTable<PairCoeffs>& pairs, double dt,
+                                 const VirialSink* virial) {
+  bool rolling = false;
+  for (int a = 0; a < pairs.n(); ++a)
+    for (int b = 0; b < pairs.n(); ++b) rolling = rolling || pairs(a, b).rolling_friction != 0;
+  const bool one = pairs.n() == 1;
+  const BatchKernel kernel = batch_kernel<typename M::Law>(rolling, one);
+  auto go = [&]<bool Periodic, bool Sheared>() {
+    auto go2 = [&]<bool Virial>() {
+      return one ? batched_pair_loop<Periodic, Sheared, Virial, true>(p, domain, list, pairs, dt,
+                                                                      virial, kernel)
+                 : batched_pair_loop<Periodic, Sheared, Virial, false>(p, domain, list, pairs, dt,
+                                                                       virial, kernel);
+    };
+    return virial ? go2.template operator()<true>() : go2.template operator()<false>();
+  };
+  if (domain.sheared()) return go.template operator()<true, true>();
+  if (domain.any_periodic()) return go.template operator()<true, false>();
+  return go.template operator()<false, false>();
+}
+
 template <bool Periodic, bool Sheared, class Eval>
 std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
                        const PairTable<PairCoeffs>& pairs, double dt, bool rolling,
@@ -150,16 +416,17 @@ bool uniform_model(const PairTable<PairCoeffs>& pairs, int& model) {
 
 }  // namespace
 
+void use_baseline_kernels(bool on) {
+  baseline_only = on;
+}
+
 std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
                                  const PairTable<PairCoeffs>& pairs, double dt,
                                  const VirialSink* virial) {
   int model;
   if (uniform_model(pairs, model)) {
     return dispatch_index(ContactModels{}, model, [&]<class M>() {
-      return pair_loop(p, domain, list, pairs, dt, virial,
-                       [](const PairCoeffs& c, const ContactKinematics& k, double h, Vec3& xi) {
-                         return M::Law::evaluate(c, k, h, xi);
-                       });
+      return batched_pair_forces<M>(p, domain, list, pairs, dt, virial);
     });
   }
   return pair_loop(p, domain, list, pairs, dt, virial,

@@ -56,6 +56,10 @@ std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletL
                                  const PairTable<PairCoeffs>& pairs, double dt,
                                  const VirialSink* virial = nullptr);
 
+/// For tests: use the baseline (SSE2) batch kernel even where the CPU has AVX2, to check that
+/// both give the same bits. Not for use while a force loop runs on another thread.
+void use_baseline_kernels(bool on);
+
 /// Elastic energy stored in all contacts (J), for energy balances.
 double pair_elastic_energy(const ParticleStore& p, const Domain& domain, const VerletList& list,
                            const PairTable<PairCoeffs>& pairs);

@@ -13,10 +13,11 @@ namespace gf::contact {
 struct ConstantTorqueRolling {
   static constexpr double omega_threshold = 1e-12;  ///< rad/s
   GF_HOST_DEVICE static Vec3 torque(const PairCoeffs& c, const ContactKinematics& k, double fn) {
-    if (c.rolling_friction == 0) return {};
+    // Selects, not branches (see tangential.hpp): a zero coefficient or a spin below the
+    // threshold gives a zero torque.
     const double w = norm(k.omega_rel);
-    if (w < omega_threshold) return {};
-    return (-c.rolling_friction * k.r_eff * fn / w) * k.omega_rel;
+    const bool on = c.rolling_friction != 0 && w >= omega_threshold;
+    return (on ? -c.rolling_friction * k.r_eff * fn / w : 0.0) * k.omega_rel;
   }
 };
 

@@ -19,27 +19,32 @@
 namespace gf::contact {
 
 /// Tangential force for tangential stiffness kt and damping coefficient ct; updates xi.
-GF_HOST_DEVICE inline Vec3 tangential_force(const PairCoeffs& c, const ContactKinematics& k,
+GF_HOST_DEVICE_INLINE Vec3 tangential_force(const PairCoeffs& c, const ContactKinematics& k,
                                             double kt, double ct, double normal_force, double dt,
                                             Vec3& xi) {
   const Vec3& n = k.normal;
   const Vec3 vt = k.v_rel - dot(k.v_rel, n) * n;
-  // Rotate the history into the current tangent plane, keeping its magnitude.
+  // Rotate the history into the current tangent plane, keeping its magnitude. Written with
+  // selects instead of branches (the values that are not chosen are computed and dropped), so
+  // that a loop over contacts vectorises; a zero history stays zero since the projection of
+  // zero is zero and its scale is 1.
   const double len2_old = norm2(xi);
-  if (len2_old > 0) {
-    xi -= dot(xi, n) * n;
-    const double len2_new = norm2(xi);
-    if (len2_new > 0) xi *= std::sqrt(len2_old / len2_new);
-  }
+  const Vec3 xp = xi - dot(xi, n) * n;
+  const double len2_new = norm2(xp);
+  const bool rescale = len2_old > 0 && len2_new > 0;
+  xi = (rescale ? std::sqrt(len2_old / len2_new) : 1.0) * xp;
   xi += dt * vt;
   Vec3 ft = -kt * xi - ct * vt;
   const double cap = c.friction * normal_force;
   const double ft2 = norm2(ft);
-  if (ft2 > cap * cap) {
-    ft *= cap / std::sqrt(ft2);
-    // Sliding: the spring alone carries the capped force.
-    xi = (kt > 0) ? (-1.0 / kt) * ft : Vec3{};
-  }
+  const bool slide = ft2 > cap * cap;
+  // cap / |F_t| and 1 / k_t from one division (kt = 0, a damper alone, takes 1 in the product).
+  const double ft_len = std::sqrt(ft2);
+  const double kt_or_1 = kt > 0 ? kt : 1.0;
+  const double q = 1.0 / (kt_or_1 * ft_len);
+  ft *= slide ? cap * kt_or_1 * q : 1.0;
+  // Sliding: the spring alone carries the capped force.
+  xi = slide ? (kt > 0 ? -ft_len * q : 0.0) * ft : xi;
   return ft;
 }
 
