@@ -330,6 +330,10 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
         const std::int32_t j = nb[k];
         const Vec3 d = pair_delta<Periodic, Sheared>(dom, xi, x[j]);
         const double rs = ri + r[j];
+        // The gather reads only the touching entries' histories: too sparse for the hardware
+        // prefetcher, so each entry's line is requested here (measured: the gather's largest
+        // stall without it).
+        __builtin_prefetch(hist + k);
         b.i[n] = static_cast<std::int32_t>(i);
         b.j[n] = j;
         b.k[n] = k;

@@ -75,6 +75,24 @@ bool parallel_any(index_t n, P&& pred) {
   return any;
 }
 
+/// Largest of init and f(i) over [0, n) (exact whatever the thread count).
+template <class F>
+double parallel_max(index_t n, double init, F&& f) {
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) reduction(max : init) if (n > 4096)
+  for (index_t i = 0; i < n; ++i) {
+    const double v = f(i);
+    init = v > init ? v : init;
+  }
+#else
+  for (index_t i = 0; i < n; ++i) {
+    const double v = f(i);
+    init = v > init ? v : init;
+  }
+#endif
+  return init;
+}
+
 /// Sum of f(i) over [0, n), with a deterministic order for a given thread count.
 template <class T, class F>
 T parallel_sum(index_t n, T init, F&& f) {

@@ -8,37 +8,57 @@ namespace gf {
 
 namespace {
 
-/// Half kick v += h f / m, omega += h torque / I, optionally followed by the drift x += dt v.
-template <bool Drift>
-void kick(ParticleStore& p, const Domain* domain, double h, double dt) {
+/// Half kick v += h f / m, omega += h torque / I, optionally followed by the drift x += dt v
+/// (Drift), the reset of f and torque (Reset) and the largest squared displacement from x_ref
+/// (Track), which the function returns (0 without Track).
+template <bool Drift, bool Reset, bool Track>
+double kick(ParticleStore& p, const Domain* domain, double h, double dt, const Vec3& g,
+            const Vec3* x_ref) {
   Vec3* x = p.x();
   Vec3* v = p.v();
   Vec3* w = p.omega();
-  const Vec3* f = p.f();
-  const Vec3* t = p.torque();
+  Vec3* f = p.f();
+  Vec3* t = p.torque();
   const double* m = p.mass();
   const double* in = p.inertia();
   // Wrapping is a no-op without periodic axes; skipping it keeps the loop short.
   const bool periodic =
       Drift && (domain->periodic[0] || domain->periodic[1] || domain->periodic[2]);
-  exec::parallel_for(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
+  return exec::parallel_max(static_cast<exec::index_t>(p.size()), 0.0, [&](exec::index_t i) {
     v[i] += (h / m[i]) * f[i];
     w[i] += (h / in[i]) * t[i];
+    if constexpr (Reset) {
+      f[i] = m[i] * g;
+      t[i] = {};
+    }
     if constexpr (Drift) {
       x[i] += dt * v[i];
       if (periodic) domain->wrap(x[i], &v[i]);
     }
+    if constexpr (Track) return norm2(periodic ? domain->delta(x[i], x_ref[i]) : x[i] - x_ref[i]);
+    return 0.0;
   });
 }
 
 }  // namespace
 
-void VelocityVerlet::pre_force(ParticleStore& p, const Domain& domain, double dt) {
-  kick<true>(p, &domain, 0.5 * dt, dt);
+void VelocityVerlet::pre_force(ParticleStore& p, const Domain& domain, double dt,
+                               DriftExtras* extras) {
+  const double h = 0.5 * dt;
+  if (!extras) {
+    kick<true, false, false>(p, &domain, h, dt, {}, nullptr);
+    return;
+  }
+  const Vec3 g = extras->gravity ? *extras->gravity : Vec3{};
+  const Vec3* ref = extras->x_ref;
+  extras->max_d2 = extras->gravity ? (ref ? kick<true, true, true>(p, &domain, h, dt, g, ref)
+                                          : kick<true, true, false>(p, &domain, h, dt, g, ref))
+                                   : (ref ? kick<true, false, true>(p, &domain, h, dt, g, ref)
+                                          : kick<true, false, false>(p, &domain, h, dt, g, ref));
 }
 
 void VelocityVerlet::post_force(ParticleStore& p, double dt) {
-  kick<false>(p, nullptr, 0.5 * dt, dt);
+  kick<false, false, false>(p, nullptr, 0.5 * dt, dt, {}, nullptr);
 }
 
 void reset_forces(ParticleStore& p, const Vec3& gravity) {

@@ -9,10 +9,21 @@
 
 namespace gf {
 
+/// What the drift loop can do besides kick and drift, saving two passes over the particles per
+/// step: reset the forces for the next evaluation once the kick has used them (f = m g,
+/// torque = 0), and find the largest squared displacement from the Verlet list's reference
+/// positions (the rebuild test; minimum image in periodic boxes).
+struct DriftExtras {
+  const Vec3* gravity = nullptr;  ///< reset the forces with this gravity; null: leave them
+  const Vec3* x_ref = nullptr;    ///< reference positions (one per particle); null: no test
+  double max_d2 = 0;              ///< out: the largest squared displacement, m^2
+};
+
 struct VelocityVerlet {
   static constexpr const char* key = "velocity_verlet";
   /// First half kick and drift; wraps positions into the periodic box.
-  static void pre_force(ParticleStore& p, const Domain& domain, double dt);
+  static void pre_force(ParticleStore& p, const Domain& domain, double dt,
+                        DriftExtras* extras = nullptr);
   /// Second half kick.
   static void post_force(ParticleStore& p, double dt);
 };

@@ -34,6 +34,13 @@ class VerletList {
   /// True when some particle moved more than displacement_limit() since the last build (or the
   /// count changed).
   bool needs_rebuild(const Domain& domain, const Vec3* x, std::size_t n) const;
+  /// The same test from the largest squared displacement since the last build, measured by the
+  /// caller (the drift loop, DriftExtras): no pass of its own.
+  bool needs_rebuild(const Domain& domain, double max_d2, std::size_t n) const {
+    if (x_ref_.size() != n) return true;
+    const double lim = displacement_limit(domain);
+    return lim <= 0 || max_d2 > lim * lim;
+  }
 
   /// How far a particle may move from its position at the last build before the list can miss
   /// a pair: skin/2; with Lees-Edwards images, (skin - 3 |offset change|)/2, since a pair across

@@ -431,7 +431,10 @@ bool Simulation::capsule_ends_moved() const {
 void Simulation::update_neighbors(bool force) {
   StageTimers::Scope timer(timers_, Stage::Neighbor);
   const std::size_t n = particles_.size();
-  bool rebuild = force || nlist_.needs_rebuild(domain_, particles_.x(), n);
+  const double max_d2 = drift_max_d2_;
+  drift_max_d2_ = -1;  // measured for this step only
+  bool rebuild = force || (max_d2 >= 0 ? nlist_.needs_rebuild(domain_, max_d2, n)
+                                       : nlist_.needs_rebuild(domain_, particles_.x(), n));
   if (!rebuild && has_capsules_) rebuild = capsule_ends_moved();
   bool walls_moved = false;
   if (!rebuild && !walls_.empty()) {
@@ -493,7 +496,8 @@ void Simulation::update_neighbors(bool force) {
 void Simulation::compute_forces() {
   {
     StageTimers::Scope timer(timers_, Stage::Force);
-    reset_forces(particles_, gravity_);
+    if (!forces_reset_) reset_forces(particles_, gravity_);
+    forces_reset_ = false;
     contact::VirialSink sink;
     const contact::VirialSink* virial = nullptr;
     if (collect_virial_) {
@@ -533,7 +537,19 @@ void Simulation::step() {
     if (gear_) {
       Gear5Integrator::predict(particles_, domain_, dt_);
     } else {
-      VelocityVerlet::pre_force(particles_, domain_, dt_);
+      // Grains without shapes: the drift also resets the forces and measures the displacements
+      // for the list's rebuild test (two passes fewer). Rigid bodies read the torque after it.
+      if (!particles_.has_shapes()) {
+        DriftExtras extras;
+        extras.gravity = &gravity_;
+        const auto ref = nlist_.reference_positions();
+        if (ref.size() == particles_.size()) extras.x_ref = ref.data();
+        VelocityVerlet::pre_force(particles_, domain_, dt_, &extras);
+        forces_reset_ = true;
+        drift_max_d2_ = extras.x_ref ? extras.max_d2 : -1;
+      } else {
+        VelocityVerlet::pre_force(particles_, domain_, dt_);
+      }
       RigidBodies::pre_force(particles_, dt_);
     }
   }

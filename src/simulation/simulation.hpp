@@ -128,6 +128,10 @@ class Simulation {
   bool gear_ = false;           ///< integrator: gear5
   analysis::RheologyRegion rheo_region_;
   bool collect_virial_ = false;
+  // Set by the drift of this step (VelocityVerlet with DriftExtras): the forces are already
+  // m g, and the largest squared displacement since the last list build (< 0: not measured).
+  bool forces_reset_ = false;
+  double drift_max_d2_ = -1;
   std::vector<Mat3> virial_rows_;  ///< per row of the force loop (no races), summed in order
   Mat3 virial_sum_;
   std::unique_ptr<CfdDemCoupling> cfd_;  ///< unresolved CFD-DEM (optional)
