@@ -257,7 +257,9 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
   const PairCoeffs c0 = coeffs[0];
   const VirialSink sink = virial ? *virial : VirialSink{};
   // The batch holds the touching entries among the list entries [k_lo, k_hi).
-  auto flush = [=](ContactBatch& b, int n, std::int64_t k_lo, std::int64_t k_hi) {
+  // Not inlined into the scan: the scan's loop then keeps its pointers in registers.
+  auto flush = [=](ContactBatch & b, int n, std::int64_t k_lo, std::int64_t k_hi)
+      __attribute__((noinline)) {
     for (int c = 0; c < n; ++c) {  // gather
       const std::int32_t i = b.i[c];
       const std::int32_t j = b.j[c];
@@ -315,25 +317,31 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
       }
     }
   };
-  // The scan captures the arrays by value: the batch's stores could alias a captured reference,
-  // which would reload every pointer at every list entry.
   return for_slab_ranges(list, [=](std::int64_t begin, std::int64_t end) -> std::int64_t {
+    // Local copies of the captures: the batch's stores could alias the closure's members, which
+    // would reload every pointer at every list entry.
+    const Vec3* const xs = x;
+    const double* const rad = r;
+    const std::int64_t* const offs = off;
+    const std::int32_t* const nbs = nb;
+    Vec3* const hs = hist;
+    const Domain dl = dom;
     ContactBatch b;
     int n = 0;
     std::int64_t touching = 0;
-    std::int64_t k_lo = off[begin];
+    std::int64_t k_lo = offs[begin];
     for (std::int64_t i = begin; i < end; ++i) {
-      const Vec3 xi = x[i];
-      const double ri = r[i];
-      const std::int64_t row_end = off[i + 1];
-      for (std::int64_t k = off[i]; k < row_end; ++k) {
-        const std::int32_t j = nb[k];
-        const Vec3 d = pair_delta<Periodic, Sheared>(dom, xi, x[j]);
-        const double rs = ri + r[j];
+      const Vec3 xi = xs[i];
+      const double ri = rad[i];
+      const std::int64_t row_end = offs[i + 1];
+      for (std::int64_t k = offs[i]; k < row_end; ++k) {
+        const std::int32_t j = nbs[k];
+        const Vec3 d = pair_delta<Periodic, Sheared>(dl, xi, xs[j]);
+        const double rs = ri + rad[j];
         // The gather reads only the touching entries' histories: too sparse for the hardware
         // prefetcher, so each entry's line is requested here (measured: the gather's largest
         // stall without it).
-        __builtin_prefetch(hist + k);
+        __builtin_prefetch(hs + k);
         b.i[n] = static_cast<std::int32_t>(i);
         b.j[n] = j;
         b.k[n] = k;
@@ -349,7 +357,7 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
         }
       }
     }
-    flush(b, n, k_lo, off[end]);
+    flush(b, n, k_lo, offs[end]);
     return touching + n;
   });
 }
