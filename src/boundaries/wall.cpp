@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 
+#include "contact/pair_forces.hpp"
 #include "contact/registry.hpp"
 #include "contact/shape_forces.hpp"
 #include "core/error.hpp"
@@ -176,10 +177,197 @@ bool wall_slot_geometry(const Wall& w, const contact::ShapeView* s, std::int64_t
   return sphere_wall(w, slot == 0 ? c.end0() : c.end1(), c.radius, g);
 }
 
-}  // namespace
+/// The sphere-wall contacts of a run of wall-list entries, in structure-of-arrays form, so that
+/// the contact law runs as a vectorised loop (as the sphere pair loop does, see
+/// contact/pair_forces.cpp). On the stack of the thread that fills it.
+struct WallBatch {
+  static constexpr int cap = 128;
+  std::int64_t k[cap];
+  std::int32_t i[cap], w[cap];
+  double nx[cap], ny[cap], nz[cap], ov[cap], r[cap], m[cap];  // normal (wall to grain), overlap
+  double vx[cap], vy[cap], vz[cap];                           // v_i - v_wall at the contact point
+  double oix[cap], oiy[cap], oiz[cap], owx[cap], owy[cap], owz[cap];  // omega_i, omega_wall
+  double hx[cap], hy[cap], hz[cap];                                   // history, in and out
+  double kn[cap], ktr[cap], sktr[cap], zeta[cap], mu[cap], mur[cap];  // pair constants
+  double fx[cap], fy[cap], fz[cap], tx[cap], ty[cap], tz[cap];        // force, torque on i
+  double rx[cap], ry[cap], rz[cap], fn[cap];  // rolling torque on i, normal force
+};
 
-std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
-                                 const PairTable<contact::PairCoeffs>& pairs, double t, double dt) {
+/// The law for the n contacts of a batch: the kinematics of the generic loop below for a sphere
+/// (one slot, force scale 1, m* = m_i, R* = r_i, contact point at the middle of the overlap).
+template <class Law>
+__attribute__((always_inline)) inline void wall_batch_body(WallBatch& b, int n, int model,
+                                                           double dt) {
+  for (int c = 0; c < n; ++c) {
+    contact::ContactKinematics kin;
+    kin.overlap = b.ov[c];
+    kin.normal = {b.nx[c], b.ny[c], b.nz[c]};
+    const Vec3 arm = -(b.r[c] - 0.5 * kin.overlap) * kin.normal;
+    const Vec3 omi{b.oix[c], b.oiy[c], b.oiz[c]};
+    kin.v_rel = Vec3{b.vx[c], b.vy[c], b.vz[c]} + cross(omi, arm);
+    kin.omega_rel = omi - Vec3{b.owx[c], b.owy[c], b.owz[c]};
+    kin.r_eff = b.r[c];
+    kin.m_eff = b.m[c];
+    const contact::PairCoeffs cc{model,     b.kn[c],   0.0,     b.ktr[c],
+                                 b.sktr[c], b.zeta[c], b.mu[c], b.mur[c]};
+    Vec3 h{b.hx[c], b.hy[c], b.hz[c]};
+    const contact::ContactResult res = Law::evaluate(cc, kin, dt, h);
+    b.hx[c] = h.x;
+    b.hy[c] = h.y;
+    b.hz[c] = h.z;
+    const Vec3 t = cross(arm, res.force) + res.rolling_torque;
+    b.fx[c] = res.force.x;
+    b.fy[c] = res.force.y;
+    b.fz[c] = res.force.z;
+    b.tx[c] = t.x;
+    b.ty[c] = t.y;
+    b.tz[c] = t.z;
+    b.rx[c] = res.rolling_torque.x;
+    b.ry[c] = res.rolling_torque.y;
+    b.rz[c] = res.rolling_torque.z;
+    b.fn[c] = res.normal_force;
+  }
+}
+
+using WallKernel = void (*)(WallBatch&, int, int, double);
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+template <class Law>
+__attribute__((target("avx2"), noinline, flatten)) void wall_batch_avx2(WallBatch& b, int n,
+                                                                        int model, double dt) {
+  wall_batch_body<Law>(b, n, model, dt);
+}
+#endif
+template <class Law>
+__attribute__((noinline, flatten)) void wall_batch_default(WallBatch& b, int n, int model,
+                                                           double dt) {
+  wall_batch_body<Law>(b, n, model, dt);
+}
+
+/// compute_wall_forces for spheres (one slot) when every material pair uses one law: entries
+/// scanned branch-free in runs of particle groups (threads never share a particle), the touching
+/// ones' data gathered, the law vectorised, forces, torques, reactions and histories written
+/// back in entry order (the same sums whatever the thread count).
+template <class Law>
+std::int64_t sphere_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
+                                const PairTable<contact::PairCoeffs>& pairs, int model, double t,
+                                double dt) {
+  WallKernel kernel = wall_batch_default<Law>;
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+  if (contact::avx2_kernels()) kernel = wall_batch_avx2<Law>;
+#endif
+  const auto entries = list.entries();
+  auto history = list.history();
+  auto reaction = list.reactions();
+  auto stiffness = list.stiffness();
+  const Vec3* x = p.x();
+  const Vec3* v = p.v();
+  const Vec3* om = p.omega();
+  Vec3* f = p.f();
+  Vec3* tq = p.torque();
+  const double* r = p.radius();
+  const double* m = p.mass();
+  const std::int32_t* mat = p.material();
+  const auto groups = list.particle_groups();
+  const std::int64_t n_groups = static_cast<std::int64_t>(groups.size()) - 1;
+  // Runs of 64 particle groups (a few hundred entries) per task.
+  constexpr std::int64_t run = 64;
+  const std::int64_t n_runs = (n_groups + run - 1) / run;
+  // The batch holds the touching entries among the entries [k_lo, k_hi).
+  auto flush = [&](WallBatch & b, int n, std::int64_t k_lo, std::int64_t k_hi)
+      __attribute__((noinline)) {
+    for (int c = 0; c < n; ++c) {  // gather
+      const std::int32_t i = b.i[c];
+      const Wall& w = walls[static_cast<std::size_t>(b.w[c])];
+      const Vec3 nrm{b.nx[c], b.ny[c], b.nz[c]};
+      const Vec3 point = x[i] - (r[i] - 0.5 * b.ov[c]) * nrm;
+      const Vec3 dv = v[i] - w.velocity_at(point, t);
+      b.vx[c] = dv.x;
+      b.vy[c] = dv.y;
+      b.vz[c] = dv.z;
+      b.oix[c] = om[i].x;
+      b.oiy[c] = om[i].y;
+      b.oiz[c] = om[i].z;
+      const Vec3 ow = w.motion.omega();
+      b.owx[c] = ow.x;
+      b.owy[c] = ow.y;
+      b.owz[c] = ow.z;
+      b.r[c] = r[i];
+      b.m[c] = m[i];
+      const Vec3 h = history[static_cast<std::size_t>(b.k[c])];
+      b.hx[c] = h.x;
+      b.hy[c] = h.y;
+      b.hz[c] = h.z;
+      const contact::PairCoeffs& cc = pairs(mat[i], w.material);
+      b.kn[c] = cc.stiffness;
+      b.ktr[c] = cc.kt_ratio;
+      b.sktr[c] = cc.sqrt_kt_ratio;
+      b.zeta[c] = cc.damping_ratio;
+      b.mu[c] = cc.friction;
+      b.mur[c] = cc.rolling_friction;
+    }
+    // Entries that are apart lose their history; the touching ones get theirs back below.
+    std::fill(history.begin() + k_lo, history.begin() + k_hi, Vec3{});
+    kernel(b, n, model, dt);
+    for (int c = 0; c < n; ++c) {  // scatter, in entry order
+      const std::int32_t i = b.i[c];
+      const auto k = static_cast<std::size_t>(b.k[c]);
+      const Wall& w = walls[static_cast<std::size_t>(b.w[c])];
+      const Vec3 fc{b.fx[c], b.fy[c], b.fz[c]};
+      const Vec3 rt{b.rx[c], b.ry[c], b.rz[c]};
+      const Vec3 nrm{b.nx[c], b.ny[c], b.nz[c]};
+      const Vec3 point = x[i] - (r[i] - 0.5 * b.ov[c]) * nrm;
+      f[i] += fc;
+      tq[i] += Vec3{b.tx[c], b.ty[c], b.tz[c]};
+      reaction[2 * k] = -fc;
+      reaction[2 * k + 1] = -(cross(point - w.torque_center(), fc) + rt);
+      stiffness[k] = b.ov[c] > 0 ? 1.5 * b.fn[c] / b.ov[c] : 0.0;
+      history[k] = {b.hx[c], b.hy[c], b.hz[c]};
+    }
+  };
+  return exec::parallel_sum(
+      n_runs, std::int64_t{0},
+      [&](exec::index_t q) {
+        const std::int64_t e_lo = groups[static_cast<std::size_t>(q * run)];
+        const std::int64_t e_hi =
+            groups[static_cast<std::size_t>(std::min(n_groups, (q + 1) * run))];
+        WallBatch b;
+        int n = 0;
+        std::int64_t touching = 0;
+        std::int64_t k_lo = e_lo;
+        for (std::int64_t k = e_lo; k < e_hi; ++k) {
+          const auto ku = static_cast<std::size_t>(k);
+          const std::int32_t i = entries[ku].particle;
+          const Wall& w = walls[static_cast<std::size_t>(entries[ku].wall)];
+          Vec3 nrm;
+          const double gap = w.gap(x[i], r[i], nrm);
+          // Every entry starts apart (no reaction); the touching ones are written by the scatter.
+          reaction[2 * ku] = reaction[2 * ku + 1] = {};
+          stiffness[ku] = 0;
+          b.k[n] = k;
+          b.i[n] = i;
+          b.w[n] = entries[ku].wall;
+          b.nx[n] = nrm.x;
+          b.ny[n] = nrm.y;
+          b.nz[n] = nrm.z;
+          b.ov[n] = -gap;
+          n += gap < 0;
+          if (n == WallBatch::cap) {
+            flush(b, n, k_lo, k + 1);
+            touching += n;
+            n = 0;
+            k_lo = k + 1;
+          }
+        }
+        flush(b, n, k_lo, e_hi);
+        return touching + n;
+      },
+      /*min_parallel=*/64);
+}
+
+/// Any shape, any number of slots, a law per contact.
+std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
+                                 const PairTable<contact::PairCoeffs>& pairs,
+                                 const contact::ShapeView* sv, double t, double dt) {
   const auto entries = list.entries();
   auto history = list.history();
   auto reaction = list.reactions();
@@ -192,14 +380,11 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   const double* r = p.radius();
   const double* m = p.mass();
   const std::int32_t* mat = p.material();
-  std::optional<contact::ShapeView> shapes;
-  if (p.has_shapes()) shapes.emplace(p);
-  const contact::ShapeView* sv = shapes ? &*shapes : nullptr;
   const int slots = list.slots();
   // Entries are sorted by particle: one group per particle, so threads never share a particle.
   const auto groups = list.particle_groups();
   const std::int64_t n_groups = static_cast<std::int64_t>(groups.size()) - 1;
-  const std::int64_t active = exec::parallel_sum(n_groups, std::int64_t{0}, [&](exec::index_t gr) {
+  return exec::parallel_sum(n_groups, std::int64_t{0}, [&](exec::index_t gr) {
     std::int64_t touching = 0;
     for (std::int64_t k = groups[static_cast<std::size_t>(gr)];
          k < groups[static_cast<std::size_t>(gr) + 1]; ++k) {
@@ -251,6 +436,35 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
     }
     return touching;
   });
+}
+
+}  // namespace
+
+std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
+                                 const PairTable<contact::PairCoeffs>& pairs, double t, double dt) {
+  const auto entries = list.entries();
+  auto reaction = list.reactions();
+  auto stiffness = list.stiffness();
+  std::optional<contact::ShapeView> shapes;
+  if (p.has_shapes()) shapes.emplace(p);
+  const contact::ShapeView* sv = shapes ? &*shapes : nullptr;
+  const int slots = list.slots();
+  // Spheres whose wall pairs all use one law: the batched, vectorised loop.
+  int model = -1;
+  bool uniform = sv == nullptr && slots == 1;
+  for (int a = 0; a < pairs.n() && uniform; ++a)
+    for (int b = 0; b < pairs.n() && uniform; ++b) {
+      const int mm = pairs(a, b).model;
+      if (mm >= 0 && model >= 0 && mm != model) uniform = false;
+      if (mm >= 0) model = mm;
+    }
+  const std::int64_t active = uniform && model >= 0
+                                  ? dispatch_index(contact::ContactModels{}, model,
+                                                   [&]<class M>() {
+                                                     return sphere_wall_forces<typename M::Law>(
+                                                         p, walls, list, pairs, model, t, dt);
+                                                   })
+                                  : generic_wall_forces(p, walls, list, pairs, sv, t, dt);
   // Reactions summed in entry order: the same bits whatever the thread count.
   for (auto& w : walls) {
     w.force = {};

@@ -218,7 +218,7 @@ template <class Law>
 BatchKernel batch_kernel(bool rolling, bool one_type) {
   auto pick = [&]<bool Rolling, bool OneType>() -> BatchKernel {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-    if (!baseline_only && cpu_has_avx2()) return batch_avx2<Law, Rolling, OneType>;
+    if (avx2_kernels()) return batch_avx2<Law, Rolling, OneType>;
 #endif
     return batch_default<Law, Rolling, OneType>;
   };
@@ -430,6 +430,14 @@ bool uniform_model(const PairTable<PairCoeffs>& pairs, int& model) {
 
 void use_baseline_kernels(bool on) {
   baseline_only = on;
+}
+
+bool avx2_kernels() {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+  return !baseline_only && cpu_has_avx2();
+#else
+  return false;
+#endif
 }
 
 std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,

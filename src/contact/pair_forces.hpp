@@ -59,6 +59,9 @@ std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletL
 /// For tests: use the baseline (SSE2) batch kernel even where the CPU has AVX2, to check that
 /// both give the same bits. Not for use while a force loop runs on another thread.
 void use_baseline_kernels(bool on);
+/// Whether the vectorised contact kernels run their AVX2 build (the CPU has it and
+/// use_baseline_kernels is off); the wall loop asks too.
+bool avx2_kernels();
 
 /// Elastic energy stored in all contacts (J), for energy balances.
 double pair_elastic_energy(const ParticleStore& p, const Domain& domain, const VerletList& list,

@@ -93,11 +93,12 @@ double parallel_max(index_t n, double init, F&& f) {
   return init;
 }
 
-/// Sum of f(i) over [0, n), with a deterministic order for a given thread count.
+/// Sum of f(i) over [0, n), with a deterministic order for a given thread count; threaded when
+/// n > min_parallel (iterations that are themselves chunks of work take a smaller threshold).
 template <class T, class F>
-T parallel_sum(index_t n, T init, F&& f) {
+T parallel_sum(index_t n, T init, F&& f, index_t min_parallel = 4096) {
 #if defined(_OPENMP)
-  const int nt = n > 4096 ? omp_get_max_threads() : 1;
+  const int nt = n > min_parallel ? omp_get_max_threads() : 1;
   if (nt == 1) {
     for (index_t i = 0; i < n; ++i) init += f(i);
     return init;
