@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 
+#include "contact/batch_columns.hpp"
 #include "contact/pair_forces.hpp"
 #include "contact/registry.hpp"
 #include "contact/shape_forces.hpp"
@@ -184,13 +185,16 @@ struct WallBatch {
   static constexpr int cap = 128;
   std::int64_t k[cap];
   std::int32_t i[cap], w[cap];
-  double nx[cap], ny[cap], nz[cap], ov[cap], r[cap], m[cap];  // normal (wall to grain), overlap
-  double vx[cap], vy[cap], vz[cap];                           // v_i - v_wall at the contact point
-  double oix[cap], oiy[cap], oiz[cap], owx[cap], owy[cap], owz[cap];  // omega_i, omega_wall
-  double hx[cap], hy[cap], hz[cap];                                   // history, in and out
-  double kn[cap], ktr[cap], sktr[cap], zeta[cap], mu[cap], mur[cap];  // pair constants
-  double fx[cap], fy[cap], fz[cap], tx[cap], ty[cap], tz[cap];        // force, torque on i
-  double rx[cap], ry[cap], rz[cap], fn[cap];  // rolling torque on i, normal force
+  contact::VecColumns<cap> normal;    // from the wall to the grain
+  double ov[cap], r[cap], m[cap];     // overlap, radius, mass
+  contact::VecColumns<cap> dv;        // v_i - v_wall at the contact point
+  contact::VecColumns<cap> om_i;      // omega_i
+  contact::VecColumns<cap> om_w;      // omega_wall
+  contact::VecColumns<cap> hist;      // history, in and out
+  contact::CoeffColumns<cap> coeffs;  // pair constants
+  contact::VecColumns<cap> f, t;      // force and torque on i
+  contact::VecColumns<cap> rolling;   // rolling torque on i
+  double fn[cap];                     // normal force
 };
 
 /// The law for the n contacts of a batch: the kinematics of the generic loop below for a sphere
@@ -201,30 +205,21 @@ __attribute__((always_inline)) inline void wall_batch_body(WallBatch& b, int n, 
   for (int c = 0; c < n; ++c) {
     contact::ContactKinematics kin;
     kin.overlap = b.ov[c];
-    kin.normal = {b.nx[c], b.ny[c], b.nz[c]};
+    kin.normal = b.normal.get(c);
     const Vec3 arm = -(b.r[c] - 0.5 * kin.overlap) * kin.normal;
-    const Vec3 omi{b.oix[c], b.oiy[c], b.oiz[c]};
-    kin.v_rel = Vec3{b.vx[c], b.vy[c], b.vz[c]} + cross(omi, arm);
-    kin.omega_rel = omi - Vec3{b.owx[c], b.owy[c], b.owz[c]};
+    const Vec3 omi = b.om_i.get(c);
+    kin.v_rel = b.dv.get(c) + cross(omi, arm);
+    kin.omega_rel = omi - b.om_w.get(c);
     kin.r_eff = b.r[c];
     kin.m_eff = b.m[c];
-    const contact::PairCoeffs cc{model,     b.kn[c],   0.0,     b.ktr[c],
-                                 b.sktr[c], b.zeta[c], b.mu[c], b.mur[c]};
-    Vec3 h{b.hx[c], b.hy[c], b.hz[c]};
+    const contact::PairCoeffs cc = b.coeffs.get(c, model);
+    Vec3 h = b.hist.get(c);
     const contact::ContactResult res = Law::evaluate(cc, kin, dt, h);
-    b.hx[c] = h.x;
-    b.hy[c] = h.y;
-    b.hz[c] = h.z;
+    b.hist.set(c, h);
     const Vec3 t = cross(arm, res.force) + res.rolling_torque;
-    b.fx[c] = res.force.x;
-    b.fy[c] = res.force.y;
-    b.fz[c] = res.force.z;
-    b.tx[c] = t.x;
-    b.ty[c] = t.y;
-    b.tz[c] = t.z;
-    b.rx[c] = res.rolling_torque.x;
-    b.ry[c] = res.rolling_torque.y;
-    b.rz[c] = res.rolling_torque.z;
+    b.f.set(c, res.force);
+    b.t.set(c, t);
+    b.rolling.set(c, res.rolling_torque);
     b.fn[c] = res.normal_force;
   }
 }
@@ -278,32 +273,14 @@ std::int64_t sphere_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCon
     for (int c = 0; c < n; ++c) {  // gather
       const std::int32_t i = b.i[c];
       const Wall& w = walls[static_cast<std::size_t>(b.w[c])];
-      const Vec3 nrm{b.nx[c], b.ny[c], b.nz[c]};
-      const Vec3 point = x[i] - (r[i] - 0.5 * b.ov[c]) * nrm;
-      const Vec3 dv = v[i] - w.velocity_at(point, t);
-      b.vx[c] = dv.x;
-      b.vy[c] = dv.y;
-      b.vz[c] = dv.z;
-      b.oix[c] = om[i].x;
-      b.oiy[c] = om[i].y;
-      b.oiz[c] = om[i].z;
-      const Vec3 ow = w.motion.omega();
-      b.owx[c] = ow.x;
-      b.owy[c] = ow.y;
-      b.owz[c] = ow.z;
+      const Vec3 point = x[i] - (r[i] - 0.5 * b.ov[c]) * b.normal.get(c);
+      b.dv.set(c, v[i] - w.velocity_at(point, t));
+      b.om_i.set(c, om[i]);
+      b.om_w.set(c, w.motion.omega());
       b.r[c] = r[i];
       b.m[c] = m[i];
-      const Vec3 h = history[static_cast<std::size_t>(b.k[c])];
-      b.hx[c] = h.x;
-      b.hy[c] = h.y;
-      b.hz[c] = h.z;
-      const contact::PairCoeffs& cc = pairs(mat[i], w.material);
-      b.kn[c] = cc.stiffness;
-      b.ktr[c] = cc.kt_ratio;
-      b.sktr[c] = cc.sqrt_kt_ratio;
-      b.zeta[c] = cc.damping_ratio;
-      b.mu[c] = cc.friction;
-      b.mur[c] = cc.rolling_friction;
+      b.hist.set(c, history[static_cast<std::size_t>(b.k[c])]);
+      b.coeffs.set(c, pairs(mat[i], w.material));
     }
     // Entries that are apart lose their history; the touching ones get theirs back below.
     std::fill(history.begin() + k_lo, history.begin() + k_hi, Vec3{});
@@ -312,16 +289,16 @@ std::int64_t sphere_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCon
       const std::int32_t i = b.i[c];
       const auto k = static_cast<std::size_t>(b.k[c]);
       const Wall& w = walls[static_cast<std::size_t>(b.w[c])];
-      const Vec3 fc{b.fx[c], b.fy[c], b.fz[c]};
-      const Vec3 rt{b.rx[c], b.ry[c], b.rz[c]};
-      const Vec3 nrm{b.nx[c], b.ny[c], b.nz[c]};
+      const Vec3 fc = b.f.get(c);
+      const Vec3 rt = b.rolling.get(c);
+      const Vec3 nrm = b.normal.get(c);
       const Vec3 point = x[i] - (r[i] - 0.5 * b.ov[c]) * nrm;
       f[i] += fc;
-      tq[i] += Vec3{b.tx[c], b.ty[c], b.tz[c]};
+      tq[i] += b.t.get(c);
       reaction[2 * k] = -fc;
       reaction[2 * k + 1] = -(cross(point - w.torque_center(), fc) + rt);
       stiffness[k] = b.ov[c] > 0 ? 1.5 * b.fn[c] / b.ov[c] : 0.0;
-      history[k] = {b.hx[c], b.hy[c], b.hz[c]};
+      history[k] = b.hist.get(c);
     }
   };
   return exec::parallel_sum(
@@ -346,9 +323,7 @@ std::int64_t sphere_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCon
           b.k[n] = k;
           b.i[n] = i;
           b.w[n] = entries[ku].wall;
-          b.nx[n] = nrm.x;
-          b.ny[n] = nrm.y;
-          b.nz[n] = nrm.z;
+          b.normal.set(n, nrm);
           b.ov[n] = -gap;
           n += gap < 0;
           if (n == WallBatch::cap) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 
+#include "contact/batch_columns.hpp"
 #include "contact/registry.hpp"
 #include "contact/row_loop.hpp"
 #include "core/exec.hpp"
@@ -117,17 +118,15 @@ struct ContactBatch {
   static constexpr int cap = 128;
   std::int32_t i[cap], j[cap];
   std::int64_t k[cap];
-  double dx[cap], dy[cap], dz[cap];  // x_i - x_j
-  double hx[cap], hy[cap], hz[cap];  // tangential history, in and out
+  VecColumns<cap> d;     // x_i - x_j
+  VecColumns<cap> hist;  // tangential history, in and out
   // gathered per contact: radii, masses, v_i - v_j, omega_i, omega_j
   double ri[cap], rj[cap], mi[cap], mj[cap];
-  double vx[cap], vy[cap], vz[cap];
-  double oix[cap], oiy[cap], oiz[cap], ojx[cap], ojy[cap], ojz[cap];
-  // material-pair constants, gathered only when there is more than one material
-  double kn[cap], ktr[cap], sktr[cap], zeta[cap], mu[cap], mur[cap];
-  double fx[cap], fy[cap], fz[cap];     // force on i (j gets the opposite)
-  double tix[cap], tiy[cap], tiz[cap];  // torque on i
-  double tjx[cap], tjy[cap], tjz[cap];  // minus the torque on j
+  VecColumns<cap> dv, om_i, om_j;
+  CoeffColumns<cap> coeffs;  // gathered only when there is more than one material
+  VecColumns<cap> f;         // force on i (j gets the opposite)
+  VecColumns<cap> t_i;       // torque on i
+  VecColumns<cap> t_j;       // minus the torque on j
 };
 
 /// Forces of the n contacts of a batch: the kinematics of the row loop (pair_loop) with fewer
@@ -141,7 +140,7 @@ __attribute__((always_inline)) inline void batch_body(ContactBatch& b, int n,
     const double ri = b.ri[c];
     const double rj = b.rj[c];
     const double rs = ri + rj;
-    const Vec3 d{b.dx[c], b.dy[c], b.dz[c]};
+    const Vec3 d = b.d.get(c);
     ContactKinematics kin;
     const double dist = std::sqrt(norm2(d));
     kin.overlap = rs - dist;
@@ -157,18 +156,15 @@ __attribute__((always_inline)) inline void batch_body(ContactBatch& b, int n,
     kin.normal = dist > 0 ? (rs * ms * q) * d : Vec3{0, 0, 1};
     kin.r_eff = ri * rj * ms * (dist_or_1 * q);
     kin.m_eff = mi * mj * rs * (dist_or_1 * q);
-    const Vec3 omi{b.oix[c], b.oiy[c], b.oiz[c]};
-    const Vec3 omj{b.ojx[c], b.ojy[c], b.ojz[c]};
-    kin.v_rel = Vec3{b.vx[c], b.vy[c], b.vz[c]} - cross(arm_i * omi + arm_j * omj, kin.normal);
+    const Vec3 omi = b.om_i.get(c);
+    const Vec3 omj = b.om_j.get(c);
+    kin.v_rel = b.dv.get(c) - cross(arm_i * omi + arm_j * omj, kin.normal);
     kin.omega_rel = omi - omj;
-    Vec3 h{b.hx[c], b.hy[c], b.hz[c]};
+    Vec3 h = b.hist.get(c);
     // One material pair: the loop-invariant c0; otherwise the gathered constants.
-    const PairCoeffs cc = OneType ? c0 : PairCoeffs{c0.model,  b.kn[c],   0.0,     b.ktr[c],
-                                                    b.sktr[c], b.zeta[c], b.mu[c], b.mur[c]};
+    const PairCoeffs cc = OneType ? c0 : b.coeffs.get(c, c0.model);
     const ContactResult res = Law::evaluate(cc, kin, dt, h);
-    b.hx[c] = h.x;
-    b.hy[c] = h.y;
-    b.hz[c] = h.z;
+    b.hist.set(c, h);
     const Vec3 nxf = cross(kin.normal, res.force);
     Vec3 ti = -arm_i * nxf;
     Vec3 tj = arm_j * nxf;
@@ -176,15 +172,9 @@ __attribute__((always_inline)) inline void batch_body(ContactBatch& b, int n,
       ti += res.rolling_torque;
       tj += res.rolling_torque;
     }
-    b.fx[c] = res.force.x;
-    b.fy[c] = res.force.y;
-    b.fz[c] = res.force.z;
-    b.tix[c] = ti.x;
-    b.tiy[c] = ti.y;
-    b.tiz[c] = ti.z;
-    b.tjx[c] = tj.x;
-    b.tjy[c] = tj.y;
-    b.tjz[c] = tj.z;
+    b.f.set(c, res.force);
+    b.t_i.set(c, ti);
+    b.t_j.set(c, tj);
   }
 }
 
@@ -263,37 +253,18 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
     for (int c = 0; c < n; ++c) {  // gather
       const std::int32_t i = b.i[c];
       const std::int32_t j = b.j[c];
-      const Vec3 h = hist[b.k[c]];
-      b.hx[c] = h.x;
-      b.hy[c] = h.y;
-      b.hz[c] = h.z;
+      b.hist.set(c, hist[b.k[c]]);
       b.ri[c] = r[i];
       b.rj[c] = r[j];
       b.mi[c] = m[i];
       b.mj[c] = m[j];
       Vec3 vj = v[j];
       if constexpr (Sheared) vj += dom.image_velocity(x[i], x[j]);
-      const Vec3 dv = v[i] - vj;
-      b.vx[c] = dv.x;
-      b.vy[c] = dv.y;
-      b.vz[c] = dv.z;
-      const Vec3 oi = om[i];
-      const Vec3 oj = om[j];
-      b.oix[c] = oi.x;
-      b.oiy[c] = oi.y;
-      b.oiz[c] = oi.z;
-      b.ojx[c] = oj.x;
-      b.ojy[c] = oj.y;
-      b.ojz[c] = oj.z;
-      if constexpr (!OneType) {
-        const PairCoeffs& cc = coeffs[static_cast<std::size_t>(mat[i]) * n_mat + mat[j]];
-        b.kn[c] = cc.stiffness;
-        b.ktr[c] = cc.kt_ratio;
-        b.sktr[c] = cc.sqrt_kt_ratio;
-        b.zeta[c] = cc.damping_ratio;
-        b.mu[c] = cc.friction;
-        b.mur[c] = cc.rolling_friction;
-      }
+      b.dv.set(c, v[i] - vj);
+      b.om_i.set(c, om[i]);
+      b.om_j.set(c, om[j]);
+      if constexpr (!OneType)
+        b.coeffs.set(c, coeffs[static_cast<std::size_t>(mat[i]) * n_mat + mat[j]]);
     }
     // Pairs that are apart lose their history; the touching ones get theirs back below.
     std::fill(hist + k_lo, hist + k_hi, Vec3{});
@@ -301,14 +272,14 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
     for (int c = 0; c < n; ++c) {  // scatter, in list order
       const std::int32_t i = b.i[c];
       const std::int32_t j = b.j[c];
-      const Vec3 fc{b.fx[c], b.fy[c], b.fz[c]};
+      const Vec3 fc = b.f.get(c);
       f[i] += fc;
       f[j] -= fc;
-      tq[i] += Vec3{b.tix[c], b.tiy[c], b.tiz[c]};
-      tq[j] -= Vec3{b.tjx[c], b.tjy[c], b.tjz[c]};
-      hist[b.k[c]] = {b.hx[c], b.hy[c], b.hz[c]};
+      tq[i] += b.t_i.get(c);
+      tq[j] -= b.t_j.get(c);
+      hist[b.k[c]] = b.hist.get(c);
       if constexpr (Virial) {
-        const Vec3 d{b.dx[c], b.dy[c], b.dz[c]};
+        const Vec3 d = b.d.get(c);
         if (sink.counts(x[i], d)) {
           Mat3& w = sink.rows[i];
           for (int a = 0; a < 3; ++a)
@@ -345,9 +316,7 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
         b.i[n] = static_cast<std::int32_t>(i);
         b.j[n] = j;
         b.k[n] = k;
-        b.dx[n] = d.x;
-        b.dy[n] = d.y;
-        b.dz[n] = d.z;
+        b.d.set(n, d);
         n += norm2(d) < rs * rs;
         if (n == ContactBatch::cap) {
           flush(b, n, k_lo, k + 1);
