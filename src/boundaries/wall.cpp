@@ -426,20 +426,13 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   const int slots = list.slots();
   // Spheres whose wall pairs all use one law: the batched, vectorised loop.
   int model = -1;
-  bool uniform = sv == nullptr && slots == 1;
-  for (int a = 0; a < pairs.n() && uniform; ++a)
-    for (int b = 0; b < pairs.n() && uniform; ++b) {
-      const int mm = pairs(a, b).model;
-      if (mm >= 0 && model >= 0 && mm != model) uniform = false;
-      if (mm >= 0) model = mm;
-    }
-  const std::int64_t active = uniform && model >= 0
-                                  ? dispatch_index(contact::ContactModels{}, model,
-                                                   [&]<class M>() {
-                                                     return sphere_wall_forces<typename M::Law>(
-                                                         p, walls, list, pairs, model, t, dt);
-                                                   })
-                                  : generic_wall_forces(p, walls, list, pairs, sv, t, dt);
+  const bool uniform = sv == nullptr && slots == 1 && contact::uniform_model(pairs, model);
+  const std::int64_t active = uniform ? dispatch_index(contact::ContactModels{}, model,
+                                                       [&]<class M>() {
+                                                         return sphere_wall_forces<typename M::Law>(
+                                                             p, walls, list, pairs, model, t, dt);
+                                                       })
+                                      : generic_wall_forces(p, walls, list, pairs, sv, t, dt);
   // Reactions summed in entry order: the same bits whatever the thread count.
   for (auto& w : walls) {
     w.force = {};

@@ -336,9 +336,7 @@ template <class M>
 std::int64_t batched_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
                                  const PairTable<PairCoeffs>& pairs, double dt,
                                  const VirialSink* virial) {
-  bool rolling = false;
-  for (int a = 0; a < pairs.n(); ++a)
-    for (int b = 0; b < pairs.n(); ++b) rolling = rolling || pairs(a, b).rolling_friction != 0;
+  const bool rolling = any_rolling_friction(pairs);
   const bool one = pairs.n() == 1;
   const BatchKernel kernel = batch_kernel<typename M::Law>(rolling, one);
   auto go = [&]<bool Periodic, bool Sheared>() {
@@ -373,15 +371,15 @@ template <class Eval>
 std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
                        const PairTable<PairCoeffs>& pairs, double dt, const VirialSink* virial,
                        Eval&& eval) {
-  bool rolling = false;
-  for (int a = 0; a < pairs.n(); ++a)
-    for (int b = 0; b < pairs.n(); ++b) rolling = rolling || pairs(a, b).rolling_friction != 0;
+  const bool rolling = any_rolling_friction(pairs);
   if (domain.sheared())
     return pair_loop<true, true>(p, domain, list, pairs, dt, rolling, virial, eval);
   if (domain.any_periodic())
     return pair_loop<true, false>(p, domain, list, pairs, dt, rolling, virial, eval);
   return pair_loop<false, false>(p, domain, list, pairs, dt, rolling, virial, eval);
 }
+
+}  // namespace
 
 bool uniform_model(const PairTable<PairCoeffs>& pairs, int& model) {
   model = -1;
@@ -395,7 +393,12 @@ bool uniform_model(const PairTable<PairCoeffs>& pairs, int& model) {
   return model >= 0;
 }
 
-}  // namespace
+bool any_rolling_friction(const PairTable<PairCoeffs>& pairs) {
+  for (int a = 0; a < pairs.n(); ++a)
+    for (int b = 0; b < pairs.n(); ++b)
+      if (pairs(a, b).rolling_friction != 0) return true;
+  return false;
+}
 
 void use_baseline_kernels(bool on) {
   baseline_only = on;

@@ -56,6 +56,11 @@ std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletL
                                  const PairTable<PairCoeffs>& pairs, double dt,
                                  const VirialSink* virial = nullptr);
 
+/// True when every interacting material pair (model >= 0) uses one law; `model` gets it.
+bool uniform_model(const PairTable<PairCoeffs>& pairs, int& model);
+/// True when some material pair has rolling friction.
+bool any_rolling_friction(const PairTable<PairCoeffs>& pairs);
+
 /// For tests: use the baseline (SSE2) batch kernel even where the CPU has AVX2, to check that
 /// both give the same bits. Not for use while a force loop runs on another thread.
 void use_baseline_kernels(bool on);

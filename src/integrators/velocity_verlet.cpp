@@ -24,7 +24,7 @@ double kick(ParticleStore& p, const Domain* domain, double h, double dt, const V
   // Wrapping is a no-op without periodic axes; skipping it keeps the loop short.
   const bool periodic =
       Drift && (domain->periodic[0] || domain->periodic[1] || domain->periodic[2]);
-  return exec::parallel_max(static_cast<exec::index_t>(p.size()), 0.0, [&](exec::index_t i) {
+  auto one = [&](exec::index_t i) {
     v[i] += (h / m[i]) * f[i];
     w[i] += (h / in[i]) * t[i];
     if constexpr (Reset) {
@@ -35,9 +35,17 @@ double kick(ParticleStore& p, const Domain* domain, double h, double dt, const V
       x[i] += dt * v[i];
       if (periodic) domain->wrap(x[i], &v[i]);
     }
-    if constexpr (Track) return norm2(periodic ? domain->delta(x[i], x_ref[i]) : x[i] - x_ref[i]);
+  };
+  const auto n = static_cast<exec::index_t>(p.size());
+  if constexpr (Track) {
+    return exec::parallel_max(n, 0.0, [&](exec::index_t i) {
+      one(i);
+      return norm2(periodic ? domain->delta(x[i], x_ref[i]) : x[i] - x_ref[i]);
+    });
+  } else {
+    exec::parallel_for(n, one);  // no reduction where nothing is measured
     return 0.0;
-  });
+  }
 }
 
 }  // namespace
