@@ -1,10 +1,14 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Unit tests of the finite-volume fluid solver (src/fluid/fv): exact and manufactured flows,
-// variable fluid fraction, the implicit momentum source, 3D, and bad settings.
+// variable fluid fraction, the implicit momentum source, 3D, the step's precomputed stencils
+// against the generic implementation, the automatic pressure solver, and bad settings.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -69,6 +73,65 @@ double max_u_error(const VolumeAveragedNS& f, double (*u_exact)(double, double),
 
 double poiseuille_profile(double y, double h) {  // u_max = 1 for rho g = 8 mu / h^2
   return 4.0 * y * (h - y) / (h * h);
+}
+
+// Every boundary kind on one small 3D grid: x periodic; y a moving wall below, no-slip above;
+// z a superficial inlet with a profile (tangential components too) below, an outlet above.
+// eps, K and S change every step, so every step re-assembles the matrices. Direct solves, so
+// that the numbers are those of the discretisation up to round-off. Returns per component
+// sum |u| and sum |u| w_i, then the same for p (w_i = 1 + i % 7).
+std::vector<double> all_boundaries_run(Convection convection, int n_steps) {
+  Grid g;
+  g.dimension = 3;
+  g.n = {5, 4, 6};
+  g.h = {0.1, 0.12, 0.09};
+  g.lo = {0.0, -0.2, 0.1};
+  g.periodic = {true, false, false};
+  FluidSettings s;
+  s.density = 1.0;
+  s.dynamic_viscosity = 0.01;
+  s.gravity = {0.5, -1.0, -9.81};
+  s.convection = convection;
+  s.pressure_solver = LinearSolver::Direct;
+  s.momentum_solver = LinearSolver::Direct;
+  s.boundary[box_face_index(BoxFace::XMin)] = BoundaryCondition::periodic();
+  s.boundary[box_face_index(BoxFace::XMax)] = BoundaryCondition::periodic();
+  s.boundary[box_face_index(BoxFace::YMin)] = BoundaryCondition::moving_wall({0.3, 0.0, -0.2});
+  s.boundary[box_face_index(BoxFace::YMax)] = BoundaryCondition::no_slip();
+  s.boundary[box_face_index(BoxFace::ZMin)] = BoundaryCondition::velocity_inlet(
+      [](const Vec3& x) {
+        return Vec3{0.2 * x.y, 0.1 + x.x, 0.8 + 0.5 * x.x * (1.0 - x.x)};
+      },
+      true);
+  s.boundary[box_face_index(BoxFace::ZMax)] = BoundaryCondition::pressure_outlet(1.5);
+  VolumeAveragedNS f(g, s);
+  f.set_velocity([](const Vec3& x) { return Vec3{0.4 * x.z, 0.1 * x.x, 0.8 + 0.2 * x.y}; });
+  const auto nc = static_cast<std::size_t>(g.cell_count());
+  std::vector<double> eps(nc), rate(nc, 0.0), k(nc);
+  std::vector<Vec3> src(nc);
+  for (int n = 0; n < n_steps; ++n) {
+    for (std::size_t c = 0; c < nc; ++c) {
+      eps[c] = 0.7 + 0.25 * std::sin(1.3 * static_cast<double>(c) + 0.7 * n);
+      k[c] = 50.0 * (1.0 + std::cos(static_cast<double>(c) + n));
+      src[c] = {std::sin(0.3 * static_cast<double>(c)), 1.0, 0.5 * k[c]};
+    }
+    f.set_fluid_fraction(eps, rate);
+    f.set_momentum_source(src, k);
+    f.step(0.01);
+  }
+  std::vector<double> out;
+  auto sums = [&](std::span<const double> v) {
+    double s1 = 0.0, s2 = 0.0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      s1 += std::abs(v[i]);
+      s2 += std::abs(v[i]) * static_cast<double>(1 + i % 7);
+    }
+    out.push_back(s1);
+    out.push_back(s2);
+  };
+  for (int a = 0; a < 3; ++a) sums(f.face_velocity(a));
+  sums(f.pressure());
+  return out;
 }
 
 }  // namespace
@@ -332,8 +395,8 @@ TEST(FluidFV, HydrostaticWithVariableFraction) {
 }
 
 // 3D plane channel (walls in y, periodic in x and z) driven by a body force: the same discrete
-// profile as in 2D (w = 0, no variation in x, z). 3D uses CG (incomplete Cholesky / Jacobi) with
-// relative tolerances 1e-10 / 1e-12, hence the 1e-9 comparison.
+// profile as in 2D (w = 0, no variation in x, z). The 3D momentum solves use Jacobi CG with
+// relative tolerance 1e-12, hence the 1e-9 comparison.
 TEST(FluidFV, Channel3DMatches2D) {
   auto make = [](int dim) {
     FluidSettings s = settings(1.0, 1.0);
@@ -360,6 +423,48 @@ TEST(FluidFV, Channel3DMatches2D) {
   EXPECT_LE(dev, 1e-9);
   for (double w : f3.face_velocity(2)) EXPECT_LE(std::abs(w), 1e-9);
   EXPECT_NEAR(max_u_error(f3, poiseuille_profile, 1.0), 1.0 / 256, 1e-9);
+}
+
+// The step reads stencil values inside the grid directly and reflects only those outside, from
+// tables built once (viscous links, matrix positions, face cells). The reference numbers are
+// those of the first, fully generic implementation (every access folded and reflected) on the
+// same run: the two must agree to round-off, with every kind of boundary in the stencils.
+TEST(FluidFV, StencilTablesMatchGenericImplementation) {
+  const std::vector<double> van_leer{19.015770549743589, 76.20589261490872,  6.2147166985329179,
+                                     25.929748236407882, 180.03713682150948, 711.88093949508766,
+                                     2231.1523774059187, 8765.6190203443512};
+  const std::vector<double> central{19.44202925528052,  77.778930441619721, 5.7864856842613621,
+                                    24.023209071599336, 180.04657847643449, 712.27181212472931,
+                                    2229.97311593821,   8765.6553104667655};
+  for (const auto& [convection, expected] :
+       {std::pair{Convection::VanLeer, van_leer}, std::pair{Convection::Central, central}}) {
+    const std::vector<double> got = all_boundaries_run(convection, 6);
+    ASSERT_EQ(got.size(), expected.size());
+    for (std::size_t i = 0; i < got.size(); ++i)
+      EXPECT_NEAR(got[i], expected[i], 1e-13 * expected[i]) << "sum " << i;
+  }
+}
+
+// LinearSolver::Auto for the pressure: Direct in 2D and on thin 3D grids (slabs with at most two
+// cells across, columns whose cross-section is at most 64 cells and no longer than the column),
+// Jacobi CG otherwise (the measurements are in docs/models/fluid_fv.md).
+TEST(FluidFV, AutoPressureSolverFollowsGridShape) {
+  auto chosen = [](int dim, std::array<int, 3> n) {
+    Grid g;
+    g.dimension = dim;
+    g.n = n;
+    return VolumeAveragedNS(g, settings(1.0, 1.0)).settings().pressure_solver;
+  };
+  EXPECT_EQ(chosen(2, {64, 64, 1}), LinearSolver::Direct);
+  EXPECT_EQ(chosen(3, {8, 2, 30}), LinearSolver::Direct);
+  EXPECT_EQ(chosen(3, {40, 40, 2}), LinearSolver::Direct);
+  EXPECT_EQ(chosen(3, {4, 200, 4}), LinearSolver::Direct);
+  EXPECT_EQ(chosen(3, {16, 4, 64}), LinearSolver::Direct);
+  EXPECT_EQ(chosen(3, {8, 8, 8}), LinearSolver::JacobiCG);
+  EXPECT_EQ(chosen(3, {32, 4, 32}), LinearSolver::JacobiCG);
+  EXPECT_EQ(chosen(3, {12, 12, 100}), LinearSolver::JacobiCG);
+  EXPECT_EQ(chosen(3, {24, 24, 24}), LinearSolver::JacobiCG);
+  EXPECT_EQ(chosen(3, {8, 8, 128}), LinearSolver::Direct);
 }
 
 // Impossible settings and inputs are gf::Error with a message that names the problem.

@@ -51,17 +51,19 @@ double van_leer(double far_upwind, double upwind, double downwind) {
   return d0 * d1 > 0.0 ? upwind + d0 * d1 / (d0 + d1) : upwind;
 }
 
+/// Position of entry (row, col) in the values of a compressed column-major matrix whose pattern
+/// has it: found once, so that re-assembly writes the values directly.
+int entry_position(const SpdSolver::Matrix& m, int row, int col) {
+  const int* rows = m.innerIndexPtr();
+  for (int k = m.outerIndexPtr()[col]; k < m.outerIndexPtr()[col + 1]; ++k)
+    if (rows[k] == row) return k;
+  ASSERT(false);
+  return -1;
+}
+
 /// Adds v to entry (row, col) of a compressed column-major matrix whose pattern has it.
 void add_entry(SpdSolver::Matrix& m, int row, int col, double v) {
-  const int* rows = m.innerIndexPtr();
-  double* vals = m.valuePtr();
-  for (int k = m.outerIndexPtr()[col]; k < m.outerIndexPtr()[col + 1]; ++k) {
-    if (rows[k] == row) {
-      vals[k] += v;
-      return;
-    }
-  }
-  ASSERT(false);
+  m.valuePtr()[entry_position(m, row, col)] += v;
 }
 
 void zero_column(SpdSolver::Matrix& m, int col) {
@@ -99,12 +101,25 @@ VolumeAveragedNS::VolumeAveragedNS(const Grid& grid, FluidSettings settings)
   source_.assign(nc, Vec3{});
   // Measured (docs/models/fluid_fv.md, "Linear solvers"): in 2D the sparse LDL^T of the
   // pressure matrix costs less than the CG iterations it saves even when eps changes every
-  // step; in 3D its fill makes it 10-40x slower than CG, and incomplete Cholesky saves
-  // iterations but not time over Jacobi (and allocates in every factorisation). The momentum
-  // matrices are strongly diagonal (eps rho / dt): Jacobi CG needs ~5-10 iterations.
-  if (s_.pressure_solver == LinearSolver::Auto)
-    s_.pressure_solver = dim_ == 2 ? LinearSolver::Direct : LinearSolver::JacobiCG;
+  // step. In 3D its cost grows with the elimination front, the cross-section n_min x n_mid of
+  // the two smallest cell counts, while Jacobi-CG's iterations grow with the longest side n_max.
+  // Direct wins on quasi-2D slabs (n_min <= 2; per step, eps and K new every step: 8x2x30
+  // 0.30 vs 0.46 ms, 32x2x32 1.8 vs 2.7, 100x2x100 41 vs 70) and on thin columns whose front
+  // is small and no larger than their length (4x4x200 2.0 vs 6.9 ms, 6x6x100 3.2 vs 6.0,
+  // 8x8x128 13 vs 19, 16x4x64 5.9 vs 7.3); it loses once the front grows (8x8x8 0.57 vs
+  // 0.47 ms, 32x4x32 8.0 vs 6.3, 12^3 4.1 vs 1.9, 16^3 22 vs 5.2, 24^3 360 vs 26). Incomplete
+  // Cholesky saves iterations but not time over Jacobi (and allocates in every factorisation).
+  // The momentum matrices are strongly diagonal (eps rho / dt): Jacobi CG needs ~5-10
+  // iterations.
+  if (s_.pressure_solver == LinearSolver::Auto) {
+    std::array<int, 3> n = grid_.n;
+    std::sort(n.begin(), n.end());
+    const int front = n[0] * n[1];
+    const bool thin = n[0] <= 2 || (front <= 64 && front <= n[2]);
+    s_.pressure_solver = dim_ == 2 || thin ? LinearSolver::Direct : LinearSolver::JacobiCG;
+  }
   if (s_.momentum_solver == LinearSolver::Auto) s_.momentum_solver = LinearSolver::JacobiCG;
+  build_face_tables();
   build_momentum_systems();
   build_pressure_system();
   refresh_boundary_faces(u_);
@@ -196,12 +211,30 @@ double VolumeAveragedNS::eps_u(int a, Index3 f) const {
   return eps_face(a, f) * face_value(u_[a], a, f);
 }
 
+// The step's loops use these instead of unflattening face indices (divisions) and folding.
+void VolumeAveragedNS::build_face_tables() {
+  for (int a = 0; a < dim_; ++a) {
+    const std::array<int, 3> d = grid_.face_dims(a);
+    face_stride_[a] = {1, d[0], static_cast<std::int64_t>(d[0]) * d[1]};
+    face_cells_[a].resize(static_cast<std::size_t>(grid_.face_count(a)));
+    for (std::int64_t fi = 0; fi < grid_.face_count(a); ++fi) {
+      const Index3 f = unflatten_face(a, fi);
+      Index3 lo = f;
+      lo[a] -= 1;
+      auto folded = [&](const Index3& c) {
+        return static_cast<int>(
+            grid_.index(grid_.fold(0, c[0]), grid_.fold(1, c[1]), grid_.fold(2, c[2])));
+      };
+      face_cells_[a][fi] = {folded(lo), folded(f)};
+    }
+  }
+}
+
 void VolumeAveragedNS::update_face_fraction() {
   for (int a = 0; a < dim_; ++a) {
     exec::parallel_for(grid_.face_count(a), [&](exec::index_t fi) {
-      Index3 f = unflatten_face(a, fi), lo = f;
-      lo[a] -= 1;
-      eps_f_[a][fi] = 0.5 * (eps_cell(lo) + eps_cell(f));
+      const FaceCells& c = face_cells_[a][fi];
+      eps_f_[a][fi] = 0.5 * (eps_[c[0]] + eps_[c[1]]);
     });
   }
 }
@@ -288,21 +321,19 @@ void VolumeAveragedNS::refresh_boundary_faces(std::vector<double> (&u)[3]) const
   }
 }
 
-// Gradient along a of the cell field p at face f of a momentum unknown. At an outlet face the
-// boundary value sits half a cell away: the outlet pressure for p, zero for the correction.
-double VolumeAveragedNS::face_gradient(int a, Index3 f, const double* p, bool correction) const {
+// Gradient along a of the cell field p at face fi (number i along a) of a momentum unknown. At
+// an outlet face the boundary value sits half a cell away: the outlet pressure for p, zero for
+// the correction. On a periodic axis the folded cells are the wrapped ones.
+double VolumeAveragedNS::face_gradient(int a, std::int64_t fi, int i, const double* p,
+                                       bool correction) const {
+  const FaceCells& c = face_cells_[a][fi];
   const int n = grid_.n[a];
-  Index3 lo = f, hi = f;
-  lo[a] -= 1;
-  if (grid_.periodic[a]) {
-    lo[a] = wrap(lo[a], n);
-    hi[a] = wrap(hi[a], n);
-  } else if (f[a] == 0 || f[a] == n) {
-    const double pb = correction ? 0.0 : bc(a, f[a] == 0 ? 0 : 1).pressure;
-    if (f[a] == 0) return (p[grid_.index(hi[0], hi[1], hi[2])] - pb) / (0.5 * grid_.h[a]);
-    return (pb - p[grid_.index(lo[0], lo[1], lo[2])]) / (0.5 * grid_.h[a]);
+  if (!grid_.periodic[a] && (i == 0 || i == n)) {
+    const double pb = correction ? 0.0 : bc(a, i == 0 ? 0 : 1).pressure;
+    if (i == 0) return (p[c[1]] - pb) / (0.5 * grid_.h[a]);
+    return (pb - p[c[0]]) / (0.5 * grid_.h[a]);
   }
-  return (p[grid_.index(hi[0], hi[1], hi[2])] - p[grid_.index(lo[0], lo[1], lo[2])]) / grid_.h[a];
+  return (p[c[1]] - p[c[0]]) / grid_.h[a];
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -311,17 +342,24 @@ double VolumeAveragedNS::face_gradient(int a, Index3 f, const double* p, bool co
 // Link of the viscous stencil of unknown face f (component a) towards f + s e_b. The flux
 // mu eps (u_nb - u_f) / h_b crosses the control-volume face between them; eps there is the cell
 // value (b = a: the interface is a cell centre) or the mean of the four cells around the edge.
+// Only what does not change with eps or the boundary values is filled in (see refresh_link).
 VolumeAveragedNS::Neighbor VolumeAveragedNS::momentum_neighbor(int a, Index3 f, int b,
                                                                int s) const {
   Neighbor nb;
+  nb.axis = static_cast<std::int8_t>(b);
+  nb.side = static_cast<std::int8_t>(s);
   Index3 q = f;
   q[b] += s;
   const int n = grid_.n[b];
-  double eps_link = 0.0;
+  auto folded = [&](const Index3& c) {
+    return static_cast<int>(
+        grid_.index(grid_.fold(0, c[0]), grid_.fold(1, c[1]), grid_.fold(2, c[2])));
+  };
   if (b == a) {
     Index3 c = f;
     c[a] = std::min(f[a], q[a]);
-    eps_link = eps_cell(c);
+    nb.cells[0] = folded(c);
+    nb.n_cells = 1;
   } else {
     Index3 c = f;
     c[b] = std::min(f[b], q[b]);
@@ -330,11 +368,10 @@ VolumeAveragedNS::Neighbor VolumeAveragedNS::momentum_neighbor(int a, Index3 f, 
         Index3 e = c;
         e[a] += da;
         e[b] += db;
-        eps_link += 0.25 * eps_cell(e);
+        nb.cells[nb.n_cells++] = folded(e);
       }
     }
   }
-  nb.coefficient = s_.dynamic_viscosity * eps_link / (grid_.h[b] * grid_.h[b]);
   const Momentum& m = mom_[a];
   auto unknown_at = [&](const Index3& i) {
     return m.unknown_of_face[grid_.face_index(a, i[0], i[1], i[2])];
@@ -353,7 +390,7 @@ VolumeAveragedNS::Neighbor VolumeAveragedNS::momentum_neighbor(int a, Index3 f, 
       nb.unknown = k;
       // An outlet face's control volume is the half cell inside; per unit volume its inner
       // flux, over a distance h, counts twice (the row weight 1/2 restores symmetry).
-      if (!grid_.periodic[a] && (f[a] == 0 || f[a] == n)) nb.coefficient *= 2.0;
+      nb.doubled = !grid_.periodic[a] && (f[a] == 0 || f[a] == n);
     } else {
       nb.kind = Neighbor::Known;
       nb.face = grid_.face_index(a, q[0], q[1], q[2]);
@@ -367,7 +404,6 @@ VolumeAveragedNS::Neighbor VolumeAveragedNS::momentum_neighbor(int a, Index3 f, 
       const int side = q[b] < 0 ? 0 : 1;
       if (bc(b, side).kind == BcKind::PressureOutlet) return {};  // zero gradient
       nb.kind = Neighbor::Dirichlet;
-      nb.value = boundary_velocity(b, side, a, f);
       return nb;
     }
   }
@@ -378,6 +414,22 @@ VolumeAveragedNS::Neighbor VolumeAveragedNS::momentum_neighbor(int a, Index3 f, 
   return nb;
 }
 
+// The parts of link nb of unknown face f (component a) that follow eps and the boundary values.
+inline void VolumeAveragedNS::refresh_link(int a, const Index3& f, Neighbor& nb) const {
+  if (nb.kind == Neighbor::None) return;
+  double eps_link = 0.0;
+  if (nb.n_cells == 1) {
+    eps_link = eps_[nb.cells[0]];
+  } else {
+    for (int i = 0; i < 4; ++i) eps_link += 0.25 * eps_[nb.cells[i]];
+  }
+  const double h = grid_.h[nb.axis];
+  nb.coefficient = s_.dynamic_viscosity * eps_link / (h * h);
+  if (nb.doubled) nb.coefficient *= 2.0;
+  if (nb.kind == Neighbor::Dirichlet)
+    nb.value = boundary_velocity(nb.axis, nb.side < 0 ? 0 : 1, a, f);
+}
+
 void VolumeAveragedNS::build_momentum_systems() {
   for (int a = 0; a < dim_; ++a) {
     Momentum& m = mom_[a];
@@ -385,6 +437,7 @@ void VolumeAveragedNS::build_momentum_systems() {
     const int n = grid_.n[a];
     m.unknown_of_face.assign(static_cast<std::size_t>(nf), -1);
     m.face_of_unknown.clear();
+    m.coords.clear();
     for (std::int64_t f = 0; f < nf; ++f) {
       const int i = unflatten_face(a, f)[a];
       const bool unknown = grid_.periodic[a]
@@ -395,15 +448,18 @@ void VolumeAveragedNS::build_momentum_systems() {
       if (!unknown) continue;
       m.unknown_of_face[f] = static_cast<int>(m.face_of_unknown.size());
       m.face_of_unknown.push_back(f);
+      m.coords.push_back(unflatten_face(a, f));
     }
     const auto nu = static_cast<int>(m.face_of_unknown.size());
+    const int n_links = 2 * dim_;
+    m.links.assign(static_cast<std::size_t>(nu) * n_links, Neighbor{});
     std::vector<Eigen::Triplet<double>> t;
     for (int r = 0; r < nu; ++r) {
-      const Index3 f = unflatten_face(a, m.face_of_unknown[r]);
       t.emplace_back(r, r, 0.0);
       for (int b = 0; b < dim_; ++b) {
-        for (int s = -1; s <= 1; s += 2) {
-          const Neighbor nb = momentum_neighbor(a, f, b, s);
+        for (int s = 0; s < 2; ++s) {
+          Neighbor& nb = m.links[r * n_links + 2 * b + s];
+          nb = momentum_neighbor(a, m.coords[r], b, 2 * s - 1);
           if (nb.kind == Neighbor::Unknown) t.emplace_back(nb.unknown, r, 0.0);
         }
       }
@@ -411,9 +467,16 @@ void VolumeAveragedNS::build_momentum_systems() {
     m.matrix.resize(nu, nu);
     m.matrix.setFromTriplets(t.begin(), t.end());
     m.matrix.makeCompressed();
+    m.diag_entry.resize(static_cast<std::size_t>(nu));
+    for (int r = 0; r < nu; ++r) {
+      m.diag_entry[r] = entry_position(m.matrix, r, r);
+      for (int l = 0; l < n_links; ++l) {
+        Neighbor& nb = m.links[r * n_links + l];
+        if (nb.kind == Neighbor::Unknown) nb.entry = entry_position(m.matrix, nb.unknown, r);
+      }
+    }
     m.rhs.setZero(nu);
     m.x.setZero(nu);
-    m.links.assign(static_cast<std::size_t>(nu) * 2 * dim_, Neighbor{});
     if (nu > 0) m.solver.setup(s_.momentum_solver, m.matrix);
   }
 }
@@ -423,47 +486,68 @@ void VolumeAveragedNS::build_momentum_systems() {
 // from the continuity fluxes of the neighbouring faces, u_s central or van Leer-limited. With
 // central u_s this is the usual second-order MAC stencil; subtracting u_f sum F_s makes it the
 // advective form exactly (uniform u gives zero whatever eps does).
+//
+// Stencil values inside the grid are read directly (strided indices from the unknown's face);
+// only those outside go through the reflections of face_value / eps_u. The two give the same
+// numbers, so which path a value takes does not change the result.
 void VolumeAveragedNS::compute_convection(int a, std::vector<double>& out) const {
   const Momentum& m = mom_[a];
   const bool central = s_.convection == Convection::Central;
+  const std::vector<double>& u = u_[a];
   exec::parallel_for(static_cast<exec::index_t>(m.face_of_unknown.size()), [&](exec::index_t r) {
     const std::int64_t fi = m.face_of_unknown[r];
-    const Index3 f = unflatten_face(a, fi);
-    const double uf = u_[a][fi];
+    const Index3& f = m.coords[r];
+    const double uf = u[fi];
     double c = 0.0;
     for (int b = 0; b < dim_; ++b) {
-      for (int s = -1; s <= 1; s += 2) {
+      const std::int64_t step = face_stride_[a][b];
+      const int last = b == a ? grid_.n[b] : grid_.n[b] - 1;
+      const double h = grid_.h[b];
+      auto value = [&](int k) {  // u_a at f + k e_b
+        const int qb = f[b] + k;
+        if (qb >= 0 && qb <= last) return u[fi + k * step];
         Index3 q = f;
-        q[b] += s;
-        double flux;  // eps u . e_b at the control-volume face [m/s]
-        if (b == a) {
-          flux = 0.5 * (flux_[a][fi] + eps_u(a, q));
-        } else {
-          Index3 e1 = f;
-          e1[b] += s > 0 ? 1 : 0;
-          Index3 e0 = e1;
-          e0[a] -= 1;
-          flux = 0.5 * (eps_u(b, e0) + eps_u(b, e1));
-        }
+        q[b] = qb;
+        return face_value(u, a, q);
+      };
+      for (int s = -1; s <= 1; s += 2) {
+        const double flux = convecting_flux(a, f, fi, b, s);  // eps u . e_b [m/s]
         if (flux == 0.0) continue;
-        const double un = face_value(u_[a], a, q);
+        const double un = value(s);
         double us;
         if (central) {
           us = 0.5 * (uf + un);
         } else if (flux * s > 0.0) {  // outflow: f is upwind
-          Index3 back = f;
-          back[b] -= s;
-          us = van_leer(face_value(u_[a], a, back), uf, un);
+          us = van_leer(value(-s), uf, un);
         } else {
-          Index3 far = q;
-          far[b] += s;
-          us = van_leer(face_value(u_[a], a, far), un, uf);
+          us = van_leer(value(2 * s), un, uf);
         }
-        c += s * flux * (us - uf) / grid_.h[b];
+        c += s * flux * (us - uf) / h;
       }
     }
     out[fi] = c;
   });
+}
+
+// eps u . e_b at the face on side s along b of the control volume of unknown face f (index fi)
+// of component a: the mean of the two continuity fluxes there (b = a: of f and its neighbour;
+// b != a: of the two faces of component b that meet the control-volume face).
+double VolumeAveragedNS::convecting_flux(int a, const Index3& f, std::int64_t fi, int b,
+                                         int s) const {
+  Index3 q = f;
+  if (b == a) {
+    q[a] += s;
+    const bool inside = q[a] >= 0 && q[a] <= grid_.n[a];
+    return 0.5 * (flux_[a][fi] + (inside ? flux_[a][fi + s * face_stride_[a][a]] : eps_u(a, q)));
+  }
+  if (s > 0) q[b] += 1;  // q: the upper of the two faces of component b
+  if (f[a] >= 1 && f[a] < grid_.n[a]) {
+    const std::int64_t hi = face_offset(b, q);
+    return 0.5 * (flux_[b][hi - face_stride_[b][a]] + flux_[b][hi]);
+  }
+  Index3 lo = q;
+  lo[a] -= 1;
+  return 0.5 * (eps_u(b, lo) + eps_u(b, q));
 }
 
 // a_f = eps rho c0 / dt + K on every face (K: mean of the two cells): the predictor's diagonal
@@ -471,14 +555,9 @@ void VolumeAveragedNS::compute_convection(int a, std::vector<double>& out) const
 void VolumeAveragedNS::update_coefficients(double dt, double c0) {
   for (int a = 0; a < dim_; ++a) {
     exec::parallel_for(grid_.face_count(a), [&](exec::index_t fi) {
-      const Index3 f = unflatten_face(a, fi);
-      Index3 lo = f;
-      lo[a] -= 1;
-      const double k =
-          0.5 *
-          (drag_[grid_.index(grid_.fold(0, lo[0]), grid_.fold(1, lo[1]), grid_.fold(2, lo[2]))] +
-           drag_[grid_.index(grid_.fold(0, f[0]), grid_.fold(1, f[1]), grid_.fold(2, f[2]))]);
-      a_face_[a][fi] = eps_face(a, f) * s_.density * c0 / dt + k;
+      const FaceCells& c = face_cells_[a][fi];
+      const double k = 0.5 * (drag_[c[0]] + drag_[c[1]]);
+      a_face_[a][fi] = eps_f_[a][fi] * s_.density * c0 / dt + k;
     });
     mom_[a].solver.matrix_changed();
   }
@@ -499,40 +578,30 @@ StepReport VolumeAveragedNS::solve_momentum(double dt, const std::array<double, 
     const auto nu = static_cast<exec::index_t>(m.face_of_unknown.size());
     std::copy(u_[a].begin(), u_[a].end(), u_new_[a].begin());
     if (nu == 0) continue;
-    // The stencil links change only with eps and the boundary conditions: cached.
-    if (assemble || links_dirty_) {
-      exec::parallel_for(nu, [&](exec::index_t r) {
-        const Index3 f = unflatten_face(a, m.face_of_unknown[r]);
-        for (int b = 0; b < dim_; ++b)
-          for (int s = 0; s < 2; ++s)
-            m.links[r * n_links + 2 * b + s] = momentum_neighbor(a, f, b, 2 * s - 1);
-      });
-    }
+    // The links' coefficients change only with eps and the boundary values: cached.
+    const bool refresh = assemble || links_dirty_;
+    double* values = m.matrix.valuePtr();
     exec::parallel_for(nu, [&](exec::index_t r) {
       const std::int64_t fi = m.face_of_unknown[r];
-      const Index3 f = unflatten_face(a, fi);
+      const Index3& f = m.coords[r];
       const bool outlet_face = !grid_.periodic[a] && (f[a] == 0 || f[a] == grid_.n[a]);
       const double w = outlet_face ? 0.5 : 1.0;
-      const double eps_f = eps_face(a, f);
-      Index3 lo = f;
-      lo[a] -= 1;
-      const double source =
-          0.5 *
-          (source_[grid_.index(grid_.fold(0, lo[0]), grid_.fold(1, lo[1]), grid_.fold(2, lo[2]))]
-                  [a] +
-           source_[grid_.index(grid_.fold(0, f[0]), grid_.fold(1, f[1]), grid_.fold(2, f[2]))][a]);
+      const double eps_f = eps_f_[a][fi];
+      const FaceCells& cells = face_cells_[a][fi];
+      const double source = 0.5 * (source_[cells[0]][a] + source_[cells[1]][a]);
       double rhs = eps_f * rho * (c1 * u_[a][fi] - c2 * u_old_[a][fi]) / dt -
                    rho * (e1 * conv_[a][fi] + e2 * conv_old_[a][fi]) -
-                   eps_f * face_gradient(a, f, p_.data(), false) + eps_f * rho * s_.gravity[a] +
-                   source;
+                   eps_f * face_gradient(a, fi, f[a], p_.data(), false) +
+                   eps_f * rho * s_.gravity[a] + source;
       double diag = a_face_[a][fi];
       if (assemble) zero_column(m.matrix, static_cast<int>(r));
       for (int l = 0; l < n_links; ++l) {
-        const Neighbor& nb = m.links[r * n_links + l];
+        Neighbor& nb = m.links[r * n_links + l];
+        if (refresh) refresh_link(a, f, nb);
         switch (nb.kind) {
           case Neighbor::Unknown:
             diag += nb.coefficient;
-            if (assemble) add_entry(m.matrix, nb.unknown, static_cast<int>(r), -w * nb.coefficient);
+            if (assemble) values[nb.entry] += -w * nb.coefficient;
             break;
           case Neighbor::Known:
             diag += nb.coefficient;
@@ -546,7 +615,7 @@ StepReport VolumeAveragedNS::solve_momentum(double dt, const std::array<double, 
             break;
         }
       }
-      if (assemble) add_entry(m.matrix, static_cast<int>(r), static_cast<int>(r), w * diag);
+      if (assemble) values[m.diag_entry[r]] += w * diag;
       m.rhs[r] = w * rhs;
       m.x[r] = u_[a][fi];
     });
@@ -590,6 +659,31 @@ void VolumeAveragedNS::build_pressure_system() {
   pmatrix_.resize(nc, nc);
   pmatrix_.setFromTriplets(t.begin(), t.end());
   pmatrix_.makeCompressed();
+  prow_.resize(static_cast<std::size_t>(nc));
+  for (std::int64_t c = 0; c < nc; ++c) {
+    const Index3 q = unflatten_cell(c);
+    PressureRow& row = prow_[c];
+    row.diag = entry_position(pmatrix_, static_cast<int>(c), static_cast<int>(c));
+    for (int a = 0; a < dim_; ++a) {
+      row.face[a] = face_offset(a, q);
+      for (int s = 0; s < 2; ++s) {
+        Index3 nq = q;
+        nq[a] += 2 * s - 1;
+        int& entry = row.entry[2 * a + s];
+        if (nq[a] < 0 || nq[a] >= grid_.n[a]) {
+          if (!grid_.periodic[a]) {
+            entry =
+                bc(a, s).kind == BcKind::PressureOutlet ? PressureRow::kOutlet : PressureRow::kNone;
+            continue;
+          }
+          nq[a] = wrap(nq[a], grid_.n[a]);
+        }
+        const auto nb = grid_.index(nq[0], nq[1], nq[2]);
+        entry = nb == c ? PressureRow::kNone
+                        : entry_position(pmatrix_, static_cast<int>(nb), static_cast<int>(c));
+      }
+    }
+  }
   prhs_.setZero(nc);
   phi_.setZero(nc);
   psolver_.setup(s_.pressure_solver, pmatrix_);
@@ -601,36 +695,29 @@ void VolumeAveragedNS::solve_pressure(StepReport& rep) {
   // Right-hand side -(div(eps u*) + d eps/dt) and, when eps, K or dt changed, the matrix
   // -div(eps^2 / a_f grad .) per unit volume; an outlet face is a Dirichlet face (phi = 0) half
   // a cell away from the centre.
+  double* values = pmatrix_.valuePtr();
   exec::parallel_for(nc, [&](exec::index_t c) {
-    const Index3 q = unflatten_cell(c);
+    const PressureRow& row = prow_[c];
     double div = 0.0, diag = 0.0;
     if (assemble) zero_column(pmatrix_, static_cast<int>(c));
     for (int a = 0; a < dim_; ++a) {
       const double h2 = grid_.h[a] * grid_.h[a];
-      for (int s = -1; s <= 1; s += 2) {
-        Index3 f = q;  // the face on side s
-        if (s > 0) f[a] += 1;
-        const auto fi = grid_.face_index(a, f[0], f[1], f[2]);
-        const double eps_f = eps_face(a, f);
-        div += s * eps_f * u_new_[a][fi] / grid_.h[a];
+      for (int s = 0; s < 2; ++s) {
+        const std::int64_t fi = row.face[a] + s * face_stride_[a][a];  // the face on side s
+        const double eps_f = eps_f_[a][fi];
+        div += (2 * s - 1) * eps_f * u_new_[a][fi] / grid_.h[a];
         if (!assemble) continue;
         const double k = eps_f * eps_f / a_face_[a][fi] / h2;
-        Index3 nq = q;
-        nq[a] += s;
-        if (nq[a] < 0 || nq[a] >= grid_.n[a]) {
-          if (!grid_.periodic[a]) {
-            if (bc(a, s > 0 ? 1 : 0).kind == BcKind::PressureOutlet) diag += 2.0 * k;
-            continue;
-          }
-          nq[a] = wrap(nq[a], grid_.n[a]);
+        const int entry = row.entry[2 * a + s];
+        if (entry == PressureRow::kOutlet) {
+          diag += 2.0 * k;
+        } else if (entry != PressureRow::kNone) {
+          diag += k;
+          values[entry] += -k;
         }
-        const auto nb = grid_.index(nq[0], nq[1], nq[2]);
-        if (nb == c) continue;
-        diag += k;
-        add_entry(pmatrix_, static_cast<int>(nb), static_cast<int>(c), -k);
       }
     }
-    if (assemble) add_entry(pmatrix_, static_cast<int>(c), static_cast<int>(c), diag);
+    if (assemble) values[row.diag] += diag;
     prhs_[c] = -(div + eps_rate_[c]);
   });
   if (closed_) {
@@ -677,8 +764,8 @@ void VolumeAveragedNS::solve_pressure(StepReport& rep) {
     const Momentum& m = mom_[a];
     exec::parallel_for(static_cast<exec::index_t>(m.face_of_unknown.size()), [&](exec::index_t r) {
       const std::int64_t fi = m.face_of_unknown[r];
-      const Index3 f = unflatten_face(a, fi);
-      u_new_[a][fi] -= eps_face(a, f) / a_face_[a][fi] * face_gradient(a, f, phi_.data(), true);
+      u_new_[a][fi] -=
+          eps_f_[a][fi] / a_face_[a][fi] * face_gradient(a, fi, m.coords[r][a], phi_.data(), true);
     });
   }
   refresh_boundary_faces(u_new_);
@@ -906,7 +993,7 @@ Vec3 VolumeAveragedNS::pressure_gradient(std::int64_t cell) const {
       f[a] += side;
       const bool boundary = f[a] == 0 || f[a] == grid_.n[a];
       if (boundary && !grid_.periodic[a] && bc(a, side).kind != BcKind::PressureOutlet) continue;
-      sum += face_gradient(a, f, p_.data(), false);
+      sum += face_gradient(a, face_offset(a, f), f[a], p_.data(), false);
       ++count;
     }
     g[a] = count > 0 ? sum / count : 0.0;
@@ -929,14 +1016,11 @@ void VolumeAveragedNS::pressure_gradients(std::span<Vec3> out) const {
 double VolumeAveragedNS::max_cfl(double dt) const {
   double m = 0.0;
   for (std::int64_t c = 0; c < grid_.cell_count(); ++c) {
-    const Index3 q = unflatten_cell(c);
+    const PressureRow& row = prow_[c];  // has the cell's lower faces
     double sum = 0.0;
     for (int a = 0; a < dim_; ++a) {
-      Index3 hi = q;
-      hi[a] += 1;
-      sum += std::max(std::abs(u_[a][grid_.face_index(a, q[0], q[1], q[2])]),
-                      std::abs(u_[a][grid_.face_index(a, hi[0], hi[1], hi[2])])) /
-             grid_.h[a];
+      const std::int64_t lo = row.face[a], hi = lo + face_stride_[a][a];
+      sum += std::max(std::abs(u_[a][lo]), std::abs(u_[a][hi])) / grid_.h[a];
     }
     m = std::max(m, sum);
   }

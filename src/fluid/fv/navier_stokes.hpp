@@ -54,6 +54,8 @@ struct FluidSettings {
   /// convection it is not energy-stable, docs/models/fluid_fv.md)
   int time_order = 2;
   double max_courant = 1.0;  ///< step() refuses a dt with max_cfl(dt) above this
+  /// Auto: Direct in 2D and on thin 3D grids (slabs, narrow columns), else JacobiCG
+  /// (docs/models/fluid_fv.md, "Linear solvers").
   LinearSolver pressure_solver = LinearSolver::Auto;
   LinearSolver momentum_solver = LinearSolver::Auto;
   double pressure_tolerance = 1e-10;  ///< relative residual of the pressure-correction equation
@@ -170,14 +172,26 @@ class VolumeAveragedNS {
 
  private:
   using Index3 = std::array<int, 3>;
-  /// One link of the viscous stencil of a momentum unknown.
+  /// One link of the viscous stencil of a momentum unknown. Its kind, partner and geometry depend
+  /// only on the grid and the kinds of the boundary conditions and are found once
+  /// (momentum_neighbor); the coefficient and the Dirichlet value follow eps and the boundary
+  /// values and are refreshed when the matrices are re-assembled (refresh_link).
   struct Neighbor {
-    enum Kind { None, Unknown, Known, Dirichlet } kind = None;
-    int unknown = -1;          ///< Unknown: its index
-    double coefficient = 0.0;  ///< mu eps_interface / h^2 per unit volume
-    double value = 0.0;        ///< Dirichlet: the boundary value (ghost 2 value - u)
-    std::int64_t face = -1;    ///< Known: the neighbour (boundary) face, whose value is in u_
+    enum Kind : std::int8_t { None, Unknown, Known, Dirichlet } kind = None;
+    std::int8_t axis = 0;     ///< b: the link points to f + side e_b
+    std::int8_t side = 0;     ///< -1 or +1
+    std::int8_t n_cells = 0;  ///< cells whose mean eps sits at the link: 1 (b = a) or 4 (edge)
+    bool doubled = false;     ///< Unknown: inner link of an outlet face (half volume)
+    int unknown = -1;         ///< Unknown: its index
+    int entry = -1;           ///< Unknown: position of (unknown, row) in the matrix's values
+    std::int64_t face = -1;   ///< Known: the neighbour (boundary) face, whose value is in u_
+    std::array<int, 4> cells{-1, -1, -1, -1};  ///< the cells of eps_link (inside the grid)
+    double coefficient = 0.0;                  ///< mu eps_link / h_b^2 per unit volume
+    double value = 0.0;  ///< Dirichlet: the boundary value (ghost 2 value - u)
   };
+  /// The two cells on either side of a face along its normal, folded into the grid (wrapped on
+  /// periodic axes, clamped at the other boundaries, where eps and K have zero normal gradient).
+  using FaceCells = std::array<int, 2>;
 
   void check_settings() const;
   void build_momentum_systems();
@@ -200,8 +214,15 @@ class VolumeAveragedNS {
   void update_face_fraction();
   [[nodiscard]] double face_value(const std::vector<double>& u, int c, Index3 q) const;
   [[nodiscard]] double boundary_velocity(int axis, int side, int c, Index3 q) const;
-  [[nodiscard]] double face_gradient(int a, Index3 f, const double* p, bool correction) const;
+  [[nodiscard]] double face_gradient(int a, std::int64_t fi, int i, const double* p,
+                                     bool correction) const;
+  [[nodiscard]] std::int64_t face_offset(int c, const Index3& q) const {
+    return q[0] * face_stride_[c][0] + q[1] * face_stride_[c][1] + q[2] * face_stride_[c][2];
+  }
+  [[nodiscard]] double convecting_flux(int a, const Index3& f, std::int64_t fi, int b, int s) const;
   [[nodiscard]] Neighbor momentum_neighbor(int a, Index3 f, int b, int s) const;
+  void refresh_link(int a, const Index3& f, Neighbor& nb) const;
+  void build_face_tables();
 
   Grid grid_;
   FluidSettings s_;
@@ -219,7 +240,9 @@ class VolumeAveragedNS {
   std::vector<Vec3> source_;                        // cells (input)
   std::vector<double> eps_f_[3];                    // eps on faces (mean of the two cells)
   std::vector<double> flux_[3];                     // eps u on faces at t^n (the convecting fluxes)
-  std::vector<double> a_face_[3];   // eps rho c0/dt + K on faces: the predictor's diagonal
+  std::vector<double> a_face_[3];         // eps rho c0/dt + K on faces: the predictor's diagonal
+  std::vector<FaceCells> face_cells_[3];  // per face (built once)
+  std::array<std::int64_t, 3> face_stride_[3];  // face index step along each axis, per component
   bool coefficients_dirty_ = true;  // eps or K changed since the matrices were assembled
   bool assemble_ = true;            // this step re-assembles the matrices
   bool links_dirty_ = true;         // a boundary condition changed: momentum links re-cached
@@ -229,14 +252,26 @@ class VolumeAveragedNS {
   // equation (interior, periodic, outlet); row weight 1/2 on outlet faces (half volumes).
   struct Momentum {
     std::vector<std::int64_t> face_of_unknown;
+    std::vector<Index3> coords;        // of face_of_unknown (no divisions in the step's loops)
     std::vector<int> unknown_of_face;  // -1: not an unknown
     std::vector<Neighbor> links;       // 2 * dim per unknown: (axis b, side -/+)
+    std::vector<int> diag_entry;       // position of (r, r) in the matrix's values
     SpdSolver::Matrix matrix;
     Eigen::VectorXd rhs, x;
     SpdSolver solver;
   };
   Momentum mom_[3];
 
+  // Row of the pressure matrix of one cell, found once: its lower face per axis, and per side
+  // (2 a + (s > 0)) where the neighbour's coefficient goes.
+  struct PressureRow {
+    static constexpr int kNone = -1;    // wall or inlet: no flux of phi
+    static constexpr int kOutlet = -2;  // phi = 0 half a cell away: the diagonal only
+    std::array<std::int64_t, 3> face{};
+    std::array<int, 6> entry{};  // position of the neighbour's entry in the values, or the above
+    int diag = 0;                // position of the diagonal entry
+  };
+  std::vector<PressureRow> prow_;
   SpdSolver::Matrix pmatrix_;
   Eigen::VectorXd prhs_, phi_;
   SpdSolver psolver_;

@@ -11,7 +11,8 @@ namespace gf::fluid {
 
 /// How a sparse SPD system is solved (docs/models/fluid_fv.md has the measurements).
 enum class LinearSolver {
-  Auto,                  ///< pressure: Direct in 2D, JacobiCG in 3D; momentum: JacobiCG
+  Auto,                  ///< pressure: Direct in 2D and on thin 3D grids, else JacobiCG (rule:
+                         ///< VolumeAveragedNS); momentum: JacobiCG
   Direct,                ///< Eigen::SimplicialLDLT, numeric factorisation only when A changed
   IncompleteCholeskyCG,  ///< CG preconditioned by Eigen::IncompleteCholesky (natural order)
   JacobiCG,              ///< CG preconditioned by the diagonal
