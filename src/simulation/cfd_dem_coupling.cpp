@@ -44,12 +44,6 @@ fluid::BoundaryCondition to_bc(const config::FluidBoundary& b) {
   return fluid::BoundaryCondition::no_slip();
 }
 
-/// Body volume of grain i (sphere, or spherocylinder from its cap radius and half length), m^3.
-double grain_volume(const ParticleStore& p, std::size_t i) {
-  const double half = p.has_shapes() ? p.half_length()[i] : 0.0;
-  return cfd_dem::spherocylinder_volume(p.radius()[i] - half, 2.0 * half);
-}
-
 }  // namespace
 
 CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles, double dem_dt) {
@@ -114,7 +108,7 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   // checkpoints carry them with the grains.
   f_beta_ = particles.add_field("fluid_beta", FieldType::Real, "N s/m", kRestart);
   f_uf_ = particles.add_field("fluid_velocity", FieldType::Vec3, "m/s", kRestart | kOutput);
-  f_gradp_ = particles.add_field("fluid_pressure_gradient", FieldType::Vec3, "Pa/m", kRestart);
+  f_fixed_ = particles.add_field("fluid_force_fixed", FieldType::Vec3, "N", kRestart);
 }
 
 void CfdDemCoupling::fluid_step(ParticleStore& particles) {
@@ -166,8 +160,8 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
 
   // Drag coefficients with the fluid velocity before the step and the grains' velocities now.
   fluid_->cell_velocities(cell_u_);
-  cfd_dem::interpolate_to_points(grid_, cell_u_, geo.x, u_p_);
-  cfd_dem::interpolate_to_points(grid_, std::span<const double>(eps_), geo.x, eps_p_);
+  cfd_dem::interpolate_to_points(grid_, geo.x, std::span<const Vec3>(cell_u_), u_p_,
+                                 std::span<const double>(eps_), eps_p_);
   const Vec3* v = particles.v();
   auto beta = particles.get<double>(f_beta_);
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
@@ -194,11 +188,18 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   std::copy(eps_.begin(), eps_.end(), eps_prev_.begin());
   first_ = false;
 
-  // What the grains see until the next fluid step.
+  // What the grains see until the next fluid step: u_f,i, and the part of their force that
+  // stays fixed until then, beta_i u_f,i - V_i grad p_i (add_forces subtracts beta_i v_i).
   fluid_->cell_velocities(cell_u_);
   fluid_->pressure_gradients(cell_gradp_);
-  cfd_dem::interpolate_to_points(grid_, cell_u_, geo.x, particles.get<Vec3>(f_uf_));
-  cfd_dem::interpolate_to_points(grid_, cell_gradp_, geo.x, particles.get<Vec3>(f_gradp_));
+  auto uf = particles.get<Vec3>(f_uf_);
+  cfd_dem::interpolate_to_points(grid_, geo.x, std::span<const Vec3>(cell_u_), uf,
+                                 std::span<const Vec3>(cell_gradp_), std::span<Vec3>(u_p_));
+  auto fixed = particles.get<Vec3>(f_fixed_);
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    const auto k = static_cast<std::size_t>(i);
+    fixed[k] = beta[k] * uf[k] + cfd_dem::pressure_gradient_force(geo.volume(k), u_p_[k]);
+  });
   seconds_ += seconds_since(t0);
 }
 
@@ -231,17 +232,12 @@ void CfdDemCoupling::restore(const fluid::VolumeAveragedNS::State& st) {
 void CfdDemCoupling::add_forces(ParticleStore& particles) const {
   const auto t0 = Clock::now();
   const std::size_t n = particles.size();
-  const auto beta = std::as_const(particles).get<double>(f_beta_);
-  const auto uf = std::as_const(particles).get<Vec3>(f_uf_);
-  const auto gradp = std::as_const(particles).get<Vec3>(f_gradp_);
+  const double* beta = std::as_const(particles).get<double>(f_beta_).data();
+  const Vec3* fixed = std::as_const(particles).get<Vec3>(f_fixed_).data();
   const Vec3* v = particles.v();
   Vec3* f = particles.f();
-  const ParticleStore& p = particles;
-  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
-    const auto k = static_cast<std::size_t>(i);
-    f[i] +=
-        beta[k] * (uf[k] - v[i]) + cfd_dem::pressure_gradient_force(grain_volume(p, k), gradp[k]);
-  });
+  exec::parallel_for(static_cast<exec::index_t>(n),
+                     [&](exec::index_t i) { f[i] += fixed[i] - beta[i] * v[i]; });
   force_seconds_ += seconds_since(t0);
 }
 

@@ -86,7 +86,7 @@ class CfdDemCoupling {
   int flow_axis_ = 2;
   bool first_ = true;
   bool closed_ = false;                         // no pressure outlet: the fluid volume is fixed
-  int f_beta_ = -1, f_uf_ = -1, f_gradp_ = -1;  // particle field indices
+  int f_beta_ = -1, f_uf_ = -1, f_fixed_ = -1;  // particle field indices
   double seconds_ = 0;
   mutable double force_seconds_ = 0;
 

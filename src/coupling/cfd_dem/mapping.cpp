@@ -4,7 +4,10 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -136,9 +139,27 @@ class NearCell {
   }
   std::int64_t operator()(const Vec3& x) const {
     if (!near_) return cell_containing(g_, x);
+    return cell_of_code(code(x));
+  }
+  /// Whether the face comparisons apply (reach below the cell size along every axis).
+  [[nodiscard]] bool near() const { return near_; }
+  [[nodiscard]] int dimension() const { return g_.dimension; }
+  /// Lower and upper face of the centre's cell along axis a, m.
+  [[nodiscard]] double lo(int a) const { return lo_[a]; }
+  [[nodiscard]] double hi(int a) const { return hi_[a]; }
+  /// With near(): which of the 3 x 3 x 3 cells around the centre's holds x, as
+  /// sum_a (offset_a + 1) 3^a with offset_a in {-1, 0, 1} (0 along z on 2D grids).
+  [[nodiscard]] int code(const Vec3& x) const {
+    const int dims = g_.dimension == 2 ? 2 : 3;
+    int c = 0, scale = 1;
+    for (int a = 0; a < dims; ++a, scale *= 3)
+      c += scale * (1 - static_cast<int>(x[a] < lo_[a]) + static_cast<int>(x[a] >= hi_[a]));
+    return dims == 2 ? c + 9 : c;
+  }
+  /// The cell (folded: wrapped or clamped) of a code().
+  [[nodiscard]] std::int64_t cell_of_code(int code) const {
     int idx[3];
-    for (int a = 0; a < 3; ++a)
-      idx[a] = i_[a] - static_cast<int>(x[a] < lo_[a]) + static_cast<int>(x[a] >= hi_[a]);
+    for (int a = 0; a < 3; ++a, code /= 3) idx[a] = i_[a] + code % 3 - 1;
     return g_.index(g_.fold(0, idx[0]), g_.fold(1, idx[1]),
                     g_.dimension == 2 ? 0 : g_.fold(2, idx[2]));
   }
@@ -186,6 +207,94 @@ int compact_footprint(CellShare* f, int m) {
       f[j].weight += f[q].weight;
   }
   return k;
+}
+
+/// The turned sphere points ordered along one axis: s[k] the k-th smallest coordinate (padded
+/// with +inf to 64), below[k] the bit set (bit = the point's index in the set) of the k
+/// smallest. Since c + r s rounds monotonically in s for r > 0, the points of a sphere below a
+/// plane x_a = t are always such a prefix, found by a binary search on c + r s[k] < t: the same
+/// comparisons, bit for bit, as locating every point.
+struct AxisOrder {
+  std::array<double, 64> s;
+  std::array<std::uint64_t, kSpherePoints + 1> below;
+};
+
+const std::array<AxisOrder, 3>& sphere_axis_orders() {
+  static const auto orders = [] {
+    std::array<AxisOrder, 3> o{};
+    const auto& pts = sphere_points_turned();
+    for (int a = 0; a < 3; ++a) {
+      std::array<int, kSpherePoints> idx{};
+      for (int q = 0; q < kSpherePoints; ++q) idx[q] = q;
+      std::stable_sort(idx.begin(), idx.end(), [&](int x, int y) { return pts[x][a] < pts[y][a]; });
+      o[a].s.fill(std::numeric_limits<double>::infinity());
+      o[a].below[0] = 0;
+      for (int k = 0; k < kSpherePoints; ++k) {
+        o[a].s[k] = pts[idx[k]][a];
+        o[a].below[k + 1] = o[a].below[k] | (std::uint64_t{1} << idx[k]);
+      }
+    }
+    return o;
+  }();
+  return orders;
+}
+
+/// Number of sorted points k with c + r s[k] < t (branch-free binary search over 64 slots).
+int count_below(const AxisOrder& o, double c, double r, double t) {
+  int k = 0;
+  for (int step = 32; step > 0; step >>= 1) k += (c + r * o.s[k + step - 1] < t) ? step : 0;
+  return k;
+}
+
+/// A sphere's divided footprint, compacted, when the face comparisons apply (else -1): the
+/// same cells and point counts as footprint() followed by compact_footprint(), in ascending
+/// neighbour order instead of first occurrence (the order within a footprint changes no
+/// deposit: each cell occurs once), each weight the exact count / 48 instead of a running sum.
+/// Along each axis the points below the cell's lower face and those below its upper face are
+/// prefixes of the axis order (two binary searches); the points in neighbour cell (d0, d1, d2)
+/// are the intersection of the three axes' bit sets, their number a popcount. Neighbours that
+/// fold onto the same cell (a clamped wall layer, a periodic axis of one or two cells) are
+/// merged. About 6x fewer instructions than locating 48 points one by one.
+int sphere_footprint_binned(const NearCell& near, const Vec3& c, double r, CellShare* out) {
+  if (!near.near()) return -1;
+  constexpr std::uint64_t kAll = (std::uint64_t{1} << kSpherePoints) - 1;
+  const auto& orders = sphere_axis_orders();
+  const int dims = near.dimension() == 2 ? 2 : 3;
+  std::uint64_t part[3][3];  // part[a][d]: points below (d = 0), inside (1), above (2) along a
+  for (int a = 0; a < 3; ++a) {
+    if (a >= dims) {
+      part[a][0] = part[a][2] = 0;
+      part[a][1] = kAll;
+      continue;
+    }
+    const AxisOrder& o = orders[a];
+    const std::uint64_t lo = o.below[count_below(o, c[a], r, near.lo(a))];
+    const std::uint64_t hi = o.below[count_below(o, c[a], r, near.hi(a))];
+    part[a][0] = lo;
+    part[a][1] = hi & ~lo;
+    part[a][2] = kAll & ~hi;
+  }
+  int m = 0;
+  for (int d2 = 0; d2 < 3; ++d2) {
+    if (part[2][d2] == 0) continue;
+    for (int d1 = 0; d1 < 3; ++d1) {
+      const std::uint64_t m12 = part[2][d2] & part[1][d1];
+      if (m12 == 0) continue;
+      for (int d0 = 0; d0 < 3; ++d0) {
+        const std::uint64_t set = m12 & part[0][d0];
+        if (set == 0) continue;
+        const double w = static_cast<double>(std::popcount(set)) / kSpherePoints;
+        const std::int64_t cell = near.cell_of_code(d0 + 3 * d1 + 9 * d2);
+        int j = 0;
+        while (j < m && out[j].cell != cell) ++j;
+        if (j == m)
+          out[m++] = {cell, w};
+        else
+          out[j].weight += w;
+      }
+    }
+  }
+  return m;
 }
 
 /// True when the divided footprint of particle i lies in one cell: its bounding box spans no
@@ -373,6 +482,14 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
         fp.counts[i] = 1;
         return;
       }
+      if (scheme == DepositScheme::Divided && p.half(k) == 0.0) {
+        const double r = p.radius[k];
+        const int m = sphere_footprint_binned(NearCell(g, p.x[k], r), p.x[k], r, f);
+        if (m > 0) {
+          fp.counts[i] = m;
+          return;
+        }
+      }
       footprint(g, p, k, scheme, f);
       fp.counts[i] = compact_footprint(f, static_cast<int>(off[i + 1] - off[i]));
     });
@@ -457,24 +574,59 @@ void drag_exchange_source(const fluid::Grid& g, const ParticleGeometry& p, Depos
   drag_exchange_source(fp, beta, v, s_explicit, k);
 }
 
-void interpolate_to_points(const fluid::Grid& g, std::span<const double> field,
-                           std::span<const Vec3> x, std::span<double> out) {
+namespace {
+
+template <class T>
+void check_interpolation(const fluid::Grid& g, std::span<const T> field, std::size_t n_points,
+                         std::size_t n_out) {
   REQUIRE(static_cast<std::int64_t>(field.size()) == g.cell_count(),
           "interpolate: {} cell values for {} cells", field.size(), g.cell_count());
-  REQUIRE(out.size() == x.size(), "interpolate: {} outputs for {} points", out.size(), x.size());
+  REQUIRE(n_out == n_points, "interpolate: {} outputs for {} points", n_out, n_points);
+}
+
+template <class T>
+void interpolate_one(const fluid::Grid& g, std::span<const T> field, std::span<const Vec3> x,
+                     std::span<T> out) {
+  check_interpolation(g, field, x.size(), out.size());
   exec::parallel_for(static_cast<exec::index_t>(x.size()), [&](exec::index_t i) {
     out[i] = interpolate(trilinear_stencil(g, x[i]), field.data());
   });
 }
 
+template <class A, class B>
+void interpolate_two(const fluid::Grid& g, std::span<const Vec3> x, std::span<const A> field_a,
+                     std::span<A> out_a, std::span<const B> field_b, std::span<B> out_b) {
+  check_interpolation(g, field_a, x.size(), out_a.size());
+  check_interpolation(g, field_b, x.size(), out_b.size());
+  exec::parallel_for(static_cast<exec::index_t>(x.size()), [&](exec::index_t i) {
+    const CellStencil s = trilinear_stencil(g, x[i]);
+    out_a[i] = interpolate(s, field_a.data());
+    out_b[i] = interpolate(s, field_b.data());
+  });
+}
+
+}  // namespace
+
+void interpolate_to_points(const fluid::Grid& g, std::span<const double> field,
+                           std::span<const Vec3> x, std::span<double> out) {
+  interpolate_one(g, field, x, out);
+}
+
 void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> field,
                            std::span<const Vec3> x, std::span<Vec3> out) {
-  REQUIRE(static_cast<std::int64_t>(field.size()) == g.cell_count(),
-          "interpolate: {} cell values for {} cells", field.size(), g.cell_count());
-  REQUIRE(out.size() == x.size(), "interpolate: {} outputs for {} points", out.size(), x.size());
-  exec::parallel_for(static_cast<exec::index_t>(x.size()), [&](exec::index_t i) {
-    out[i] = interpolate(trilinear_stencil(g, x[i]), field.data());
-  });
+  interpolate_one(g, field, x, out);
+}
+
+void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> x,
+                           std::span<const Vec3> field_a, std::span<Vec3> out_a,
+                           std::span<const double> field_b, std::span<double> out_b) {
+  interpolate_two(g, x, field_a, out_a, field_b, out_b);
+}
+
+void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> x,
+                           std::span<const Vec3> field_a, std::span<Vec3> out_a,
+                           std::span<const Vec3> field_b, std::span<Vec3> out_b) {
+  interpolate_two(g, x, field_a, out_a, field_b, out_b);
 }
 
 }  // namespace gf::cfd_dem

@@ -59,8 +59,8 @@ struct CellShare {
 };
 
 /// The footprints of a set of particles, compacted: particle i's pairs are
-/// shares[offsets[i] .. offsets[i + 1]), one per distinct cell in the order the cells first
-/// occur in its footprint, weights summed per cell. Built by `compute_footprints` and read by
+/// shares[offsets[i] .. offsets[i + 1]), one per distinct cell (in no promised order: each
+/// cell occurs once, so the order changes no deposit), weights summed per cell. Built by `compute_footprints` and read by
 /// every deposit of one coupling step (the grains do not move in between), so the sample
 /// points of the divided scheme (48+ per grain) are placed once per step, not once per deposit,
 /// and a deposit adds one value per cell touched (a grain inside one cell: a single pair).
@@ -164,5 +164,14 @@ void interpolate_to_points(const fluid::Grid& g, std::span<const double> field,
                            std::span<const Vec3> x, std::span<double> out);
 void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> field,
                            std::span<const Vec3> x, std::span<Vec3> out);
+/// Two fields at the same points in one pass, one stencil per point (the coupling reads the
+/// fluid's velocity with its fraction or its pressure gradient): out_a[i] = field_a at x[i],
+/// out_b[i] = field_b at x[i], bit-identical to two single-field calls.
+void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> x,
+                           std::span<const Vec3> field_a, std::span<Vec3> out_a,
+                           std::span<const double> field_b, std::span<double> out_b);
+void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> x,
+                           std::span<const Vec3> field_a, std::span<Vec3> out_a,
+                           std::span<const Vec3> field_b, std::span<Vec3> out_b);
 
 }  // namespace gf::cfd_dem
