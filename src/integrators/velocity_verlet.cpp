@@ -8,12 +8,13 @@ namespace gf {
 
 namespace {
 
-/// Half kick v += h f / m, omega += h torque / I, optionally followed by the drift x += dt v
-/// (Drift), the reset of f and torque (Reset) and the largest squared displacement from x_ref
-/// (Track), which the function returns (0 without Track).
+/// Half kick v += h f / m, omega += h torque / I (twice with `twice`: the deferred second half
+/// kick of the previous step, then this step's first), optionally followed by the drift
+/// x += dt v (Drift), the reset of f and torque (Reset) and the largest squared displacement
+/// from x_ref (Track), which the function returns (0 without Track).
 template <bool Drift, bool Reset, bool Track>
 double kick(ParticleStore& p, const Domain* domain, double h, double dt, const Vec3& g,
-            const Vec3* x_ref) {
+            const Vec3* x_ref, bool twice = false) {
   Vec3* x = p.x();
   Vec3* v = p.v();
   Vec3* w = p.omega();
@@ -25,6 +26,10 @@ double kick(ParticleStore& p, const Domain* domain, double h, double dt, const V
   const bool periodic =
       Drift && (domain->periodic[0] || domain->periodic[1] || domain->periodic[2]);
   auto one = [&](exec::index_t i) {
+    if (twice) {
+      v[i] += (h / m[i]) * f[i];
+      w[i] += (h / in[i]) * t[i];
+    }
     v[i] += (h / m[i]) * f[i];
     w[i] += (h / in[i]) * t[i];
     if constexpr (Reset) {
@@ -59,10 +64,12 @@ void VelocityVerlet::pre_force(ParticleStore& p, const Domain& domain, double dt
   }
   const Vec3 g = extras->gravity ? *extras->gravity : Vec3{};
   const Vec3* ref = extras->x_ref;
-  extras->max_d2 = extras->gravity ? (ref ? kick<true, true, true>(p, &domain, h, dt, g, ref)
-                                          : kick<true, true, false>(p, &domain, h, dt, g, ref))
-                                   : (ref ? kick<true, false, true>(p, &domain, h, dt, g, ref)
-                                          : kick<true, false, false>(p, &domain, h, dt, g, ref));
+  const bool two = extras->pending_kick;
+  extras->max_d2 = extras->gravity
+                       ? (ref ? kick<true, true, true>(p, &domain, h, dt, g, ref, two)
+                              : kick<true, true, false>(p, &domain, h, dt, g, ref, two))
+                       : (ref ? kick<true, false, true>(p, &domain, h, dt, g, ref, two)
+                              : kick<true, false, false>(p, &domain, h, dt, g, ref, two));
 }
 
 void VelocityVerlet::post_force(ParticleStore& p, double dt) {

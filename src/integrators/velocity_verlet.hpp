@@ -13,9 +13,15 @@ namespace gf {
 /// step: reset the forces for the next evaluation once the kick has used them (f = m g,
 /// torque = 0), and find the largest squared displacement from the Verlet list's reference
 /// positions (the rebuild test; minimum image in periodic boxes).
+///
+/// With `pending_kick` the loop first completes the previous step's second half kick, which the
+/// caller deferred (post_force not called) because nothing read the velocities in between: the
+/// same forces, the same two additions, so the same bits as post_force followed by pre_force,
+/// in one pass over the particles instead of two.
 struct DriftExtras {
   const Vec3* gravity = nullptr;  ///< reset the forces with this gravity; null: leave them
   const Vec3* x_ref = nullptr;    ///< reference positions (one per particle); null: no test
+  bool pending_kick = false;      ///< complete the previous step's deferred post_force first
   double max_d2 = 0;              ///< out: the largest squared displacement, m^2
 };
 

@@ -12,6 +12,7 @@
 namespace gf {
 
 void Simulation::save_checkpoint(const std::filesystem::path& file) const {
+  REQUIRE(!kick_pending_, "internal: a checkpoint of a step whose second half kick is deferred");
   io::write_checkpoint_atomically(file, [&](io::h5::File& h) {
     h.set_attribute("/", "program", "grainflow");
     h.set_attribute("/", "version", version_string);

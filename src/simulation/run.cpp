@@ -150,10 +150,16 @@ RunSummary Simulation::run(const RunOptions& opts) {
   auto fluid_seconds = [this] { return cfd_ ? cfd_->seconds() : 0.0; };
   const double loop_before =
       timers_.loop_seconds() - timers_.seconds(Stage::Output) + fluid_seconds();
+  // Whether anything reads the grains' velocities after step s: then step s completes its
+  // second half kick, else the next step's drift does it in the same pass (Simulation::step).
+  auto observed_after = [&](std::int64_t s, bool sample) {
+    return sample || s >= last || due(s, vtk_every) || due(s, csv_every) ||
+           (series && due(s, series_every)) || due(s, ckpt_every);
+  };
   while (step_ < last) {
     const bool sample = rheology && rheology->due(step_ + 1);
     collect_virial(sample);
-    step();
+    step(/*defer_kick=*/!observed_after(step_ + 1, sample));
     if (sample) {
       StageTimers::Scope timer(timers_, Stage::Output);
       rheology->sample(*this);
@@ -163,6 +169,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
       progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first),
                       n_contacts_);
   }
+  complete_step();  // (the last step is observed, so this is a no-op unless the loop changes)
   const std::int64_t steps = step_ - first;
   const std::int64_t pstep = static_cast<std::int64_t>(particles_.size()) * steps;
   if (!opts.quiet) progress.finish(time(), pstep, n_contacts_);

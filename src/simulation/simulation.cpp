@@ -529,7 +529,14 @@ void Simulation::compute_forces() {
   if (cfd_) cfd_->add_forces(particles_);
 }
 
-void Simulation::step() {
+void Simulation::complete_step() {
+  if (!kick_pending_) return;
+  StageTimers::Scope timer(timers_, Stage::Integrate);
+  VelocityVerlet::post_force(particles_, dt_);
+  kick_pending_ = false;
+}
+
+void Simulation::step(bool defer_kick) {
   // Lees-Edwards: the images' offset at the end of this step, where the drift puts the grains.
   domain_.set_shear_time(static_cast<double>(step_ + 1) * dt_);
   {
@@ -542,12 +549,15 @@ void Simulation::step() {
       if (!particles_.has_shapes()) {
         DriftExtras extras;
         extras.gravity = &gravity_;
+        extras.pending_kick = kick_pending_;
+        kick_pending_ = false;
         const auto ref = nlist_.reference_positions();
         if (ref.size() == particles_.size()) extras.x_ref = ref.data();
         VelocityVerlet::pre_force(particles_, domain_, dt_, &extras);
         forces_reset_ = true;
         drift_max_d2_ = extras.x_ref ? extras.max_d2 : -1;
       } else {
+        complete_step();  // (never deferred with shapes; kept for safety)
         VelocityVerlet::pre_force(particles_, domain_, dt_);
       }
       RigidBodies::pre_force(particles_, dt_);
@@ -563,7 +573,12 @@ void Simulation::step() {
     if (gear_) {
       Gear5Integrator::correct(particles_, domain_, dt_);
     } else {
-      VelocityVerlet::post_force(particles_, dt_);
+      // The fluid step below reads the grains' velocities: no deferral when it is due.
+      const bool fluid_due = cfd_ && cfd_->due(step_);
+      if (defer_kick && !particles_.has_shapes() && !fluid_due)
+        kick_pending_ = true;  // the next drift does it (DriftExtras::pending_kick)
+      else
+        VelocityVerlet::post_force(particles_, dt_);
       RigidBodies::post_force(particles_, dt_);
     }
   }

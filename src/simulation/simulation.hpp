@@ -49,8 +49,13 @@ class Simulation {
   /// Builds particles (fills, explicit lists), walls and per-pair tables from the case.
   explicit Simulation(const config::Case& cfg);
 
-  /// Advances one time step.
-  void step();
+  /// Advances one time step. With `defer_kick` the second half kick may be left pending (grains
+  /// without shapes, velocity Verlet, no fluid step due) and done by the next step's drift in
+  /// the same pass: bit-identical, one pass over the particles fewer. Only for a caller that
+  /// reads no velocity before the next step() or complete_step().
+  void step(bool defer_kick = false);
+  /// Completes a deferred half kick (no-op without one): velocities are those of the step's end.
+  void complete_step();
   /// Runs to the end time (or opts.steps steps) with all outputs; returns the summary.
   RunSummary run(const RunOptions& opts);
 
@@ -132,6 +137,7 @@ class Simulation {
   // m g, and the largest squared displacement since the last list build (< 0: not measured).
   bool forces_reset_ = false;
   double drift_max_d2_ = -1;
+  bool kick_pending_ = false;      ///< the last step's second half kick is deferred (step())
   std::vector<Mat3> virial_rows_;  ///< per row of the force loop (no races), summed in order
   Mat3 virial_sum_;
   std::unique_ptr<CfdDemCoupling> cfd_;  ///< unresolved CFD-DEM (optional)
