@@ -477,18 +477,19 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
       CellShare* f = raw + off[i];
       const std::size_t k = start + static_cast<std::size_t>(i);
       fp.volume[k] = p.volume(k);
-      if (scheme == DepositScheme::Divided && inside_one_cell(g, p, k)) {
-        f[0] = {cell_containing(g, p.x[k]), 1.0};
-        fp.counts[i] = 1;
-        return;
-      }
       if (scheme == DepositScheme::Divided && p.half(k) == 0.0) {
+        // A sphere inside one cell comes out as the single pair (cell, 1) here too.
         const double r = p.radius[k];
         const int m = sphere_footprint_binned(NearCell(g, p.x[k], r), p.x[k], r, f);
         if (m > 0) {
           fp.counts[i] = m;
           return;
         }
+      }
+      if (scheme == DepositScheme::Divided && inside_one_cell(g, p, k)) {
+        f[0] = {cell_containing(g, p.x[k]), 1.0};
+        fp.counts[i] = 1;
+        return;
       }
       footprint(g, p, k, scheme, f);
       fp.counts[i] = compact_footprint(f, static_cast<int>(off[i + 1] - off[i]));
