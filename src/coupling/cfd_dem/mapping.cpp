@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -239,6 +238,15 @@ const std::array<AxisOrder, 3>& sphere_axis_orders() {
   return orders;
 }
 
+/// Bits set in x (SWAR: the baseline x86-64 build has no popcnt instruction, and the library
+/// call GCC emits instead costs more than these dozen operations).
+int popcount64(std::uint64_t x) {
+  x = x - ((x >> 1) & 0x5555555555555555ULL);
+  x = (x & 0x3333333333333333ULL) + ((x >> 2) & 0x3333333333333333ULL);
+  x = (x + (x >> 4)) & 0x0f0f0f0f0f0f0f0fULL;
+  return static_cast<int>((x * 0x0101010101010101ULL) >> 56);
+}
+
 /// Number of sorted points k with c + r s[k] < t (branch-free binary search over 64 slots).
 int count_below(const AxisOrder& o, double c, double r, double t) {
   int k = 0;
@@ -283,7 +291,7 @@ int sphere_footprint_binned(const NearCell& near, const Vec3& c, double r, CellS
       for (int d0 = 0; d0 < 3; ++d0) {
         const std::uint64_t set = m12 & part[0][d0];
         if (set == 0) continue;
-        const double w = static_cast<double>(std::popcount(set)) / kSpherePoints;
+        const double w = static_cast<double>(popcount64(set)) / kSpherePoints;
         const std::int64_t cell = near.cell_of_code(d0 + 3 * d1 + 9 * d2);
         int j = 0;
         while (j < m && out[j].cell != cell) ++j;
@@ -494,11 +502,16 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
       footprint(g, p, k, scheme, f);
       fp.counts[i] = compact_footprint(f, static_cast<int>(off[i + 1] - off[i]));
     });
-    for (std::size_t i = 0; i < nb; ++i) {
-      const auto first = fp.raw.begin() + off[i];
-      fp.shares.insert(fp.shares.end(), first, first + fp.counts[i]);
+    // Compaction: offsets by a running sum, then one copy per particle into place (a vector
+    // insert per particle cost more than the footprints of grains inside one cell).
+    for (std::size_t i = 0; i < nb; ++i)
       fp.offsets[start + i + 1] = fp.offsets[start + i] + fp.counts[i];
-    }
+    fp.shares.resize(static_cast<std::size_t>(fp.offsets[start + nb]));
+    CellShare* shares = fp.shares.data();
+    const std::int64_t* dst = fp.offsets.data() + start;
+    exec::parallel_for(static_cast<exec::index_t>(nb), [&](exec::index_t i) {
+      std::copy(raw + off[i], raw + off[i] + fp.counts[i], shares + dst[i]);
+    });
   }
 }
 
