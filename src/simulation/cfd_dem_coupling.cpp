@@ -121,6 +121,7 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   for (auto* v : {&s_explicit_, &cell_u_, &cell_gradp_}) v->resize(nc);
   eps_p_.resize(n);
   u_p_.resize(n);
+  gradp_p_.resize(n);
 
   // The grains stay put during this call: one set of footprints serves every deposit.
   cfd_dem::compute_footprints(grid_, geo, ff_options_.scheme, footprints_);
@@ -194,11 +195,11 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   fluid_->pressure_gradients(cell_gradp_);
   auto uf = particles.get<Vec3>(f_uf_);
   cfd_dem::interpolate_to_points(grid_, geo.x, std::span<const Vec3>(cell_u_), uf,
-                                 std::span<const Vec3>(cell_gradp_), std::span<Vec3>(u_p_));
+                                 std::span<const Vec3>(cell_gradp_), std::span<Vec3>(gradp_p_));
   auto fixed = particles.get<Vec3>(f_fixed_);
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
     const auto k = static_cast<std::size_t>(i);
-    fixed[k] = beta[k] * uf[k] + cfd_dem::pressure_gradient_force(geo.volume(k), u_p_[k]);
+    fixed[k] = beta[k] * uf[k] + cfd_dem::pressure_gradient_force(geo.volume(k), gradp_p_[k]);
   });
   seconds_ += seconds_since(t0);
 }

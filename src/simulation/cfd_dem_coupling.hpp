@@ -98,7 +98,7 @@ class CfdDemCoupling {
   std::vector<double> rate_new_;    // the flux rate of this step before relaxation
   cfd_dem::Footprints footprints_;  // of the grains at the current fluid step
   std::vector<double> eps_, eps_prev_, eps_rate_, k_, eps_p_;
-  std::vector<Vec3> s_explicit_, cell_u_, cell_gradp_, u_p_;
+  std::vector<Vec3> s_explicit_, cell_u_, cell_gradp_, u_p_, gradp_p_;
 };
 
 }  // namespace gf

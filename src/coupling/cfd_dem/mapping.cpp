@@ -138,7 +138,10 @@ class NearCell {
   }
   std::int64_t operator()(const Vec3& x) const {
     if (!near_) return cell_containing(g_, x);
-    return cell_of_code(code(x));
+    int d[3];
+    for (int a = 0; a < 3; ++a)
+      d[a] = static_cast<int>(x[a] >= hi_[a]) - static_cast<int>(x[a] < lo_[a]);
+    return cell_at(d[0], d[1], d[2]);
   }
   /// Whether the face comparisons apply (reach below the cell size along every axis).
   [[nodiscard]] bool near() const { return near_; }
@@ -146,21 +149,11 @@ class NearCell {
   /// Lower and upper face of the centre's cell along axis a, m.
   [[nodiscard]] double lo(int a) const { return lo_[a]; }
   [[nodiscard]] double hi(int a) const { return hi_[a]; }
-  /// With near(): which of the 3 x 3 x 3 cells around the centre's holds x, as
-  /// sum_a (offset_a + 1) 3^a with offset_a in {-1, 0, 1} (0 along z on 2D grids).
-  [[nodiscard]] int code(const Vec3& x) const {
-    const int dims = g_.dimension == 2 ? 2 : 3;
-    int c = 0, scale = 1;
-    for (int a = 0; a < dims; ++a, scale *= 3)
-      c += scale * (1 - static_cast<int>(x[a] < lo_[a]) + static_cast<int>(x[a] >= hi_[a]));
-    return dims == 2 ? c + 9 : c;
-  }
-  /// The cell (folded: wrapped or clamped) of a code().
-  [[nodiscard]] std::int64_t cell_of_code(int code) const {
-    int idx[3];
-    for (int a = 0; a < 3; ++a, code /= 3) idx[a] = i_[a] + code % 3 - 1;
-    return g_.index(g_.fold(0, idx[0]), g_.fold(1, idx[1]),
-                    g_.dimension == 2 ? 0 : g_.fold(2, idx[2]));
+  /// The cell (folded: wrapped or clamped) at offsets d0, d1, d2 in {-1, 0, 1} from the
+  /// centre's (z ignored on 2D grids).
+  [[nodiscard]] std::int64_t cell_at(int d0, int d1, int d2) const {
+    return g_.index(g_.fold(0, i_[0] + d0), g_.fold(1, i_[1] + d1),
+                    g_.dimension == 2 ? 0 : g_.fold(2, i_[2] + d2));
   }
 
  private:
@@ -292,7 +285,7 @@ int sphere_footprint_binned(const NearCell& near, const Vec3& c, double r, CellS
         const std::uint64_t set = m12 & part[0][d0];
         if (set == 0) continue;
         const double w = static_cast<double>(popcount64(set)) / kSpherePoints;
-        const std::int64_t cell = near.cell_of_code(d0 + 3 * d1 + 9 * d2);
+        const std::int64_t cell = near.cell_at(d0 - 1, d1 - 1, d2 - 1);
         int j = 0;
         while (j < m && out[j].cell != cell) ++j;
         if (j == m)

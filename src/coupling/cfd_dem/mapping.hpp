@@ -60,12 +60,12 @@ struct CellShare {
 
 /// The footprints of a set of particles, compacted: particle i's pairs are
 /// shares[offsets[i] .. offsets[i + 1]), one per distinct cell (in no promised order: each
-/// cell occurs once, so the order changes no deposit), weights summed per cell. Built by `compute_footprints` and read by
-/// every deposit of one coupling step (the grains do not move in between), so the sample
-/// points of the divided scheme (48+ per grain) are placed once per step, not once per deposit,
-/// and a deposit adds one value per cell touched (a grain inside one cell: a single pair).
-/// Memory: 16 bytes per pair + 16 per particle, plus one block's raw footprints (8192 grains).
-/// The buffers are kept between calls: a time loop allocates only while the counts grow.
+/// cell occurs once, so the order changes no deposit), weights summed per cell. Built by
+/// `compute_footprints` and read by every deposit of one coupling step (the grains do not move in
+/// between), so the sample points of the divided scheme (48+ per grain) are placed once per step,
+/// not once per deposit, and a deposit adds one value per cell touched (a grain inside one cell: a
+/// single pair). Memory: 16 bytes per pair + 16 per particle, plus one block's raw footprints (8192
+/// grains). The buffers are kept between calls: a time loop allocates only while the counts grow.
 struct Footprints {
   std::vector<CellShare> shares;
   std::vector<std::int64_t> offsets;  ///< n + 1 entries
