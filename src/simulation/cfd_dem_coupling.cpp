@@ -122,6 +122,7 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   eps_p_.resize(n);
   u_p_.resize(n);
   gradp_p_.resize(n);
+  stencils_.resize(n);
 
   // The grains stay put during this call: one set of footprints serves every deposit.
   cfd_dem::compute_footprints(grid_, geo, ff_options_.scheme, footprints_);
@@ -161,8 +162,9 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
 
   // Drag coefficients with the fluid velocity before the step and the grains' velocities now.
   fluid_->cell_velocities(cell_u_);
-  cfd_dem::interpolate_to_points(grid_, geo.x, std::span<const Vec3>(cell_u_), u_p_,
-                                 std::span<const double>(eps_), eps_p_);
+  cfd_dem::point_stencils(grid_, geo.x, stencils_);  // read again after the fluid step
+  cfd_dem::interpolate_at(grid_, stencils_, std::span<const Vec3>(cell_u_), u_p_,
+                          std::span<const double>(eps_), eps_p_);
   const Vec3* v = particles.v();
   auto beta = particles.get<double>(f_beta_);
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
@@ -194,8 +196,8 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   fluid_->cell_velocities(cell_u_);
   fluid_->pressure_gradients(cell_gradp_);
   auto uf = particles.get<Vec3>(f_uf_);
-  cfd_dem::interpolate_to_points(grid_, geo.x, std::span<const Vec3>(cell_u_), uf,
-                                 std::span<const Vec3>(cell_gradp_), std::span<Vec3>(gradp_p_));
+  cfd_dem::interpolate_at(grid_, stencils_, std::span<const Vec3>(cell_u_), uf,
+                          std::span<const Vec3>(cell_gradp_), std::span<Vec3>(gradp_p_));
   auto fixed = particles.get<Vec3>(f_fixed_);
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
     const auto k = static_cast<std::size_t>(i);

@@ -99,6 +99,7 @@ class CfdDemCoupling {
   cfd_dem::Footprints footprints_;  // of the grains at the current fluid step
   std::vector<double> eps_, eps_prev_, eps_rate_, k_, eps_p_;
   std::vector<Vec3> s_explicit_, cell_u_, cell_gradp_, u_p_, gradp_p_;
+  std::vector<cfd_dem::LerpStencil> stencils_;  // the grains' interpolation stencils this step
 };
 
 }  // namespace gf

@@ -144,7 +144,9 @@ RheologySummary RheologyOutput::finish(const Simulation& sim) {
                                                    {"friction", p.friction},
                                                    {"viscosity", p.viscosity},
                                                    {"N1", 0.0},
-                                                   {"N2", 0.0}};
+                                                   {"N2", 0.0},
+                                                   {"N1_collisional", 0.0},
+                                                   {"N2_collisional", 0.0}};
     for (const auto& [q, val] : pred) rows[column_index(q)].kinetic_theory = val;
   }
   out.rows = std::move(rows);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/vec3.hpp"
+#include "coupling/cfd_dem/stencil.hpp"
 #include "fluid/fv/grid.hpp"
 
 namespace gf {
@@ -173,5 +174,17 @@ void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> x,
 void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> x,
                            std::span<const Vec3> field_a, std::span<Vec3> out_a,
                            std::span<const Vec3> field_b, std::span<Vec3> out_b);
+
+/// The compact stencils of the points x, for reading several fields at points that stay put
+/// (a fluid step reads the fluid before and after it at the same grain positions).
+void point_stencils(const fluid::Grid& g, std::span<const Vec3> x, std::span<LerpStencil> out);
+/// Two fields at the points of stencils s (from point_stencils on grid g): bit-identical to
+/// interpolate_to_points at those points.
+void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
+                    std::span<const Vec3> field_a, std::span<Vec3> out_a,
+                    std::span<const double> field_b, std::span<double> out_b);
+void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
+                    std::span<const Vec3> field_a, std::span<Vec3> out_a,
+                    std::span<const Vec3> field_b, std::span<Vec3> out_b);
 
 }  // namespace gf::cfd_dem

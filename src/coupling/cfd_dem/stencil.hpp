@@ -93,6 +93,45 @@ GF_HOST_DEVICE inline CellStencil trilinear_stencil(const fluid::Grid& g, const 
   return s;
 }
 
+/// The same trilinear stencil in the form interpolation wants: the cell at the lower corner,
+/// the index step to the upper cell along each axis (negative where a periodic axis wraps; 0 on
+/// a one-cell axis and along z in 2D) and the fraction t of the upper cell along each axis. A
+/// field is then read as nested linear interpolations (7 lerps of 8 values), with no index or
+/// weight arrays to build: the coupling interpolates every grain at every fluid step.
+struct LerpStencil {
+  std::int64_t base = 0;
+  std::int64_t step[3] = {0, 0, 0};
+  double t[3] = {0, 0, 0};
+};
+
+/// Compact trilinear stencil of point x (bilinear on 2D grids); same cells and weights as
+/// trilinear_stencil.
+GF_HOST_DEVICE inline LerpStencil lerp_stencil(const fluid::Grid& g, const Vec3& x) {
+  int lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  LerpStencil s;
+  const int dims = g.dimension == 2 ? 2 : 3;
+  for (int a = 0; a < dims; ++a) detail::axis_stencil(g, a, x[a], lo[a], hi[a], s.t[a]);
+  const std::int64_t stride[3] = {1, g.n[0], static_cast<std::int64_t>(g.n[0]) * g.n[1]};
+  s.base = g.index(lo[0], lo[1], lo[2]);
+  for (int a = 0; a < 3; ++a) s.step[a] = (hi[a] - lo[a]) * stride[a];
+  return s;
+}
+
+/// Value of a cell-centred field (double or Vec3) at the compact stencil's point.
+template <class T>
+GF_HOST_DEVICE inline T interpolate(const LerpStencil& s, const T* field) {
+  const T* p = field + s.base;
+  const std::int64_t sx = s.step[0], sy = s.step[1], sz = s.step[2];
+  const double tx = s.t[0], ty = s.t[1];
+  auto lerp = [](const T& a, const T& b, double t) { return a + t * (b - a); };
+  auto plane = [&](const T* q) {
+    return lerp(lerp(q[0], q[sx], tx), lerp(q[sy], q[sy + sx], tx), ty);
+  };
+  const T lower = plane(p);
+  if (sz == 0) return lower;  // 2D, or one cell along z
+  return lerp(lower, plane(p + sz), s.t[2]);
+}
+
 /// Value of a cell-centred scalar field at the stencil's point.
 GF_HOST_DEVICE inline double interpolate(const CellStencil& s, const double* field) {
   double v = 0;
