@@ -520,8 +520,8 @@ TEST(FluidFractionInterpolation, CompactStencilMatchesCellStencil) {
       point_stencils(g, x, st);
       std::vector<double> out(x.size()), out2(x.size());
       std::vector<Vec3> outv(x.size()), outv2(x.size()), outg(x.size());
-      interpolate_to_points(g, x, std::span<const Vec3>(fv), std::span<Vec3>(outv),
-                            std::span<const double>(f), std::span<double>(out));
+      interpolate_to_points(g, f, x, out);
+      interpolate_to_points(g, fv, x, outv);
       interpolate_at(g, st, std::span<const Vec3>(fv), std::span<Vec3>(outv2),
                      std::span<const double>(f), std::span<double>(out2));
       for (std::size_t q = 0; q < x.size(); ++q) {

@@ -601,21 +601,9 @@ void interpolate_one(const fluid::Grid& g, std::span<const T> field, std::span<c
 }
 
 template <class A, class B>
-void interpolate_two(const fluid::Grid& g, std::span<const Vec3> x, std::span<const A> field_a,
-                     std::span<A> out_a, std::span<const B> field_b, std::span<B> out_b) {
-  check_interpolation(g, field_a, x.size(), out_a.size());
-  check_interpolation(g, field_b, x.size(), out_b.size());
-  exec::parallel_for(static_cast<exec::index_t>(x.size()), [&](exec::index_t i) {
-    const LerpStencil s = lerp_stencil(g, x[i]);
-    out_a[i] = interpolate(s, field_a.data());
-    out_b[i] = interpolate(s, field_b.data());
-  });
-}
-
-template <class A, class B>
-void interpolate_two_at(const fluid::Grid& g, std::span<const LerpStencil> s,
-                        std::span<const A> field_a, std::span<A> out_a, std::span<const B> field_b,
-                        std::span<B> out_b) {
+void interpolate_two(const fluid::Grid& g, std::span<const LerpStencil> s,
+                     std::span<const A> field_a, std::span<A> out_a, std::span<const B> field_b,
+                     std::span<B> out_b) {
   check_interpolation(g, field_a, s.size(), out_a.size());
   check_interpolation(g, field_b, s.size(), out_b.size());
   exec::parallel_for(static_cast<exec::index_t>(s.size()), [&](exec::index_t i) {
@@ -636,18 +624,6 @@ void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> field,
   interpolate_one(g, field, x, out);
 }
 
-void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> x,
-                           std::span<const Vec3> field_a, std::span<Vec3> out_a,
-                           std::span<const double> field_b, std::span<double> out_b) {
-  interpolate_two(g, x, field_a, out_a, field_b, out_b);
-}
-
-void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> x,
-                           std::span<const Vec3> field_a, std::span<Vec3> out_a,
-                           std::span<const Vec3> field_b, std::span<Vec3> out_b) {
-  interpolate_two(g, x, field_a, out_a, field_b, out_b);
-}
-
 void point_stencils(const fluid::Grid& g, std::span<const Vec3> x, std::span<LerpStencil> out) {
   REQUIRE(out.size() == x.size(), "point stencils: {} outputs for {} points", out.size(), x.size());
   exec::parallel_for(static_cast<exec::index_t>(x.size()),
@@ -657,13 +633,13 @@ void point_stencils(const fluid::Grid& g, std::span<const Vec3> x, std::span<Ler
 void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
                     std::span<const Vec3> field_a, std::span<Vec3> out_a,
                     std::span<const double> field_b, std::span<double> out_b) {
-  interpolate_two_at(g, s, field_a, out_a, field_b, out_b);
+  interpolate_two(g, s, field_a, out_a, field_b, out_b);
 }
 
 void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
                     std::span<const Vec3> field_a, std::span<Vec3> out_a,
                     std::span<const Vec3> field_b, std::span<Vec3> out_b) {
-  interpolate_two_at(g, s, field_a, out_a, field_b, out_b);
+  interpolate_two(g, s, field_a, out_a, field_b, out_b);
 }
 
 }  // namespace gf::cfd_dem

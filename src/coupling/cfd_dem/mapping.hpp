@@ -165,21 +165,12 @@ void interpolate_to_points(const fluid::Grid& g, std::span<const double> field,
                            std::span<const Vec3> x, std::span<double> out);
 void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> field,
                            std::span<const Vec3> x, std::span<Vec3> out);
-/// Two fields at the same points in one pass, one stencil per point (the coupling reads the
-/// fluid's velocity with its fraction or its pressure gradient): out_a[i] = field_a at x[i],
-/// out_b[i] = field_b at x[i], bit-identical to two single-field calls.
-void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> x,
-                           std::span<const Vec3> field_a, std::span<Vec3> out_a,
-                           std::span<const double> field_b, std::span<double> out_b);
-void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> x,
-                           std::span<const Vec3> field_a, std::span<Vec3> out_a,
-                           std::span<const Vec3> field_b, std::span<Vec3> out_b);
-
 /// The compact stencils of the points x, for reading several fields at points that stay put
 /// (a fluid step reads the fluid before and after it at the same grain positions).
 void point_stencils(const fluid::Grid& g, std::span<const Vec3> x, std::span<LerpStencil> out);
-/// Two fields at the points of stencils s (from point_stencils on grid g): bit-identical to
-/// interpolate_to_points at those points.
+/// Two fields at the points of stencils s (from point_stencils on grid g), one stencil read
+/// for both (the coupling reads the fluid's velocity with its fraction or its pressure
+/// gradient): bit-identical to interpolate_to_points at those points.
 void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
                     std::span<const Vec3> field_a, std::span<Vec3> out_a,
                     std::span<const double> field_b, std::span<double> out_b);
