@@ -8,48 +8,24 @@ import time
 
 import numpy as np
 import ufl
-from mpi4py import MPI
-from petsc4py import PETSc
 
-import dolfinx
 import dolfinx.fem.petsc
-import dolfinx.nls.petsc
-from dolfinx import cpp, fem, geometry
+from dolfinx import fem, geometry
 from dolfinx import mesh as dmesh
+from dolfinx_st import H, newton_mumps, on_cyl, read_mesh, taylor_hood, velocity_bcs
 
 CD_REF, CL_REF, DP_REF = 5.57953523384, 0.010618948146, 0.11752016697
 
 
 def main(path):
-    with open(path) as f:
-        n_nodes, n_cells = map(int, f.readline().split())
-        data = np.loadtxt(f, max_rows=n_nodes)
-        f.seek(0)
-    x = data[:, :2].copy()
-    cells = np.loadtxt(path, skiprows=1 + n_nodes, dtype=np.int64).reshape(n_cells, 6)
+    x, cells = read_mesh(path)
+    n_cells = len(cells)
     t0 = time.perf_counter()
-    cells = cells[:, cpp.io.perm_vtk(dmesh.CellType.triangle, 6)]
-    domain = ufl.Mesh(ufl.VectorElement("Lagrange", "triangle", 2))
-    msh = dmesh.create_mesh(MPI.COMM_WORLD, cells, x, domain)
-    P2 = ufl.VectorElement("Lagrange", msh.ufl_cell(), 2)
-    P1 = ufl.FiniteElement("Lagrange", msh.ufl_cell(), 1)
-    W = fem.FunctionSpace(msh, P2 * P1)
-    V, _ = W.sub(0).collapse()
-
-    H, um = 0.41, 0.3
-    def on_cyl(p):
-        return np.abs(np.hypot(p[0] - 0.2, p[1] - 0.2) - 0.05) < 1e-8
-    def on_walls(p):
-        return np.logical_or(np.isclose(p[1], 0.0), np.isclose(p[1], H))
-    def on_inflow(p):
-        return np.isclose(p[0], 0.0)
-    zero = fem.Function(V)
+    msh, W, V = taylor_hood(x, cells)
+    um = 0.3
     inflow = fem.Function(V)
     inflow.interpolate(lambda p: np.vstack((4 * um * p[1] * (H - p[1]) / H**2, 0 * p[0])))
-    bcs = []
-    for marker, g in ((on_walls, zero), (on_cyl, zero), (on_inflow, inflow)):
-        dofs = fem.locate_dofs_geometrical((W.sub(0), V), marker)
-        bcs.append(fem.dirichletbc(g, dofs, W.sub(0)))
+    bcs = velocity_bcs(W, V, inflow)
 
     w = fem.Function(W)
     u, p = ufl.split(w)
@@ -58,18 +34,7 @@ def main(path):
     F = (rho * ufl.inner(ufl.grad(u) * u, v) + mu * ufl.inner(ufl.grad(u), ufl.grad(v))
          - p * ufl.div(v) - q * ufl.div(u)) * ufl.dx
     problem = dolfinx.fem.petsc.NonlinearProblem(F, w, bcs)
-    solver = dolfinx.nls.petsc.NewtonSolver(MPI.COMM_WORLD, problem)
-    solver.convergence_criterion = "incremental"
-    solver.rtol = 1e-10
-    solver.atol = 1e-12
-    solver.max_it = 25
-    ksp = solver.krylov_solver
-    opts = PETSc.Options()
-    pre = ksp.getOptionsPrefix()
-    opts[f"{pre}ksp_type"] = "preonly"
-    opts[f"{pre}pc_type"] = "lu"
-    opts[f"{pre}pc_factor_mat_solver_type"] = "mumps"
-    ksp.setFromOptions()
+    solver = newton_mumps(problem, 1e-10, 1e-12)
     t1 = time.perf_counter()
     n_it, converged = solver.solve(w)
     t2 = time.perf_counter()

@@ -12,50 +12,23 @@ import time
 
 import numpy as np
 import ufl
-from mpi4py import MPI
-from petsc4py import PETSc
 
-import dolfinx
 import dolfinx.fem.petsc
-import dolfinx.nls.petsc
-from dolfinx import cpp, fem, geometry
-from dolfinx import mesh as dmesh
+from dolfinx import fem, geometry
+from dolfinx_st import H, newton_mumps, on_cyl, read_mesh, taylor_hood, velocity_bcs
 
 
 def main(path, dt, t_end, out):
-    with open(path) as f:
-        n_nodes, n_cells = map(int, f.readline().split())
-        data = np.loadtxt(f, max_rows=n_nodes)
-    x = data[:, :2].copy()
-    cells = np.loadtxt(path, skiprows=1 + n_nodes, dtype=np.int64).reshape(n_cells, 6)
-    cells = cells[:, cpp.io.perm_vtk(dmesh.CellType.triangle, 6)]
-    domain = ufl.Mesh(ufl.VectorElement("Lagrange", "triangle", 2))
-    msh = dmesh.create_mesh(MPI.COMM_WORLD, cells, x, domain)
-    P2 = ufl.VectorElement("Lagrange", msh.ufl_cell(), 2)
-    P1 = ufl.FiniteElement("Lagrange", msh.ufl_cell(), 1)
-    W = fem.FunctionSpace(msh, P2 * P1)
-    V, _ = W.sub(0).collapse()
-
-    H, u_max = 0.41, 1.5
-
-    def on_cyl(p):
-        return np.abs(np.hypot(p[0] - 0.2, p[1] - 0.2) - 0.05) < 1e-8
-
-    def on_walls(p):
-        return np.logical_or(np.isclose(p[1], 0.0), np.isclose(p[1], H))
-
-    def on_inflow(p):
-        return np.isclose(p[0], 0.0)
+    x, cells = read_mesh(path)
+    n_cells = len(cells)
+    msh, W, V = taylor_hood(x, cells)
+    u_max = 1.5
 
     def ramp(t):
         return 0.5 * (1 - np.cos(np.pi * t)) if t < 1.0 else 1.0
 
-    zero = fem.Function(V)
     inflow = fem.Function(V)
-    bcs = []
-    for marker, g in ((on_walls, zero), (on_cyl, zero), (on_inflow, inflow)):
-        dofs = fem.locate_dofs_geometrical((W.sub(0), V), marker)
-        bcs.append(fem.dirichletbc(g, dofs, W.sub(0)))
+    bcs = velocity_bcs(W, V, inflow)
 
     w = fem.Function(W)
     w_n = fem.Function(W)
@@ -76,18 +49,7 @@ def main(path, dt, t_end, out):
 
     F = momentum(v) - q * ufl.div(u) * ufl.dx
     problem = dolfinx.fem.petsc.NonlinearProblem(F, w, bcs)
-    solver = dolfinx.nls.petsc.NewtonSolver(MPI.COMM_WORLD, problem)
-    solver.convergence_criterion = "incremental"
-    solver.rtol = 1e-8
-    solver.atol = 1e-10
-    solver.max_it = 25
-    ksp = solver.krylov_solver
-    opts = PETSc.Options()
-    pre = ksp.getOptionsPrefix()
-    opts[f"{pre}ksp_type"] = "preonly"
-    opts[f"{pre}pc_type"] = "lu"
-    opts[f"{pre}pc_factor_mat_solver_type"] = "mumps"
-    ksp.setFromOptions()
+    solver = newton_mumps(problem, 1e-8, 1e-10)
 
     # Reaction forces: the momentum residual tested with e_x / e_y on the cylinder's dofs.
     force_forms = []
