@@ -12,7 +12,8 @@ import ufl
 import dolfinx.fem.petsc
 from dolfinx import fem, geometry
 from dolfinx import mesh as dmesh
-from dolfinx_st import H, newton_mumps, on_cyl, read_mesh, taylor_hood, velocity_bcs
+from dolfinx_st import (H, cylinder_unit_velocity, newton_mumps, on_cyl, read_mesh, taylor_hood,
+                        velocity_bcs)
 
 CD_REF, CL_REF, DP_REF = 5.57953523384, 0.010618948146, 0.11752016697
 
@@ -42,10 +43,7 @@ def main(path):
     # Forces: reaction (residual with a test function = e_x / e_y on the cylinder) and surface stress.
     forces = []
     for comp in (0, 1):
-        vd = fem.Function(W)
-        dofs = fem.locate_dofs_geometrical((W.sub(0).sub(comp), V.sub(comp).collapse()[0]), on_cyl)
-        vd.x.array[dofs[0]] = 1.0
-        ud, _ = ufl.split(vd)
+        ud = cylinder_unit_velocity(W, V, comp)
         R = (rho * ufl.inner(ufl.grad(u) * u, ud) + mu * ufl.inner(ufl.grad(u), ufl.grad(ud))
              - p * ufl.div(ud)) * ufl.dx
         forces.append(-fem.assemble_scalar(fem.form(R)))

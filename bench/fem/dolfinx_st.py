@@ -72,3 +72,12 @@ def newton_mumps(problem, rtol, atol):
     opts[f"{pre}pc_factor_mat_solver_type"] = "mumps"
     ksp.setFromOptions()
     return solver
+
+
+def cylinder_unit_velocity(W, V, comp):
+    """A velocity that is e_comp at the cylinder's dofs and 0 elsewhere: the momentum residual
+    tested with it is minus the fluid's force component on the cylinder (reaction force)."""
+    vd = fem.Function(W)
+    dofs = fem.locate_dofs_geometrical((W.sub(0).sub(comp), V.sub(comp).collapse()[0]), on_cyl)
+    vd.x.array[dofs[0]] = 1.0
+    return ufl.split(vd)[0]
