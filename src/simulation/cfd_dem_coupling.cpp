@@ -93,6 +93,7 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   ff_options_.min_fraction = cp.min_fraction;
   rate_from_flux_ = cp.fluid_fraction_rate == "flux";
   rate_relaxation_ = cp.rate_relaxation;
+  pressure_gradient_force_ = cp.pressure_gradient_force;
 
   // Pressure drop and superficial velocity along gravity's axis (the axis of a bed).
   const Vec3 g = cfg.gravity;
@@ -192,16 +193,18 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   first_ = false;
 
   // What the grains see until the next fluid step: u_f,i, and the part of their force that
-  // stays fixed until then, beta_i u_f,i - V_i grad p_i (add_forces subtracts beta_i v_i).
+  // stays fixed until then, beta_i u_f,i - V_i grad p_i (add_forces subtracts beta_i v_i); the
+  // second term only with the pressure-gradient force on (coupling.pressure_gradient_force).
   fluid_->cell_velocities(cell_u_);
   fluid_->pressure_gradients(cell_gradp_);
   auto uf = particles.get<Vec3>(f_uf_);
   cfd_dem::interpolate_at(grid_, stencils_, std::span<const Vec3>(cell_u_), uf,
                           std::span<const Vec3>(cell_gradp_), std::span<Vec3>(gradp_p_));
   auto fixed = particles.get<Vec3>(f_fixed_);
+  const double pg = pressure_gradient_force_ ? 1.0 : 0.0;
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
     const auto k = static_cast<std::size_t>(i);
-    fixed[k] = beta[k] * uf[k] + cfd_dem::pressure_gradient_force(geo.volume(k), gradp_p_[k]);
+    fixed[k] = beta[k] * uf[k] + pg * cfd_dem::pressure_gradient_force(geo.volume(k), gradp_p_[k]);
   });
   seconds_ += seconds_since(t0);
 }

@@ -1254,6 +1254,7 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_EQ(c.coupling->min_fraction, 0.3);
   EXPECT_EQ(c.coupling->fluid_fraction_rate, "flux");
   EXPECT_EQ(c.coupling->rate_relaxation, 0.3);
+  EXPECT_TRUE(c.coupling->pressure_gradient_force);
   const auto report = input::validate(c);
   // Smallest cell 0.1 m / 8 along z over the grain diameter 0.01 m.
   EXPECT_NEAR(leading_number(derived(report, "cell size / particle diameter")), 1.25, 1e-9);
@@ -1278,6 +1279,17 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_EQ(again.coupling->min_fraction, c.coupling->min_fraction);
   EXPECT_EQ(again.coupling->fluid_fraction_rate, c.coupling->fluid_fraction_rate);
   EXPECT_EQ(again.coupling->rate_relaxation, c.coupling->rate_relaxation);
+  EXPECT_EQ(again.coupling->pressure_gradient_force, c.coupling->pressure_gradient_force);
+
+  // Drag only (the pressure-gradient force off), and echoed as such.
+  std::string blocks = good_fluid;
+  blocks.replace(blocks.find("{drag: gidaspow}"), 16,
+                 "{drag: gidaspow, pressure_gradient_force: false}");
+  const auto off = input::load_case_text(cfd_case(blocks), "t.yaml");
+  ASSERT_TRUE(off.coupling);
+  EXPECT_FALSE(off.coupling->pressure_gradient_force);
+  const auto off_again = input::load_case(dir.write("echo_off.yaml", input::echo_yaml(off, "9")));
+  EXPECT_FALSE(off_again.coupling->pressure_gradient_force);
 }
 
 TEST(InputCfdDem, UnknownDragLawListsTheKeys) {
@@ -1334,6 +1346,12 @@ TEST(InputCfdDem, BlocksNeedEachOtherAndValidValues) {
   message = error_of(cfd_case(blocks));
   EXPECT_NE(message.find("coupling.rate_relaxation"), std::string::npos) << message;
   EXPECT_NE(message.find("(0, 1]"), std::string::npos) << message;
+
+  blocks = good_fluid;
+  blocks.replace(blocks.find("{drag: gidaspow}"), 16,
+                 "{drag: gidaspow, pressure_gradient_force: maybe}");
+  message = error_of(cfd_case(blocks));
+  EXPECT_NE(message.find("coupling.pressure_gradient_force"), std::string::npos) << message;
 
   blocks = good_fluid;
   blocks.replace(blocks.find("[4, 4, 8]"), 9, "[4, 4]");

@@ -266,6 +266,9 @@ struct Coupling {
   std::string fluid_fraction_rate = "flux";
   /// Under-relaxation a of the flux rate between fluid steps: rate = rate_prev + a (new - prev)
   double rate_relaxation = 0.3;
+  /// Whether each grain also feels -V_i grad p (the pressure-gradient force of model A, which
+  /// carries buoyancy); false: drag only (as in Mahajan et al.'s shear boxes)
+  bool pressure_gradient_force = true;
   SourceLoc loc;
 };
 
