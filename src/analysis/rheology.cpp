@@ -34,13 +34,17 @@ double RheologySample::friction() const {
 double RheologySample::viscosity() const {
   return shear_rate != 0 ? -shear_stress() / shear_rate : 0.0;
 }
-double RheologySample::first_normal_difference() const {
-  const Mat3 s = total();
+double first_normal_difference(const Mat3& s) {
   return s.a[0][0] - s.a[2][2];
 }
-double RheologySample::second_normal_difference() const {
-  const Mat3 s = total();
+double second_normal_difference(const Mat3& s) {
   return s.a[2][2] - s.a[1][1];
+}
+double RheologySample::first_normal_difference() const {
+  return analysis::first_normal_difference(total());
+}
+double RheologySample::second_normal_difference() const {
+  return analysis::second_normal_difference(total());
 }
 
 RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& region,
@@ -194,8 +198,8 @@ std::vector<double> rheology_values(const RheologySample& s) {
           s.viscosity(),
           s.first_normal_difference(),
           s.second_normal_difference(),
-          s.collisional.a[0][0] - s.collisional.a[2][2],
-          s.collisional.a[2][2] - s.collisional.a[1][1],
+          first_normal_difference(s.collisional),
+          second_normal_difference(s.collisional),
           s.order.a[0][0],
           s.order.a[1][1],
           s.order.a[2][2],

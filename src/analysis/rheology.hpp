@@ -61,6 +61,11 @@ struct RheologySample {
   double second_normal_difference() const;  ///< sigma_zz - sigma_yy
 };
 
+/// Normal stress differences of a stress tensor (flow x, gradient z, vorticity y), Pa:
+/// N1 = sigma_xx - sigma_zz, N2 = sigma_zz - sigma_yy.
+double first_normal_difference(const Mat3& s);
+double second_normal_difference(const Mat3& s);
+
 /// Measures one sample. `virial` is the sum of the contact virial over the pairs counted in the
 /// layer (contact::VirialSink); `density` the density of each material (grain volume m / rho).
 RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& region,

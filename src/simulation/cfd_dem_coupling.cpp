@@ -193,18 +193,17 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   first_ = false;
 
   // What the grains see until the next fluid step: u_f,i, and the part of their force that
-  // stays fixed until then, beta_i u_f,i - V_i grad p_i (add_forces subtracts beta_i v_i); the
-  // second term only with the pressure-gradient force on (coupling.pressure_gradient_force).
+  // stays fixed until then, beta_i u_f,i - V_i grad p_i (add_forces subtracts beta_i v_i). With
+  // coupling.pressure_gradient_force off, cell_gradp_ stays as sized (zero): drag only.
   fluid_->cell_velocities(cell_u_);
-  fluid_->pressure_gradients(cell_gradp_);
+  if (pressure_gradient_force_) fluid_->pressure_gradients(cell_gradp_);
   auto uf = particles.get<Vec3>(f_uf_);
   cfd_dem::interpolate_at(grid_, stencils_, std::span<const Vec3>(cell_u_), uf,
                           std::span<const Vec3>(cell_gradp_), std::span<Vec3>(gradp_p_));
   auto fixed = particles.get<Vec3>(f_fixed_);
-  const double pg = pressure_gradient_force_ ? 1.0 : 0.0;
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
     const auto k = static_cast<std::size_t>(i);
-    fixed[k] = beta[k] * uf[k] + pg * cfd_dem::pressure_gradient_force(geo.volume(k), gradp_p_[k]);
+    fixed[k] = beta[k] * uf[k] + cfd_dem::pressure_gradient_force(geo.volume(k), gradp_p_[k]);
   });
   seconds_ += seconds_since(t0);
 }

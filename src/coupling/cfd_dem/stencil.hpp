@@ -132,18 +132,4 @@ GF_HOST_DEVICE inline T interpolate(const LerpStencil& s, const T* field) {
   return lerp(lower, plane(p + sz), s.t[2]);
 }
 
-/// Value of a cell-centred scalar field at the stencil's point.
-GF_HOST_DEVICE inline double interpolate(const CellStencil& s, const double* field) {
-  double v = 0;
-  for (int q = 0; q < s.n; ++q) v += s.weight[q] * field[s.cell[q]];
-  return v;
-}
-
-/// Value of a cell-centred vector field at the stencil's point.
-GF_HOST_DEVICE inline Vec3 interpolate(const CellStencil& s, const Vec3* field) {
-  Vec3 v{};
-  for (int q = 0; q < s.n; ++q) v += s.weight[q] * field[s.cell[q]];
-  return v;
-}
-
 }  // namespace gf::cfd_dem
