@@ -96,8 +96,9 @@ class CfdDemCoupling {
   cfd_dem::SolidFluxScratch solid_flux_;
   double rate_relaxation_ = 0.3;         // under-relaxation of the flux rate between fluid steps
   bool pressure_gradient_force_ = true;  // grains feel -V grad p (else drag only)
-  std::vector<double> rate_new_;         // the flux rate of this step before relaxation
-  cfd_dem::Footprints footprints_;       // of the grains at the current fluid step
+  cfd_dem::PointRead point_read_ = cfd_dem::PointRead::Trilinear;  // coupling.interpolation
+  std::vector<double> rate_new_;    // the flux rate of this step before relaxation
+  cfd_dem::Footprints footprints_;  // of the grains at the current fluid step
   std::vector<double> eps_, eps_prev_, eps_rate_, k_, eps_p_;
   std::vector<Vec3> s_explicit_, cell_u_, cell_gradp_, u_p_, gradp_p_;
   std::vector<cfd_dem::LerpStencil> stencils_;  // the grains' interpolation stencils this step

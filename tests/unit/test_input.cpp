@@ -1255,6 +1255,7 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_EQ(c.coupling->fluid_fraction_rate, "flux");
   EXPECT_EQ(c.coupling->rate_relaxation, 0.3);
   EXPECT_TRUE(c.coupling->pressure_gradient_force);
+  EXPECT_EQ(c.coupling->interpolation, "trilinear");
   const auto report = input::validate(c);
   // Smallest cell 0.1 m / 8 along z over the grain diameter 0.01 m.
   EXPECT_NEAR(leading_number(derived(report, "cell size / particle diameter")), 1.25, 1e-9);
@@ -1290,6 +1291,17 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_FALSE(off.coupling->pressure_gradient_force);
   const auto off_again = input::load_case(dir.write("echo_off.yaml", input::echo_yaml(off, "9")));
   EXPECT_FALSE(off_again.coupling->pressure_gradient_force);
+  EXPECT_EQ(off_again.coupling->interpolation, "trilinear");
+
+  // Cell-value reads (CFDEMcoupling's default), echoed as such.
+  blocks = good_fluid;
+  blocks.replace(blocks.find("{drag: gidaspow}"), 16, "{drag: gidaspow, interpolation: cell}");
+  const auto cell = input::load_case_text(cfd_case(blocks), "t.yaml");
+  ASSERT_TRUE(cell.coupling);
+  EXPECT_EQ(cell.coupling->interpolation, "cell");
+  const auto cell_again =
+      input::load_case(dir.write("echo_cell.yaml", input::echo_yaml(cell, "9")));
+  EXPECT_EQ(cell_again.coupling->interpolation, "cell");
 }
 
 TEST(InputCfdDem, UnknownDragLawListsTheKeys) {
@@ -1352,6 +1364,13 @@ TEST(InputCfdDem, BlocksNeedEachOtherAndValidValues) {
                  "{drag: gidaspow, pressure_gradient_force: maybe}");
   message = error_of(cfd_case(blocks));
   EXPECT_NE(message.find("coupling.pressure_gradient_force"), std::string::npos) << message;
+
+  blocks = good_fluid;
+  blocks.replace(blocks.find("{drag: gidaspow}"), 16, "{drag: gidaspow, interpolation: linear}");
+  message = error_of(cfd_case(blocks));
+  EXPECT_NE(message.find("t.yaml:16:"), std::string::npos) << message;
+  EXPECT_NE(message.find("coupling.interpolation"), std::string::npos) << message;
+  EXPECT_NE(message.find("trilinear"), std::string::npos) << message;
 
   blocks = good_fluid;
   blocks.replace(blocks.find("[4, 4, 8]"), 9, "[4, 4]");

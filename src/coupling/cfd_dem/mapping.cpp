@@ -555,12 +555,14 @@ void deposit_reaction_forces(const fluid::Grid& g, const ParticleGeometry& p, De
   deposit(g, p, scheme, force, cell_force, -1.0, scratch);
 }
 
-void drag_exchange_source(const Footprints& fp, std::span<const double> beta,
-                          std::span<const Vec3> v, std::span<Vec3> s_explicit,
-                          std::span<double> k) {
-  REQUIRE(v.size() == fp.size() && beta.size() == fp.size(),
-          "drag exchange: {} velocities and {} beta for {} particles", v.size(), beta.size(),
-          fp.size());
+namespace {
+
+/// K_c = sum_p w_pc beta_p / V_c and s_explicit_c = sum_p w_pc beta_p rel(p) / V_c.
+template <class Rel>
+void exchange_source(const Footprints& fp, std::span<const double> beta, std::size_t n_v, Rel&& rel,
+                     std::span<Vec3> s_explicit, std::span<double> k) {
+  REQUIRE(n_v == fp.size() && beta.size() == fp.size(),
+          "drag exchange: {} velocities and {} beta for {} particles", n_v, beta.size(), fp.size());
   REQUIRE(static_cast<std::int64_t>(s_explicit.size()) == fp.n_cells,
           "drag exchange: {} source values for {} cells", s_explicit.size(), fp.n_cells);
   std::fill(s_explicit.begin(), s_explicit.end(), Vec3{});
@@ -568,7 +570,30 @@ void drag_exchange_source(const Footprints& fp, std::span<const double> beta,
   const double inv_cell = 1.0 / fp.cell_volume;
   deposit(fp, beta, k, inv_cell);  // checks k's size
   deposit_footprints<Vec3>(
-      fp, [&](std::size_t i) { return (inv_cell * beta[i]) * v[i]; }, s_explicit.data());
+      fp, [&](std::size_t i) { return (inv_cell * beta[i]) * rel(i); }, s_explicit.data());
+}
+
+}  // namespace
+
+void drag_exchange_source(const Footprints& fp, std::span<const double> beta,
+                          std::span<const Vec3> v, std::span<Vec3> s_explicit,
+                          std::span<double> k) {
+  exchange_source(
+      fp, beta, v.size(), [&](std::size_t i) { return v[i]; }, s_explicit, k);
+}
+
+void drag_exchange_source(const Footprints& fp, std::span<const double> beta,
+                          std::span<const Vec3> v, std::span<const Vec3> u_seen,
+                          std::span<const Vec3> cell_u, std::span<Vec3> s_explicit,
+                          std::span<double> k) {
+  REQUIRE(u_seen.size() == v.size(), "drag exchange: {} fluid velocities for {} particles",
+          u_seen.size(), v.size());
+  REQUIRE(static_cast<std::int64_t>(cell_u.size()) == fp.n_cells,
+          "drag exchange: {} cell velocities for {} cells", cell_u.size(), fp.n_cells);
+  exchange_source(
+      fp, beta, v.size(), [&](std::size_t i) { return v[i] - u_seen[i]; }, s_explicit, k);
+  exec::parallel_for(static_cast<exec::index_t>(fp.n_cells),
+                     [&](exec::index_t c) { s_explicit[c] += k[c] * cell_u[c]; });
 }
 
 void drag_exchange_source(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
@@ -624,10 +649,14 @@ void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> field,
   interpolate_one(g, field, x, out);
 }
 
-void point_stencils(const fluid::Grid& g, std::span<const Vec3> x, std::span<LerpStencil> out) {
+void point_stencils(const fluid::Grid& g, std::span<const Vec3> x, std::span<LerpStencil> out,
+                    PointRead read) {
   REQUIRE(out.size() == x.size(), "point stencils: {} outputs for {} points", out.size(), x.size());
-  exec::parallel_for(static_cast<exec::index_t>(x.size()),
-                     [&](exec::index_t i) { out[i] = lerp_stencil(g, x[i]); });
+  const auto n = static_cast<exec::index_t>(x.size());
+  if (read == PointRead::CellValue)
+    exec::parallel_for(n, [&](exec::index_t i) { out[i] = cell_value_stencil(g, x[i]); });
+  else
+    exec::parallel_for(n, [&](exec::index_t i) { out[i] = lerp_stencil(g, x[i]); });
 }
 
 void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,

@@ -158,6 +158,17 @@ void drag_exchange_source(const fluid::Grid& g, const ParticleGeometry& p, Depos
 /// The same with footprints built by compute_footprints.
 void drag_exchange_source(const Footprints& fp, std::span<const double> beta,
                           std::span<const Vec3> v, std::span<Vec3> s_explicit, std::span<double> k);
+/// The consistent form for grains that read the fluid elsewhere than in the cells they are
+/// deposited in (trilinear reads): u_seen[p] is the fluid velocity particle p's drag used,
+/// read from cell_u. s_explicit_c = sum_p w_pc beta_p (v_p - u_seen_p) / V_c + K_c cell_u_c, so
+/// S = s_explicit - K u is exactly -sum_p w_pc F_p at u = cell_u (the reaction of the drag the
+/// grains felt) and still implicit in the change of u over the fluid step. The plain form
+/// instead gives the fluid sum_p w_pc beta_p (v_p - u_c): a grain carried along at the
+/// interpolated velocity (F_p = 0) would still push its cell towards its own velocity.
+void drag_exchange_source(const Footprints& fp, std::span<const double> beta,
+                          std::span<const Vec3> v, std::span<const Vec3> u_seen,
+                          std::span<const Vec3> cell_u, std::span<Vec3> s_explicit,
+                          std::span<double> k);
 
 /// out[i] = cell-centred `field` interpolated (trilinear between cell centres, periodic wrap,
 /// constant beyond the outermost centres at walls) to x[i].
@@ -165,9 +176,16 @@ void interpolate_to_points(const fluid::Grid& g, std::span<const double> field,
                            std::span<const Vec3> x, std::span<double> out);
 void interpolate_to_points(const fluid::Grid& g, std::span<const Vec3> field,
                            std::span<const Vec3> x, std::span<Vec3> out);
+/// How the grains read cell-centred fluid fields.
+enum class PointRead {
+  Trilinear,  ///< trilinear between cell centres (continuous as a grain crosses a face)
+  CellValue,  ///< the value of the cell containing the point (steps at faces)
+};
+
 /// The compact stencils of the points x, for reading several fields at points that stay put
 /// (a fluid step reads the fluid before and after it at the same grain positions).
-void point_stencils(const fluid::Grid& g, std::span<const Vec3> x, std::span<LerpStencil> out);
+void point_stencils(const fluid::Grid& g, std::span<const Vec3> x, std::span<LerpStencil> out,
+                    PointRead read = PointRead::Trilinear);
 /// Two fields at the points of stencils s (from point_stencils on grid g), one stencil read
 /// for both (the coupling reads the fluid's velocity with its fraction or its pressure
 /// gradient): bit-identical to interpolate_to_points at those points.

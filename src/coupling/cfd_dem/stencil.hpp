@@ -117,6 +117,14 @@ GF_HOST_DEVICE inline LerpStencil lerp_stencil(const fluid::Grid& g, const Vec3&
   return s;
 }
 
+/// The stencil that reads the value of the cell containing x (piecewise-constant fields, as
+/// CFDEMcoupling's drag models without `interpolation` and DPMFoam's `cell` scheme read them).
+GF_HOST_DEVICE inline LerpStencil cell_value_stencil(const fluid::Grid& g, const Vec3& x) {
+  LerpStencil s;
+  s.base = cell_containing(g, x);
+  return s;
+}
+
 /// Value of a cell-centred field (double or Vec3) at the compact stencil's point.
 template <class T>
 GF_HOST_DEVICE inline T interpolate(const LerpStencil& s, const T* field) {

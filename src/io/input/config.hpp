@@ -269,6 +269,9 @@ struct Coupling {
   /// Whether each grain also feels -V_i grad p (the pressure-gradient force of model A, which
   /// carries buoyancy); false: drag only (as in Mahajan et al.'s shear boxes)
   bool pressure_gradient_force = true;
+  /// How grains read the fluid's velocity, fraction and pressure gradient: "trilinear" between
+  /// cell centres or "cell" (the value of the cell containing the grain's centre)
+  std::string interpolation = "trilinear";
   SourceLoc loc;
 };
 
