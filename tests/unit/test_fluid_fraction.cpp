@@ -502,6 +502,44 @@ TEST(FluidFractionInterpolation, PeriodicWrapAndWallClamp) {
   EXPECT_NEAR(w, 1.0, 1e-15);
 }
 
+/// Random drag coefficients and particle velocities for particles that see fluid velocity
+/// u_seen[p], with the total drag sum_p beta_p (u_seen_p - v_p) and the sum of its magnitudes.
+struct RandomDrag {
+  std::vector<double> beta;
+  std::vector<Vec3> v;
+  Vec3 total{};
+  double scale = 0;
+  RandomDrag(Rng& rng, const std::vector<Vec3>& u_seen) : beta(u_seen.size()), v(u_seen.size()) {
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      beta[i] = rng.uniform(1e-6, 1e-5);
+      v[i] = {rng.normal(0, 0.1), rng.normal(0, 0.1), rng.normal(0, 0.1)};
+      total += beta[i] * (u_seen[i] - v[i]);
+      scale += norm(beta[i] * (u_seen[i] - v[i]));
+    }
+  }
+};
+
+/// Random cell fields (scalar and vector, values in [-1, 1]) on g and 300 random points in the
+/// box widened by two cells on every side (outside walls, across periodic faces).
+struct RandomFieldsAndPoints {
+  std::vector<double> f;
+  std::vector<Vec3> fv, x;
+  RandomFieldsAndPoints(const fluid::Grid& g, std::uint64_t seed) {
+    Rng rng(seed);
+    f.resize(g.cell_count());
+    fv.resize(g.cell_count());
+    for (std::size_t c = 0; c < f.size(); ++c) {
+      f[c] = rng.uniform(-1, 1);
+      fv[c] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+    }
+    for (int q = 0; q < 300; ++q) {
+      Vec3 p;
+      for (int a = 0; a < 3; ++a) p[a] = rng.uniform(g.lo[a] - 2 * g.h[a], g.hi()[a] + 2 * g.h[a]);
+      x.push_back(p);
+    }
+  }
+};
+
 // The compact stencil (nested lerps) reads the same cells with the same weights as the
 // 8-cell stencil of the deposits: equal to round-off (a few ulp of the field's range, 1e-13
 // here) at points inside, outside, across periodic faces and on one-cell axes; and the
@@ -511,20 +549,9 @@ TEST(FluidFractionInterpolation, CompactStencilMatchesCellStencil) {
     for (const auto& n : {std::array<int, 3>{7, 5, 6}, std::array<int, 3>{1, 4, 3}}) {
       const auto g = box_grid({n[0], n[1], dim == 3 ? n[2] : 1}, {-1, 0.5, 2}, {0.3, 0.4, 0.25},
                               {true, false, true}, dim);
-      Rng rng(21);
-      std::vector<double> f(g.cell_count());
-      std::vector<Vec3> fv(g.cell_count());
-      for (std::size_t c = 0; c < f.size(); ++c) {
-        f[c] = rng.uniform(-1, 1);
-        fv[c] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
-      }
-      std::vector<Vec3> x;
-      for (int q = 0; q < 300; ++q) {
-        Vec3 p;
-        for (int a = 0; a < 3; ++a)
-          p[a] = rng.uniform(g.lo[a] - 2 * g.h[a], g.hi()[a] + 2 * g.h[a]);
-        x.push_back(p);
-      }
+      const RandomFieldsAndPoints r(g, 21);
+      const auto& f = r.f;
+      const auto &fv = r.fv, &x = r.x;
       std::vector<LerpStencil> st(x.size());
       point_stencils(g, x, st);
       std::vector<double> out(x.size()), out2(x.size());
@@ -560,16 +587,8 @@ TEST(FluidFractionInterpolation, ConsistentExchangeReturnsTheDragTheGrainsFeel) 
   for (auto& u : cell_u) u = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
   std::vector<Vec3> u_seen(parts.x.size());
   interpolate_to_points(g, cell_u, parts.x, u_seen);
-  std::vector<double> beta(parts.x.size());
-  std::vector<Vec3> v(parts.x.size());
-  Vec3 drag_total{};
-  double scale = 0;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    beta[i] = rng.uniform(1e-6, 1e-5);
-    v[i] = {rng.normal(0, 0.1), rng.normal(0, 0.1), rng.normal(0, 0.1)};
-    drag_total += beta[i] * (u_seen[i] - v[i]);
-    scale += norm(beta[i] * (u_seen[i] - v[i]));
-  }
+  const RandomDrag drag(rng, u_seen);
+  const auto& [beta, v, drag_total, scale] = drag;
   for (auto scheme : kSchemes) {
     Footprints fp;
     compute_footprints(g, parts.view(), scheme, fp);
@@ -601,19 +620,9 @@ TEST(FluidFractionInterpolation, CellValueReadIsTheContainingCell) {
   for (int dim : {3, 2}) {
     const auto g = box_grid({5, 4, dim == 3 ? 3 : 1}, {-1, 0.5, 2}, {0.3, 0.4, 0.25},
                             {true, false, true}, dim);
-    Rng rng(5);
-    std::vector<double> f(g.cell_count());
-    std::vector<Vec3> fv(g.cell_count());
-    for (std::size_t c = 0; c < f.size(); ++c) {
-      f[c] = rng.uniform(-1, 1);
-      fv[c] = {rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
-    }
-    std::vector<Vec3> x;
-    for (int q = 0; q < 300; ++q) {
-      Vec3 p;
-      for (int a = 0; a < 3; ++a) p[a] = rng.uniform(g.lo[a] - 2 * g.h[a], g.hi()[a] + 2 * g.h[a]);
-      x.push_back(p);
-    }
+    const RandomFieldsAndPoints r(g, 5);
+    const auto& f = r.f;
+    const auto &fv = r.fv, &x = r.x;
     std::vector<LerpStencil> st(x.size());
     point_stencils(g, x, st, PointRead::CellValue);
     std::vector<double> out(x.size());
@@ -672,16 +681,8 @@ TEST(FluidFractionInterpolation, DragExchangeSourceConservesMomentum) {
   const auto parts = random_particles(g, 300, 0.1, 0.4, 0.3, 23);
   Rng rng(6);
   const Vec3 u_f{0.1, -0.05, 0.2};
-  std::vector<double> beta(parts.x.size());
-  std::vector<Vec3> v(parts.x.size());
-  Vec3 drag_total{};
-  double scale = 0;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    beta[i] = rng.uniform(1e-6, 1e-5);
-    v[i] = {rng.normal(0, 0.1), rng.normal(0, 0.1), rng.normal(0, 0.1)};
-    drag_total += beta[i] * (u_f - v[i]);
-    scale += norm(beta[i] * (u_f - v[i]));
-  }
+  const RandomDrag drag(rng, std::vector<Vec3>(parts.x.size(), u_f));
+  const auto& [beta, v, drag_total, scale] = drag;
   for (auto scheme : kSchemes) {
     std::vector<Vec3> s_exp(g.cell_count(), Vec3{1, 1, 1});  // overwritten
     std::vector<double> k(g.cell_count(), 1.0);
