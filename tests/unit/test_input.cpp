@@ -1232,6 +1232,14 @@ const std::string good_fluid = R"(fluid:
 coupling: {drag: gidaspow}
 )";
 
+/// The CFD-DEM case of good_fluid with more keys in its coupling map, e.g. "interval: 0".
+std::string case_with_coupling(const std::string& extra) {
+  std::string blocks = good_fluid;
+  const std::string plain = "{drag: gidaspow}";
+  blocks.replace(blocks.find(plain), plain.size(), "{drag: gidaspow, " + extra + "}");
+  return cfd_case(blocks);
+}
+
 }  // namespace
 
 TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
@@ -1283,10 +1291,8 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_EQ(again.coupling->pressure_gradient_force, c.coupling->pressure_gradient_force);
 
   // Drag only (the pressure-gradient force off), and echoed as such.
-  std::string blocks = good_fluid;
-  blocks.replace(blocks.find("{drag: gidaspow}"), 16,
-                 "{drag: gidaspow, pressure_gradient_force: false}");
-  const auto off = input::load_case_text(cfd_case(blocks), "t.yaml");
+  const auto off =
+      input::load_case_text(case_with_coupling("pressure_gradient_force: false"), "t.yaml");
   ASSERT_TRUE(off.coupling);
   EXPECT_FALSE(off.coupling->pressure_gradient_force);
   const auto off_again = input::load_case(dir.write("echo_off.yaml", input::echo_yaml(off, "9")));
@@ -1294,9 +1300,7 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_EQ(off_again.coupling->interpolation, "trilinear");
 
   // Cell-value reads (CFDEMcoupling's default), echoed as such.
-  blocks = good_fluid;
-  blocks.replace(blocks.find("{drag: gidaspow}"), 16, "{drag: gidaspow, interpolation: cell}");
-  const auto cell = input::load_case_text(cfd_case(blocks), "t.yaml");
+  const auto cell = input::load_case_text(case_with_coupling("interpolation: cell"), "t.yaml");
   ASSERT_TRUE(cell.coupling);
   EXPECT_EQ(cell.coupling->interpolation, "cell");
   const auto cell_again =
@@ -1340,39 +1344,27 @@ TEST(InputCfdDem, BlocksNeedEachOtherAndValidValues) {
   EXPECT_NE(message.find("t.yaml:11:"), std::string::npos) << message;
   EXPECT_NE(message.find("needs a fluid: block"), std::string::npos) << message;
 
-  std::string blocks = good_fluid;
-  blocks.replace(blocks.find("{drag: gidaspow}"), 16, "{drag: gidaspow, interval: 0}");
-  message = error_of(cfd_case(blocks));
+  message = error_of(case_with_coupling("interval: 0"));
   EXPECT_NE(message.find("coupling.interval"), std::string::npos) << message;
 
-  blocks = good_fluid;
-  blocks.replace(blocks.find("{drag: gidaspow}"), 16,
-                 "{drag: gidaspow, fluid_fraction_rate: differences}");
-  message = error_of(cfd_case(blocks));
+  message = error_of(case_with_coupling("fluid_fraction_rate: differences"));
   EXPECT_NE(message.find("t.yaml:16:"), std::string::npos) << message;
   EXPECT_NE(message.find("coupling.fluid_fraction_rate"), std::string::npos) << message;
   EXPECT_NE(message.find("difference"), std::string::npos) << message;
 
-  blocks = good_fluid;
-  blocks.replace(blocks.find("{drag: gidaspow}"), 16, "{drag: gidaspow, rate_relaxation: 0}");
-  message = error_of(cfd_case(blocks));
+  message = error_of(case_with_coupling("rate_relaxation: 0"));
   EXPECT_NE(message.find("coupling.rate_relaxation"), std::string::npos) << message;
   EXPECT_NE(message.find("(0, 1]"), std::string::npos) << message;
 
-  blocks = good_fluid;
-  blocks.replace(blocks.find("{drag: gidaspow}"), 16,
-                 "{drag: gidaspow, pressure_gradient_force: maybe}");
-  message = error_of(cfd_case(blocks));
+  message = error_of(case_with_coupling("pressure_gradient_force: maybe"));
   EXPECT_NE(message.find("coupling.pressure_gradient_force"), std::string::npos) << message;
 
-  blocks = good_fluid;
-  blocks.replace(blocks.find("{drag: gidaspow}"), 16, "{drag: gidaspow, interpolation: linear}");
-  message = error_of(cfd_case(blocks));
+  message = error_of(case_with_coupling("interpolation: linear"));
   EXPECT_NE(message.find("t.yaml:16:"), std::string::npos) << message;
   EXPECT_NE(message.find("coupling.interpolation"), std::string::npos) << message;
   EXPECT_NE(message.find("trilinear"), std::string::npos) << message;
 
-  blocks = good_fluid;
+  std::string blocks = good_fluid;
   blocks.replace(blocks.find("[4, 4, 8]"), 9, "[4, 4]");
   message = error_of(cfd_case(blocks));
   EXPECT_NE(message.find("t.yaml:14:"), std::string::npos) << message;
