@@ -4,7 +4,9 @@
 
 The bed of cases/cfd_dem/fluidized_bed (3024 beads, air at 2.5 m/s, 8 x 2 x 30 cells), written
 for DPMFoam by openfoam_case.py; grainflow runs the case with `coupling.drag: gidaspow`
-(= DPMFoam's ErgunWenYuDrag) and the same simulated time. Both on one thread. Prints the wall
+(= DPMFoam's ErgunWenYuDrag), `coupling.interpolation: cell` (= the `cell` interpolation
+schemes written for DPMFoam; `--interpolation trilinear` for grainflow's default) and the same
+simulated time. Both on one thread. Prints the wall
 time per simulated second of each (what a user waits for the same physics), the particle-steps
 per second (DPMFoam: particles x its move-collide sub-cycles, summed from its log; grainflow:
 particles x DEM steps), and the grains' kinetic energy (translational + rotational) averaged
@@ -12,7 +14,7 @@ over fifths of the run and the grains' mean height at the end (DPMFoam: from its
 as a check that both beds do the same thing (the lattice starts at 22 mm).
 
     /usr/bin/python3 bench/cfd_dem/vs_openfoam.py [--grainflow build/release/grainflow]
-        [--end 0.1] [--append]
+        [--end 0.1] [--interpolation cell|trilinear] [--append]
 
 Needs Debian's `openfoam` (scripts/setup-debian.sh --bench) and `python3-yaml`. blockMesh is not
 timed; DPMFoam's time is its own ExecutionTime (CPU) and the wall time of the process.
@@ -30,11 +32,12 @@ from run import machine  # noqa: E402
 N_GRAINS = openfoam_case.NX * openfoam_case.NY * openfoam_case.NZ
 
 
-def run_grainflow(grainflow, case_path, end, folder):
+def run_grainflow(grainflow, case_path, end, folder, interpolation):
     with open(case_path) as f:
         case = yaml.safe_load(f)
     case["time"]["end"] = end
     case["coupling"]["drag"] = "gidaspow"
+    case["coupling"]["interpolation"] = interpolation
     out = case.setdefault("output", {})
     for k in ("vtk", "particles_csv", "checkpoint"):
         out.pop(k, None)
@@ -124,12 +127,14 @@ def main():
     ap.add_argument("--grainflow", default=os.path.join(ROOT, "build/release/grainflow"))
     ap.add_argument("--case", default=os.path.join(ROOT, "cases/cfd_dem/fluidized_bed/case.yaml"))
     ap.add_argument("--end", type=float, default=0.1, help="simulated time, s (default 0.1)")
+    ap.add_argument("--interpolation", choices=["cell", "trilinear"], default="cell",
+                    help="grainflow's coupling.interpolation (default cell, as DPMFoam's here)")
     ap.add_argument("--append", action="store_true", help="append a section to bench/RESULTS-cfd_dem.md")
     a = ap.parse_args()
     load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as t:
         os.makedirs(f"{t}/g"), os.makedirs(f"{t}/o")
-        g = run_grainflow(os.path.abspath(a.grainflow), a.case, a.end, f"{t}/g")
+        g = run_grainflow(os.path.abspath(a.grainflow), a.case, a.end, f"{t}/g", a.interpolation)
         o = run_openfoam(a.end, f"{t}/o")
     load1 = os.getloadavg()[0]
     model, cores = machine()
@@ -155,6 +160,7 @@ def main():
         f"**{o['wall'] / g['wall']:.1f}**; particle-steps/s grainflow / DPMFoam: "
         f"**{g_ps / o_ps:.1f}** (DPMFoam takes {o['substeps'] / max(g['steps'], 1):.2f} of "
         f"grainflow's DEM steps: its sub-step follows the current collision speed); "
+        f"grainflow with `interpolation: {a.interpolation}`; "
         f"1 thread each; load average {load0:.2f} -> {load1:.2f}\n")
     print(text)
     if a.append:
