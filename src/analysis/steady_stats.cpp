@@ -102,6 +102,20 @@ BlockAverage block_average(std::span<const double> x, std::size_t min_blocks) {
   return r;
 }
 
+double drift_in_standard_errors(std::span<const double> x) {
+  if (x.size() < 4) return std::numeric_limits<double>::quiet_NaN();
+  const std::size_t h = x.size() / 2;
+  const double shift = x[0];
+  auto mean_of = [shift](std::span<const double> v) {
+    double s = 0;
+    for (double e : v) s += e - shift;
+    return s / static_cast<double>(v.size());
+  };
+  const double diff = mean_of(x.subspan(x.size() - h)) - mean_of(x.first(h));
+  const double se = block_average(x).std_error;  // 0 only for a constant series
+  return se > 0 ? diff / (2 * se) : 0.0;
+}
+
 SteadyAverage steady_average(std::span<const double> x, std::optional<std::size_t> start) {
   SteadyAverage r;
   r.start = start ? *start : mser_truncation(x);

@@ -10,6 +10,11 @@
 //   mean, sqrt(sum (x - mean)^2 / (n (n - 1))), is computed on the series and on its successive
 //   pairwise averages (an odd last value is dropped) while at least `min_blocks` blocks remain;
 //   the largest estimate over the levels is reported (conservative plateau value).
+// - Drift check: MSER finds the best start but never says "not steady" (a series that still
+//   decays at the end gets a window anyway). The window's drift is the difference of the means
+//   of its second and first halves in units of their standard error, 2 SE of the window's mean
+//   (each half has about twice the window's variance of the mean); more than 3 says the run is
+//   too short for a steady average.
 #pragma once
 
 #include <cstddef>
@@ -43,6 +48,10 @@ struct SteadyAverage {
   BlockAverage avg;       ///< over x[start..]
   std::size_t start = 0;  ///< first sample of the steady window
 };
+
+/// (mean of the second half of x - mean of its first half) / (2 block_average(x).std_error):
+/// the drift over x in standard errors; 0 for a constant series, NaN for fewer than 4 samples.
+double drift_in_standard_errors(std::span<const double> x);
 
 /// Block average over x[start..], with `start` given or else mser_truncation(x).
 SteadyAverage steady_average(std::span<const double> x, std::optional<std::size_t> start = {});

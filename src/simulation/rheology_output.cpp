@@ -112,6 +112,15 @@ RheologySummary RheologyOutput::finish(const Simulation& sim) {
   if (start + 2 > times_.size()) start = times_.size() - 2;
   out.steady_start = times_[start];
   out.samples = times_.size() - start;
+  const char* drifting = nullptr;
+  for (const char* q : {"granular_temperature", "pressure", "sigma_xz"}) {
+    const double z = analysis::drift_in_standard_errors(
+        std::span<const double>(values_[column_index(q)]).subspan(start));
+    if (std::abs(z) > std::abs(out.drift)) {
+      out.drift = z;
+      drifting = q;
+    }
+  }
 
   // Kinetic theory for volume-equivalent spheres at the measured volume fraction and rate.
   std::vector<double> kt(cols.size(), std::numeric_limits<double>::quiet_NaN());
@@ -155,6 +164,7 @@ RheologySummary RheologyOutput::finish(const Simulation& sim) {
     o << "quantity,mean,std_error,kinetic_theory\n";
     o << fmt::format("steady_start_time,{:.10g},0,nan\n", out.steady_start);
     o << fmt::format("samples,{},0,nan\n", out.samples);
+    o << fmt::format("steady_drift,{:.4g},0,nan\n", out.drift);
     for (const auto& r : out.rows)
       o << fmt::format("{},{:.10g},{:.10g},{:.10g}\n", r.quantity, r.mean, r.std_error,
                        r.kinetic_theory);
@@ -163,6 +173,12 @@ RheologySummary RheologyOutput::finish(const Simulation& sim) {
       "rheology: steady state from t = {:.4g} s ({} samples); mean +- standard error, "
       "kinetic theory (Lun et al. 1984, volume-equivalent spheres):",
       out.steady_start, out.samples);
+  if (drifting && std::abs(out.drift) > 3)
+    log::warn(
+        "rheology: {} drifts over the averaging window ({:+.1f} standard errors between its "
+        "halves; steady runs exceed 3 in a few % of cases): the averages are likely not "
+        "steady; run longer (shear.strain) or set analysis.rheology.start",
+        drifting, out.drift);
   for (const char* q : {"volume_fraction", "shear_rate", "granular_temperature", "pressure",
                         "sigma_xz", "friction", "N1", "N2", "alignment_angle"}) {
     const auto* r = out.find(q);

@@ -28,6 +28,9 @@ struct RheologySummaryRow {
 struct RheologySummary {
   double steady_start = 0;  ///< s, first sample of the average
   std::size_t samples = 0;  ///< samples averaged
+  /// Largest |drift| of T, P and sigma_xz over the window, in standard errors (signed; see
+  /// analysis::drift_in_standard_errors); beyond 3 the window is not steady.
+  double drift = 0;
   std::vector<RheologySummaryRow> rows;
   const RheologySummaryRow* find(const std::string& q) const;
 };
