@@ -14,7 +14,7 @@
 //   decays at the end gets a window anyway). The window's drift is the difference of the means
 //   of its second and first halves in units of their standard error, 2 SE of the window's mean
 //   (each half has about twice the window's variance of the mean); more than 3 says the run is
-//   too short for a steady average.
+//   likely too short for a steady average.
 #pragma once
 
 #include <cstddef>

@@ -113,6 +113,7 @@ RheologySummary RheologyOutput::finish(const Simulation& sim) {
   out.steady_start = times_[start];
   out.samples = times_.size() - start;
   const char* drifting = nullptr;
+  if (out.samples < 4) out.drift = std::numeric_limits<double>::quiet_NaN();
   for (const char* q : {"granular_temperature", "pressure", "sigma_xz"}) {
     const double z = analysis::drift_in_standard_errors(
         std::span<const double>(values_[column_index(q)]).subspan(start));

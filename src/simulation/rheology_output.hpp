@@ -29,7 +29,8 @@ struct RheologySummary {
   double steady_start = 0;  ///< s, first sample of the average
   std::size_t samples = 0;  ///< samples averaged
   /// Largest |drift| of T, P and sigma_xz over the window, in standard errors (signed; see
-  /// analysis::drift_in_standard_errors); beyond 3 the window is not steady.
+  /// analysis::drift_in_standard_errors; NaN for fewer than 4 samples); beyond 3 the window is
+  /// likely not steady.
   double drift = 0;
   std::vector<RheologySummaryRow> rows;
   const RheologySummaryRow* find(const std::string& q) const;
