@@ -102,18 +102,23 @@ BlockAverage block_average(std::span<const double> x, std::size_t min_blocks) {
   return r;
 }
 
-double drift_in_standard_errors(std::span<const double> x) {
+namespace {
+
+/// (mean of the second half of x - mean of its first half) / (2 se), se the standard error of
+/// x's mean; NaN for fewer than 4 samples, 0 for se = 0 (a constant series).
+double halves_drift(std::span<const double> x, double se) {
   if (x.size() < 4) return std::numeric_limits<double>::quiet_NaN();
+  if (!(se > 0)) return 0.0;
   const std::size_t h = x.size() / 2;
-  const double shift = x[0];
-  auto mean_of = [shift](std::span<const double> v) {
-    double s = 0;
-    for (double e : v) s += e - shift;
-    return s / static_cast<double>(v.size());
-  };
-  const double diff = mean_of(x.subspan(x.size() - h)) - mean_of(x.first(h));
-  const double se = block_average(x).std_error;  // 0 only for a constant series
-  return se > 0 ? diff / (2 * se) : 0.0;
+  double diff = 0;  // sum of (late - early) pairs: no offset to cancel, one pass
+  for (std::size_t i = 0; i < h; ++i) diff += x[x.size() - h + i] - x[i];
+  return diff / static_cast<double>(h) / (2 * se);
+}
+
+}  // namespace
+
+double drift_in_standard_errors(std::span<const double> x) {
+  return halves_drift(x, block_average(x).std_error);
 }
 
 SteadyAverage steady_average(std::span<const double> x, std::optional<std::size_t> start) {
@@ -121,6 +126,7 @@ SteadyAverage steady_average(std::span<const double> x, std::optional<std::size_
   r.start = start ? *start : mser_truncation(x);
   REQUIRE(r.start <= x.size(), "steady_average: start {} beyond the {} samples", r.start, x.size());
   r.avg = block_average(x.subspan(r.start));
+  r.drift = halves_drift(x.subspan(r.start), r.avg.std_error);
   return r;
 }
 

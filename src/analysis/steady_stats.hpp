@@ -47,6 +47,7 @@ BlockAverage block_average(std::span<const double> x, std::size_t min_blocks = 1
 struct SteadyAverage {
   BlockAverage avg;       ///< over x[start..]
   std::size_t start = 0;  ///< first sample of the steady window
+  double drift = 0;       ///< drift_in_standard_errors of the window (from avg's std_error)
 };
 
 /// (mean of the second half of x - mean of its first half) / (2 block_average(x).std_error):

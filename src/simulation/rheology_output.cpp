@@ -21,6 +21,9 @@ namespace gf {
 
 namespace {
 
+/// The series that choose the steady window (MSER) and are checked for drift.
+constexpr const char* kKeyQuantities[] = {"granular_temperature", "pressure", "sigma_xz"};
+
 std::size_t column_index(const std::string& name) {
   const auto& cols = analysis::rheology_columns();
   for (std::size_t k = 0; k < cols.size(); ++k)
@@ -105,31 +108,27 @@ RheologySummary RheologyOutput::finish(const Simulation& sim) {
     while (start < times_.size() && times_[start] < *cfg.analysis.rheology->start) ++start;
   } else {
     std::vector<std::span<const double>> key;
-    for (const char* q : {"granular_temperature", "pressure", "sigma_xz"})
-      key.emplace_back(values_[column_index(q)]);
+    for (const char* q : kKeyQuantities) key.emplace_back(values_[column_index(q)]);
     start = analysis::common_truncation(key);
   }
   if (start + 2 > times_.size()) start = times_.size() - 2;
   out.steady_start = times_[start];
   out.samples = times_.size() - start;
-  const char* drifting = nullptr;
-  if (out.samples < 4) out.drift = std::numeric_limits<double>::quiet_NaN();
-  for (const char* q : {"granular_temperature", "pressure", "sigma_xz"}) {
-    const double z = analysis::drift_in_standard_errors(
-        std::span<const double>(values_[column_index(q)]).subspan(start));
-    if (std::abs(z) > std::abs(out.drift)) {
-      out.drift = z;
-      drifting = q;
-    }
-  }
 
-  // Kinetic theory for volume-equivalent spheres at the measured volume fraction and rate.
-  std::vector<double> kt(cols.size(), std::numeric_limits<double>::quiet_NaN());
+  // Steady averages of every column; the largest drift of the key ones.
   std::vector<RheologySummaryRow> rows;
+  const char* drifting = nullptr;  // the key quantity with the largest |drift|
+  if (out.samples < 4) out.drift = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t k = 0; k < cols.size(); ++k) {
     const auto a = analysis::steady_average(values_[k], start);
     rows.push_back({cols[k], a.avg.mean, a.avg.std_error, std::nan("")});
+    for (const char* q : kKeyQuantities)
+      if (cols[k] == q && std::abs(a.drift) > std::abs(out.drift)) {
+        out.drift = a.drift;
+        drifting = q;
+      }
   }
+  // Kinetic theory for volume-equivalent spheres at the measured volume fraction and rate.
   const double e = grain_restitution(cfg);
   const double phi = rows[column_index("volume_fraction")].mean;
   const double rate = rows[column_index("shear_rate")].mean;
