@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
+#include "coupling/cfd_dem/hydro_torque.hpp"
 #include "coupling/cfd_dem/shape_factors.hpp"
 #include "particles/particle_store.hpp"
 
@@ -96,6 +97,7 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   pressure_gradient_force_ = cp.pressure_gradient_force;
   point_read_ =
       cp.interpolation == "cell" ? cfd_dem::PointRead::CellValue : cfd_dem::PointRead::Trilinear;
+  torque_ = cp.torque == "rotational";
 
   // Pressure drop and superficial velocity along gravity's axis (the axis of a bed).
   const Vec3 g = cfg.gravity;
@@ -112,6 +114,7 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   f_beta_ = particles.add_field("fluid_beta", FieldType::Real, "N s/m", kRestart);
   f_uf_ = particles.add_field("fluid_velocity", FieldType::Vec3, "m/s", kRestart | kOutput);
   f_fixed_ = particles.add_field("fluid_force_fixed", FieldType::Vec3, "N", kRestart);
+  if (torque_) f_spin_ = particles.add_field("fluid_spin", FieldType::Vec3, "rad/s", kRestart);
 }
 
 void CfdDemCoupling::fluid_step(ParticleStore& particles) {
@@ -213,6 +216,14 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
     const auto k = static_cast<std::size_t>(i);
     fixed[k] = beta[k] * uf[k] + cfd_dem::pressure_gradient_force(geo.volume(k), gradp_p_[k]);
   });
+  if (torque_) {
+    // The fluid's rotation rate at the grains, read like its velocity (the torque itself
+    // follows the grain's angular velocity at every DEM step, in add_forces).
+    cell_spin_.resize(nc);
+    fluid_->cell_spins(cell_spin_);
+    cfd_dem::interpolate_at(grid_, stencils_, std::span<const Vec3>(cell_spin_),
+                            particles.get<Vec3>(f_spin_));
+  }
   seconds_ += seconds_since(t0);
 }
 
@@ -251,7 +262,30 @@ void CfdDemCoupling::add_forces(ParticleStore& particles) const {
   Vec3* f = particles.f();
   exec::parallel_for(static_cast<exec::index_t>(n),
                      [&](exec::index_t i) { f[i] += fixed[i] - beta[i] * v[i]; });
+  if (torque_) add_torques(particles);
   force_seconds_ += seconds_since(t0);
+}
+
+void CfdDemCoupling::add_torques(ParticleStore& particles) const {
+  const std::size_t n = particles.size();
+  const Vec3* spin = std::as_const(particles).get<Vec3>(f_spin_).data();
+  const Vec3* omega = particles.omega();
+  const double* radius = particles.radius();
+  const bool shapes = particles.has_shapes();
+  const std::int32_t* shape = shapes ? particles.shape() : nullptr;
+  const double* half = shapes ? particles.half_length() : nullptr;
+  const Quat* orientation = shapes ? particles.orientation() : nullptr;
+  Vec3* torque = particles.torque();
+  const double rho = rho_f_, mu = mu_f_;
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    const bool rod = shapes && static_cast<ShapeCode>(shape[i]) == ShapeCode::Spherocylinder;
+    const double h = rod ? half[i] : 0.0;
+    const double r = radius[i] - h;  // the store keeps the bounding radius r + l/2
+    const Vec3 axis = rod ? rotate(orientation[i], Vec3{0, 0, 1}) : Vec3{0, 0, 1};
+    const double d_v = 2.0 * std::cbrt(r * r * (r + 1.5 * h));  // (6 V / pi)^(1/3)
+    torque[i] += cfd_dem::hydrodynamic_torque(cfd_dem::rotational_resistance(mu, r, h), axis,
+                                              spin[i], omega[i], rho, mu, d_v);
+  });
 }
 
 double CfdDemCoupling::pressure_drop() const {

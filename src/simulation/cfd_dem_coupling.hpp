@@ -44,7 +44,8 @@ class CfdDemCoupling {
 
   /// Steps 1-5 above (advances the fluid by interval x dem_dt).
   void fluid_step(ParticleStore& particles);
-  /// Adds drag and pressure-gradient forces to the particles' force column.
+  /// Adds drag and pressure-gradient forces to the particles' force column (and, with
+  /// coupling.torque: rotational, the hydrodynamic torque to their torque column).
   void add_forces(ParticleStore& particles) const;
   /// Whether DEM step number `step` (after it was taken) is due a fluid step.
   [[nodiscard]] bool due(std::int64_t step) const { return step % interval_ == 0; }
@@ -75,6 +76,9 @@ class CfdDemCoupling {
   void write_vti(std::ostream& out) const;
 
  private:
+  /// f(Re_R) R (Omega_f - omega) on every grain (coupling/cfd_dem/hydro_torque.hpp).
+  void add_torques(ParticleStore& particles) const;
+
   fluid::Grid grid_;
   std::unique_ptr<fluid::VolumeAveragedNS> fluid_;
   int interval_ = 1;
@@ -96,6 +100,9 @@ class CfdDemCoupling {
   cfd_dem::SolidFluxScratch solid_flux_;
   double rate_relaxation_ = 0.3;         // under-relaxation of the flux rate between fluid steps
   bool pressure_gradient_force_ = true;  // grains feel -V grad p (else drag only)
+  bool torque_ = false;                  // coupling.torque: rotational
+  int f_spin_ = -1;                      // the fluid's curl(u) / 2 at each grain (with torque_)
+  std::vector<Vec3> cell_spin_;
   cfd_dem::PointRead point_read_ = cfd_dem::PointRead::Trilinear;  // coupling.interpolation
   std::vector<double> rate_new_;    // the flux rate of this step before relaxation
   cfd_dem::Footprints footprints_;  // of the grains at the current fluid step

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <span>
 #include <utility>
 #include <vector>
@@ -153,6 +154,55 @@ TEST(FluidFV, CouetteIsExact) {
             1e-12);
   EXPECT_LE(f.divergence_norm(), 1e-12);
   for (double v : f.face_velocity(1)) EXPECT_LE(std::abs(v), 1e-12);
+}
+
+// The fluid's rotation rate curl(u) / 2 at cell centres: on the Couette flow above (u = y) it is
+// -1/2 about z in every cell, the cells at the walls included (their differences reach the
+// wall's velocity half a cell away); exact for a linear profile. The velocities carry the 1e-12
+// of CouetteIsExact; a difference over half a cell (1/16) amplifies that 16 times: 1e-10.
+TEST(FluidFV, CellSpinOfCouetteIsHalfTheShearRate) {
+  FluidSettings s = settings(1.0, 1.0);
+  set_bc(s, BoxFace::XMin, BoundaryCondition::periodic());
+  set_bc(s, BoxFace::XMax, BoundaryCondition::periodic());
+  set_bc(s, BoxFace::YMin, BoundaryCondition::no_slip());
+  set_bc(s, BoxFace::YMax, BoundaryCondition::moving_wall({1.0, 0, 0}));
+  VolumeAveragedNS f(grid2d(4, 8, 1.0, 1.0, true, false), s);
+  ASSERT_LE(run_steady(f, 0.1, 1.0, 1e-14, 2000), 2000);
+  std::vector<Vec3> spin(static_cast<std::size_t>(f.grid().cell_count()));
+  f.cell_spins(spin);
+  for (const Vec3& w : spin) {
+    EXPECT_NEAR(w.z, -0.5, 1e-10);
+    EXPECT_EQ(w.x, 0.0);
+    EXPECT_EQ(w.y, 0.0);
+  }
+}
+
+// In 3D, u = (sin kz, sin kx, sin ky) on a periodic box: each component is constant along its
+// own axis, so its cell-centre value is the face value, and the central difference across h of
+// sin(k s) is k cos(k s) sin(kh) / (kh) exactly: spin = (cos ky, cos kz, cos kx) sin(kh) / (2h)
+// to round-off. Checks every component's sign and axis.
+TEST(FluidFV, CellSpinOfPeriodicShearWaves3D) {
+  FluidSettings s = settings(1.0, 1.0);
+  for (int face = 0; face < 6; ++face) s.boundary[face] = BoundaryCondition::periodic();
+  Grid g;
+  g.dimension = 3;
+  g.n = {8, 8, 8};
+  g.h = {0.125, 0.125, 0.125};
+  g.periodic = {true, true, true};
+  VolumeAveragedNS f(g, s);
+  const double k = 2 * std::numbers::pi, h = 0.125;
+  f.set_velocity([&](const Vec3& x) {
+    return Vec3{std::sin(k * x.z), std::sin(k * x.x), std::sin(k * x.y)};
+  });
+  const double c = std::sin(k * h) / (2 * h);
+  for (std::int64_t cell = 0; cell < g.cell_count(); ++cell) {
+    const auto [i, j, l] = g.cell_coords(cell);
+    const Vec3 x = g.cell_center(i, j, l);
+    const Vec3 w = f.cell_spin(cell);
+    EXPECT_NEAR(w.x, c * std::cos(k * x.y), 1e-12);
+    EXPECT_NEAR(w.y, c * std::cos(k * x.z), 1e-12);
+    EXPECT_NEAR(w.z, c * std::cos(k * x.x), 1e-12);
+  }
 }
 
 // Plane Poiseuille flow driven by a body force (rho g_x = 8 mu / H^2, u_max = 1). Analysis of

@@ -671,4 +671,11 @@ void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
   interpolate_two(g, s, field_a, out_a, field_b, out_b);
 }
 
+void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
+                    std::span<const Vec3> field, std::span<Vec3> out) {
+  check_interpolation(g, field, s.size(), out.size());
+  exec::parallel_for(static_cast<exec::index_t>(s.size()),
+                     [&](exec::index_t i) { out[i] = interpolate(s[i], field.data()); });
+}
+
 }  // namespace gf::cfd_dem

@@ -195,5 +195,8 @@ void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
 void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
                     std::span<const Vec3> field_a, std::span<Vec3> out_a,
                     std::span<const Vec3> field_b, std::span<Vec3> out_b);
+/// One field at the points of stencils s.
+void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
+                    std::span<const Vec3> field, std::span<Vec3> out);
 
 }  // namespace gf::cfd_dem

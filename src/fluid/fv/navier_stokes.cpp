@@ -1001,6 +1001,42 @@ Vec3 VolumeAveragedNS::pressure_gradient(std::int64_t cell) const {
   return g;
 }
 
+Vec3 VolumeAveragedNS::cell_spin(std::int64_t cell) const {
+  const Index3 q = unflatten_cell(cell);
+  const Vec3 u_c = cell_velocity(cell);
+  double grad[3][3] = {};  // grad[b][a] = d u_a / d x_b
+  for (int b = 0; b < dim_; ++b) {
+    Vec3 u_side[2];
+    double dist = 0.0;  // between the two points the difference is taken over
+    for (int side = 0; side < 2; ++side) {
+      Index3 nb = q;
+      nb[b] += side == 0 ? -1 : 1;
+      if ((nb[b] >= 0 && nb[b] < grid_.n[b]) || grid_.periodic[b]) {
+        nb[b] = grid_.fold(b, nb[b]);
+        u_side[side] = cell_velocity(grid_.index(nb[0], nb[1], nb[2]));
+        dist += grid_.h[b];
+      } else if (bc(b, side).kind == BcKind::PressureOutlet) {
+        u_side[side] = u_c;  // zero normal gradient: a one-sided difference
+      } else {
+        for (int a = 0; a < dim_; ++a)
+          if (a != b) u_side[side][a] = boundary_velocity(b, side, a, q);
+        dist += 0.5 * grid_.h[b];
+      }
+    }
+    if (dist == 0.0) continue;  // outlets on both sides of a single cell
+    // Only the tangential components enter the curl.
+    for (int a = 0; a < dim_; ++a) grad[b][a] = (u_side[1][a] - u_side[0][a]) / dist;
+  }
+  return {0.5 * (grad[1][2] - grad[2][1]), 0.5 * (grad[2][0] - grad[0][2]),
+          0.5 * (grad[0][1] - grad[1][0])};
+}
+
+void VolumeAveragedNS::cell_spins(std::span<Vec3> out) const {
+  REQUIRE(out.size() == static_cast<std::size_t>(grid_.cell_count()),
+          "fluid: cell_spins needs {} entries, got {}", grid_.cell_count(), out.size());
+  exec::parallel_for(grid_.cell_count(), [&](exec::index_t c) { out[c] = cell_spin(c); });
+}
+
 void VolumeAveragedNS::cell_velocities(std::span<Vec3> out) const {
   REQUIRE(out.size() == static_cast<std::size_t>(grid_.cell_count()),
           "fluid: cell_velocities needs {} entries, got {}", grid_.cell_count(), out.size());

@@ -272,6 +272,10 @@ struct Coupling {
   /// How grains read the fluid's velocity, fraction and pressure gradient: "trilinear" between
   /// cell centres or "cell" (the value of the cell containing the grain's centre)
   std::string interpolation = "trilinear";
+  /// Hydrodynamic torque on the grains: "none" (Mahajan et al.'s shear boxes) or "rotational"
+  /// (viscous resistance to rotating relative to the fluid's curl(u) / 2; Stokes with Dennis et
+  /// al.'s inertia factor, coupling/cfd_dem/hydro_torque.hpp)
+  std::string torque = "none";
   SourceLoc loc;
 };
 

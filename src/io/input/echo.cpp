@@ -468,6 +468,7 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     key_number(out, "rate_relaxation", cp.rate_relaxation);
     out << YAML::Key << "pressure_gradient_force" << YAML::Value << cp.pressure_gradient_force;
     out << YAML::Key << "interpolation" << YAML::Value << cp.interpolation;
+    out << YAML::Key << "torque" << YAML::Value << cp.torque;
     out << YAML::EndMap << YAML::Comment("fluid dt = interval x time.step");
   }
 

@@ -390,7 +390,7 @@ void Reader::read_coupling(const YamlMap& root) {
   if (!c.fluid)
     cn->fail("a coupling: block needs a fluid: block (density, viscosity, cells, boundary)");
   YamlMap cm(*cn, {"drag", "fluid_fraction", "interval", "min_fraction", "fluid_fraction_rate",
-                   "rate_relaxation", "pressure_gradient_force", "interpolation"});
+                   "rate_relaxation", "pressure_gradient_force", "interpolation", "torque"});
   config::Coupling cp;
   cp.loc = cn->loc();
   const YamlNode dn = cm.at("drag");
@@ -411,6 +411,7 @@ void Reader::read_coupling(const YamlMap& root) {
   cp.rate_relaxation = cm.number_or("rate_relaxation", 0.3, Range{0.0, 1.0, true, false});
   cp.pressure_gradient_force = cm.boolean_or("pressure_gradient_force", true);
   if (auto ip = cm.find("interpolation")) cp.interpolation = ip->as_choice({"trilinear", "cell"});
+  if (auto tq = cm.find("torque")) cp.torque = tq->as_choice({"none", "rotational"});
   c.coupling = std::move(cp);
 }
 
