@@ -29,13 +29,15 @@ constexpr double kPiD = std::numbers::pi;
 
 class CfdDemValidation : public ::testing::Test {};
 
-/// The grains of every case below: glass spheres of d = 2 mm (material, contact law, shape).
-constexpr const char* kGlassSpheres = R"(materials:
+/// Glass (material, contact law) and the start of the particle list.
+constexpr const char* kGlass = R"(materials:
   glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
 contacts:
   - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
 particles:
-  - shape: sphere
+)";
+/// ... with the grains of most cases below: glass spheres of d = 2 mm.
+const std::string kGlassSpheres = std::string(kGlass) + R"(  - shape: sphere
     radius: 0.001
     material: glass
 )";
@@ -66,7 +68,7 @@ double schiller_naumann_terminal(double d, double rho_p, double rho_f, double mu
 std::pair<double, double> settle_in_oil(const std::string& coupling) {
   const std::string text = R"(time: {step: 1.0e-5, end: 0.2}
 domain: {min: [0, 0, 0], max: [0.06, 0.06, 0.2]}
-)" + std::string(kGlassSpheres) +
+)" + kGlassSpheres +
                            R"(    positions: [[0.03, 0.03, 0.17]]
 fluid: {density: 1000, viscosity: 0.1, cells: [3, 3, 10]}
 coupling: )" + coupling + "\n";
@@ -117,27 +119,30 @@ TEST_F(CfdDemValidation, WithoutThePressureGradientForceTheGrainFeelsNoBuoyancy)
   EXPECT_NEAR(v, v_sn, 0.02 * v_sn) << "v = " << v << " m/s, Schiller-Naumann " << v_sn;
 }
 
-/// x-velocity of a glass sphere carried by a plane Couette flow of a viscous liquid (walls at
-/// z = 0 and 0.04 m sliding at -/+0.1 m/s, 4 cells across: the finite-volume solution of a
-/// linear profile is exact, u = 0.1 (z / 0.02 - 1)), released at rest at height z0, after 0.2 s.
-double carried_by_couette(const std::string& interpolation, double z0) {
+/// Velocity and angular velocity of a glass sphere carried by a plane Couette flow of a viscous
+/// liquid (walls at z = 0 and 0.04 m sliding at -/+0.1 m/s, 4 cells across: the finite-volume
+/// solution of a linear profile is exact, u = 0.1 (z / 0.02 - 1)), released at rest at height
+/// z0, after 0.2 s; `option` is one more coupling key (e.g. "interpolation: cell").
+struct GrainState {
+  Vec3 v, omega;
+};
+GrainState carried_by_couette(const std::string& option, double z0) {
   const std::string text = R"(time: {step: 1.0e-5, end: 0.2}
 domain: {min: [0, 0, 0], max: [0.04, 0.04, 0.04], periodic: [true, true, false]}
 gravity: [0, 0, 0]
-)" + std::string(kGlassSpheres) +
-                           fmt_position(z0) +
+)" + kGlassSpheres + fmt_position(z0) +
                            R"(fluid:
   density: 1000
   viscosity: 10
   cells: [2, 2, 4]
   boundary: {zmin: {moving_wall: [-0.1, 0, 0]}, zmax: {moving_wall: [0.1, 0, 0]}}
-coupling: {drag: schiller_naumann, interval: 10, interpolation: )" +
-                           interpolation + "}\n";
+coupling: {drag: schiller_naumann, interval: 10, )" +
+                           option + "}\n";
   const auto cfg = input::load_case_text(text, "couette.yaml");
   Simulation sim(cfg);
   const auto steps = static_cast<std::int64_t>(std::llround(0.2 / cfg.time.step));
   while (sim.step_count() < steps) sim.step();
-  return sim.particles().v()[0].x;
+  return {sim.particles().v()[0], sim.particles().omega()[0]};
 }
 
 TEST_F(CfdDemValidation, CellInterpolationReadsTheCellValueTrilinearTheProfile) {
@@ -152,8 +157,8 @@ TEST_F(CfdDemValidation, CellInterpolationReadsTheCellValueTrilinearTheProfile) 
   // grain's cell was pushed off the profile by 5 % and the trilinear grain moved at -0.0391
   // m/s, +4.3 %). Measured: -0.03750 and -0.02500 m/s (2e-5 and 1e-4 relative); 1 % is
   // far below the 33 % between the two reads and the 4.3 % of an inconsistent exchange.
-  const double v_tri = carried_by_couette("trilinear", 0.0125);
-  const double v_cell = carried_by_couette("cell", 0.0125);
+  const double v_tri = carried_by_couette("interpolation: trilinear", 0.0125).v.x;
+  const double v_cell = carried_by_couette("interpolation: cell", 0.0125).v.x;
   std::printf("couette: trilinear %.6g m/s (profile -0.0375), cell %.6g m/s (cell -0.025)\n", v_tri,
               v_cell);
   EXPECT_NEAR(v_tri, -0.0375, 0.01 * 0.0375);
@@ -162,33 +167,11 @@ TEST_F(CfdDemValidation, CellInterpolationReadsTheCellValueTrilinearTheProfile) 
 
 // --- Hydrodynamic torque (coupling.torque: rotational) ------------------------------------------
 
-/// Angular velocity of a glass sphere in the Couette flow of carried_by_couette (shear rate
-/// 0.2 / 0.04 = 5 1/s, u = (5 (z - 0.02), 0, 0)), released without spin at z = 0.0125 m, after
-/// 0.2 s, with the coupling's torque setting.
-Vec3 spin_in_couette(const std::string& torque) {
-  const std::string text = R"(time: {step: 1.0e-5, end: 0.2}
-domain: {min: [0, 0, 0], max: [0.04, 0.04, 0.04], periodic: [true, true, false]}
-gravity: [0, 0, 0]
-)" + std::string(kGlassSpheres) +
-                           fmt_position(0.0125) +
-                           R"(fluid:
-  density: 1000
-  viscosity: 10
-  cells: [2, 2, 4]
-  boundary: {zmin: {moving_wall: [-0.1, 0, 0]}, zmax: {moving_wall: [0.1, 0, 0]}}
-coupling: {drag: schiller_naumann, interval: 10, torque: )" +
-                           torque + "}\n";
-  const auto cfg = input::load_case_text(text, "couette_spin.yaml");
-  Simulation sim(cfg);
-  const auto steps = static_cast<std::int64_t>(std::llround(0.2 / cfg.time.step));
-  while (sim.step_count() < steps) sim.step();
-  return sim.particles().omega()[0];
-}
-
 TEST_F(CfdDemValidation, TorqueTurnsASphereWithTheFluidsRotation) {
-  // A sphere in simple shear u = gamma_dot z e_x turns at half the vorticity, omega_y =
+  // A sphere in simple shear u = gamma_dot z e_x (carried_by_couette: 5 1/s) turns at half the
+  // vorticity, omega_y =
   // gamma_dot / 2 = 2.5 rad/s, where the Stokes torque pi mu d^3 (curl u / 2 - omega) vanishes.
-  // The fluid's rotation rate is exact on the linear profile (FluidFV.CellSpin*), and the
+  // The fluid's rotation rate is exact on the linear profile (FluidFV.CouetteIsExact), and the
   // rotational response time rho_p d^2 / (60 mu) = 17 us is short against the run: the grain sits
   // at the fixed point, where any stable time integration is exact (the fluid's start from rest
   // has decayed to exp(-pi^2 nu t / H^2) = 4e-6 at t = 0.2 s). What moves the fixed point is the
@@ -198,29 +181,24 @@ TEST_F(CfdDemValidation, TorqueTurnsASphereWithTheFluidsRotation) {
   // exact values, steady from t = 0.1 s on). Tolerance 1e-3; a wrong factor (curl instead of
   // curl / 2) is off by 100 %. Without the torque no force turns the grain (no contacts): omega
   // stays 0.
-  const Vec3 w = spin_in_couette("rotational");
+  const Vec3 w = carried_by_couette("torque: rotational", 0.0125).omega;
   std::printf("couette spin: omega = (%.9g, %.9g, %.9g) rad/s (gamma_dot / 2 = 2.5)\n", w.x, w.y,
               w.z);
   EXPECT_NEAR(w.y, 2.5, 1e-3 * 2.5);
   EXPECT_NEAR(w.x, 0.0, 1e-9);
   EXPECT_NEAR(w.z, 0.0, 1e-9);
-  const Vec3 w0 = spin_in_couette("none");
+  const Vec3 w0 = carried_by_couette("torque: none", 0.0125).omega;
   EXPECT_EQ(norm(w0), 0.0);
 }
 
-/// Angular velocity component `axis_out` of one grain spun at omega0 about `spin` in oil at rest
-/// (rho 1000, mu 0.1 Pa s, closed box, no gravity), after time t; `grain` is the particle group
-/// (shape lines, position, axes, angular velocity).
+/// |omega| of one glass grain after time t spinning in oil at rest (rho 1000, mu 0.1 Pa s, closed
+/// box, no gravity); `grain` is its particle group (shape, position, axis, angular velocity).
 double spin_down(const std::string& grain, double t) {
   const std::string text = R"(time: {step: 1.0e-6, end: 0.01}
 domain: {min: [0, 0, 0], max: [0.03, 0.03, 0.03]}
 gravity: [0, 0, 0]
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
-contacts:
-  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
-particles:
-)" + grain + R"(fluid: {density: 1000, viscosity: 0.1, cells: [3, 3, 3]}
+)" + std::string(kGlass) + grain +
+                           R"(fluid: {density: 1000, viscosity: 0.1, cells: [3, 3, 3]}
 coupling: {drag: schiller_naumann, interval: 10, torque: rotational}
 )";
   const auto cfg = input::load_case_text(text, "spin_down.yaml");
@@ -328,7 +306,7 @@ BedRun run_bed(double u, double t_end) {
   const std::string text =
       "time: {step: 1.0e-5, end: " + std::to_string(t_end) + R"(}
 domain: {min: [0, 0, 0], max: [0.012, 0.012, 0.06], periodic: [true, true, false]}
-)" + std::string(kGlassSpheres) +
+)" + kGlassSpheres +
       R"(    fill: {box: {min: [0, 0, 0], max: [0.012, 0.012, 0.036]}, lattice: cubic, spacing: 0.002}
 walls:
   - {name: floor, plane: {point: [0, 0, 0], normal: [0, 0, 1]}, material: glass}
@@ -473,7 +451,7 @@ walls:
 fluid: {density: 1000, viscosity: 0.2, cells: [2, 2, %d]}
 coupling: {drag: di_felice, fluid_fraction: divided, interval: 25}
 )",
-                lx, lx, lz, kGlassSpheres, o, o, o, lx, lx, hs, s, cells_z);
+                lx, lx, lz, kGlassSpheres.c_str(), o, o, o, lx, lx, hs, s, cells_z);
   const auto cfg = input::load_case_text(buf, "hindered.yaml");
   input::validate(cfg);
   Simulation sim(cfg);
