@@ -6,7 +6,9 @@
 # gf_fem_bench_st_unsteady uses, for cross-checking C_D, C_L and dp on the same mesh and step.
 # Start from rest, inflow ramped over 1 s by (1 - cos(pi t)) / 2 (as st_unsteady), first step
 # BDF1. Forces from the residual of the momentum equations (reaction), like grainflow's.
-# Usage: /usr/bin/python3 dolfinx_2d2.py mesh.txt dt t_end out.csv   (CSV: t,cd,cl,dp)
+# Usage: /usr/bin/python3 dolfinx_2d2.py mesh.txt dt t_end out.csv [degree]   (CSV: t,cd,cl,dp)
+# degree 3 runs P3-P2 Taylor-Hood instead of P2-P1: a higher-order discretisation on the same
+# mesh, to tell the P2-P1 discretisation error from the continuum value.
 import sys
 import time
 
@@ -19,10 +21,10 @@ from dolfinx_st import (H, cylinder_unit_velocity, newton_mumps, read_mesh, tayl
                         velocity_bcs)
 
 
-def main(path, dt, t_end, out):
+def main(path, dt, t_end, out, degree=2):
     x, cells = read_mesh(path)
     n_cells = len(cells)
-    msh, W, V = taylor_hood(x, cells)
+    msh, W, V = taylor_hood(x, cells, degree)
     u_max = 1.5
 
     def ramp(t):
@@ -89,4 +91,5 @@ def main(path, dt, t_end, out):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), sys.argv[4])
+    main(sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), sys.argv[4],
+         int(sys.argv[5]) if len(sys.argv) > 5 else 2)
