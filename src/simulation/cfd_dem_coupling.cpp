@@ -270,21 +270,14 @@ void CfdDemCoupling::add_torques(ParticleStore& particles) const {
   const std::size_t n = particles.size();
   const Vec3* spin = std::as_const(particles).get<Vec3>(f_spin_).data();
   const Vec3* omega = particles.omega();
-  const double* radius = particles.radius();
-  const bool shapes = particles.has_shapes();
-  const std::int32_t* shape = shapes ? particles.shape() : nullptr;
-  const double* half = shapes ? particles.half_length() : nullptr;
-  const Quat* orientation = shapes ? particles.orientation() : nullptr;
   Vec3* torque = particles.torque();
-  const double rho = rho_f_, mu = mu_f_;
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
-    const bool rod = shapes && static_cast<ShapeCode>(shape[i]) == ShapeCode::Spherocylinder;
-    const double h = rod ? half[i] : 0.0;
-    const double r = radius[i] - h;  // the store keeps the bounding radius r + l/2
-    const Vec3 axis = rod ? rotate(orientation[i], Vec3{0, 0, 1}) : Vec3{0, 0, 1};
-    const double d_v = 2.0 * std::cbrt(r * r * (r + 1.5 * h));  // (6 V / pi)^(1/3)
-    torque[i] += cfd_dem::hydrodynamic_torque(cfd_dem::rotational_resistance(mu, r, h), axis,
-                                              spin[i], omega[i], rho, mu, d_v);
+    const auto g = cfd_dem::grain_shape(particles, static_cast<std::size_t>(i));
+    const double d_v = cfd_dem::volume_equivalent_diameter(
+        cfd_dem::spherocylinder_volume(g.radius, 2.0 * g.half_length));
+    torque[i] +=
+        cfd_dem::hydrodynamic_torque(cfd_dem::rotational_resistance(mu_f_, g.radius, g.half_length),
+                                     g.axis, spin[i], omega[i], rho_f_, mu_f_, d_v);
   });
 }
 

@@ -345,6 +345,14 @@ double ParticleGeometry::volume(std::size_t i) const {
   return spherocylinder_volume(radius[i], 2.0 * half(i));
 }
 
+GrainShape grain_shape(const ParticleStore& s, std::size_t i) {
+  if (!s.has_shapes()) return {s.radius()[i], 0.0, Vec3{0, 0, 1}};
+  const bool rod = static_cast<ShapeCode>(s.shape()[i]) == ShapeCode::Spherocylinder;
+  const double h = rod ? s.half_length()[i] : 0.0;
+  // The store keeps the bounding radius r + l/2.
+  return {s.radius()[i] - h, h, rotate(s.orientation()[i], Vec3{0, 0, 1})};
+}
+
 ParticleGeometry geometry_of(const ParticleStore& s, StoreGeometry& b) {
   const std::size_t n = s.size();
   ParticleGeometry p;
@@ -364,11 +372,10 @@ ParticleGeometry geometry_of(const ParticleStore& s, StoreGeometry& b) {
           "CFD-DEM coupling supports spheres and spherocylinders only (found a disk or "
           "polygon grain)");
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
-    const bool rod = static_cast<ShapeCode>(s.shape()[i]) == ShapeCode::Spherocylinder;
-    const double h = rod ? s.half_length()[i] : 0.0;
-    b.half_length[i] = h;
-    b.radius[i] = s.radius()[i] - h;  // the store keeps the bounding radius r + l/2
-    b.axis[i] = rotate(s.orientation()[i], Vec3{0, 0, 1});
+    const GrainShape g = grain_shape(s, static_cast<std::size_t>(i));
+    b.half_length[i] = g.half_length;
+    b.radius[i] = g.radius;
+    b.axis[i] = g.axis;
   });
   p.radius = b.radius;
   p.half_length = b.half_length;

@@ -49,6 +49,15 @@ struct StoreGeometry {
   std::vector<Vec3> axis;
 };
 
+/// One grain of a store as the coupling sees it: cap radius (sphere radius), half cylinder
+/// length (0 for a sphere) and unit axis (the orientation applied to e_z; e_z without shapes).
+struct GrainShape {
+  double radius = 0;
+  double half_length = 0;
+  Vec3 axis{0, 0, 1};
+};
+GrainShape grain_shape(const ParticleStore& store, std::size_t i);
+
 /// View of a ParticleStore's spheres and spherocylinders (cap radius = bounding radius -
 /// half_length; axis = orientation applied to e_z). Other shapes: gf::Error.
 ParticleGeometry geometry_of(const ParticleStore& store, StoreGeometry& buffers);
