@@ -128,7 +128,7 @@ TEST(SteadyStats, DriftSeparatesTransientsFromSteadyNoise) {
     decay[k] = std::exp(-double(k) / 100) + 0.01 * normal(rng);
   const std::size_t t = mser_truncation(decay);
   const double z = drift_in_standard_errors(std::span<const double>(decay).subspan(t));
-  EXPECT_LT(z, -3.0);  // falling: the second half's mean is lower
+  EXPECT_LT(z, -3.0);                                // falling: the second half's mean is lower
   EXPECT_DOUBLE_EQ(steady_average(decay).drift, z);  // the window's drift, from its own average
 
   std::vector<double> ar(4000);
