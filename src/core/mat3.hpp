@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Small 3x3 matrix of doubles (inertia tensors, rotation matrices) for the physics kernels.
+// Small 3x3 matrix of doubles (inertia, rotations, velocity gradients) for the physics kernels.
 #pragma once
 
 #include "core/host_device.hpp"
@@ -86,6 +86,16 @@ GF_HOST_DEVICE constexpr Mat3 inverse_symmetric(const Mat3& m) {
   r.a[1][2] = r.a[2][1] = c12 * inv_det;
   r.a[2][2] = c22 * inv_det;
   return r;
+}
+
+/// Rotation rate curl(u) / 2 (rad/s) of a velocity gradient g, g.a[i][j] = d u_i / d x_j (1/s).
+GF_HOST_DEVICE constexpr Vec3 rotation_rate(const Mat3& g) {
+  return {0.5 * (g.a[2][1] - g.a[1][2]), 0.5 * (g.a[0][2] - g.a[2][0]),
+          0.5 * (g.a[1][0] - g.a[0][1])};
+}
+/// Strain rate (g + g^T) / 2 (1/s) of a velocity gradient g.
+GF_HOST_DEVICE constexpr Mat3 strain_rate(const Mat3& g) {
+  return 0.5 * (g + transpose(g));
 }
 
 }  // namespace gf

@@ -114,7 +114,13 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   f_beta_ = particles.add_field("fluid_beta", FieldType::Real, "N s/m", kRestart);
   f_uf_ = particles.add_field("fluid_velocity", FieldType::Vec3, "m/s", kRestart | kOutput);
   f_fixed_ = particles.add_field("fluid_force_fixed", FieldType::Vec3, "N", kRestart);
-  if (torque_) f_spin_ = particles.add_field("fluid_spin", FieldType::Vec3, "rad/s", kRestart);
+  if (torque_) {
+    f_spin_ = particles.add_field("fluid_spin", FieldType::Vec3, "rad/s", kRestart);
+    f_strain_diag_ =
+        particles.add_field("fluid_strain_rate_diagonal", FieldType::Vec3, "1/s", kRestart);
+    f_strain_off_ =
+        particles.add_field("fluid_strain_rate_shear", FieldType::Vec3, "1/s", kRestart);
+  }
 }
 
 void CfdDemCoupling::fluid_step(ParticleStore& particles) {
@@ -217,12 +223,22 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
     fixed[k] = beta[k] * uf[k] + cfd_dem::pressure_gradient_force(geo.volume(k), gradp_p_[k]);
   });
   if (torque_) {
-    // The fluid's rotation rate at the grains, read like its velocity (the torque itself
-    // follows the grain's angular velocity at every DEM step, in add_forces).
-    cell_spin_.resize(nc);
-    fluid_->cell_spins(cell_spin_);
+    // The fluid's rotation and strain rates at the grains, read like its velocity (the torque
+    // itself follows the grain's angular velocity and axis at every DEM step, in add_torques).
+    cell_grad_.resize(nc);
+    for (auto* cells : {&cell_spin_, &cell_strain_diag_, &cell_strain_off_}) cells->resize(nc);
+    fluid_->cell_velocity_gradients(cell_grad_);
+    exec::parallel_for(static_cast<exec::index_t>(nc), [&](exec::index_t c) {
+      const Mat3 e = strain_rate(cell_grad_[c]);
+      cell_spin_[c] = rotation_rate(cell_grad_[c]);
+      cell_strain_diag_[c] = {e.a[0][0], e.a[1][1], e.a[2][2]};
+      cell_strain_off_[c] = {e.a[1][2], e.a[0][2], e.a[0][1]};
+    });
     cfd_dem::interpolate_at(grid_, stencils_, std::span<const Vec3>(cell_spin_),
-                            particles.get<Vec3>(f_spin_));
+                            particles.get<Vec3>(f_spin_), std::span<const Vec3>(cell_strain_diag_),
+                            particles.get<Vec3>(f_strain_diag_));
+    cfd_dem::interpolate_at(grid_, stencils_, std::span<const Vec3>(cell_strain_off_),
+                            particles.get<Vec3>(f_strain_off_));
   }
   seconds_ += seconds_since(t0);
 }
@@ -268,16 +284,23 @@ void CfdDemCoupling::add_forces(ParticleStore& particles) const {
 
 void CfdDemCoupling::add_torques(ParticleStore& particles) const {
   const std::size_t n = particles.size();
-  const Vec3* spin = std::as_const(particles).get<Vec3>(f_spin_).data();
+  const auto& store = std::as_const(particles);
+  const Vec3* spin = store.get<Vec3>(f_spin_).data();
+  const Vec3* diag = store.get<Vec3>(f_strain_diag_).data();
+  const Vec3* off = store.get<Vec3>(f_strain_off_).data();
   const Vec3* omega = particles.omega();
   Vec3* torque = particles.torque();
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
     const auto g = cfd_dem::grain_shape(particles, static_cast<std::size_t>(i));
     const double d_v = cfd_dem::volume_equivalent_diameter(
         cfd_dem::spherocylinder_volume(g.radius, 2.0 * g.half_length));
+    Mat3 strain = Mat3::diagonal(diag[i]);
+    strain.a[1][2] = strain.a[2][1] = off[i].x;
+    strain.a[0][2] = strain.a[2][0] = off[i].y;
+    strain.a[0][1] = strain.a[1][0] = off[i].z;
     torque[i] +=
         cfd_dem::hydrodynamic_torque(cfd_dem::rotational_resistance(mu_f_, g.radius, g.half_length),
-                                     g.axis, spin[i], omega[i], rho_f_, mu_f_, d_v);
+                                     g.axis, spin[i], strain, omega[i], rho_f_, mu_f_, d_v);
   });
 }
 

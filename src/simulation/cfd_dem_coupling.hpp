@@ -76,7 +76,8 @@ class CfdDemCoupling {
   void write_vti(std::ostream& out) const;
 
  private:
-  /// f(Re_R) R (Omega_f - omega) on every grain (coupling/cfd_dem/hydro_torque.hpp).
+  /// f(Re_R) R (Omega_f + lambda a x (E a) - omega) on every grain
+  /// (coupling/cfd_dem/hydro_torque.hpp).
   void add_torques(ParticleStore& particles) const;
 
   fluid::Grid grid_;
@@ -101,8 +102,11 @@ class CfdDemCoupling {
   double rate_relaxation_ = 0.3;         // under-relaxation of the flux rate between fluid steps
   bool pressure_gradient_force_ = true;  // grains feel -V grad p (else drag only)
   bool torque_ = false;                  // coupling.torque: rotational
-  int f_spin_ = -1;                      // the fluid's curl(u) / 2 at each grain (with torque_)
-  std::vector<Vec3> cell_spin_;
+  // With torque_: the fluid's curl(u) / 2 and strain rate (diagonal xx, yy, zz; off-diagonal
+  // yz, xz, xy) at each grain, and their cell values.
+  int f_spin_ = -1, f_strain_diag_ = -1, f_strain_off_ = -1;
+  std::vector<Mat3> cell_grad_;
+  std::vector<Vec3> cell_spin_, cell_strain_diag_, cell_strain_off_;
   cfd_dem::PointRead point_read_ = cfd_dem::PointRead::Trilinear;  // coupling.interpolation
   std::vector<double> rate_new_;    // the flux rate of this step before relaxation
   cfd_dem::Footprints footprints_;  // of the grains at the current fluid step

@@ -154,24 +154,30 @@ TEST(FluidFV, CouetteIsExact) {
             1e-12);
   EXPECT_LE(f.divergence_norm(), 1e-12);
   for (double v : f.face_velocity(1)) EXPECT_LE(std::abs(v), 1e-12);
-  // The rotation rate curl(u) / 2 at the cell centres is -1/2 about z in every cell, the cells
-  // at the walls included (their differences reach the wall's velocity half a cell away). The
-  // velocities carry the 1e-12 above; a difference over half a cell (1/16) amplifies that 16
-  // times: 1e-10.
-  std::vector<Vec3> spin(static_cast<std::size_t>(f.grid().cell_count()));
-  f.cell_spins(spin);
-  for (const Vec3& w : spin) {
+  // The velocity gradient at the cell centres is d u_x / d y = 1 and 0 otherwise in every cell,
+  // the cells at the walls included (their differences reach the wall's velocity half a cell
+  // away): rotation rate curl(u) / 2 = -1/2 about z, strain rate 1/2 in xy. The velocities
+  // carry the 1e-12 above; a difference over half a cell (1/16) amplifies that 16 times: 1e-10.
+  std::vector<Mat3> grad(static_cast<std::size_t>(f.grid().cell_count()));
+  f.cell_velocity_gradients(grad);
+  for (const Mat3& g : grad) {
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) EXPECT_NEAR(g.a[i][j], i == 0 && j == 1 ? 1.0 : 0.0, 1e-10);
+    const Vec3 w = rotation_rate(g);
     EXPECT_NEAR(w.z, -0.5, 1e-10);
     EXPECT_EQ(w.x, 0.0);
     EXPECT_EQ(w.y, 0.0);
+    EXPECT_NEAR(strain_rate(g).a[1][0], 0.5, 1e-10);
   }
 }
 
 // In 3D, u = (sin kz, sin kx, sin ky) on a periodic box: each component is constant along its
-// own axis, so its cell-centre value is the face value, and the central difference across h of
-// sin(k s) is k cos(k s) sin(kh) / (kh) exactly: spin = (cos ky, cos kz, cos kx) sin(kh) / (2h)
-// to round-off. Checks every component's sign and axis.
-TEST(FluidFV, CellSpinOfPeriodicShearWaves3D) {
+// own axis, so its cell-centre value is the face value, and the central difference across 2h of
+// sin(k s) is cos(k s) sin(kh) / h exactly: d u_x / d z = 2c cos kz, d u_y / d x = 2c cos kx,
+// d u_z / d y = 2c cos ky with c = sin(kh) / (2h), the rest 0 (the diagonal from the faces, equal
+// along their own axis), and spin = c (cos ky, cos kz, cos kx) to round-off. Checks every
+// component's sign and axis.
+TEST(FluidFV, CellVelocityGradientOfPeriodicShearWaves3D) {
   FluidSettings s = settings(1.0, 1.0);
   for (int face = 0; face < 6; ++face) s.boundary[face] = BoundaryCondition::periodic();
   Grid g;
@@ -188,7 +194,14 @@ TEST(FluidFV, CellSpinOfPeriodicShearWaves3D) {
   for (std::int64_t cell = 0; cell < g.cell_count(); ++cell) {
     const auto [i, j, l] = g.cell_coords(cell);
     const Vec3 x = g.cell_center(i, j, l);
-    const Vec3 w = f.cell_spin(cell);
+    const Mat3 grad = f.cell_velocity_gradient(cell);
+    Mat3 expected;
+    expected.a[0][2] = 2 * c * std::cos(k * x.z);
+    expected.a[1][0] = 2 * c * std::cos(k * x.x);
+    expected.a[2][1] = 2 * c * std::cos(k * x.y);
+    for (int r = 0; r < 3; ++r)
+      for (int q = 0; q < 3; ++q) EXPECT_NEAR(grad.a[r][q], expected.a[r][q], 1e-12);
+    const Vec3 w = rotation_rate(grad);
     EXPECT_NEAR(w.x, c * std::cos(k * x.y), 1e-12);
     EXPECT_NEAR(w.y, c * std::cos(k * x.z), 1e-12);
     EXPECT_NEAR(w.z, c * std::cos(k * x.x), 1e-12);

@@ -1001,10 +1001,10 @@ Vec3 VolumeAveragedNS::pressure_gradient(std::int64_t cell) const {
   return g;
 }
 
-Vec3 VolumeAveragedNS::cell_spin(std::int64_t cell) const {
+Mat3 VolumeAveragedNS::cell_velocity_gradient(std::int64_t cell) const {
   const Index3 q = unflatten_cell(cell);
   const Vec3 u_c = cell_velocity(cell);
-  double grad[3][3] = {};  // grad[b][a] = d u_a / d x_b
+  Mat3 g;
   for (int b = 0; b < dim_; ++b) {
     Vec3 u_side[2];
     double dist = 0.0;  // between the two points the difference is taken over
@@ -1024,17 +1024,25 @@ Vec3 VolumeAveragedNS::cell_spin(std::int64_t cell) const {
       }
     }
     if (dist == 0.0) continue;  // outlets on both sides of a single cell
-    // Only the tangential components enter the curl.
-    for (int a = 0; a < dim_; ++a) grad[b][a] = (u_side[1][a] - u_side[0][a]) / dist;
+    for (int a = 0; a < dim_; ++a)
+      if (a != b) g.a[a][b] = (u_side[1][a] - u_side[0][a]) / dist;
   }
-  return {0.5 * (grad[1][2] - grad[2][1]), 0.5 * (grad[2][0] - grad[0][2]),
-          0.5 * (grad[0][1] - grad[1][0])};
+  for (int a = 0; a < dim_; ++a) {  // the cell's own faces, as in cell_velocity
+    Index3 hi = q;
+    hi[a] += 1;
+    g.a[a][a] = (u_[a][grid_.face_index(a, hi[0], hi[1], hi[2])] -
+                 u_[a][grid_.face_index(a, q[0], q[1], q[2])]) /
+                grid_.h[a];
+  }
+  return g;
 }
 
-void VolumeAveragedNS::cell_spins(std::span<Vec3> out) const {
+void VolumeAveragedNS::cell_velocity_gradients(std::span<Mat3> out) const {
   REQUIRE(out.size() == static_cast<std::size_t>(grid_.cell_count()),
-          "fluid: cell_spins needs {} entries, got {}", grid_.cell_count(), out.size());
-  exec::parallel_for(grid_.cell_count(), [&](exec::index_t c) { out[c] = cell_spin(c); });
+          "fluid: cell_velocity_gradients needs {} entries, got {}", grid_.cell_count(),
+          out.size());
+  exec::parallel_for(grid_.cell_count(),
+                     [&](exec::index_t c) { out[c] = cell_velocity_gradient(c); });
 }
 
 void VolumeAveragedNS::cell_velocities(std::span<Vec3> out) const {

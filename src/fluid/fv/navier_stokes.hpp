@@ -28,6 +28,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/mat3.hpp"
 #include "core/vec3.hpp"
 #include "fluid/fv/boundary.hpp"
 #include "fluid/fv/grid.hpp"
@@ -149,15 +150,18 @@ class VolumeAveragedNS {
   /// Pressure gradient at the centre of a cell [Pa/m]: mean of the face gradients on both sides
   /// per axis; at a wall or inlet, where the face gradient is not known, the other side's.
   [[nodiscard]] Vec3 pressure_gradient(std::int64_t cell) const;
-  /// Rotation rate curl(u) / 2 at the centre of a cell [rad/s]: the velocity's derivatives
-  /// across each axis from the centre values of the neighbours (wrapped on periodic axes); at a
-  /// wall or inlet from its velocity half a cell away, at an outlet zero. Exact for a linear
-  /// profile (Couette: -gamma_dot / 2 about the vorticity axis in every cell).
-  [[nodiscard]] Vec3 cell_spin(std::int64_t cell) const;
-  /// cell_velocity, pressure_gradient and cell_spin of every cell (out has cell_count entries).
+  /// Velocity gradient at the centre of a cell [1/s], g.a[i][j] = d u_i / d x_j. Across an
+  /// axis j != i from the centre values of the neighbours (wrapped on periodic axes); at a wall
+  /// or inlet from its tangential velocity half a cell away, at an outlet zero. Along its own
+  /// axis (d u_i / d x_i) from the cell's two faces: the cell's term of the divergence. Exact for
+  /// a linear profile (Couette u_x = gamma_dot y: g.a[0][1] = gamma_dot in every cell, the rest
+  /// 0); rotation_rate(g) and strain_rate(g) (core/mat3.hpp) give the fluid's spin and strain.
+  [[nodiscard]] Mat3 cell_velocity_gradient(std::int64_t cell) const;
+  /// cell_velocity, pressure_gradient and cell_velocity_gradient of every cell (out has
+  /// cell_count entries).
   void cell_velocities(std::span<Vec3> out) const;
   void pressure_gradients(std::span<Vec3> out) const;
-  void cell_spins(std::span<Vec3> out) const;
+  void cell_velocity_gradients(std::span<Mat3> out) const;
 
   /// Courant number max over cells of dt * sum_a max(|u_a| on its two faces) / h_a.
   [[nodiscard]] double max_cfl(double dt) const;
