@@ -1,0 +1,58 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Means of a shear run's rheology samples over consecutive strain windows, to see whether (and
+where) a long run became steady. The run may be split over restarts: give its rheology.csv files
+in order (`grainflow run --restart` writes the continuation into a new folder); samples are
+concatenated and, where a later file repeats strains, the later samples win. Prints one row per
+window; with --csv also writes them to a file.
+Usage: rheology_windows.py [--width STRAIN] [--csv OUT.csv] [--label NAME] rheology.csv..."""
+import argparse
+import csv
+
+import numpy as np
+
+QUANTITIES = ["granular_temperature", "pressure", "sigma_xz", "order_parameter",
+              "alignment_angle", "volume_fraction", "shear_rate"]
+
+
+def load(paths):
+    rows = {}
+    for p in paths:
+        with open(p, newline="") as f:
+            for r in csv.DictReader(f):
+                rows[round(float(r["strain"]), 9)] = r  # a restart's samples replace older ones
+    strains = sorted(rows)
+    return np.array(strains), {q: np.array([float(rows[s][q]) for s in strains])
+                               for q in QUANTITIES}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("files", nargs="+")
+    ap.add_argument("--width", type=float, default=2.0, help="strain per window (default 2)")
+    ap.add_argument("--csv", help="also write the windows to this CSV file")
+    ap.add_argument("--label", default="", help="first column of the CSV rows")
+    a = ap.parse_args()
+    strain, q = load(a.files)
+    out = []
+    lo = 0.0
+    while lo < strain[-1]:
+        m = (strain > lo) & (strain <= lo + a.width)
+        if m.sum() >= 5:
+            out.append([lo, lo + a.width, int(m.sum())] + [q[k][m].mean() for k in QUANTITIES])
+        lo += a.width
+    header = ["strain_from", "strain_to", "samples"] + QUANTITIES
+    print(" ".join(f"{h:>12.12}" for h in header))
+    for r in out:
+        print(" ".join(f"{v:12.4g}" for v in r))
+    if a.csv:
+        with open(a.csv, "a", newline="") as f:
+            w = csv.writer(f)
+            if f.tell() == 0:
+                w.writerow(["run"] + header)
+            for r in out:
+                w.writerow([a.label] + [f"{v:.6g}" for v in r])
+
+
+if __name__ == "__main__":
+    main()
