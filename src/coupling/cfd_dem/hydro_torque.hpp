@@ -5,8 +5,8 @@
 // Stokes rotational resistance tensor and lambda its shape factor. A grain free of other torques
 // turns at omega = Omega_f + lambda a x (E a): a sphere (lambda = 0) with the fluid's rotation
 // (omega = -gamma_dot / 2 in simple shear), an axisymmetric grain on Jeffery's orbits, whose axis
-// obeys da/dt = W a + lambda (E a - (a . E a) a) (Jeffery, Proc. R. Soc. A 102 (1922) 161, eq. 49
-// for spheroids; Bretherton, J. Fluid Mech. 14 (1962) 284: any body of revolution, with its own
+// obeys da/dt = W a + lambda (E a - (a . E a) a) (Jeffery, Proc. R. Soc. A 102 (1922) 161, for
+// spheroids; Bretherton, J. Fluid Mech. 14 (1962) 284: any body of revolution, with its own
 // lambda). A grain spinning in fluid at rest is braked.
 //
 // Stokes resistances (N m s):
