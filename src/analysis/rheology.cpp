@@ -56,6 +56,8 @@ RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& re
   const Vec3* v = p.v();
   const double* m = p.mass();
   const std::int32_t* mat = p.material();
+  const int f_uf = p.find_field("fluid_velocity");
+  const Vec3* uf = f_uf >= 0 ? p.get<Vec3>(f_uf).data() : nullptr;
   const double h = region.z_hi - region.z_lo;
   const auto nb = static_cast<std::size_t>(region.bins);
   auto bin_of = [&](double z) {
@@ -65,7 +67,7 @@ RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& re
   auto inside = [&](std::size_t i) { return x[i].z >= region.z_lo && x[i].z < region.z_hi; };
 
   // Mean (mass-weighted) velocity of each layer; sums for the least-squares slope of v_x(z).
-  std::vector<Vec3> momentum(nb);
+  std::vector<Vec3> momentum(nb), fluid(nb);  // fluid: mass-weighted like the grains' mean
   std::vector<double> mass(nb, 0.0), mass2(nb, 0.0);
   std::vector<std::int64_t> members(nb, 0);
   double solid = 0, sz = 0, szz = 0, su = 0, szu = 0;
@@ -74,6 +76,7 @@ RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& re
     if (!inside(i)) continue;
     const std::size_t b = bin_of(x[i].z);
     momentum[b] += m[i] * v[i];
+    if (uf != nullptr) fluid[b] += m[i] * uf[i];
     mass[b] += m[i];
     mass2[b] += m[i] * m[i];
     ++members[b];
@@ -103,12 +106,13 @@ RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& re
   for (std::size_t b = 0; b < nb; ++b) {
     if (members[b] < 2) continue;
     momentum[b] = (1.0 / mass[b]) * momentum[b];
+    fluid[b] = (1.0 / mass[b]) * fluid[b];
     unbias[b] = 1.0 / (1.0 - mass2[b] / (mass[b] * mass[b]));
     counted += members[b];
   }
 
   const bool shapes = p.has_shapes();
-  double t_sum = 0;
+  double t_sum = 0, fluid_sum = 0, slip_sum = 0;
   for (std::size_t i = 0; i < n; ++i) {
     if (!inside(i)) continue;
     if (shapes && static_cast<ShapeCode>(p.shape()[i]) == ShapeCode::Spherocylinder) {
@@ -124,13 +128,21 @@ RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& re
     for (int a = 0; a < 3; ++a)
       for (int c = 0; c < 3; ++c) s.streaming.a[a][c] += w * m[i] * dv[a] * dv[c];
     t_sum += w * norm2(dv);
+    if (uf != nullptr) {
+      const Vec3 du = uf[i] - fluid[b];
+      fluid_sum += w * norm2(du);
+      slip_sum += w * norm2(dv - du);
+    }
   }
   // Layers left out hold no streaming stress: scale up by the grains they hold.
   if (counted > 0 && counted < count)
     s.streaming = (static_cast<double>(count) / static_cast<double>(counted)) * s.streaming;
   s.streaming = (1.0 / V) * s.streaming;
   s.collisional = (1.0 / V) * virial;
-  s.temperature = counted > 0 ? t_sum / (3.0 * static_cast<double>(counted)) : 0.0;
+  const double per_grain = counted > 0 ? 1.0 / (3.0 * static_cast<double>(counted)) : 0.0;
+  s.temperature = per_grain * t_sum;
+  s.fluid_temperature = per_grain * fluid_sum;
+  s.slip_temperature = uf != nullptr ? per_grain * slip_sum : s.temperature;
   if (s.rods > 0) {
     s.order = (1.0 / static_cast<double>(s.rods)) * s.order;
     const double sxx = s.order.a[0][0], szz_ = s.order.a[2][2], sxz = s.order.a[0][2];
@@ -148,6 +160,8 @@ const std::vector<std::string>& rheology_columns() {
   static const std::vector<std::string> cols{"volume_fraction",
                                              "shear_rate",
                                              "granular_temperature",
+                                             "fluid_temperature",
+                                             "slip_temperature",
                                              "pressure",
                                              "pressure_streaming",
                                              "pressure_collisional",
@@ -183,6 +197,8 @@ std::vector<double> rheology_values(const RheologySample& s) {
   return {s.volume_fraction,
           s.shear_rate,
           s.temperature,
+          s.fluid_temperature,
+          s.slip_temperature,
           s.pressure(),
           s.streaming_pressure(),
           s.collisional_pressure(),

@@ -9,6 +9,12 @@
 //   - total stress sigma = sigma_s + sigma_c, pressure P = tr(sigma)/3, N1 = s_xx - s_zz,
 //     N2 = s_zz - s_yy, apparent friction mu = |s_xz| / P, viscosity eta = -s_xz / gamma_dot;
 //   - granular temperature T = <v' . v'> / 3 (mean over the grains);
+//   - in a fluid (grains carrying the `fluid_velocity` field, the fluid velocity interpolated at
+//     each grain by the CFD-DEM coupling): the fluid temperature T_f = <u' . u'> / 3 of the fluid
+//     velocity seen by the grains, u' relative to its layer mean, and the slip temperature
+//     T_s = <(v' - u') . (v' - u')> / 3, the part of the grains' agitation that is not carried
+//     by the fluid's own motion at the grid scale (e.g. streaks of the fluid across the
+//     vorticity direction, which the layer means keep); without a fluid T_f = 0, T_s = T;
 //   (layer sums with Bessel's correction for the mean taken from the same grains);
 //   - order tensor S = <u (x) u> of the axes u of spherocylinders, the alignment angle
 //     theta = 1/2 atan2(2 S_xz, S_xx - S_zz) between the preferred axis and the flow, and the
@@ -43,9 +49,11 @@ struct RheologySample {
   std::int64_t grains = 0;
   std::int64_t rods = 0;
   double volume_fraction = 0;
-  double shear_rate = 0;       ///< 1/s, measured
-  double temperature = 0;      ///< m^2/s^2
-  double alignment_angle = 0;  ///< degrees
+  double shear_rate = 0;         ///< 1/s, measured
+  double temperature = 0;        ///< m^2/s^2
+  double fluid_temperature = 0;  ///< m^2/s^2, of the fluid velocity at the grains
+  double slip_temperature = 0;   ///< m^2/s^2, of the grains relative to that fluid velocity
+  double alignment_angle = 0;    ///< degrees
   double order_parameter = 0;
 
   Mat3 total() const { return streaming + collisional; }
