@@ -50,6 +50,8 @@ class RheologyOutput {
   bool due(std::int64_t step) const { return every_ > 0 && step % every_ == 0; }
   /// Takes a sample of the state after a step whose forces collected the virial.
   void sample(const Simulation& sim);
+  /// Pushes the samples taken so far to rheology.csv (throws IoError when the write failed).
+  void flush() { csv_->flush(); }
   /// Steady-state averages of the samples so far (also written to rheology_summary.csv).
   RheologySummary finish(const Simulation& sim);
 

@@ -128,16 +128,21 @@ RunSummary Simulation::run(const RunOptions& opts) {
     }
     if (due(step_, csv_every) || (force_all && csv_every > 0))
       io::write_particles_csv(dir / fmt::format("particles_{:09d}.csv", step_), particles_);
-    if (series && (due(step_, series_every) || force_all)) {
-      series->append(t, series_row(columns));
-      // Someone may be watching the series of a long run: flush every few seconds.
-      if (std::chrono::duration<double>(StageTimers::clock::now() - last_flush).count() > 3.0) {
-        series->flush();
-        last_flush = StageTimers::clock::now();
-      }
+    const bool row = series && (due(step_, series_every) || force_all);
+    if (row) series->append(t, series_row(columns));
+    // Someone may be watching the time series of a long run: flush them every few seconds (on
+    // steps that wrote a row), and before each checkpoint, so that a run killed later and
+    // restarted from that checkpoint has every row up to it on disk.
+    const bool checkpoint = due(step_, ckpt_every) && step_ != first;
+    const bool sampled = row || (rheology && rheology->due(step_));
+    if (checkpoint ||
+        (sampled &&
+         std::chrono::duration<double>(StageTimers::clock::now() - last_flush).count() > 3.0)) {
+      if (series) series->flush();
+      if (rheology) rheology->flush();
+      last_flush = StageTimers::clock::now();
     }
-    if (due(step_, ckpt_every) && step_ != first)
-      save_checkpoint(dir / fmt::format("checkpoint_{:09d}.h5", step_));
+    if (checkpoint) save_checkpoint(dir / fmt::format("checkpoint_{:09d}.h5", step_));
   };
 
   log::info("run: {} particles, {} walls, steps {} -> {} (dt = {} s), output in '{}'",
