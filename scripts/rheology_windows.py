@@ -13,6 +13,8 @@ import numpy as np
 
 QUANTITIES = ["granular_temperature", "pressure", "sigma_xz", "order_parameter",
               "alignment_angle", "volume_fraction", "shear_rate"]
+# Written since 2026-11-25 (CFD-DEM runs): shown when every file has them.
+OPTIONAL = ["fluid_temperature", "slip_temperature"]
 
 
 def load(paths):
@@ -22,8 +24,8 @@ def load(paths):
             for r in csv.DictReader(f):
                 rows[round(float(r["strain"]), 9)] = r  # a restart's samples replace older ones
     strains = sorted(rows)
-    return np.array(strains), {q: np.array([float(rows[s][q]) for s in strains])
-                               for q in QUANTITIES}
+    names = QUANTITIES + [q for q in OPTIONAL if all(q in r for r in rows.values())]
+    return np.array(strains), {q: np.array([float(rows[s][q]) for s in strains]) for q in names}
 
 
 def main():
@@ -39,9 +41,9 @@ def main():
     while lo < strain[-1]:
         m = (strain > lo) & (strain <= lo + a.width)
         if m.sum() >= 5:
-            out.append([lo, lo + a.width, int(m.sum())] + [q[k][m].mean() for k in QUANTITIES])
+            out.append([lo, lo + a.width, int(m.sum())] + [v[m].mean() for v in q.values()])
         lo += a.width
-    header = ["strain_from", "strain_to", "samples"] + QUANTITIES
+    header = ["strain_from", "strain_to", "samples"] + list(q)
     print(" ".join(f"{h:>12.12}" for h in header))
     for r in out:
         print(" ".join(f"{v:12.4g}" for v in r))
