@@ -112,6 +112,7 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   // Per-grain exchange state as particle fields: the re-ordering at neighbour rebuilds and the
   // checkpoints carry them with the grains.
   f_beta_ = particles.add_field("fluid_beta", FieldType::Real, "N s/m", kRestart);
+  // (analysis::measure_rheology reads "fluid_velocity" by name for the fluid/slip temperatures)
   f_uf_ = particles.add_field("fluid_velocity", FieldType::Vec3, "m/s", kRestart | kOutput);
   f_fixed_ = particles.add_field("fluid_force_fixed", FieldType::Vec3, "N", kRestart);
   if (torque_) {
