@@ -10,7 +10,12 @@ Usage:
   /usr/bin/python3 scripts/plot_cfd_dem.py --shear DRY.csv AIR.csv WATER.csv
       reads three sweep.csv tables of `grainflow sweep` (cases/rheology/shear_box_rods,
       cases/cfd_dem/shear_box_rods_air, .../shear_box_rods_water) and writes
-      docs/validation/cfd_dem_shear_box_temperature.png and cfd_dem_shear_box_stresses.png.
+      docs/validation/cfd_dem_shear_box_temperature.png and cfd_dem_shear_box_stresses.png;
+  /usr/bin/python3 scripts/plot_cfd_dem.py --slip WINDOWS.csv
+      reads strain windows of water runs (scripts/rheology_windows.py --csv, labels
+      phi_<phi>_rate_<rate>) and writes docs/validation/cfd_dem_shear_box_slip.png: T, the fluid
+      temperature T_f and the slip temperature T_s against phi per shear rate (mean of each
+      run's later half of windows).
 Uses Debian's python3-numpy and python3-matplotlib."""
 import os
 import subprocess
@@ -145,7 +150,40 @@ def shear(dry, air, water):
     plt.close(fig)
 
 
+def slip(path):
+    d = load(path)
+    runs = {}
+    for r in d:
+        runs.setdefault(str(r["run"]), []).append(r)
+    by_rate = {}
+    for label, rows in runs.items():
+        late = rows[len(rows) // 2:]  # the later half of the windows (at least the last)
+        mean = {q: np.mean([r[q] for r in late]) for q in
+                ("volume_fraction", "granular_temperature", "fluid_temperature",
+                 "slip_temperature")}
+        by_rate.setdefault(float(label.split("_rate_")[1]), []).append(mean)
+    rates = sorted(by_rate)
+    fig, ax = plt.subplots(1, len(rates), figsize=(3.6 * len(rates), 3.2))
+    for a, rate in zip(np.atleast_1d(ax), rates):
+        pts = sorted(by_rate[rate], key=lambda m: m["volume_fraction"])
+        phi = [m["volume_fraction"] for m in pts]
+        for q, name, mk in (("granular_temperature", "T", "o-"),
+                            ("fluid_temperature", "T_f (fluid at the grains)", "s--"),
+                            ("slip_temperature", "T_s (relative to the fluid)", "^-")):
+            a.semilogy(phi, [m[q] for m in pts], mk, label=name)
+        a.set_xlabel("measured phi")
+        a.set_title(f"water, {rate:g} 1/s")
+    np.atleast_1d(ax)[0].set_ylabel("m^2/s^2")
+    np.atleast_1d(ax)[0].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "cfd_dem_shear_box_slip.png"), dpi=110)
+    plt.close(fig)
+
+
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--slip":
+        slip(sys.argv[2])
+        return
     if len(sys.argv) > 1 and sys.argv[1] == "--shear":
         if len(sys.argv) != 5:
             sys.exit(__doc__)
