@@ -97,10 +97,11 @@ RunSummary Simulation::run(const RunOptions& opts) {
   if (cfg_.analysis.rheology) rheology = std::make_unique<RheologyOutput>(dir, *this);
 
   auto last_flush = StageTimers::clock::now();
-  auto write_outputs = [&](bool force_all) {
+  // `sampled`: the step just taken ended on a rheology sample.
+  auto write_outputs = [&](bool sampled) {
     StageTimers::Scope timer(timers_, Stage::Output);
     const double t = time();
-    if (due(step_, vtk_every) || (force_all && vtk_every > 0)) {
+    if (due(step_, vtk_every)) {
       const std::string pf = fmt::format("particles_{:09d}.vtp", step_);
       io::write_particles_vtp(dir / pf, particles_);
       pvd_particles->add(t, pf);
@@ -126,17 +127,16 @@ RunSummary Simulation::run(const RunOptions& opts) {
         pvd_walls->add(t, wf);
       }
     }
-    if (due(step_, csv_every) || (force_all && csv_every > 0))
+    if (due(step_, csv_every))
       io::write_particles_csv(dir / fmt::format("particles_{:09d}.csv", step_), particles_);
-    const bool row = series && (due(step_, series_every) || force_all);
+    const bool row = series && due(step_, series_every);
     if (row) series->append(t, series_row(columns));
     // Someone may be watching the time series of a long run: flush them every few seconds (on
     // steps that wrote a row), and before each checkpoint, so that a run killed later and
     // restarted from that checkpoint has every row up to it on disk.
     const bool checkpoint = due(step_, ckpt_every) && step_ != first;
-    const bool sampled = row || (rheology && rheology->due(step_));
     if (checkpoint ||
-        (sampled &&
+        ((row || sampled) &&
          std::chrono::duration<double>(StageTimers::clock::now() - last_flush).count() > 3.0)) {
       if (series) series->flush();
       if (rheology) rheology->flush();
@@ -169,7 +169,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
       StageTimers::Scope timer(timers_, Stage::Output);
       rheology->sample(*this);
     }
-    write_outputs(false);
+    write_outputs(sample);
     if (!opts.quiet)
       progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first),
                       n_contacts_);
