@@ -74,6 +74,9 @@ def convergence(folder):
     n = t["n"]
     ax[1].loglog(n, t["central"], "o-", label="central")
     ax[1].loglog(n, t["van_leer"], "s-", label="van Leer")
+    if "upwind" in t.dtype.names:
+        ax[1].loglog(n, t["upwind"], "^-", label="upwind")
+        ax[1].loglog(n, t["upwind"][0] * (n[0] / n), "k--", label="slope 1")
     ax[1].loglog(n, t["central"][0] * (n[0] / n) ** 2, "k:", label="slope 2")
     ax[1].set_xlabel("cells per 2 pi")
     ax[1].set_ylabel("max |u - u_exact| at t = 1")

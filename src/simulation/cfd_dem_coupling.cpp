@@ -62,8 +62,9 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   s.dynamic_viscosity = f.viscosity;
   s.gravity = cfg.gravity;
   for (int face = 0; face < 6; ++face) s.boundary[face] = to_bc(f.boundary[face]);
-  s.convection =
-      f.convection == "central" ? fluid::Convection::Central : fluid::Convection::VanLeer;
+  s.convection = f.convection == "central"  ? fluid::Convection::Central
+                 : f.convection == "upwind" ? fluid::Convection::Upwind
+                                            : fluid::Convection::VanLeer;
   try {
     fluid_ = std::make_unique<fluid::VolumeAveragedNS>(grid_, s);
   } catch (const InputError&) {

@@ -1299,6 +1299,20 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_FALSE(off_again.coupling->pressure_gradient_force);
   EXPECT_EQ(off_again.coupling->interpolation, "trilinear");
 
+  // Each convection scheme parses and echoes back; an unknown one is refused.
+  for (const char* scheme : {"central", "upwind"}) {
+    std::string text = cfd_case(good_fluid);
+    const std::string cells = "  cells: [4, 4, 8]\n";
+    text.replace(text.find(cells), cells.size(), cells + "  convection: " + scheme + "\n");
+    const auto cv = input::load_case_text(text, "t.yaml");
+    EXPECT_EQ(cv.fluid->convection, scheme);
+    const auto cv_again = input::load_case(
+        dir.write(std::string("echo_") + scheme + ".yaml", input::echo_yaml(cv, "9")));
+    EXPECT_EQ(cv_again.fluid->convection, scheme);
+    text.replace(text.find(scheme), std::string(scheme).size(), "quick");
+    EXPECT_THROW(input::load_case_text(text, "t.yaml"), InputError);
+  }
+
   // Cell-value reads (CFDEMcoupling's default), echoed as such.
   const auto cell = input::load_case_text(case_with_coupling("interpolation: cell"), "t.yaml");
   ASSERT_TRUE(cell.coupling);

@@ -40,6 +40,7 @@ namespace gf::fluid {
 enum class Convection {
   Central,  ///< second order; oscillates once the cell Reynolds number u h / nu exceeds ~2
   VanLeer,  ///< second order where smooth, bounded (TVD) at extrema (van Leer, JCP 14 (1974) 361)
+  Upwind,   ///< first order, bounded; adds a numerical viscosity |u| h / 2 (OpenFOAM's `upwind`)
 };
 
 /// Physical parameters, boundary conditions and numerical choices.

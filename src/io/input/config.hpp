@@ -251,7 +251,7 @@ struct Fluid {
   /// are periodic on periodic axes of the domain, no_slip otherwise.
   std::array<FluidBoundary, 6> boundary{};
   Vec3 initial_velocity;                ///< m/s
-  std::string convection = "van_leer";  ///< van_leer | central
+  std::string convection = "van_leer";  ///< van_leer | central | upwind
   SourceLoc loc;
 };
 

@@ -371,7 +371,8 @@ void Reader::read_fluid(const YamlMap& root) {
     }
   }
   f.initial_velocity = vec_or(fm, "initial_velocity", Vec3{});
-  if (auto cv = fm.find("convection")) f.convection = cv->as_choice({"van_leer", "central"});
+  if (auto cv = fm.find("convection"))
+    f.convection = cv->as_choice({"van_leer", "central", "upwind"});
   c.fluid = std::move(f);
 }
 
