@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
+#include "core/vtk_xml.hpp"
 #include "coupling/cfd_dem/hydro_torque.hpp"
 #include "coupling/cfd_dem/shape_factors.hpp"
 #include "particles/particle_store.hpp"
@@ -327,26 +328,24 @@ void CfdDemCoupling::write_vti(std::ostream& out) const {
   const auto& g = grid_;
   std::vector<Vec3> u(static_cast<std::size_t>(g.cell_count()));
   fluid_->cell_velocities(u);
+  vtk::AppendedArrays arrays;  // tags in block order: one statement per array
+  const std::string eps_tag =
+      vtk::AppendedArrays::tag(arrays.add("fluid_fraction", 1, fluid_->fluid_fraction()));
+  const std::string p_tag = vtk::AppendedArrays::tag(arrays.add("pressure", 1, fluid_->pressure()));
+  const std::string u_tag =
+      vtk::AppendedArrays::tag(arrays.add("velocity", std::span<const Vec3>(u)));
   const std::string extent = fmt::format("0 {} 0 {} 0 {}", g.n[0], g.n[1], g.n[2]);
-  out << "<?xml version=\"1.0\"?>\n"
-      << "<VTKFile type=\"ImageData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+  out << vtk::file_open("ImageData")
       << fmt::format(
              "  <ImageData WholeExtent=\"{}\" Origin=\"{:.17g} {:.17g} {:.17g}\" "
              "Spacing=\"{:.17g} {:.17g} {:.17g}\">\n",
              extent, g.lo.x, g.lo.y, g.lo.z, g.h.x, g.h.y, g.h.z)
       << fmt::format("    <Piece Extent=\"{}\">\n", extent)
-      << "      <CellData Scalars=\"fluid_fraction\" Vectors=\"velocity\">\n";
-  auto scalars = [&](const char* name, std::span<const double> v) {
-    out << fmt::format("        <DataArray type=\"Float64\" Name=\"{}\" format=\"ascii\">\n", name);
-    for (double x : v) out << fmt::format("{:.9g}\n", x);
-    out << "        </DataArray>\n";
-  };
-  scalars("fluid_fraction", fluid_->fluid_fraction());
-  scalars("pressure", fluid_->pressure());
-  out << "        <DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
-         "format=\"ascii\">\n";
-  for (const Vec3& x : u) out << fmt::format("{:.9g} {:.9g} {:.9g}\n", x.x, x.y, x.z);
-  out << "        </DataArray>\n      </CellData>\n    </Piece>\n  </ImageData>\n</VTKFile>\n";
+      << "      <CellData Scalars=\"fluid_fraction\" Vectors=\"velocity\">\n"
+      << "        " << eps_tag << "\n        " << p_tag << "\n        " << u_tag << "\n"
+      << "      </CellData>\n    </Piece>\n  </ImageData>\n";
+  arrays.write_appended(out);
+  out << "</VTKFile>\n";
 }
 
 }  // namespace gf

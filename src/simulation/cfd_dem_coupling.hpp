@@ -72,7 +72,7 @@ class CfdDemCoupling {
   [[nodiscard]] double min_fluid_fraction() const;
 
   /// The fluid's cell fields (fluid_fraction, pressure [Pa], velocity [m/s] at cell centres) as
-  /// a VTK ImageData file (.vti, ASCII), for ParaView next to the particles.
+  /// a VTK ImageData file (.vti, appended binary data), for ParaView next to the particles.
   void write_vti(std::ostream& out) const;
 
  private:

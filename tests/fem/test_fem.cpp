@@ -3,11 +3,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
 #include <numbers>
 
 #include "core/error.hpp"
 #include "fluid/fem/schaefer_turek.hpp"
 #include "fluid/fem/time_stepping.hpp"
+#include "fluid/fem/vtu.hpp"
+#include "vtk_reader.hpp"
 
 using namespace gf::fem;
 
@@ -111,6 +115,47 @@ TEST(FemFlow, PoiseuilleIsExact) {
   }
   EXPECT_LT(eu, 1e-10);
   EXPECT_LT(ep, 1e-10);
+}
+
+// The .vtu of the fields read back: one quadratic triangle (VTK type 22) per cell with the
+// mesh's six nodes, the nodes as points (z = 0), the velocity bit for bit at every P2 node and the
+// P1 pressure at the vertices, its linear interpolant (mean of the edge's ends) at midpoints.
+TEST(FemOutput, VtuCarriesMeshAndFieldsBitExactly) {
+  NavierStokes ns(channel(1.0, 0.2, 0.05, 1.0));
+  ASSERT_TRUE(ns.solve_steady(NewtonOptions{}).converged);
+  const Mesh& m = ns.mesh();
+  const auto dir = std::filesystem::temp_directory_path() / "gf_fem_vtu_test";
+  std::filesystem::create_directories(dir);
+  write_vtu(dir / "f.vtu", ns);
+  const gf::test::VtkFile v(dir / "f.vtu");
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(v.piece("NumberOfPoints"), std::to_string(m.n_nodes()));
+  EXPECT_EQ(v.piece("NumberOfCells"), std::to_string(m.n_cells()));
+  EXPECT_EQ(v.blocks_size(), v.appended.size());
+  const auto types = v.get<std::uint8_t>("Cells/types", "UInt8", 1);
+  const auto offsets = v.get<std::int64_t>("Cells/offsets", "Int64", 1);
+  const auto conn = v.get<std::int64_t>("Cells/connectivity", "Int64", 1);
+  ASSERT_EQ(types.size(), static_cast<std::size_t>(m.n_cells()));
+  ASSERT_EQ(conn.size(), 6 * types.size());
+  for (std::size_t c = 0; c < types.size(); ++c) {
+    EXPECT_EQ(types[c], 22);
+    EXPECT_EQ(offsets[c], static_cast<std::int64_t>(6 * (c + 1)));
+    for (int j = 0; j < 6; ++j) EXPECT_EQ(conn[6 * c + j], m.cells[c][j]);
+  }
+  const auto x = v.get<double>("Points/position", "Float64", 3);
+  const auto u = v.get<double>("PointData/velocity", "Float64", 3);
+  const auto p = v.get<double>("PointData/pressure", "Float64", 1);
+  ASSERT_EQ(p.size(), static_cast<std::size_t>(m.n_nodes()));
+  for (int k = 0; k < m.n_nodes(); ++k) {
+    EXPECT_EQ(x[3 * k], m.nodes[k].x);
+    EXPECT_EQ(x[3 * k + 1], m.nodes[k].y);
+    EXPECT_EQ(x[3 * k + 2], 0.0);
+    EXPECT_EQ(u[3 * k], ns.velocity(k).x);
+    EXPECT_EQ(u[3 * k + 1], ns.velocity(k).y);
+    if (k < m.n_vertices) EXPECT_EQ(p[k], ns.pressure(k));
+  }
+  for (const auto& c : m.cells)
+    for (int e = 0; e < 3; ++e) EXPECT_EQ(p[c[3 + e]], 0.5 * (p[c[e]] + p[c[(e + 1) % 3]]));
 }
 
 // Rotating cylinder (radius r1, omega) inside a fixed 256-gon (radius r2): Couette flow, torque

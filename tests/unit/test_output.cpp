@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -20,9 +21,12 @@
 #include "core/files.hpp"
 #include "core/quaternion.hpp"
 #include "io/csv/csv.hpp"
+#include "io/input/parse_case.hpp"
 #include "io/restart/h5.hpp"
 #include "io/vtk/vtk.hpp"
+#include "simulation/simulation.hpp"
 #include "temp_dir.hpp"
+#include "vtk_reader.hpp"
 
 using namespace gf;
 namespace fs = std::filesystem;
@@ -392,103 +396,7 @@ TEST(Csv, SeriesAppendsAndFlushes) {
 
 namespace {
 
-/// A parsed .vtp: the XML header, its DataArray tags, and the raw appended bytes.
-struct Vtp {
-  std::string header;
-  std::string appended;  // bytes after the '_' marker up to the closing tag
-  std::map<std::string, std::map<std::string, std::string>> arrays;  // "Section/Name" -> attrs
-
-  /// `name="value"` pairs of one tag's text (without the angle brackets).
-  static std::map<std::string, std::string> attributes(const std::string& tag) {
-    std::map<std::string, std::string> a;
-    std::size_t pos = tag.find(' ');
-    while (pos != std::string::npos) {
-      const std::size_t eq = tag.find("=\"", pos);
-      if (eq == std::string::npos) break;
-      const std::size_t end = tag.find('"', eq + 2);
-      const std::size_t start = tag.find_first_not_of(' ', pos);
-      a[tag.substr(start, eq - start)] = tag.substr(eq + 2, end - eq - 2);
-      pos = end + 1;
-    }
-    return a;
-  }
-
-  /// The text of every tag in the header, in document order ("DataArray type=... /").
-  std::vector<std::string> tags() const {
-    std::vector<std::string> out;
-    for (std::size_t pos = header.find('<'); pos != std::string::npos;
-         pos = header.find('<', pos + 1))
-      out.push_back(header.substr(pos + 1, header.find('>', pos) - pos - 1));
-    return out;
-  }
-
-  explicit Vtp(const fs::path& p) {
-    const std::string text = slurp(p);
-    const std::string open = "<AppendedData encoding=\"raw\">";
-    const std::size_t pos = text.find(open);
-    EXPECT_NE(pos, std::string::npos);
-    header = text.substr(0, pos);
-    const std::size_t mark = text.find('_', pos);
-    const std::string tail = "\n  </AppendedData>\n</VTKFile>\n";
-    EXPECT_EQ(text.substr(text.size() - tail.size()), tail);
-    appended = text.substr(mark + 1, text.size() - tail.size() - mark - 1);
-    // Each DataArray is keyed by its enclosing element (PointData, CellData, Points, Verts, Polys).
-    std::string section;
-    std::uint64_t last_offset = 0;
-    for (const std::string& t : tags()) {
-      const std::string name = t.substr(0, t.find_first_of(" />"));
-      if (name == "DataArray") {
-        auto a = attributes(t);
-        const std::uint64_t offset = std::stoull(a["offset"]);
-        EXPECT_TRUE(arrays.empty() || offset > last_offset) << "blocks out of document order";
-        last_offset = offset;
-        arrays[section + "/" + a["Name"]] = a;
-      } else if (name == "PointData" || name == "CellData" || name == "Points" || name == "Verts" ||
-                 name == "Polys") {
-        section = name;
-      }
-    }
-  }
-
-  std::string piece(const std::string& key) const {
-    for (const std::string& t : tags())
-      if (t.rfind("Piece ", 0) == 0) return attributes(t)[key];
-    return "";
-  }
-
-  /// The values of one array; checks its declared type and component count.
-  template <class T>
-  std::vector<T> get(const std::string& key, const char* type, int n_components) const {
-    auto it = arrays.find(key);
-    if (it == arrays.end()) {
-      ADD_FAILURE() << "no array " << key;
-      return {};
-    }
-    const auto& a = it->second;
-    EXPECT_EQ(a.at("type"), type) << key;
-    EXPECT_EQ(a.at("format"), "appended") << key;
-    EXPECT_EQ(std::stoi(a.at("NumberOfComponents")), n_components) << key;
-    const std::size_t off = std::stoull(a.at("offset"));
-    std::uint64_t n_bytes = 0;
-    std::memcpy(&n_bytes, appended.data() + off, sizeof n_bytes);
-    EXPECT_LE(off + sizeof n_bytes + n_bytes, appended.size()) << key;
-    EXPECT_EQ(n_bytes % sizeof(T), 0u) << key;
-    std::vector<T> v(n_bytes / sizeof(T));
-    if (n_bytes > 0) std::memcpy(v.data(), appended.data() + off + sizeof n_bytes, n_bytes);
-    return v;
-  }
-
-  /// Sum of the block sizes must equal the appended section: no stray or missing bytes.
-  std::uint64_t blocks_size() const {
-    std::uint64_t total = 0;
-    for (const auto& [key, a] : arrays) {
-      std::uint64_t n = 0;
-      std::memcpy(&n, appended.data() + std::stoull(a.at("offset")), sizeof n);
-      total += sizeof n + n;
-    }
-    return total;
-  }
-};
+using Vtp = test::VtkFile;
 
 std::vector<double> flat(std::span<const Vec3> v) {
   std::vector<double> out;
@@ -629,6 +537,38 @@ TEST(Vtk, PvdSeriesIsRewrittenOnEveryAdd) {
   io::PvdSeries broken(dir / "missing_dir" / "x.pvd");
   EXPECT_THROW(broken.add(0.0, "x.vtp"), IoError);
   EXPECT_EQ(broken.size(), 0u);
+}
+
+// The CFD-DEM fluid's cell fields as ImageData: the extent and spacing of the grid, and the
+// fluid fraction, pressure and cell-centre velocity read back bit for bit (binary blocks), after
+// a few fluid steps of the fluidized bed (the fluid is moving and eps varies).
+TEST(Vtk, FluidVtiCarriesTheCellFieldsBitExactly) {
+  const auto cfg =
+      input::load_case(std::string(GF_SOURCE_DIR) + "/cases/cfd_dem/fluidized_bed/case.yaml");
+  Simulation sim(cfg);
+  for (int s = 0; s < 100; ++s) sim.step();
+  const CfdDemCoupling& cfd = *sim.cfd_dem();
+  const auto& f = cfd.fluid();
+  const auto& g = f.grid();
+  test::TempDir dir;
+  write_atomically(dir / "f.vti", [&](std::ostream& o) { cfd.write_vti(o); });
+  const Vtp v(dir / "f.vti");
+  EXPECT_EQ(v.piece("Extent"), fmt::format("0 {} 0 {} 0 {}", g.n[0], g.n[1], g.n[2]));
+  EXPECT_NE(v.header.find("<VTKFile type=\"ImageData\""), std::string::npos);
+  EXPECT_EQ(v.blocks_size(), v.appended.size());
+  const auto eps = v.get<double>("CellData/fluid_fraction", "Float64", 1);
+  const auto p = v.get<double>("CellData/pressure", "Float64", 1);
+  const auto u = v.get<double>("CellData/velocity", "Float64", 3);
+  ASSERT_EQ(eps.size(), static_cast<std::size_t>(g.cell_count()));
+  EXPECT_EQ(eps, std::vector<double>(f.fluid_fraction().begin(), f.fluid_fraction().end()));
+  EXPECT_EQ(p, std::vector<double>(f.pressure().begin(), f.pressure().end()));
+  std::vector<Vec3> uc(static_cast<std::size_t>(g.cell_count()));
+  f.cell_velocities(uc);
+  EXPECT_EQ(u, flat(uc));
+  EXPECT_LT(*std::min_element(eps.begin(), eps.end()), 0.99);  // grains are in the grid
+  double umax = 0.0;
+  for (double x : u) umax = std::max(umax, std::abs(x));
+  EXPECT_GT(umax, 0.1);
 }
 
 // ---- Shapes: glyph arrays, polygon cells, CSV columns ---------------------------------------

@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/vtk_xml.hpp"
 #include "fluid/fem/vtu.hpp"
 
 namespace gf::fem {
@@ -409,16 +410,15 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
     }
     probes << '\n';
   };
-  std::vector<std::pair<double, std::string>> series;
+  vtk::PvdSeries series(output_dir / "fem_fields.pvd");
   auto flush = [&] {
     write_atomically(output_dir / "fem_forces.csv", [&](std::ostream& os) { os << forces.str(); });
     write_atomically(output_dir / "fem_probes.csv", [&](std::ostream& os) { os << probes.str(); });
-    write_pvd(output_dir / "fem_fields.pvd", series);
   };
   auto write_fields = [&](const NavierStokes& s) {
     const std::string name = fmt::format("fem_fields_{:05d}.vtu", series.size());
     write_vtu(output_dir / name, s);
-    series.emplace_back(s.time(), name);
+    series.add(s.time(), name);
     flush();
   };
 
@@ -452,7 +452,7 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
                     std::max(1.0, std::floor((s.time() - next_vtk) / cfg.output.vtk_every + 1));
       }
     });
-    if (cfg.output.vtk_every == 0 || series.back().first < ns.time()) write_fields(ns);
+    if (cfg.output.vtk_every == 0 || series.last_time() < ns.time()) write_fields(ns);
     summary = fmt::format(
         "unsteady BDF{}: steps {}, rejected {}, Newton iterations {}, factorizations {}\n",
         cfg.time.order, st.steps, st.rejected, st.newton_iterations, st.factorizations);

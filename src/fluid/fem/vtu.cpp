@@ -1,58 +1,66 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// ASCII VTK XML writers for the fluid_fem fields (quadratic triangles, point data).
+// VTK XML unstructured grid of the fluid_fem fields (quadratic triangles, point data), binary.
 #include "fluid/fem/vtu.hpp"
 
 #include <fmt/format.h>
 
+#include <cstdint>
 #include <ostream>
 
 #include "core/files.hpp"
+#include "core/vtk_xml.hpp"
 
 namespace gf::fem {
 
 void write_vtu(const std::filesystem::path& path, const NavierStokes& ns) {
   const Mesh& m = ns.mesh();
-  std::vector<double> p(m.n_nodes(), 0.0);
+  const auto n_nodes = static_cast<std::size_t>(m.n_nodes());
+  const auto n_cells = static_cast<std::size_t>(m.n_cells());
+  std::vector<double> p(n_nodes, 0.0), velocity(3 * n_nodes, 0.0), points(3 * n_nodes, 0.0);
   for (int v = 0; v < m.n_vertices; ++v) p[v] = ns.pressure(v);
   for (const auto& c : m.cells)
     for (int e = 0; e < 3; ++e) p[c[3 + e]] = 0.5 * (p[c[e]] + p[c[(e + 1) % 3]]);
-  write_atomically(path, [&](std::ostream& os) {
-    os << "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" "
-          "byte_order=\"LittleEndian\">\n"
-       << "<UnstructuredGrid>\n"
-       << fmt::format("<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", m.n_nodes(),
-                      m.n_cells())
-       << "<PointData Vectors=\"velocity\" Scalars=\"pressure\">\n"
-       << "<DataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\" "
-          "format=\"ascii\">\n";
-    for (int k = 0; k < m.n_nodes(); ++k) {
-      const Vec2 u = ns.velocity(k);
-      os << fmt::format("{:.9g} {:.9g} 0\n", u.x, u.y);
-    }
-    os << "</DataArray>\n<DataArray type=\"Float64\" Name=\"pressure\" format=\"ascii\">\n";
-    for (double v : p) os << fmt::format("{:.9g}\n", v);
-    os << "</DataArray>\n</PointData>\n<Points>\n<DataArray type=\"Float64\" "
-          "NumberOfComponents=\"3\" format=\"ascii\">\n";
-    for (const auto& x : m.nodes) os << fmt::format("{:.12g} {:.12g} 0\n", x.x, x.y);
-    os << "</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" "
-          "format=\"ascii\">\n";
-    for (const auto& c : m.cells)
-      os << fmt::format("{} {} {} {} {} {}\n", c[0], c[1], c[2], c[3], c[4], c[5]);
-    os << "</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    for (int c = 0; c < m.n_cells(); ++c) os << 6 * (c + 1) << '\n';
-    os << "</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-    for (int c = 0; c < m.n_cells(); ++c) os << "22\n";  // VTK_QUADRATIC_TRIANGLE
-    os << "</DataArray>\n</Cells>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
-  });
-}
+  for (std::size_t k = 0; k < n_nodes; ++k) {
+    const Vec2 u = ns.velocity(static_cast<int>(k));
+    velocity[3 * k] = u.x;
+    velocity[3 * k + 1] = u.y;
+    points[3 * k] = m.nodes[k].x;
+    points[3 * k + 1] = m.nodes[k].y;
+  }
+  std::vector<std::int64_t> conn(6 * n_cells), offsets(n_cells);
+  for (std::size_t c = 0; c < n_cells; ++c) {
+    for (int j = 0; j < 6; ++j) conn[6 * c + j] = m.cells[c][j];
+    offsets[c] = static_cast<std::int64_t>(6 * (c + 1));
+  }
+  std::vector<std::uint8_t> types(n_cells, 22);  // VTK_QUADRATIC_TRIANGLE
 
-void write_pvd(const std::filesystem::path& path,
-               const std::vector<std::pair<double, std::string>>& entries) {
-  write_atomically(path, [&](std::ostream& os) {
-    os << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\">\n<Collection>\n";
-    for (const auto& [t, f] : entries)
-      os << fmt::format("<DataSet timestep=\"{:.9g}\" part=\"0\" file=\"{}\"/>\n", t, f);
-    os << "</Collection>\n</VTKFile>\n";
+  // Tags are built in block order: one statement per array.
+  vtk::AppendedArrays arrays;
+  const std::string velocity_tag =
+      vtk::AppendedArrays::tag(arrays.add_owned("velocity", 3, std::move(velocity)));
+  const std::string pressure_tag =
+      vtk::AppendedArrays::tag(arrays.add_owned("pressure", 1, std::move(p)));
+  const std::string points_tag =
+      vtk::AppendedArrays::tag(arrays.add_owned("position", 3, std::move(points)));
+  const std::string conn_tag =
+      vtk::AppendedArrays::tag(arrays.add_owned("connectivity", 1, std::move(conn)));
+  const std::string offsets_tag =
+      vtk::AppendedArrays::tag(arrays.add_owned("offsets", 1, std::move(offsets)));
+  const std::string types_tag =
+      vtk::AppendedArrays::tag(arrays.add_owned("types", 1, std::move(types)));
+  std::string xml = vtk::file_open("UnstructuredGrid");
+  xml += "  <UnstructuredGrid>\n";
+  xml += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n_nodes, n_cells);
+  xml += "      <PointData Vectors=\"velocity\" Scalars=\"pressure\">\n        " + velocity_tag +
+         "\n        " + pressure_tag + "\n      </PointData>\n";
+  xml += "      <Points>\n        " + points_tag + "\n      </Points>\n";
+  xml += "      <Cells>\n        " + conn_tag + "\n        " + offsets_tag + "\n        " +
+         types_tag + "\n      </Cells>\n";
+  xml += "    </Piece>\n  </UnstructuredGrid>\n";
+  write_atomically(path, [&](std::ostream& out) {
+    out << xml;
+    arrays.write_appended(out);
+    out << "</VTKFile>\n";
   });
 }
 

@@ -1,122 +1,25 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// VTK XML PolyData writers with appended raw binary data, and the .pvd collection.
+// VTK XML PolyData writers of particles, polygons and walls (appended raw binary data).
 #include "io/vtk/vtk.hpp"
 
 #include <fmt/format.h>
 
-#include <bit>
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <ostream>
 
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/vtk_xml.hpp"
 
 namespace gf::io {
 
 namespace {
 
-static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
 static_assert(sizeof(Quat) == 4 * sizeof(double) && offsetof(Quat, w) == 0,
               "Quat must be four packed doubles w, x, y, z");
-static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big,
-              "mixed-endian machines are not supported");
 
-constexpr const char* kByteOrder =
-    std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
-
-template <class T>
-constexpr const char* vtk_type();
-template <>
-constexpr const char* vtk_type<double>() {
-  return "Float64";
-}
-template <>
-constexpr const char* vtk_type<std::int64_t>() {
-  return "Int64";
-}
-template <>
-constexpr const char* vtk_type<std::int32_t>() {
-  return "Int32";
-}
-
-/// Collects the arrays of one .vtp file: each becomes a <DataArray format="appended"> tag in the
-/// header and a block (UInt64 byte count, raw bytes) in <AppendedData>.
-class AppendedArrays {
- public:
-  struct Array {
-    std::string name;
-    const char* type;
-    int n_components;
-    const void* data;
-    std::uint64_t n_bytes;
-    std::uint64_t offset;
-  };
-
-  /// Registers an array that lives elsewhere until write() is done.
-  template <class T>
-  const Array& add(const std::string& name, int n_components, std::span<const T> values) {
-    arrays_.push_back(
-        {name, vtk_type<T>(), n_components, values.data(), values.size_bytes(), offset_});
-    offset_ += sizeof(std::uint64_t) + values.size_bytes();
-    return arrays_.back();
-  }
-  const Array& add(const std::string& name, std::span<const Vec3> values) {
-    const auto* p = reinterpret_cast<const double*>(values.data());
-    return add(name, 3, std::span<const double>(p, 3 * values.size()));
-  }
-  /// Registers an array owned by this object.
-  template <class T>
-  const Array& add_owned(const std::string& name, int n_components, std::vector<T> values) {
-    auto& kept = owned<T>().emplace_back(std::move(values));
-    return add(name, n_components, std::span<const T>(kept));
-  }
-
-  /// The <DataArray .../> tag of an array.
-  static std::string tag(const Array& a) {
-    return fmt::format(
-        "<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"appended\" "
-        "offset=\"{}\"/>",
-        a.type, xml_escape(a.name), a.n_components, a.offset);
-  }
-
-  /// Writes the <AppendedData> element with every block, in registration order.
-  void write_appended(std::ostream& out) const {
-    out << "  <AppendedData encoding=\"raw\">\n   _";
-    for (const Array& a : arrays_) {
-      const std::uint64_t n = a.n_bytes;
-      out.write(reinterpret_cast<const char*>(&n), sizeof n);
-      if (n > 0) out.write(static_cast<const char*>(a.data), static_cast<std::streamsize>(n));
-    }
-    out << "\n  </AppendedData>\n";
-  }
-
- private:
-  template <class T>
-  std::deque<std::vector<T>>& owned() {
-    if constexpr (std::is_same_v<T, double>)
-      return owned_double_;
-    else if constexpr (std::is_same_v<T, std::int64_t>)
-      return owned_int64_;
-    else
-      return owned_int32_;
-  }
-
-  std::deque<Array> arrays_;  // deque: references returned by add() stay valid
-  std::uint64_t offset_ = 0;
-  std::deque<std::vector<double>> owned_double_;
-  std::deque<std::vector<std::int64_t>> owned_int64_;
-  std::deque<std::vector<std::int32_t>> owned_int32_;
-};
-
-const char* kHeader = "<?xml version=\"1.0\"?>\n";
-
-std::string vtkfile_open(const char* type) {
-  return fmt::format(
-      "<VTKFile type=\"{}\" version=\"1.0\" byte_order=\"{}\" header_type=\"UInt64\">\n", type,
-      kByteOrder);
-}
+using vtk::AppendedArrays;
 
 /// Vertex cells 0..n-1 (connectivity and end offsets).
 void add_vertex_cells(AppendedArrays& arrays, std::size_t n, std::string& xml) {
@@ -174,33 +77,6 @@ void add_glyph_arrays(AppendedArrays& arrays, const ParticleStore& store, std::s
 
 }  // namespace
 
-std::string xml_escape(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 void write_particles_vtp(const std::filesystem::path& path, const ParticleStore& store) {
   const std::size_t n = store.size();
   AppendedArrays arrays;
@@ -235,8 +111,7 @@ void write_particles_vtp(const std::filesystem::path& path, const ParticleStore&
   point_data += "        " + speed_tag + "\n";
   if (store.has_shapes()) add_glyph_arrays(arrays, store, point_data);
 
-  std::string xml = kHeader;
-  xml += vtkfile_open("PolyData");
+  std::string xml = vtk::file_open("PolyData");
   xml += "  <PolyData>\n";
   xml += fmt::format(
       "    <Piece NumberOfPoints=\"{0}\" NumberOfVerts=\"{0}\" NumberOfLines=\"0\" "
@@ -277,8 +152,7 @@ void write_polys_file(const std::filesystem::path& path, AppendedArrays& arrays,
                       const std::string& cell_attrs, const std::string& cell_data,
                       std::span<const Vec3> points, std::vector<std::int64_t> conn,
                       std::vector<std::int64_t> offsets) {
-  std::string xml = kHeader;
-  xml += vtkfile_open("PolyData");
+  std::string xml = vtk::file_open("PolyData");
   xml += "  <PolyData>\n";
   xml += fmt::format(
       "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
@@ -393,26 +267,6 @@ void write_surfaces_vtp(const std::filesystem::path& path, std::span<const Surfa
                AppendedArrays::tag(arrays.add("wall_force", std::span<const Vec3>(force))) + "\n";
   write_polys_file(path, arrays, "Scalars=\"wall_id\" Vectors=\"wall_force\"", cell_data, points,
                    std::move(conn), std::move(offsets));
-}
-
-PvdSeries::PvdSeries(std::filesystem::path pvd_file) : path_(std::move(pvd_file)) {}
-
-void PvdSeries::add(double time, const std::string& relative_file, int part) {
-  entries_.push_back({time, relative_file, part});
-  std::string xml = kHeader;
-  xml +=
-      fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n", kByteOrder);
-  xml += "  <Collection>\n";
-  for (const Entry& e : entries_)
-    xml += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"{}\" file=\"{}\"/>\n",
-                       e.time, e.part, xml_escape(e.file));
-  xml += "  </Collection>\n</VTKFile>\n";
-  try {
-    write_atomically(path_, [&](std::ostream& out) { out << xml; });
-  } catch (...) {
-    entries_.pop_back();  // keep memory and disk in step
-    throw;
-  }
 }
 
 }  // namespace gf::io

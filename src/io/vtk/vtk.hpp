@@ -15,6 +15,7 @@
 #include "core/quaternion.hpp"
 #include "core/surface_mesh.hpp"
 #include "core/vec3.hpp"
+#include "core/vtk_xml.hpp"
 #include "particles/particle_store.hpp"
 #include "particles/shapes.hpp"
 
@@ -62,30 +63,8 @@ void write_polygons_vtp(const std::filesystem::path& path, const ParticleStore& 
 void write_surfaces_vtp(const std::filesystem::path& path, std::span<const SurfaceMesh> meshes,
                         std::span<const Vec3> force_per_mesh);
 
-/// A ParaView collection (.pvd) of time steps; the file is rewritten atomically on every add,
-/// so it is always complete and can be opened while the run goes on.
-class PvdSeries {
- public:
-  explicit PvdSeries(std::filesystem::path pvd_file);
-
-  /// Adds a data set: `time` in s, `relative_file` relative to the .pvd's folder, `part` the
-  /// piece number (several files at one time step).
-  void add(double time, const std::string& relative_file, int part = 0);
-
-  const std::filesystem::path& path() const { return path_; }
-  std::size_t size() const { return entries_.size(); }
-
- private:
-  struct Entry {
-    double time;
-    std::string file;
-    int part;
-  };
-  std::filesystem::path path_;
-  std::vector<Entry> entries_;
-};
-
-/// `text` with the five XML special characters escaped, for attribute values.
-std::string xml_escape(const std::string& text);
+/// The .pvd time series and XML escaping are the shared ones of core/vtk_xml.hpp.
+using vtk::PvdSeries;
+using vtk::xml_escape;
 
 }  // namespace gf::io

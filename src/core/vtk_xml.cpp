@@ -1,0 +1,98 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// VTK XML building blocks: appended raw binary arrays, the file's opening tag, .pvd collections.
+#include "core/vtk_xml.hpp"
+
+#include <fmt/format.h>
+
+#include <bit>
+
+#include "core/files.hpp"
+
+namespace gf::vtk {
+
+static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 must be three packed doubles");
+static_assert(std::endian::native == std::endian::little || std::endian::native == std::endian::big,
+              "mixed-endian machines are not supported");
+
+const char* byte_order() {
+  return std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian";
+}
+
+std::string file_open(const char* type) {
+  return fmt::format(
+      "<?xml version=\"1.0\"?>\n<VTKFile type=\"{}\" version=\"1.0\" byte_order=\"{}\" "
+      "header_type=\"UInt64\">\n",
+      type, byte_order());
+}
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+const AppendedArrays::Array& AppendedArrays::add(const std::string& name,
+                                                 std::span<const Vec3> values) {
+  const auto* p = reinterpret_cast<const double*>(values.data());
+  return add(name, 3, std::span<const double>(p, 3 * values.size()));
+}
+
+std::string AppendedArrays::tag(const Array& a) {
+  return fmt::format(
+      "<DataArray type=\"{}\" Name=\"{}\" NumberOfComponents=\"{}\" format=\"appended\" "
+      "offset=\"{}\"/>",
+      a.type, xml_escape(a.name), a.n_components, a.offset);
+}
+
+void AppendedArrays::write_appended(std::ostream& out) const {
+  out << "  <AppendedData encoding=\"raw\">\n   _";
+  for (const Array& a : arrays_) {
+    const std::uint64_t n = a.n_bytes;
+    out.write(reinterpret_cast<const char*>(&n), sizeof n);
+    if (n > 0) out.write(static_cast<const char*>(a.data), static_cast<std::streamsize>(n));
+  }
+  out << "\n  </AppendedData>\n";
+}
+
+PvdSeries::PvdSeries(std::filesystem::path pvd_file) : path_(std::move(pvd_file)) {}
+
+void PvdSeries::add(double time, const std::string& relative_file, int part) {
+  entries_.push_back({time, relative_file, part});
+  std::string xml = "<?xml version=\"1.0\"?>\n";
+  xml += fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n",
+                     byte_order());
+  xml += "  <Collection>\n";
+  for (const Entry& e : entries_)
+    xml += fmt::format("    <DataSet timestep=\"{}\" group=\"\" part=\"{}\" file=\"{}\"/>\n",
+                       e.time, e.part, xml_escape(e.file));
+  xml += "  </Collection>\n</VTKFile>\n";
+  try {
+    write_atomically(path_, [&](std::ostream& out) { out << xml; });
+  } catch (...) {
+    entries_.pop_back();  // keep memory and disk in step
+    throw;
+  }
+}
+
+}  // namespace gf::vtk
