@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Schaefer-Turek 2D-2 (Re = 100, periodic) and 2D-3 (U(t) = 1.5 sin(pi t / 8)) with BDF2.
+// Schaefer-Turek 2D-2 (Re = 100, periodic) and 2D-3 (U(t) = 1.5 sin(pi t / 8)) with BDF2 (or
+// BDF1 / BDF3 with `order k`).
 // Usage: st_unsteady <2|3> <h_body> <h_max> <dt> <t_end> <out.csv> [reuse] [adaptive rtol] [wake h]
+//        [order k]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,7 +20,7 @@ int main(int argc, char** argv) {
   if (argc < 7) {
     std::fprintf(stderr,
                  "usage: st_unsteady <2|3> h_body h_max dt t_end out.csv [reuse] [adaptive rtol] "
-                 "[wake h]\n");
+                 "[wake h] [order k]\n");
     return 2;
   }
   const int which = std::atoi(argv[1]);
@@ -28,6 +30,7 @@ int main(int argc, char** argv) {
   bool reuse = false, adaptive = false;
   double h_wake = 0;
   double rtol = 1e-3;
+  int order = 2;
   for (int i = 7; i < argc; ++i) {
     if (std::string(argv[i]) == "reuse") reuse = true;
     if (std::string(argv[i]) == "adaptive" && i + 1 < argc) {
@@ -35,6 +38,7 @@ int main(int argc, char** argv) {
       rtol = std::atof(argv[++i]);
     }
     if (std::string(argv[i]) == "wake" && i + 1 < argc) h_wake = std::atof(argv[++i]);
+    if (std::string(argv[i]) == "order" && i + 1 < argc) order = std::atoi(argv[++i]);
   }
   auto t0 = std::chrono::steady_clock::now();
   auto sec = [&] {
@@ -55,7 +59,7 @@ int main(int argc, char** argv) {
   opt.tolerance = 1e-8;
   opt.reuse_factorization = reuse;
   TimeControl tc;
-  tc.order = 2;
+  tc.order = order;
   tc.dt = dt;
   tc.t_end = t_end;
   tc.adaptive = adaptive;

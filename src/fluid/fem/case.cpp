@@ -313,7 +313,8 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   cfg.steady = r.choice(r.need(time, "mode", tp), tp + ".mode", {"steady", "unsteady"}) == "steady";
   if (!cfg.steady) {
     if (time["scheme"].IsDefined())
-      cfg.time.order = r.choice(time["scheme"], tp + ".scheme", {"bdf1", "bdf2"}) == "bdf1" ? 1 : 2;
+      cfg.time.order =
+          r.choice(time["scheme"], tp + ".scheme", {"bdf1", "bdf2", "bdf3"}).back() - '0';
     cfg.time.dt = r.number(r.need(time, "step", tp), tp + ".step", 0, 1e30, true);
     cfg.time.t_end = r.number(r.need(time, "end", tp), tp + ".end", 0, 1e30, true);
     if (const auto ad = time["adaptive"]; ad.IsDefined()) {

@@ -386,26 +386,31 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
     hist_t_.push_back(t_);
     hist_x_.push_back(x_);
   }
-  const int k = std::clamp(order, 1, std::min(2, static_cast<int>(hist_t_.size())));
+  const int k = std::clamp(order, 1, std::min(kMaxBdfOrder, static_cast<int>(hist_t_.size())));
   const double tn = hist_t_[0];
-  const auto& xn = hist_x_[0];
   const int nv = 2 * n2_;
-  double h1 = 0, h2 = 0;
-  if (hist_t_.size() > 1) h1 = tn - hist_t_[1];
-  if (hist_t_.size() > 2) h2 = hist_t_[1] - hist_t_[2];
-  if (k == 1) {
-    alpha0_ = 1.0 / dt;
-    for (int i = 0; i < nv; ++i) hist_term_[i] = -xn[i] / dt;
-  } else {
-    const double om = dt / h1;
-    alpha0_ = (1 + 2 * om) / ((1 + om) * dt);
-    const double a1 = -(1 + om) / dt, a2 = om * om / ((1 + om) * dt);
-    const auto& xm = hist_x_[1];
-    for (int i = 0; i < nv; ++i) hist_term_[i] = a1 * xn[i] + a2 * xm[i];
+  // Variable-step BDF-k: du/dt(t_{n+1}) is the derivative at tau_0 = t_{n+1} of the polynomial
+  // through (tau_j, u_j), tau_j = the newest k states' times; the weight of u_j is the derivative
+  // of its Lagrange basis polynomial at tau_0. alpha0 = sum_{m>0} 1 / (tau_0 - tau_m).
+  const double tp = tn + dt;
+  std::array<double, kMaxBdfOrder + 1> tau{};
+  tau[0] = tp;
+  for (int j = 1; j <= k; ++j) tau[j] = hist_t_[j - 1];
+  alpha0_ = 0.0;
+  for (int m = 1; m <= k; ++m) alpha0_ += 1.0 / (tp - tau[m]);
+  std::fill(hist_term_.begin(), hist_term_.begin() + nv, 0.0);
+  for (int j = 1; j <= k; ++j) {
+    double w = 1.0;
+    for (int m = 0; m <= k; ++m) {
+      if (m == j) continue;
+      if (m != 0) w *= tp - tau[m];
+      w /= tau[j] - tau[m];
+    }
+    const auto& xj = hist_x_[j - 1];
+    for (int i = 0; i < nv; ++i) hist_term_[i] += w * xj[i];
   }
   // Predictor: extrapolation of degree k through the newest k+1 states (lower if fewer known).
   const int deg = std::min(k, static_cast<int>(hist_t_.size()) - 1);
-  const double tp = tn + dt;
   std::vector<double> xp(n_dofs_, 0.0);
   for (int j = 0; j <= deg; ++j) {
     double lj = 1;
@@ -418,14 +423,18 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
   StepResult res;
   res.newton = newton(opt);
   if (deg == k) {
-    double cc, cp;
-    if (k == 1) {
-      cc = dt * dt / 2;
-      cp = dt * (dt + h1) / 2;
-    } else {
-      cc = dt * (dt + h1) / (6 * alpha0_);
-      cp = dt * (dt + h1) * (dt + h1 + h2) / 6;
+    // Milne's device: with D = u^(k+1) / (k+1)!, the corrector's error is D prod_{m=1..k}
+    // (tau_0 - tau_m) / alpha0 (its derivative error over alpha0), the predictor's (degree-k
+    // extrapolation through the newest k+1 states) D prod_{j=0..k} (t_{n+1} - t_{n-j}); their
+    // difference x - xp is measured, so the corrector's error is f (x - xp), f = cc / (cc + cp).
+    double cc = 1.0 / alpha0_, cp = 1.0, fact = 1.0;
+    for (int m = 1; m <= k; ++m) cc *= tp - tau[m];
+    for (int j = 0; j <= k; ++j) {
+      cp *= tp - hist_t_[j];
+      fact *= j + 1;
     }
+    cc /= fact;
+    cp /= fact;
     const double f = cc / (cc + cp);
     double sum = 0;
     int n = 0;
@@ -443,7 +452,7 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
 void NavierStokes::accept_step() {
   hist_t_.insert(hist_t_.begin(), t_);
   hist_x_.insert(hist_x_.begin(), x_);
-  if (hist_t_.size() > 3) {
+  if (hist_t_.size() > kMaxBdfOrder + 1) {  // the predictor of order k uses k + 1 states
     hist_t_.pop_back();
     hist_x_.pop_back();
   }

@@ -16,6 +16,7 @@
 // "Benchmark computations of laminar flow around a cylinder", Notes Num. Fluid Mech. 52 (1996).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -74,6 +75,11 @@ struct NewtonReport {
 };
 
 /// BDF integration state and step control.
+/// Highest BDF order of try_step. BDF3 is A(86 deg)-stable, i.e. stable for all but a sliver of
+/// the left half plane next to the imaginary axis; higher orders lose too much of it for
+/// convection-dominated flow.
+inline constexpr int kMaxBdfOrder = 3;
+
 struct StepResult {
   NewtonReport newton;
   double error = 0.0;  ///< weighted RMS estimate of the local velocity error (<= 1: accept)
@@ -102,12 +108,14 @@ class NavierStokes {
   /// Steady solution at the current time by Newton's method (optionally after Picard steps).
   NewtonReport solve_steady(const NewtonOptions& opt);
 
-  /// One BDF step of size dt [s] of order 1 or 2 (2 falls back to 1 without history).
+  /// One variable-step BDF step of size dt [s] and order 1 ... kMaxBdfOrder (lower while fewer
+  /// states are known: order k needs k).
   /// The result is tentative until accept_step() or reject_step().
   StepResult try_step(double dt, int order, const NewtonOptions& opt, double rtol, double atol);
   void accept_step();
   void reject_step();
-  /// Order actually usable for the next step (1 until two states are known).
+  /// Order actually usable for the next step (the number of states known, at most
+  /// kMaxBdfOrder + 1).
   [[nodiscard]] int available_order() const { return static_cast<int>(hist_t_.size()); }
 
   /// Forces from the residual (reaction) of the momentum equations at the current state; the

@@ -11,7 +11,8 @@ namespace gf::fem {
 
 TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions& opt,
                     const std::function<void(const NavierStokes&, double)>& observe) {
-  REQUIRE(tc.order == 1 || tc.order == 2, "BDF order must be 1 or 2, got {}", tc.order);
+  REQUIRE(tc.order >= 1 && tc.order <= kMaxBdfOrder, "BDF order must be 1 to {}, got {}",
+          kMaxBdfOrder, tc.order);
   REQUIRE(tc.dt > 0, "time step must be positive");
   TimeStats st;
   double dt = std::min(tc.dt, tc.dt_max);
@@ -42,7 +43,9 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
     ns.accept_step();
     ++st.steps;
     if (observe) observe(ns, h);
-    if (tc.adaptive) dt = std::min(tc.dt_max, h * std::clamp(fac, 0.2, 2.0));
+    // Step growth bounded for zero-stability of variable-step BDF: ratios below 1 + sqrt(2)
+    // for BDF2, about 1.5 for BDF3 (Calvo, Grande & Grigorieff, Numer. Math. 57, 1990).
+    if (tc.adaptive) dt = std::min(tc.dt_max, h * std::clamp(fac, 0.2, order >= 3 ? 1.5 : 2.0));
   }
   return st;
 }

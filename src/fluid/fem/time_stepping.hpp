@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Time loop over NavierStokes::try_step: fixed or adaptive BDF1/BDF2 steps with rejection.
+// Time loop over NavierStokes::try_step: fixed or adaptive BDF1/BDF2/BDF3 steps with rejection.
 //
 // Variable-step BDF2 (e.g. Hairer & Wanner, Solving ODEs II, sec. III.5): with omega =
 // dt_n/dt_{n-1},
 //   du/dt(t_{n+1}) ~ [(1+2 omega) u_{n+1} - (1+omega)^2 u_n + omega^2 u_{n-1}] / ((1+omega) dt_n).
 // Local error estimated from the difference to the extrapolating predictor (Milne's device),
 // on the velocities only (the pressure is an algebraic variable); the step is chosen as
-// dt_new = dt 0.9 err^{-1/(k+1)}, limited so that omega <= 2 (BDF2 zero-stability needs < 2.414).
+// dt_new = dt 0.9 err^{-1/(k+1)}, limited so that omega <= 2 (BDF2 zero-stability needs < 2.414;
+// BDF3: omega <= 1.5). BDF3 is the same construction one degree higher (NavierStokes::try_step).
 #pragma once
 
 #include <functional>
@@ -17,7 +18,7 @@
 namespace gf::fem {
 
 struct TimeControl {
-  int order = 2;                    ///< 1 (implicit Euler) or 2 (BDF2)
+  int order = 2;                    ///< 1 (implicit Euler), 2 (BDF2) or 3 (BDF3)
   double dt = 1e-2;                 ///< (initial) step [s]
   double t_end = 1.0;               ///< [s]
   bool adaptive = false;            ///< error control on velocities
