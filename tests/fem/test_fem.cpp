@@ -2,11 +2,14 @@
 // Tests of fluid_fem: mesh geometry, exact P2-P1 solutions, forces, torques, BDF order, 2D-1.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <numbers>
+#include <vector>
 
 #include "core/error.hpp"
 #include "fluid/fem/schaefer_turek.hpp"
@@ -35,6 +38,27 @@ FlowProblem channel(double length, double height, double h, double u_max,
   in.time_function = std::move(f);
   pb.outline_bc = {wall, out, wall, in};
   return pb;
+}
+
+/// The solution at t = 0.4 s of the channel driven by the inflow u_max f(t) from rest, by BDF of
+/// the given order with the fixed step dt.
+std::vector<double> channel_at_t04(int order, double dt, std::function<double(double)> f) {
+  NavierStokes ns(channel(1.0, 0.2, 0.05, 1.0, std::move(f)));
+  TimeControl tc;
+  tc.order = order;
+  tc.dt = dt;
+  tc.t_end = 0.4;
+  NewtonOptions opt;
+  opt.reuse_factorization = true;
+  opt.tolerance = 1e-13;
+  integrate(ns, tc, opt, {});
+  return ns.solution();
+}
+
+double max_abs_diff(const std::vector<double>& a, const std::vector<double>& b) {
+  double e = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) e = std::max(e, std::abs(a[i] - b[i]));
+  return e;
 }
 
 double min_angle_deg(const Mesh& m) {
@@ -153,7 +177,9 @@ TEST(FemOutput, VtuCarriesMeshAndFieldsBitExactly) {
     EXPECT_EQ(x[3 * k + 2], 0.0);
     EXPECT_EQ(u[3 * k], ns.velocity(k).x);
     EXPECT_EQ(u[3 * k + 1], ns.velocity(k).y);
-    if (k < m.n_vertices) EXPECT_EQ(p[k], ns.pressure(k));
+    if (k < m.n_vertices) {
+      EXPECT_EQ(p[k], ns.pressure(k));
+    }
   }
   for (const auto& c : m.cells)
     for (int e = 0; e < 3; ++e) EXPECT_EQ(p[c[3 + e]], 0.5 * (p[c[e]] + p[c[(e + 1) % 3]]));
@@ -192,28 +218,12 @@ TEST(FemFlow, TaylorCouetteTorque) {
 // reference uses dt = 1/1280). BDF1 gives ~2.
 TEST(FemFlow, BdfTemporalOrder) {
   auto f = [](double t) { return std::sin(2 * std::numbers::pi * t); };
-  auto run = [&](int order, double dt) {
-    NavierStokes ns(channel(1.0, 0.2, 0.05, 1.0, f));
-    TimeControl tc;
-    tc.order = order;
-    tc.dt = dt;
-    tc.t_end = 0.4;
-    NewtonOptions opt;
-    opt.reuse_factorization = true;
-    opt.tolerance = 1e-12;
-    integrate(ns, tc, opt, {});
-    return ns.solution();
-  };
-  const auto ref = run(2, 1.0 / 1280);
-  auto err = [&](const std::vector<double>& x) {
-    double e = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) e = std::max(e, std::abs(x[i] - ref[i]));
-    return e;
-  };
-  const double e1 = err(run(2, 0.02)), e2 = err(run(2, 0.01));
+  const auto ref = channel_at_t04(2, 1.0 / 1280, f);
+  auto err = [&](int order, double dt) { return max_abs_diff(channel_at_t04(order, dt, f), ref); };
+  const double e1 = err(2, 0.02), e2 = err(2, 0.01);
   EXPECT_GT(e1 / e2, 3.3);
   EXPECT_LT(e1 / e2, 4.8);
-  const double b1 = err(run(1, 0.02)), b2 = err(run(1, 0.01));
+  const double b1 = err(1, 0.02), b2 = err(1, 0.01);
   EXPECT_GT(b1 / b2, 1.7);
   EXPECT_LT(b1 / b2, 2.4);
 }
@@ -226,29 +236,13 @@ TEST(FemFlow, BdfTemporalOrder) {
 // 9x smaller than BDF2's.
 TEST(FemFlow, Bdf3TemporalOrder) {
   auto f = [](double t) { return std::pow(std::sin(2 * std::numbers::pi * t), 3); };
-  auto run = [&](int order, double dt) {
-    NavierStokes ns(channel(1.0, 0.2, 0.05, 1.0, f));
-    TimeControl tc;
-    tc.order = order;
-    tc.dt = dt;
-    tc.t_end = 0.4;
-    NewtonOptions opt;
-    opt.reuse_factorization = true;
-    opt.tolerance = 1e-13;
-    integrate(ns, tc, opt, {});
-    return ns.solution();
-  };
-  const auto ref = run(3, 1.0 / 1280);
-  auto err = [&](const std::vector<double>& x) {
-    double e = 0;
-    for (std::size_t i = 0; i < x.size(); ++i) e = std::max(e, std::abs(x[i] - ref[i]));
-    return e;
-  };
-  const double e1 = err(run(3, 0.01)), e2 = err(run(3, 0.005));
+  const auto ref = channel_at_t04(3, 1.0 / 1280, f);
+  auto err = [&](int order, double dt) { return max_abs_diff(channel_at_t04(order, dt, f), ref); };
+  const double e1 = err(3, 0.01), e2 = err(3, 0.005);
   std::printf("BDF3 errors %.3e %.3e ratio %.2f\n", e1, e2, e1 / e2);
   EXPECT_GT(e1 / e2, 6.4);
   EXPECT_LT(e1 / e2, 9.6);
-  const double b2 = err(run(2, 0.005));
+  const double b2 = err(2, 0.005);
   std::printf("BDF2 error %.3e\n", b2);
   EXPECT_LT(e2, b2);  // and more accurate than BDF2 at the same step
 }

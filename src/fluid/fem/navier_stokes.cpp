@@ -426,15 +426,11 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
     // Milne's device: with D = u^(k+1) / (k+1)!, the corrector's error is D prod_{m=1..k}
     // (tau_0 - tau_m) / alpha0 (its derivative error over alpha0), the predictor's (degree-k
     // extrapolation through the newest k+1 states) D prod_{j=0..k} (t_{n+1} - t_{n-j}); their
-    // difference x - xp is measured, so the corrector's error is f (x - xp), f = cc / (cc + cp).
-    double cc = 1.0 / alpha0_, cp = 1.0, fact = 1.0;
+    // difference x - xp is measured, so the corrector's error is f (x - xp), f = cc / (cc + cp)
+    // (D cancels).
+    double cc = 1.0 / alpha0_, cp = 1.0;
     for (int m = 1; m <= k; ++m) cc *= tp - tau[m];
-    for (int j = 0; j <= k; ++j) {
-      cp *= tp - hist_t_[j];
-      fact *= j + 1;
-    }
-    cc /= fact;
-    cp /= fact;
+    for (int j = 0; j <= k; ++j) cp *= tp - hist_t_[j];
     const double f = cc / (cc + cp);
     double sum = 0;
     int n = 0;

@@ -36,18 +36,15 @@ void write_vtu(const std::filesystem::path& path, const NavierStokes& ns) {
 
   // Tags are built in block order: one statement per array.
   vtk::AppendedArrays arrays;
-  const std::string velocity_tag =
-      vtk::AppendedArrays::tag(arrays.add_owned("velocity", 3, std::move(velocity)));
-  const std::string pressure_tag =
-      vtk::AppendedArrays::tag(arrays.add_owned("pressure", 1, std::move(p)));
-  const std::string points_tag =
-      vtk::AppendedArrays::tag(arrays.add_owned("position", 3, std::move(points)));
-  const std::string conn_tag =
-      vtk::AppendedArrays::tag(arrays.add_owned("connectivity", 1, std::move(conn)));
-  const std::string offsets_tag =
-      vtk::AppendedArrays::tag(arrays.add_owned("offsets", 1, std::move(offsets)));
-  const std::string types_tag =
-      vtk::AppendedArrays::tag(arrays.add_owned("types", 1, std::move(types)));
+  auto add = [&arrays](const char* name, int n_components, auto values) {
+    return vtk::AppendedArrays::tag(arrays.add_owned(name, n_components, std::move(values)));
+  };
+  const std::string velocity_tag = add("velocity", 3, std::move(velocity));
+  const std::string pressure_tag = add("pressure", 1, std::move(p));
+  const std::string points_tag = add("position", 3, std::move(points));
+  const std::string conn_tag = add("connectivity", 1, std::move(conn));
+  const std::string offsets_tag = add("offsets", 1, std::move(offsets));
+  const std::string types_tag = add("types", 1, std::move(types));
   std::string xml = vtk::file_open("UnstructuredGrid");
   xml += "  <UnstructuredGrid>\n";
   xml += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n_nodes, n_cells);
