@@ -285,6 +285,7 @@ class VolumeAveragedNS {
   std::vector<PressureRow> prow_;
   SpdSolver::Matrix pmatrix_;
   Eigen::VectorXd prhs_, phi_;
+  Eigen::VectorXd flux_scale_;  // per cell: sum of |eps u| / h over its faces + |d eps/dt|
   SpdSolver psolver_;
 };
 
