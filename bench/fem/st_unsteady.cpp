@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Schaefer-Turek 2D-2 (Re = 100, periodic) and 2D-3 (U(t) = 1.5 sin(pi t / 8)) with BDF2 (or
-// BDF1 / BDF3 with `order k`).
+// BDF1 / BDF3 with `order k`, variable order 1-3 with `order auto`, which needs `adaptive`).
 // Usage: st_unsteady <2|3> <h_body> <h_max> <dt> <t_end> <out.csv> [reuse] [adaptive rtol] [wake h]
-//        [order k]
+//        [order k|auto] [dt_max s]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -20,7 +20,7 @@ int main(int argc, char** argv) {
   if (argc < 7) {
     std::fprintf(stderr,
                  "usage: st_unsteady <2|3> h_body h_max dt t_end out.csv [reuse] [adaptive rtol] "
-                 "[wake h] [order k]\n");
+                 "[wake h] [order k|auto] [dt_max s]\n");
     return 2;
   }
   const int which = std::atoi(argv[1]);
@@ -29,8 +29,9 @@ int main(int argc, char** argv) {
   const std::string out = argv[6];
   bool reuse = false, adaptive = false;
   double h_wake = 0;
-  double rtol = 1e-3;
+  double rtol = 1e-3, dt_max = 0.05;
   int order = 2;
+  bool variable_order = false;
   for (int i = 7; i < argc; ++i) {
     if (std::string(argv[i]) == "reuse") reuse = true;
     if (std::string(argv[i]) == "adaptive" && i + 1 < argc) {
@@ -38,7 +39,11 @@ int main(int argc, char** argv) {
       rtol = std::atof(argv[++i]);
     }
     if (std::string(argv[i]) == "wake" && i + 1 < argc) h_wake = std::atof(argv[++i]);
-    if (std::string(argv[i]) == "order" && i + 1 < argc) order = std::atoi(argv[++i]);
+    if (std::string(argv[i]) == "dt_max" && i + 1 < argc) dt_max = std::atof(argv[++i]);
+    if (std::string(argv[i]) == "order" && i + 1 < argc) {
+      variable_order = std::string(argv[++i]) == "auto";
+      order = variable_order ? kMaxBdfOrder : std::atoi(argv[i]);
+    }
   }
   auto t0 = std::chrono::steady_clock::now();
   auto sec = [&] {
@@ -60,12 +65,13 @@ int main(int argc, char** argv) {
   opt.reuse_factorization = reuse;
   TimeControl tc;
   tc.order = order;
+  tc.variable_order = variable_order;
   tc.dt = dt;
   tc.t_end = t_end;
   tc.adaptive = adaptive;
   tc.rtol = rtol;
   tc.atol = rtol;  // velocities are O(1) m/s
-  tc.dt_max = 0.05;
+  tc.dt_max = dt_max;
   const auto stats = integrate(ns, tc, opt, [&](const NavierStokes& s, double h) {
     const double ubar = 2.0 / 3.0 * 1.5;  // coefficients use the peak mean velocity 1 m/s
     const auto c = st::coefficients(s, s.reaction_forces()[0], ubar);
@@ -75,9 +81,10 @@ int main(int argc, char** argv) {
   });
   std::fclose(fp);
   std::printf(
-      "steps %d rejected %d newton %d factorizations %d wall %.1f s (factor %.1f s, assembly %.1f "
-      "s, solve %.1f s)\n",
-      stats.steps, stats.rejected, stats.newton_iterations, stats.factorizations, sec(),
+      "steps %d (orders 1/2/3: %d/%d/%d) rejected %d newton %d factorizations %d wall %.1f s "
+      "(factor %.1f s, assembly %.1f s, solve %.1f s)\n",
+      stats.steps, stats.steps_at_order[1], stats.steps_at_order[2], stats.steps_at_order[3],
+      stats.rejected, stats.newton_iterations, stats.factorizations, sec(),
       ns.lu().factor_seconds(), ns.assembly_seconds(), ns.lu().solve_seconds());
   return 0;
 }

@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "core/error.hpp"
 #include "fluid/fem/case.hpp"
@@ -76,12 +78,52 @@ TEST(FemCase, ErrorsNameLocationKeyExpectedAndFound) {
                         "mode: unsteady, scheme: bdf2,"));
   EXPECT_NE(e.find("fluid_fem.time.step"), std::string::npos) << e;
   EXPECT_NE(e.find("required"), std::string::npos) << e;
+  e = error_of(replaced(kGood, "scheme: bdf2", "scheme: auto"));  // auto needs adaptive steps
+  EXPECT_NE(e.find("case.yaml:13:"), std::string::npos) << e;
+  EXPECT_NE(e.find("fluid_fem.time.scheme"), std::string::npos) << e;
+  EXPECT_NE(e.find("adaptive"), std::string::npos) << e;
+  EXPECT_NE(e.find("found 'auto'"), std::string::npos) << e;
+  e = error_of(replaced(kGood, "scheme: bdf2", "scheme: bdf4"));
+  EXPECT_NE(e.find("bdf1 | bdf2 | bdf3 | auto"), std::string::npos) << e;
   e = error_of(replaced(kGood, "edges: [1]", "edges: [7]"));
   EXPECT_NE(e.find("edges[0]"), std::string::npos) << e;
   e = error_of(replaced(kGood, "edges: [1]", "edges: [0]"));
   EXPECT_NE(e.find("not listed before"), std::string::npos) << e;
   e = error_of(replaced(kGood, "radius: 0.05", "radius: [1]"));
   EXPECT_NE(e.find("a list of 1 items"), std::string::npos) << e;
+}
+
+TEST(FemCase, VariableOrderRunReportsStepsPerOrder) {
+  const auto cfg = parse_fluid_fem(
+      YAML::Load(
+          replaced(kGood, "scheme: bdf2, step: 0.05, end: 0.2",
+                   "scheme: auto, step: 0.01, end: 0.2, adaptive: {rtol: 1.0e-3}"))["fluid_fem"],
+      "case.yaml");
+  EXPECT_TRUE(cfg.time.variable_order);
+  EXPECT_EQ(cfg.time.order, 3);
+  EXPECT_TRUE(cfg.time.adaptive);
+  const auto dir = std::filesystem::temp_directory_path() / "gf_fem_case_auto_test";
+  std::filesystem::remove_all(dir);
+  run_fluid_fem(cfg, dir);
+  std::ifstream in(dir / "fem_summary.txt");
+  std::string first;
+  std::getline(in, first);
+  EXPECT_NE(first.find("unsteady BDF1-3: steps"), std::string::npos) << first;
+  EXPECT_NE(first.find("at orders 1/2/3"), std::string::npos) << first;
+  // fem_forces.csv carries each step's size and order: BDF1 first, higher orders later.
+  std::ifstream csv(dir / "fem_forces.csv");
+  std::string line;
+  std::getline(csv, line);
+  std::vector<int> orders;
+  while (std::getline(csv, line)) {
+    const auto c1 = line.find(','), c2 = line.find(',', c1 + 1);
+    EXPECT_GT(std::stod(line.substr(c1 + 1, c2 - c1 - 1)), 0.0) << line;
+    orders.push_back(std::stoi(line.substr(c2 + 1)));
+  }
+  ASSERT_GE(orders.size(), 3u);
+  EXPECT_EQ(orders.front(), 1);
+  EXPECT_GE(*std::max_element(orders.begin(), orders.end()), 2);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(FemCase, RunWritesSeriesAndCsv) {
@@ -96,6 +138,7 @@ TEST(FemCase, RunWritesSeriesAndCsv) {
   std::ifstream in(dir / "fem_forces.csv");
   std::string header, line;
   std::getline(in, header);
+  EXPECT_EQ(header.rfind("t,dt,order,", 0), 0u) << header;
   EXPECT_NE(header.find("disk.torque"), std::string::npos);
   EXPECT_NE(header.find("tri.cd"), std::string::npos);
   int rows = 0;

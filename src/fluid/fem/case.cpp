@@ -312,9 +312,16 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   r.keys(time, tp, {"mode", "scheme", "step", "end", "adaptive"});
   cfg.steady = r.choice(r.need(time, "mode", tp), tp + ".mode", {"steady", "unsteady"}) == "steady";
   if (!cfg.steady) {
-    if (time["scheme"].IsDefined())
-      cfg.time.order =
-          r.choice(time["scheme"], tp + ".scheme", {"bdf1", "bdf2", "bdf3"}).back() - '0';
+    if (time["scheme"].IsDefined()) {
+      const auto scheme =
+          r.choice(time["scheme"], tp + ".scheme", {"bdf1", "bdf2", "bdf3", "auto"});
+      cfg.time.variable_order = scheme == "auto";
+      cfg.time.order = cfg.time.variable_order ? kMaxBdfOrder : scheme.back() - '0';
+      if (cfg.time.variable_order && !time["adaptive"].IsDefined())
+        r.fail(time["scheme"], tp + ".scheme",
+               "bdf1, bdf2 or bdf3 (auto chooses the order from the step's error estimates, so "
+               "it needs an `adaptive:` block)");
+    }
     cfg.time.dt = r.number(r.need(time, "step", tp), tp + ".step", 0, 1e30, true);
     cfg.time.t_end = r.number(r.need(time, "end", tp), tp + ".end", 0, 1e30, true);
     if (const auto ad = time["adaptive"]; ad.IsDefined()) {
@@ -379,7 +386,7 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
   const std::size_t nb = cfg.mesh.bodies.size();
 
   std::ostringstream forces, probes;
-  forces << "t";
+  forces << "t,dt,order";  // dt and BDF order of the step that ended at t (0 when steady)
   for (std::size_t j = 0; j < nb; ++j) {
     const auto& n = cfg.body_names[j];
     forces << fmt::format(",{0}.fx,{0}.fy,{0}.torque,{0}.fx_stress,{0}.fy_stress", n);
@@ -390,10 +397,10 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
   for (std::size_t i = 0; i < cfg.output.probes.size(); ++i)
     probes << fmt::format(",p{0},ux{0},uy{0}", i);
   probes << '\n';
-  auto record = [&](const NavierStokes& s) {
+  auto record = [&](const NavierStokes& s, double dt) {
     const auto fr = s.reaction_forces();
     const auto fs = s.stress_forces();
-    forces << fmt::format("{:.9g}", s.time());
+    forces << fmt::format("{:.9g},{:.6g},{}", s.time(), dt, s.last_order());
     for (std::size_t j = 0; j < nb; ++j) {
       forces << fmt::format(",{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}", fr[j].force.x,
                             fr[j].force.y, fr[j].torque, fs[j].force.x, fs[j].force.y);
@@ -432,7 +439,7 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
           "fluid_fem: steady Newton did not converge in {} iterations (last update {:.3g}); "
           "try newton.picard_iterations or a finer mesh",
           rep.iterations, rep.last_update));
-    record(ns);
+    record(ns, 0.0);
     write_fields(ns);
     summary = fmt::format("steady: Newton iterations {}, factorizations {}\n", rep.iterations,
                           rep.factorizations);
@@ -444,7 +451,7 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
     const auto st = integrate(ns, tc, cfg.newton, [&](const NavierStokes& s, double h) {
       const double eps = 1e-9 * h;
       if (s.time() >= next_csv - eps) {
-        record(s);
+        record(s, h);
         next_csv = s.time() + cfg.output.csv_every;
       }
       if (cfg.output.vtk_every > 0 && s.time() >= next_vtk - eps) {
@@ -455,8 +462,11 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
     });
     if (cfg.output.vtk_every == 0 || series.last_time() < ns.time()) write_fields(ns);
     summary = fmt::format(
-        "unsteady BDF{}: steps {}, rejected {}, Newton iterations {}, factorizations {}\n",
-        cfg.time.order, st.steps, st.rejected, st.newton_iterations, st.factorizations);
+        "unsteady BDF{}{}: steps {} (at orders 1/2/3: {}/{}/{}), rejected {}, Newton iterations "
+        "{}, factorizations {}\n",
+        cfg.time.variable_order ? "1-" : "", cfg.time.order, st.steps, st.steps_at_order[1],
+        st.steps_at_order[2], st.steps_at_order[3], st.rejected, st.newton_iterations,
+        st.factorizations);
   }
   write_vtu(output_dir / "fem_mesh.vtu", ns);
   flush();

@@ -4,6 +4,7 @@
 
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -380,13 +381,14 @@ NewtonReport NavierStokes::solve_steady(const NewtonOptions& opt) {
 }
 
 StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt, double rtol,
-                                  double atol) {
+                                  double atol, bool neighbour_errors) {
   REQUIRE(dt > 0, "time step must be positive, got {}", dt);
   if (hist_t_.empty()) {
     hist_t_.push_back(t_);
     hist_x_.push_back(x_);
   }
   const int k = std::clamp(order, 1, std::min(kMaxBdfOrder, static_cast<int>(hist_t_.size())));
+  last_order_ = k;
   const double tn = hist_t_[0];
   const int nv = 2 * n2_;
   // Variable-step BDF-k: du/dt(t_{n+1}) is the derivative at tau_0 = t_{n+1} of the polynomial
@@ -432,17 +434,53 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
     for (int m = 1; m <= k; ++m) cc *= tp - tau[m];
     for (int j = 0; j <= k; ++j) cp *= tp - hist_t_[j];
     const double f = cc / (cc + cp);
-    double sum = 0;
-    int n = 0;
-    for (int i = 0; i < nv; ++i) {
-      if (dirichlet_[i] >= 0) continue;
-      const double e = f * (x_[i] - xp[i]) / (atol + rtol * std::abs(x_[i]));
-      sum += e * e;
-      ++n;
-    }
-    res.error = std::sqrt(sum / std::max(n, 1));
+    for (int i = 0; i < nv; ++i) xp[i] = f * (x_[i] - xp[i]);
+    res.error = velocity_norm(xp, rtol, atol);
+  }
+  if (neighbour_errors) {
+    const int known = static_cast<int>(hist_t_.size());
+    if (k > 1) res.error_lower = order_error(k - 1, rtol, atol);
+    if (k < kMaxBdfOrder && known >= k + 2) res.error_higher = order_error(k + 1, rtol, atol);
   }
   return res;
+}
+
+double NavierStokes::velocity_norm(const std::vector<double>& e, double rtol, double atol) const {
+  double sum = 0;
+  int n = 0;
+  for (int i = 0; i < 2 * n2_; ++i) {
+    if (dirichlet_[i] >= 0) continue;
+    const double w = e[i] / (atol + rtol * std::abs(x_[i]));
+    sum += w * w;
+    ++n;
+  }
+  return std::sqrt(sum / std::max(n, 1));
+}
+
+double NavierStokes::order_error(int j, double rtol, double atol) const {
+  REQUIRE(j >= 1 && static_cast<int>(hist_t_.size()) >= j + 1,
+          "order-{} error estimate needs {} known states", j, j + 1);
+  // Points s_0 = t (the new state), s_i = t_{n+1-i}; the divided difference of order j + 1 is
+  // sum_i u_i / prod_{l != i} (s_i - s_l) and approximates u^(j+1) / (j+1)!, the D of the
+  // corrector error D prod_{m=1..j} (t - s_m) / alpha0 (see try_step).
+  std::array<double, kMaxBdfOrder + 2> s{};
+  s[0] = t_;
+  for (int i = 1; i <= j + 1; ++i) s[i] = hist_t_[i - 1];
+  double g = 1.0, alpha0 = 0.0;
+  for (int m = 1; m <= j; ++m) {
+    g *= t_ - s[m];
+    alpha0 += 1.0 / (t_ - s[m]);
+  }
+  g /= alpha0;
+  std::vector<double> e(2 * n2_, 0.0);
+  for (int i = 0; i <= j + 1; ++i) {
+    double c = g;
+    for (int l = 0; l <= j + 1; ++l)
+      if (l != i) c /= s[i] - s[l];
+    const auto& u = i == 0 ? x_ : hist_x_[i - 1];
+    for (int q = 0; q < 2 * n2_; ++q) e[q] += c * u[q];
+  }
+  return velocity_norm(e, rtol, atol);
 }
 
 void NavierStokes::accept_step() {

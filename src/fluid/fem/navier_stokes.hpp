@@ -83,6 +83,9 @@ inline constexpr int kMaxBdfOrder = 3;
 struct StepResult {
   NewtonReport newton;
   double error = 0.0;  ///< weighted RMS estimate of the local velocity error (<= 1: accept)
+  /// Estimates, in the same norm, of the local error the step would have had at order k - 1 and
+  /// k + 1 (for order selection; < 0 where not asked for or not enough states are known).
+  double error_lower = -1.0, error_higher = -1.0;
 };
 
 /// P2-P1 discretisation of FlowProblem with one monolithic unknown vector
@@ -110,13 +113,17 @@ class NavierStokes {
 
   /// One variable-step BDF step of size dt [s] and order 1 ... kMaxBdfOrder (lower while fewer
   /// states are known: order k needs k).
-  /// The result is tentative until accept_step() or reject_step().
-  StepResult try_step(double dt, int order, const NewtonOptions& opt, double rtol, double atol);
+  /// The result is tentative until accept_step() or reject_step(). With neighbour_errors the
+  /// result also carries the error estimates of orders k - 1 and k + 1.
+  StepResult try_step(double dt, int order, const NewtonOptions& opt, double rtol, double atol,
+                      bool neighbour_errors = false);
   void accept_step();
   void reject_step();
   /// Order actually usable for the next step (the number of states known, at most
   /// kMaxBdfOrder + 1).
   [[nodiscard]] int available_order() const { return static_cast<int>(hist_t_.size()); }
+  /// BDF order of the last try_step (0 before the first).
+  [[nodiscard]] int last_order() const { return last_order_; }
 
   /// Forces from the residual (reaction) of the momentum equations at the current state; the
   /// torque includes the correction -2 mu omega A that turns the Laplace-form pseudo-traction
@@ -143,12 +150,18 @@ class NavierStokes {
   void assemble(bool with_jacobian, bool newton_terms);
   void apply_dirichlet_to_solution();
   NewtonReport newton(const NewtonOptions& opt);
+  /// Weighted RMS over the free velocity unknowns of e_i / (atol + rtol |x_i|).
+  [[nodiscard]] double velocity_norm(const std::vector<double>& e, double rtol, double atol) const;
+  /// Local error estimate of a BDF-j step to the current state from the divided difference of
+  /// order j + 1 through it and the j + 1 newest known states (needs that many).
+  [[nodiscard]] double order_error(int j, double rtol, double atol) const;
   [[nodiscard]] int locate(Vec2 p, double& l1, double& l2) const;
   void build_locator();
 
   FlowProblem problem_;
   int n2_ = 0, n1_ = 0, n_dofs_ = 0;
   double t_ = 0.0;
+  int last_order_ = 0;
   std::vector<double> x_;       // current unknowns
   std::vector<int> dirichlet_;  // dof -> index into dirichlet_values_, or -1
   std::vector<int> dirichlet_dofs_;

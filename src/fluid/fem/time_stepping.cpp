@@ -14,15 +14,23 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
   REQUIRE(tc.order >= 1 && tc.order <= kMaxBdfOrder, "BDF order must be 1 to {}, got {}",
           kMaxBdfOrder, tc.order);
   REQUIRE(tc.dt > 0, "time step must be positive");
+  REQUIRE(!tc.variable_order || tc.adaptive, "variable BDF order needs adaptive steps");
   TimeStats st;
   double dt = std::min(tc.dt, tc.dt_max);
   const double eps = 1e-12 * std::max(1.0, std::abs(tc.t_end));
+  int order = tc.variable_order ? 1 : tc.order;  // the order aimed at
+  int same_order_steps = 0, error_rejections = 0;
+  // Step factor 0.9 err^{-1/(k+1)} that would bring an error estimate err of order k to 0.9^(k+1).
+  auto factor = [](double err, int k) {
+    return err > 0 ? 0.9 * std::pow(err, -1.0 / (k + 1)) : 1.0;
+  };
   while (ns.time() < tc.t_end - eps && (tc.max_steps < 0 || st.steps < tc.max_steps)) {
     const double t = ns.time();
     double h = std::min(dt, tc.t_end - t);
     if (tc.t_end - t - h < 0.01 * h) h = tc.t_end - t;  // avoid a sliver step at the end
-    const int order = std::min(tc.order, std::max(1, ns.available_order()));
-    const StepResult r = ns.try_step(h, order, opt, tc.rtol, tc.atol);
+    const int k = std::min(order, std::max(1, ns.available_order()));
+    const bool choose = tc.variable_order && k == order && same_order_steps >= k + 1;
+    const StepResult r = ns.try_step(h, k, opt, tc.rtol, tc.atol, choose);
     st.newton_iterations += r.newton.iterations;
     st.factorizations += r.newton.factorizations;
     if (!r.newton.converged) {
@@ -32,17 +40,40 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
       REQUIRE(dt >= tc.dt_min, "Newton failed at t = {} s even with step {} s", t, h);
       continue;
     }
-    const double fac = r.error > 0 ? 0.9 * std::pow(r.error, -1.0 / (order + 1)) : 1.0;
+    double fac = factor(r.error, k);
     if (tc.adaptive && r.error > 1.0) {
       ns.reject_step();
       ++st.rejected;
+      if (tc.variable_order && ++error_rejections >= 2 && order > 1) {
+        --order;
+        same_order_steps = 0;
+        error_rejections = 0;
+      }
       dt = h * std::max(0.2, fac);
       REQUIRE(dt >= tc.dt_min, "step size {} s below dt_min at t = {} s", dt, t);
       continue;
     }
+    error_rejections = 0;
     ns.accept_step();
     ++st.steps;
+    ++st.steps_at_order[k];
+    ++same_order_steps;
     if (observe) observe(ns, h);
+    if (choose) {
+      int next = k;
+      if (r.error_lower >= 0 && factor(r.error_lower, k - 1) >= fac) {
+        next = k - 1;
+        fac = factor(r.error_lower, k - 1);
+      }
+      if (k < tc.order && r.error_higher >= 0 && factor(2 * r.error_higher, k + 1) > fac) {
+        next = k + 1;
+        fac = factor(2 * r.error_higher, k + 1);
+      }
+      if (next != order) {
+        order = next;
+        same_order_steps = 0;
+      }
+    }
     // Step growth bounded for zero-stability of variable-step BDF: ratios below 1 + sqrt(2)
     // for BDF2, about 1.5 for BDF3 (Calvo, Grande & Grigorieff, Numer. Math. 57, 1990).
     if (tc.adaptive) dt = std::min(tc.dt_max, h * std::clamp(fac, 0.2, order >= 3 ? 1.5 : 2.0));

@@ -8,8 +8,16 @@
 // on the velocities only (the pressure is an algebraic variable); the step is chosen as
 // dt_new = dt 0.9 err^{-1/(k+1)}, limited so that omega <= 2 (BDF2 zero-stability needs < 2.414;
 // BDF3: omega <= 1.5). BDF3 is the same construction one degree higher (NavierStokes::try_step).
+//
+// Variable order (TimeControl::variable_order, as DASSL / CVODE do it): start with BDF1; after
+// k + 1 steps at order k, the error estimates that orders k - 1 and k + 1 would have had on the
+// step just taken (divided differences of orders k and k + 2 through the newest states) give
+// each order's next step, dt 0.9 err_j^{-1/(j+1)}; the order with the largest step is taken,
+// one order at a time, a raise only on half its estimated error (the k + 2-th difference is the
+// least reliable) and a lowering on a tie. Two error rejections in a row lower the order.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <limits>
 
@@ -18,7 +26,9 @@
 namespace gf::fem {
 
 struct TimeControl {
-  int order = 2;                    ///< 1 (implicit Euler), 2 (BDF2) or 3 (BDF3)
+  int order = 2;  ///< 1 (implicit Euler), 2 (BDF2) or 3 (BDF3); the highest with variable_order
+  bool variable_order = false;      ///< choose the order 1 ... order by the error estimates
+                                    ///< (needs adaptive)
   double dt = 1e-2;                 ///< (initial) step [s]
   double t_end = 1.0;               ///< [s]
   bool adaptive = false;            ///< error control on velocities
@@ -30,6 +40,7 @@ struct TimeControl {
 
 struct TimeStats {
   int steps = 0, rejected = 0, newton_iterations = 0, factorizations = 0;
+  std::array<int, kMaxBdfOrder + 1> steps_at_order{};  ///< accepted steps by order (index 1-3)
 };
 
 /// Integrates from ns.time() to tc.t_end; calls observe after every accepted step.
