@@ -309,7 +309,7 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
 
   const auto time = r.need(block, "time", root);
   const std::string tp = root + ".time";
-  r.keys(time, tp, {"mode", "scheme", "step", "end", "adaptive"});
+  r.keys(time, tp, {"mode", "scheme", "step", "end", "adaptive", "initial"});
   cfg.steady = r.choice(r.need(time, "mode", tp), tp + ".mode", {"steady", "unsteady"}) == "steady";
   if (!cfg.steady) {
     if (time["scheme"].IsDefined()) {
@@ -322,6 +322,9 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
                "bdf1, bdf2 or bdf3 (auto chooses the order from the step's error estimates, so "
                "it needs an `adaptive:` block)");
     }
+    if (time["initial"].IsDefined())
+      cfg.initial_steady =
+          r.choice(time["initial"], tp + ".initial", {"rest", "steady"}) == "steady";
     cfg.time.dt = r.number(r.need(time, "step", tp), tp + ".step", 0, 1e30, true);
     cfg.time.t_end = r.number(r.need(time, "end", tp), tp + ".end", 0, 1e30, true);
     if (const auto ad = time["adaptive"]; ad.IsDefined()) {
@@ -333,7 +336,7 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
       cfg.time.dt_min = r.number_or(ad, "dt_min", tp + ".adaptive", 1e-9, 0, 1e30, true);
     }
   } else {
-    for (const char* k : {"scheme", "step", "end", "adaptive"})
+    for (const char* k : {"scheme", "step", "end", "adaptive", "initial"})
       if (time[k].IsDefined()) r.fail(time[k], tp + "." + k, "no such key with mode: steady");
   }
 
@@ -430,20 +433,28 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
     flush();
   };
 
-  std::string summary;
-  if (cfg.steady) {
-    const auto rep =
-        cfg.newton_nested ? solve_steady_nested(ns, cfg.newton) : ns.solve_steady(cfg.newton);
+  // Steady Newton solve for the boundary data at the current time (steady mode, or the
+  // consistent initial state of an unsteady run); a steady solve gains nothing from the chord
+  // method, so an unsteady run's reuse_factorization is switched off for it.
+  auto solve_steady = [&](const char* what) {
+    NewtonOptions opt = cfg.newton;
+    if (!cfg.steady) opt.reuse_factorization = false;
+    const auto rep = cfg.newton_nested ? solve_steady_nested(ns, opt) : ns.solve_steady(opt);
     if (!rep.converged)
       throw Error(fmt::format(
-          "fluid_fem: steady Newton did not converge in {} iterations (last update {:.3g}); "
+          "fluid_fem: {} Newton did not converge in {} iterations (last update {:.3g}); "
           "try newton.picard_iterations or a finer mesh",
-          rep.iterations, rep.last_update));
+          what, rep.iterations, rep.last_update));
+    return fmt::format("{}: Newton iterations {}, factorizations {}\n", what, rep.iterations,
+                       rep.factorizations);
+  };
+  std::string summary;
+  if (cfg.steady) {
+    summary = solve_steady("steady");
     record(ns, 0.0);
     write_fields(ns);
-    summary = fmt::format("steady: Newton iterations {}, factorizations {}\n", rep.iterations,
-                          rep.factorizations);
   } else {
+    if (cfg.initial_steady) summary = solve_steady("initial steady state");
     write_fields(ns);
     double next_vtk = cfg.output.vtk_every, next_csv = 0.0;
     TimeControl tc = cfg.time;
@@ -461,7 +472,7 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
       }
     });
     if (cfg.output.vtk_every == 0 || series.last_time() < ns.time()) write_fields(ns);
-    summary = fmt::format(
+    summary += fmt::format(
         "unsteady BDF{}{}: steps {} (at orders 1/2/3: {}/{}/{}), rejected {}, Newton iterations "
         "{}, factorizations {}\n",
         cfg.time.variable_order ? "1-" : "", cfg.time.order, st.steps, st.steps_at_order[1],

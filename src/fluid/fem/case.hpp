@@ -42,9 +42,12 @@ struct FemCaseConfig {
   std::vector<std::string> body_names;
   std::vector<BodyMotion> body_motion;
   bool steady = true;
+  /// unsteady: start from the steady solution for the boundary data at t = 0 (consistent initial
+  /// conditions by Newton) instead of from rest
+  bool initial_steady = false;
   TimeControl time;
   NewtonOptions newton;
-  bool newton_nested = true;  ///< steady: start from a coarser mesh's solution
+  bool newton_nested = true;  ///< steady solves: start from a coarser mesh's solution
   FemOutputConfig output;
 };
 
