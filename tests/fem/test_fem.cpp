@@ -61,6 +61,45 @@ double max_abs_diff(const std::vector<double>& a, const std::vector<double>& b) 
   return e;
 }
 
+/// An adaptive run of the channel of channel_at_t04 to t = 0.4 s (first step 1e-3 s,
+/// rtol = atol = 1e-4), compared with a reference solution at t = 0.4 s.
+struct AdaptiveRun {
+  TimeStats stats;
+  double error = 0;                            ///< max nodal velocity difference [m/s]
+  std::vector<std::pair<double, int>> orders;  ///< (t, BDF order) of each accepted step
+};
+
+AdaptiveRun adaptive_channel_run(const std::function<double(double)>& f,
+                                 const std::vector<double>& ref, int order,
+                                 bool variable_order = false) {
+  NavierStokes ns(channel(1.0, 0.2, 0.05, 1.0, f));
+  NewtonOptions opt;
+  opt.reuse_factorization = true;
+  opt.tolerance = 1e-12;
+  TimeControl tc;
+  tc.t_end = 0.4;
+  tc.adaptive = true;
+  tc.dt = 1e-3;
+  tc.rtol = 1e-4;
+  tc.atol = 1e-4;
+  tc.order = order;
+  tc.variable_order = variable_order;
+  AdaptiveRun r;
+  r.stats = integrate(ns, tc, opt, [&](const NavierStokes& s, double) {
+    r.orders.emplace_back(s.time(), s.last_order());
+  });
+  EXPECT_NEAR(ns.time(), 0.4, 1e-12);
+  for (int i = 0; i < 2 * ns.mesh().n_nodes(); ++i)
+    r.error = std::max(r.error, std::abs(ns.solution()[i] - ref[i]));
+  return r;
+}
+
+void print_run(const char* what, const AdaptiveRun& r) {
+  std::printf("%s: %d steps (%d/%d/%d at orders 1/2/3, %d rejected), error %.2e\n", what,
+              r.stats.steps, r.stats.steps_at_order[1], r.stats.steps_at_order[2],
+              r.stats.steps_at_order[3], r.stats.rejected, r.error);
+}
+
 double min_angle_deg(const Mesh& m) {
   double amin = 180;
   for (const auto& c : m.cells)
@@ -249,42 +288,18 @@ TEST(FemFlow, Bdf3TemporalOrder) {
 
 TEST(FemFlow, AdaptiveStepMeetsTolerance) {
   auto f = [](double t) { return std::sin(2 * std::numbers::pi * t); };
-  NavierStokes ref(channel(1.0, 0.2, 0.05, 1.0, f));
-  NewtonOptions opt;
-  opt.reuse_factorization = true;
-  opt.tolerance = 1e-12;
-  TimeControl tc;
-  tc.dt = 1.0 / 1280;
-  tc.t_end = 0.4;
-  integrate(ref, tc, opt, {});
-  NavierStokes ns(channel(1.0, 0.2, 0.05, 1.0, f));
-  tc.adaptive = true;
-  tc.dt = 1e-3;
-  tc.rtol = 1e-4;
-  tc.atol = 1e-4;
-  const auto st = integrate(ns, tc, opt, {});
-  EXPECT_NEAR(ns.time(), 0.4, 1e-12);
-  double e = 0;
-  for (int i = 0; i < 2 * ns.mesh().n_nodes(); ++i)
-    e = std::max(e, std::abs(ns.solution()[i] - ref.solution()[i]));
-  EXPECT_LT(e, 2e-3);        // global error ~ a few local tolerances
-  EXPECT_LT(st.steps, 200);  // far fewer than the fixed-step reference's 512
+  const auto ref = channel_at_t04(2, 1.0 / 1280, f);
+  const AdaptiveRun b2 = adaptive_channel_run(f, ref, 2);
+  print_run("adaptive BDF2", b2);
+  EXPECT_LT(b2.error, 2e-3);       // global error ~ a few local tolerances
+  EXPECT_LT(b2.stats.steps, 200);  // far fewer than the fixed-step reference's 512
 
   // BDF3 under the same tolerances: the same accuracy bound, and fewer steps than BDF2 (its
   // error estimate is O(dt^4) per step).
-  NavierStokes ns3(channel(1.0, 0.2, 0.05, 1.0, f));
-  tc.order = 3;
-  const auto st3 = integrate(ns3, tc, opt, {});
-  double e3 = 0;
-  for (int i = 0; i < 2 * ns3.mesh().n_nodes(); ++i)
-    e3 = std::max(e3, std::abs(ns3.solution()[i] - ref.solution()[i]));
-  std::printf(
-      "adaptive: BDF2 %d steps (%d rejected), error %.2e; BDF3 %d steps (%d rejected), "
-      "error %.2e\n",
-      st.steps, st.rejected, e, st3.steps, st3.rejected, e3);
-  EXPECT_NEAR(ns3.time(), 0.4, 1e-12);
-  EXPECT_LT(e3, 2e-3);
-  EXPECT_LT(st3.steps, st.steps);
+  const AdaptiveRun b3 = adaptive_channel_run(f, ref, 3);
+  print_run("adaptive BDF3", b3);
+  EXPECT_LT(b3.error, 2e-3);
+  EXPECT_LT(b3.stats.steps, b2.stats.steps);
 }
 
 // Variable order (DASSL-style) on the channel and tolerances of the test above. On the smooth
@@ -294,52 +309,20 @@ TEST(FemFlow, AdaptiveStepMeetsTolerance) {
 // orders' estimates blow up across the kink; the control must drop to BDF1 there, climb again
 // and still meet the bound.
 TEST(FemFlow, VariableOrderFollowsTheSolutionsSmoothness) {
-  NewtonOptions opt;
-  opt.reuse_factorization = true;
-  opt.tolerance = 1e-12;
-  struct Run {
-    TimeStats stats;
-    double error = 0;
-    std::vector<std::pair<double, int>> orders;  // (t, order) of each accepted step
-  };
-  auto run = [&](const std::function<double(double)>& f, int order, bool variable) {
-    TimeControl tc;
-    tc.dt = 1.0 / 1280;
-    tc.t_end = 0.4;
-    NavierStokes ref(channel(1.0, 0.2, 0.05, 1.0, f));
-    integrate(ref, tc, opt, {});
-    NavierStokes ns(channel(1.0, 0.2, 0.05, 1.0, f));
-    tc.adaptive = true;
-    tc.dt = 1e-3;
-    tc.rtol = 1e-4;
-    tc.atol = 1e-4;
-    tc.order = order;
-    tc.variable_order = variable;
-    Run r;
-    r.stats = integrate(ns, tc, opt, [&](const NavierStokes& s, double) {
-      r.orders.emplace_back(s.time(), s.last_order());
-    });
-    EXPECT_NEAR(ns.time(), 0.4, 1e-12);
-    for (int i = 0; i < 2 * ns.mesh().n_nodes(); ++i)
-      r.error = std::max(r.error, std::abs(ns.solution()[i] - ref.solution()[i]));
-    return r;
-  };
-  auto report = [](const char* what, const Run& r) {
-    std::printf("%s: %d steps (%d/%d/%d at orders 1/2/3, %d rejected), error %.2e\n", what,
-                r.stats.steps, r.stats.steps_at_order[1], r.stats.steps_at_order[2],
-                r.stats.steps_at_order[3], r.stats.rejected, r.error);
-  };
   auto sine = [](double t) { return std::sin(2 * std::numbers::pi * t); };
-  const Run b2 = run(sine, 2, false), v = run(sine, 3, true);
-  report("sine, BDF2", b2);
-  report("sine, variable order", v);
+  const auto ref = channel_at_t04(2, 1.0 / 1280, sine);
+  const AdaptiveRun b2 = adaptive_channel_run(sine, ref, 2);
+  const AdaptiveRun v = adaptive_channel_run(sine, ref, 3, true);
+  print_run("sine, BDF2", b2);
+  print_run("sine, variable order", v);
   EXPECT_LT(v.error, 2e-3);
   EXPECT_LT(v.stats.steps, b2.stats.steps);
   EXPECT_EQ(v.orders.front().second, 1);
   EXPECT_GT(v.stats.steps_at_order[3], 0);
 
-  const Run kink = run([](double t) { return std::min(t / 0.1, 1.0); }, 3, true);
-  report("kink, variable order", kink);
+  auto ramp = [](double t) { return std::min(t / 0.1, 1.0); };
+  const AdaptiveRun kink = adaptive_channel_run(ramp, channel_at_t04(2, 1.0 / 1280, ramp), 3, true);
+  print_run("kink, variable order", kink);
   EXPECT_LT(kink.error, 2e-3);
   int before = 0, after = 4;  // highest order before the kink, lowest within 0.01 s after it
   for (const auto& [t, k] : kink.orders) {

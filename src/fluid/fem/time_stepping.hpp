@@ -13,8 +13,9 @@
 // k + 1 steps at order k, the error estimates that orders k - 1 and k + 1 would have had on the
 // step just taken (divided differences of orders k and k + 2 through the newest states) give
 // each order's next step, dt 0.9 err_j^{-1/(j+1)}; the order with the largest step is taken,
-// one order at a time, a raise only on half its estimated error (the k + 2-th difference is the
-// least reliable) and a lowering on a tie. Two error rejections in a row lower the order.
+// one order at a time, a raise judged on twice its estimated error (the difference of order
+// k + 2 is the least reliable), a lowering already on a tie. Two error rejections in a row
+// lower the order.
 #pragma once
 
 #include <array>
