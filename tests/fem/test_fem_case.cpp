@@ -48,6 +48,48 @@ std::string replaced(std::string s, const std::string& from, const std::string& 
   return s.replace(at, from.size(), to);
 }
 
+/// Rows of a CSV file after its header.
+std::vector<std::vector<double>> csv_rows(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::vector<double>> rows;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::size_t at = 0;
+    while (at <= line.size()) {
+      const auto next = std::min(line.find(',', at), line.size());
+      row.push_back(std::stod(line.substr(at, next - at)));
+      at = next + 1;
+    }
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+/// What a run leaves: the first line of fem_summary.txt and the rows of fem_forces.csv (columns
+/// t, dt, order, then per body). The run's temporary folder is removed.
+struct CaseRun {
+  std::string summary;
+  std::vector<std::vector<double>> forces;
+};
+
+CaseRun run_case(const FemCaseConfig& cfg) {
+  const auto dir = std::filesystem::temp_directory_path() / "gf_fem_case_run_test";
+  std::filesystem::remove_all(dir);
+  run_fluid_fem(cfg, dir);
+  CaseRun r;
+  std::ifstream in(dir / "fem_summary.txt");
+  std::getline(in, r.summary);
+  r.forces = csv_rows(dir / "fem_forces.csv");
+  std::filesystem::remove_all(dir);
+  return r;
+}
+
+CaseRun run_case(const std::string& yaml) {
+  return run_case(parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml"));
+}
+
 }  // namespace
 
 TEST(FemCase, ParsesAGoodBlock) {
@@ -109,52 +151,19 @@ TEST(FemCase, VariableOrderRunReportsStepsPerOrder) {
   EXPECT_TRUE(cfg.time.variable_order);
   EXPECT_EQ(cfg.time.order, 3);
   EXPECT_TRUE(cfg.time.adaptive);
-  const auto dir = std::filesystem::temp_directory_path() / "gf_fem_case_auto_test";
-  std::filesystem::remove_all(dir);
-  run_fluid_fem(cfg, dir);
-  std::ifstream in(dir / "fem_summary.txt");
-  std::string first;
-  std::getline(in, first);
-  EXPECT_NE(first.find("unsteady BDF1-3: steps"), std::string::npos) << first;
-  EXPECT_NE(first.find("at orders 1/2/3"), std::string::npos) << first;
+  const CaseRun run = run_case(cfg);
+  EXPECT_NE(run.summary.find("unsteady BDF1-3: steps"), std::string::npos) << run.summary;
+  EXPECT_NE(run.summary.find("at orders 1/2/3"), std::string::npos) << run.summary;
   // fem_forces.csv carries each step's size and order: BDF1 first, higher orders later.
-  std::ifstream csv(dir / "fem_forces.csv");
-  std::string line;
-  std::getline(csv, line);
   std::vector<int> orders;
-  while (std::getline(csv, line)) {
-    const auto c1 = line.find(','), c2 = line.find(',', c1 + 1);
-    EXPECT_GT(std::stod(line.substr(c1 + 1, c2 - c1 - 1)), 0.0) << line;
-    orders.push_back(std::stoi(line.substr(c2 + 1)));
+  for (const auto& row : run.forces) {
+    EXPECT_GT(row[1], 0.0);
+    orders.push_back(static_cast<int>(row[2]));
   }
   ASSERT_GE(orders.size(), 3u);
   EXPECT_EQ(orders.front(), 1);
   EXPECT_GE(*std::max_element(orders.begin(), orders.end()), 2);
-  std::filesystem::remove_all(dir);
 }
-
-namespace {
-
-/// Rows of a CSV file after its header.
-std::vector<std::vector<double>> csv_rows(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::vector<double>> rows;
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::size_t at = 0;
-    while (at <= line.size()) {
-      const auto next = std::min(line.find(',', at), line.size());
-      row.push_back(std::stod(line.substr(at, next - at)));
-      at = next + 1;
-    }
-    rows.push_back(std::move(row));
-  }
-  return rows;
-}
-
-}  // namespace
 
 // `initial: steady` starts the BDF steps from the steady Newton solution for the data at t = 0
 // (consistent initial conditions). With constant boundary data that state is a fixed point of
@@ -164,14 +173,7 @@ std::vector<std::vector<double>> csv_rows(const std::filesystem::path& file) {
 // times the largest force off at the first step.
 TEST(FemCase, SteadyInitialStateIsAFixedPointOfTheSteps) {
   const std::string constant = replaced(kGood, ", time_function: {type: ramp, duration: 0.1}", "");
-  const auto dir = std::filesystem::temp_directory_path() / "gf_fem_case_initial_test";
-  auto forces = [&](const std::string& yaml) {
-    std::filesystem::remove_all(dir);
-    run_fluid_fem(parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml"), dir);
-    auto rows = csv_rows(dir / "fem_forces.csv");
-    std::filesystem::remove_all(dir);
-    return rows;
-  };
+  auto forces = [](const std::string& yaml) { return run_case(yaml).forces; };
   const auto steady = forces(
       replaced(constant, "mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2", "mode: steady"));
   const auto from_steady =
@@ -204,18 +206,12 @@ TEST(FemCase, PicardIterationsServeSteadySolvesOnly) {
           kGood, "  output:", "  newton: {picard_iterations: 12}\n  output:"))["fluid_fem"],
       "case.yaml");
   EXPECT_EQ(cfg.newton.picard_iterations, 12);
-  const auto dir = std::filesystem::temp_directory_path() / "gf_fem_case_picard_test";
-  std::filesystem::remove_all(dir);
-  run_fluid_fem(cfg, dir);
-  std::ifstream in(dir / "fem_summary.txt");
-  std::string line;
-  std::getline(in, line);
+  const std::string line = run_case(cfg).summary;
   const auto at = line.find("Newton iterations ");
   ASSERT_NE(at, std::string::npos) << line;
   const int iterations = std::stoi(line.substr(at + 18));
   std::printf("%s\n", line.c_str());
   EXPECT_LT(iterations, 12 * 4);
-  std::filesystem::remove_all(dir);
 }
 
 TEST(FemCase, RunWritesSeriesAndCsv) {

@@ -459,12 +459,7 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
     double next_vtk = cfg.output.vtk_every, next_csv = 0.0;
     TimeControl tc = cfg.time;
     tc.max_steps = max_steps;
-    // Picard iterations help a steady solve from a poor guess; a time step starts from the
-    // extrapolated predictor, where they only cost (measured on 2D-2: 11 iterations per step with
-    // 10 Picard ones against 6.8 without), so they apply to steady solves only.
-    NewtonOptions step_opt = cfg.newton;
-    step_opt.picard_iterations = 0;
-    const auto st = integrate(ns, tc, step_opt, [&](const NavierStokes& s, double h) {
+    const auto st = integrate(ns, tc, cfg.newton, [&](const NavierStokes& s, double h) {
       const double eps = 1e-9 * h;
       if (s.time() >= next_csv - eps) {
         record(s, h);

@@ -62,7 +62,7 @@ struct BodyForce {
 struct NewtonOptions {
   int max_iterations = 25;
   double tolerance = 1e-10;          ///< on max |du| / max |u| (velocity increment, relative)
-  int picard_iterations = 0;         ///< Oseen (Picard) iterations before Newton
+  int picard_iterations = 0;         ///< Oseen (Picard) iterations before Newton (steady solves)
   bool reuse_factorization = false;  ///< chord method: refactorise only when convergence is slow
   double max_contraction = 0.3;      ///< refactorise when |du_k| / |du_{k-1}| exceeds this
 };
