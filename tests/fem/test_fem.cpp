@@ -308,6 +308,29 @@ TEST(FemFlow, AdaptiveStepMeetsTolerance) {
 // 1/2/3). With a kink in the inflow (a ramp that stops at t = 0.1 s: du/dt jumps) the higher
 // orders' estimates blow up across the kink; the control must drop to BDF1 there, climb again
 // and still meet the bound.
+TEST(FemFlow, AdaptiveStepsGrowWhenTheErrorEstimateVanishes) {
+  // A channel at rest with zero inflow: every step's error estimate is exactly zero, so each
+  // step may grow by the largest ratio allowed (2 for BDF2) up to dt_max. It used to keep the
+  // first step: 400 steps of 1e-3 s for 0.4 s.
+  NavierStokes ns(channel(1.0, 0.2, 0.05, 0.0));
+  TimeControl tc;
+  tc.t_end = 0.4;
+  tc.adaptive = true;
+  tc.dt = 1e-3;
+  tc.dt_max = 0.1;
+  tc.order = 2;
+  std::vector<double> steps;
+  const TimeStats st = integrate(ns, tc, NewtonOptions{},
+                                 [&](const NavierStokes&, double h) { steps.push_back(h); });
+  EXPECT_NEAR(ns.time(), 0.4, 1e-12);
+  EXPECT_EQ(st.rejected, 0);
+  // 1, 2, 4, ..., 64 ms (sum 0.127 s), then 0.1 s steps: 10 steps in all.
+  EXPECT_LE(st.steps, 11);
+  ASSERT_GE(steps.size(), 3u);
+  EXPECT_NEAR(steps[1], 2e-3, 1e-15);
+  EXPECT_NEAR(steps[2], 4e-3, 1e-15);
+}
+
 TEST(FemFlow, VariableOrderFollowsTheSolutionsSmoothness) {
   auto sine = [](double t) { return std::sin(2 * std::numbers::pi * t); };
   const auto ref = channel_at_t04(2, 1.0 / 1280, sine);

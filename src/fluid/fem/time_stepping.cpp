@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/error.hpp"
 
@@ -21,8 +22,10 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
   int order = tc.variable_order ? 1 : tc.order;  // the order aimed at
   int same_order_steps = 0, error_rejections = 0;
   // Step factor 0.9 err^{-1/(k+1)} that would bring an error estimate err of order k to 0.9^(k+1).
+  // An estimate of exactly zero (a flow at rest, data that are polynomials of low degree in t)
+  // allows any step: the growth limits below then apply.
   auto factor = [](double err, int k) {
-    return err > 0 ? 0.9 * std::pow(err, -1.0 / (k + 1)) : 1.0;
+    return err > 0 ? 0.9 * std::pow(err, -1.0 / (k + 1)) : std::numeric_limits<double>::infinity();
   };
   while (ns.time() < tc.t_end - eps && (tc.max_steps < 0 || st.steps < tc.max_steps)) {
     const double t = ns.time();
