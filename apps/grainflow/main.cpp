@@ -16,6 +16,7 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/log.hpp"
+#include "core/stop.hpp"
 #include "core/version.hpp"
 #include "io/input/parse_case.hpp"
 #include "io/input/validate.hpp"
@@ -196,8 +197,9 @@ int main(int argc, char** argv) {
       opts.quiet = quiet;
       std::filesystem::path fem_dir;
       if (const auto fem_cfg = gf::load_fem_case(run_file, fem_dir)) {
-        gf::run_fem_case(*fem_cfg, fem_dir, opts);
-        return 0;
+        gf::stop::install_handlers();
+        const int sig = gf::run_fem_case(*fem_cfg, fem_dir, opts);
+        return sig ? gf::stop::exit_status(sig) : 0;
       }
       const auto cfg = gf::input::load_case(run_file, overrides(sets));
       const auto report = gf::input::validate(cfg);
@@ -208,8 +210,11 @@ int main(int argc, char** argv) {
             "sweep runs every combination)");
       if (!restart.empty()) opts.restart = restart;
       gf::Simulation sim(cfg);
-      sim.run(opts);
-      return 0;
+      // From here a first SIGINT / SIGTERM ends the run after its step, with every output and a
+      // checkpoint written; the exit status then says so (128 + signal, as for a killed program).
+      gf::stop::install_handlers();
+      const auto summary = sim.run(opts);
+      return summary.stop_signal ? gf::stop::exit_status(summary.stop_signal) : 0;
     }
     if (*sweep) {
       const auto cfg = gf::input::load_case(sweep_file, overrides(sets));
@@ -225,6 +230,7 @@ int main(int argc, char** argv) {
       if (sweep_steps >= 0) sweep_opts.steps = sweep_steps;
       sweep_opts.plots = !no_plots;
       sweep_opts.overrides = overrides(sets);
+      gf::stop::install_handlers();
       return gf::run_sweep(sweep_file, cfg, sweep_opts);
     }
     if (*chk) return check(check_file, sets);

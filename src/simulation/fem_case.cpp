@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/stop.hpp"
 
 namespace gf {
 
@@ -46,12 +47,16 @@ std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& 
   return fem::parse_fluid_fem(doc["fluid_fem"], file.string());
 }
 
-void run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
-                  const RunOptions& opts) {
+int run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
+                 const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? default_dir : opts.output;
   prepare_output_dir(dir, opts.overwrite);
   log::info("fluid_fem run, output in '{}'", dir.string());
-  fem::run_fluid_fem(cfg, dir, opts.steps ? static_cast<int>(*opts.steps) : -1);
+  const int sig = fem::run_fluid_fem(cfg, dir, opts.steps ? static_cast<int>(*opts.steps) : -1);
+  if (sig)
+    log::warn("fluid_fem run stopped by {}: outputs up to the last step written in '{}'",
+              stop::signal_name(sig), dir.string());
+  return sig;
 }
 
 }  // namespace gf

@@ -17,8 +17,9 @@ std::optional<fem::FemCaseConfig> load_fem_case(const std::filesystem::path& fil
                                                 std::filesystem::path& output_dir);
 
 /// Runs a FEM case with the same output-folder policy as DEM runs (refuses a non-empty folder
-/// without --overwrite); opts.steps limits the number of time steps.
-void run_fem_case(const fem::FemCaseConfig& cfg, const std::filesystem::path& default_dir,
-                  const RunOptions& opts);
+/// without --overwrite); opts.steps limits the number of time steps. Returns the SIGINT /
+/// SIGTERM that stopped the run early (outputs written), else 0.
+int run_fem_case(const fem::FemCaseConfig& cfg, const std::filesystem::path& default_dir,
+                 const RunOptions& opts);
 
 }  // namespace gf

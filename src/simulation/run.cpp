@@ -12,6 +12,7 @@
 #include "core/files.hpp"
 #include "core/log.hpp"
 #include "core/progress.hpp"
+#include "core/stop.hpp"
 #include "core/version.hpp"
 #include "io/csv/csv.hpp"
 #include "io/input/echo.hpp"
@@ -173,20 +174,28 @@ RunSummary Simulation::run(const RunOptions& opts) {
     if (!opts.quiet)
       progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first),
                       n_contacts_);
+    if (stop::requested()) break;  // SIGINT / SIGTERM: end here, with the outputs below
   }
-  complete_step();  // (the last step is observed, so this is a no-op unless the loop changes)
+  // An interrupted run may end on a step whose second half kick was deferred: complete it, so
+  // that the checkpoint holds the same state as one written by an uninterrupted run.
+  complete_step();
+  const int stop_signal = step_ < last ? stop::requested() : 0;
   const std::int64_t steps = step_ - first;
   const std::int64_t pstep = static_cast<std::int64_t>(particles_.size()) * steps;
   if (!opts.quiet) progress.finish(time(), pstep, n_contacts_);
+  // The final state is always kept, whatever the output intervals; a stopped run names its
+  // checkpoint by the step (unless the schedule just wrote it), the end of the run by "final".
+  const fs::path final_checkpoint =
+      dir / (stop_signal ? fmt::format("checkpoint_{:09d}.h5", step_) : "checkpoint_final.h5");
   {
-    // The final state is always kept, whatever the output intervals.
     StageTimers::Scope timer(timers_, Stage::Output);
     if (series && !due(step_, series_every)) {
       series->append(time(), series_row(columns));
     }
     if (series) series->flush();
     if (rheology) rheology->finish(*this);
-    save_checkpoint(dir / "checkpoint_final.h5");
+    if (!(stop_signal && due(step_, ckpt_every) && step_ != first))
+      save_checkpoint(final_checkpoint);
   }
   const double wall = std::chrono::duration<double>(StageTimers::clock::now() - t_start).count();
   const double loop =
@@ -198,6 +207,8 @@ RunSummary Simulation::run(const RunOptions& opts) {
   s.loop_seconds = loop;
   s.particle_steps_per_second = loop > 0 ? static_cast<double>(pstep) / loop : 0.0;
   s.peak_rss_bytes = peak_rss_bytes();
+  s.stop_signal = stop_signal;
+  s.checkpoint = final_checkpoint;
 
   std::string stages;
   for (int k = 0; k < static_cast<int>(Stage::Setup); ++k) {
@@ -211,9 +222,12 @@ RunSummary Simulation::run(const RunOptions& opts) {
         "\"threads\": {},\n"
         "  \"loop_seconds\": {:.6f},\n  \"wall_seconds\": {:.6f},\n  "
         "\"particle_steps_per_second\": {:.6g},\n"
-        "  \"peak_rss_bytes\": {},\n  \"neighbor_builds\": {},\n  \"stages\": {{{}}}\n}}\n",
+        "  \"peak_rss_bytes\": {},\n  \"neighbor_builds\": {},\n  \"stages\": {{{}}},\n"
+        "  \"completed\": {},\n  \"stopped_by\": {},\n  \"time\": {:.17g}\n}}\n",
         version_string, s.n_particles, s.steps, exec::n_threads(), s.loop_seconds, wall,
-        s.particle_steps_per_second, s.peak_rss_bytes, nlist_.n_builds() - builds_before, stages);
+        s.particle_steps_per_second, s.peak_rss_bytes, nlist_.n_builds() - builds_before, stages,
+        stop_signal ? "false" : "true",
+        stop_signal ? fmt::format("\"{}\"", stop::signal_name(stop_signal)) : "null", time());
   });
 
   log::info("timing summary ({} steps, {} thread{}):", steps, exec::n_threads(),
@@ -232,6 +246,11 @@ RunSummary Simulation::run(const RunOptions& opts) {
       "memory {:.1f} MiB)",
       "total", total, s.particle_steps_per_second, nlist_.n_builds() - builds_before,
       s.peak_rss_bytes / 1048576.0);
+  if (stop_signal)
+    log::warn(
+        "run stopped by {} at t = {} s (step {} of {}): outputs written; continue with "
+        "--restart {}",
+        stop::signal_name(stop_signal), time(), step_, last, final_checkpoint.string());
   return s;
 }
 

@@ -8,7 +8,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -17,6 +20,7 @@
 #include "core/error.hpp"
 #include "core/files.hpp"
 #include "core/log.hpp"
+#include "core/stop.hpp"
 #include "simulation/rheology_output.hpp"
 #include "simulation/simulation.hpp"
 
@@ -44,8 +48,15 @@ pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
+  // Each child in a process group of its own: a Ctrl-C at the terminal reaches only the sweep,
+  // which passes one SIGTERM on to each run (a second signal would end a run without outputs).
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);
   pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  const int rc = posix_spawn(&pid, argv[0], &fa, &attr, argv.data(), environ);
+  posix_spawnattr_destroy(&attr);
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0) throw std::runtime_error(fmt::format("cannot start {}: error {}", args[0], rc));
   return pid;
@@ -82,10 +93,20 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
   std::map<pid_t, std::size_t> running;
   std::vector<int> status(points.size(), -1);
   std::size_t next = 0;
+  bool forwarded = false;  // the stop request was passed on to the running children
+  // Waits for one child to end. Polls, so that a SIGINT / SIGTERM to the sweep is passed on to
+  // the runs at once (each then ends its step and writes its outputs and a checkpoint).
   auto reap = [&]() {
     int st = 0;
-    const pid_t pid = waitpid(-1, &st, 0);
-    if (pid <= 0) return;
+    pid_t pid = 0;
+    while ((pid = waitpid(-1, &st, WNOHANG)) == 0) {
+      if (stop::requested() && !forwarded) {
+        for (const auto& [child, k] : running) kill(child, SIGTERM);
+        forwarded = true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    if (pid < 0) return;
     const std::size_t k = running.at(pid);
     running.erase(pid);
     status[k] = WIFEXITED(st) ? WEXITSTATUS(st) : 128;
@@ -95,7 +116,7 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
               points.size());
   };
   while (next < points.size() || !running.empty()) {
-    while (next < points.size() && static_cast<int>(running.size()) < procs) {
+    while (next < points.size() && static_cast<int>(running.size()) < procs && !stop::requested()) {
       const auto& p = points[next];
       std::vector<std::string> args{opts.program.string(),
                                     "run",
@@ -123,7 +144,15 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
       running[spawn(args, dir / (p.name + ".log"))] = next;
       ++next;
     }
+    if (running.empty()) break;  // stopped before the remaining runs started
     reap();
+  }
+  if (const int sig = stop::requested()) {
+    log::warn(
+        "sweep: stopped by {}: {} of {} runs finished, {} stopped early (each wrote a checkpoint "
+        "to continue from; see its .log), {} not started; the table has the finished runs",
+        stop::signal_name(sig), std::count(status.begin(), status.end(), 0), points.size(),
+        std::count(status.begin(), status.end(), stop::exit_status(SIGTERM)), points.size() - next);
   }
 
   // One table: nominal values, then mean, standard error and kinetic theory per quantity.
@@ -156,7 +185,7 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
     for (const auto& l : lines) o << l << "\n";
   });
   log::info("sweep: table of {} runs in '{}'", lines.size(), (dir / "sweep.csv").string());
-  if (failed > 0)
+  if (failed > 0 && !stop::requested())
     log::warn("sweep: {} of {} runs failed or wrote no rheology summary (see their .log files)",
               failed, points.size());
   if (opts.plots && !lines.empty()) {
@@ -177,6 +206,7 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
                   (dir / "plots.log").string());
     }
   }
+  if (const int sig = stop::requested()) return stop::exit_status(sig);
   return failed == 0 ? 0 : 1;
 }
 

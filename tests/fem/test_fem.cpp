@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/stop.hpp"
 #include "fluid/fem/schaefer_turek.hpp"
 #include "fluid/fem/time_stepping.hpp"
 #include "fluid/fem/vtu.hpp"
@@ -329,6 +331,23 @@ TEST(FemFlow, AdaptiveStepsGrowWhenTheErrorEstimateVanishes) {
   ASSERT_GE(steps.size(), 3u);
   EXPECT_NEAR(steps[1], 2e-3, 1e-15);
   EXPECT_NEAR(steps[2], 4e-3, 1e-15);
+}
+
+TEST(FemFlow, StopRequestEndsTheTimeLoopAfterAStep) {
+  // SIGTERM during the third step: integrate() finishes that step and returns the signal.
+  NavierStokes ns(channel(1.0, 0.2, 0.05, 1.0));
+  TimeControl tc;
+  tc.dt = 0.01;
+  tc.t_end = 1.0;
+  gf::stop::install_handlers();
+  int seen = 0;
+  const TimeStats st = integrate(ns, tc, NewtonOptions{}, [&](const NavierStokes&, double) {
+    if (++seen == 3) std::raise(SIGTERM);
+  });
+  gf::stop::reset();
+  EXPECT_EQ(st.stop_signal, SIGTERM);
+  EXPECT_EQ(st.steps, 3);
+  EXPECT_NEAR(ns.time(), 0.03, 1e-12);
 }
 
 TEST(FemFlow, VariableOrderFollowsTheSolutionsSmoothness) {

@@ -1,13 +1,18 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Command-line behaviour: restart bit-identity through files, exit code 2 on bad input, and no
-# output written or overwritten by a failed run.
+# Command-line behaviour: restart bit-identity through files, exit code 2 on bad input, no
+# output written or overwritten by a failed run, and a run stopped by SIGTERM that ends with its
+# outputs and a checkpoint to continue from.
 """Usage: test_cli.py GRAINFLOW SOURCE_DIR"""
 import filecmp
+import glob
+import json
 import os
+import signal
 import subprocess
 import sys
 import tempfile
+import time
 
 CASE = """name: cli_test
 dimension: 3
@@ -92,6 +97,65 @@ with tempfile.TemporaryDirectory() as TMP:
     check(r.returncode == 2, "missing argument exits 2")
     r = run("--version")
     check(r.returncode == 0 and "grainflow" in r.stdout, "--version")
+
+    # SIGTERM in the middle of a long run: the run ends its step, writes its outputs and a
+    # checkpoint named by the step, exits 128 + 15, and the checkpoint continues it bit-identically.
+    long_case = os.path.join(TMP, "long.yaml")
+    with open(long_case, "w") as f:
+        f.write(CASE.replace("end: 0.04", "end: 1000.0"))
+    proc = subprocess.Popen([GF, "run", long_case, "--output", "stopped", "--quiet"], cwd=TMP,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    first = os.path.join(TMP, "stopped", "checkpoint_000001000.h5")
+    deadline = time.monotonic() + 60
+    while not os.path.exists(first) and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=120)
+    check(proc.returncode == 128 + signal.SIGTERM, f"a stopped run exits 143, got {proc.returncode}: {err}")
+    summary = json.load(open(os.path.join(TMP, "stopped", "summary.json")))
+    k = summary["steps"]
+    check(not summary["completed"] and summary["stopped_by"] == "SIGTERM", f"summary.json: {summary}")
+    stop_ckpt = os.path.join(TMP, "stopped", f"checkpoint_{k:09d}.h5")
+    check(os.path.exists(stop_ckpt), f"checkpoint of the stop step {k} written")
+    check("--restart" in err and os.path.basename(stop_ckpt) in err,
+          f"the message says how to continue: {err}")
+    rows = open(os.path.join(TMP, "stopped", "series.csv")).read().split("\n")
+    rows = [r for r in rows if r]
+    check(abs(float(rows[-1].split(",")[0]) - summary["time"]) < 1e-12,
+          "series.csv ends at the stop time")
+    n = (k // 1000 + 2) * 1000  # a step with a particle CSV, past the stop
+    r = run("run", long_case, "--output", "resumed", "--quiet", "--restart", stop_ckpt,
+            "--steps", str(n - k))
+    check(r.returncode == 0, f"run continued from the stop checkpoint: {r.stderr}")
+    r = run("run", long_case, "--output", "straight", "--quiet", "--steps", str(n))
+    check(r.returncode == 0, f"uninterrupted run: {r.stderr}")
+    a = os.path.join(TMP, "straight", f"particles_{n:09d}.csv")
+    b = os.path.join(TMP, "resumed", f"particles_{n:09d}.csv")
+    check(os.path.exists(a) and os.path.exists(b) and filecmp.cmp(a, b, shallow=False),
+          "stopped + continued equals uninterrupted (particle CSV)")
+
+    # SIGTERM to a sweep: it starts no more runs, passes the signal on to the running ones
+    # (each in its own process group, so a terminal's Ctrl-C reaches only the sweep), waits for
+    # them to write their outputs and exits 143.
+    rods = os.path.join(os.path.abspath(sys.argv[2]), "cases", "rheology", "shear_box_rods", "case.yaml")
+    proc = subprocess.Popen([GF, "sweep", rods, "-o", "sweep", "-j", "2", "--no-plots",
+                             "--set", "sweep.volume_fraction=[0.1, 0.2, 0.3]",
+                             "--set", "sweep.shear_rate=[100]"], cwd=TMP,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    started = [os.path.join(TMP, "sweep", f"phi_{p}_rate_100", "resolved_case.yaml") for p in ("0.1", "0.2")]
+    deadline = time.monotonic() + 60
+    while not all(map(os.path.exists, started)) and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.02)
+    time.sleep(0.2)
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=120)
+    check(proc.returncode == 143, f"a stopped sweep exits 143, got {proc.returncode}: {err}")
+    for p in ("0.1", "0.2"):
+        f = os.path.join(TMP, "sweep", f"phi_{p}_rate_100", "summary.json")
+        check(os.path.exists(f) and json.load(open(f))["stopped_by"] == "SIGTERM",
+              f"run phi = {p} stopped with its outputs")
+    check(not os.path.exists(os.path.join(TMP, "sweep", "phi_0.3_rate_100")), "no run started after the stop")
+    check("1 not started" in err, f"the sweep reports what it did: {err}")
 
 print(f"{passed} passed, {failed} failed")
 sys.exit(1 if failed else 0)

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Unit tests of core: vectors, domain minimum image, registry dispatch.
+// Unit tests of core: vectors, domain minimum image, registry dispatch, stop requests.
 #include <gtest/gtest.h>
+
+#include <csignal>
 
 #include "core/domain.hpp"
 #include "core/registry.hpp"
+#include "core/stop.hpp"
 #include "core/vec3.hpp"
 
 using namespace gf;
@@ -40,4 +43,21 @@ TEST(Registry, LookupAndDispatch) {
   EXPECT_EQ(index_of_key(L{}, "b"), 1);
   EXPECT_EQ(index_of_key(L{}, "c"), -1);
   EXPECT_EQ(dispatch_index(L{}, 1, []<class T>() { return T::value(); }), 2);
+}
+
+TEST(Stop, FirstSignalIsRecordedSecondEndsTheProcess) {
+  stop::install_handlers();
+  EXPECT_EQ(stop::requested(), 0);
+  std::raise(SIGINT);  // recorded, the process goes on
+  EXPECT_EQ(stop::requested(), SIGINT);
+  EXPECT_STREQ(stop::signal_name(stop::requested()), "SIGINT");
+  EXPECT_EQ(stop::exit_status(SIGTERM), 143);
+  // A second signal of either kind ends the process as the default action would.
+  EXPECT_EXIT(std::raise(SIGTERM), ::testing::KilledBySignal(SIGTERM), "");
+  stop::reset();
+  EXPECT_EQ(stop::requested(), 0);
+  stop::install_handlers();
+  std::raise(SIGTERM);
+  EXPECT_EQ(stop::requested(), SIGTERM);
+  stop::reset();
 }

@@ -4,16 +4,22 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "case_builder.hpp"
+#include "core/files.hpp"
+#include "core/stop.hpp"
 #include "io/input/parse_case.hpp"
 #include "simulation/simulation.hpp"
 #include "state_compare.hpp"
+#include "temp_dir.hpp"
 
 using namespace gf;
 
@@ -80,6 +86,45 @@ TEST(Restart, ContinuesBitIdentically) {
   EXPECT_GT(r->a->neighbor_list().n_builds(), 3);  // rebuilds happened after the checkpoint
   EXPECT_GT(r->a->n_contacts(), 50);
   test::expect_same_state(*r->a, *r->b);
+}
+
+TEST(Restart, StoppedRunContinuesBitIdentically) {
+  // A SIGTERM arrives while run() is in its time loop (deferred half kicks and all): the run
+  // ends its step, writes checkpoint_<step>.h5 and says so; continuing from that checkpoint must
+  // give the bits of a run that was never stopped.
+  test::TempDir tmp;
+  const auto cfg = settling_case();
+  RunOptions opts;
+  opts.output = tmp / "stopped";
+  opts.quiet = true;
+  opts.steps = 2'000'000;  // ~minutes: the signal must come first
+  stop::install_handlers();
+  std::thread sender([] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    ::kill(::getpid(), SIGTERM);
+  });
+  Simulation a(cfg);
+  const RunSummary s = a.run(opts);
+  sender.join();
+  stop::reset();
+  ASSERT_EQ(s.stop_signal, SIGTERM);
+  ASSERT_GT(s.steps, 0);
+  ASSERT_LT(s.steps, *opts.steps);
+  EXPECT_EQ(s.checkpoint, opts.output / fmt::format("checkpoint_{:09d}.h5", s.steps));
+  ASSERT_TRUE(std::filesystem::exists(s.checkpoint));
+  EXPECT_FALSE(std::filesystem::exists(opts.output / "checkpoint_final.h5"));
+  const std::string summary = read_text_file(opts.output / "summary.json");
+  EXPECT_NE(summary.find("\"completed\": false"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"stopped_by\": \"SIGTERM\""), std::string::npos) << summary;
+
+  const int more = 700;
+  Simulation b(cfg);
+  b.load_checkpoint(s.checkpoint);
+  EXPECT_EQ(b.step_count(), s.steps);
+  for (int k = 0; k < more; ++k) b.step();
+  Simulation c(cfg);
+  for (std::int64_t k = 0; k < s.steps + more; ++k) c.step();
+  test::expect_same_state(b, c);
 }
 
 TEST(Restart, RejectsForeignFileAndMismatchedTimeStep) {

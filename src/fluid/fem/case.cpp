@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/stop.hpp"
 #include "core/vtk_xml.hpp"
 #include "fluid/fem/vtu.hpp"
 
@@ -371,8 +372,8 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   return cfg;
 }
 
-void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir,
-                   int max_steps) {
+int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir,
+                  int max_steps) {
   const auto t_start = std::chrono::steady_clock::now();
   std::filesystem::create_directories(output_dir);
   FlowProblem pb;
@@ -449,6 +450,7 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
                        rep.factorizations);
   };
   std::string summary;
+  int stop_signal = 0;
   if (cfg.steady) {
     summary = solve_steady("steady");
     record(ns, 0.0);
@@ -478,6 +480,9 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
         cfg.time.variable_order ? "1-" : "", cfg.time.order, st.steps, st.steps_at_order[1],
         st.steps_at_order[2], st.steps_at_order[3], st.rejected, st.newton_iterations,
         st.factorizations);
+    if ((stop_signal = st.stop_signal))
+      summary += fmt::format("stopped by {} at t = {:.9g} s (time.end {} s)\n",
+                             stop::signal_name(stop_signal), ns.time(), cfg.time.t_end);
   }
   write_vtu(output_dir / "fem_mesh.vtu", ns);
   flush();
@@ -489,6 +494,7 @@ void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output
       ns.mesh().n_cells(), ns.mesh().n_nodes(), ns.n_dofs(), wall, ns.assembly_seconds(),
       ns.lu().factor_seconds(), ns.lu().solve_seconds());
   write_atomically(output_dir / "fem_summary.txt", [&](std::ostream& os) { os << summary; });
+  return stop_signal;
 }
 
 }  // namespace gf::fem

@@ -60,8 +60,9 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file);
 /// fem_fields.pvd (ParaView series), fem_forces.csv (per body: reaction force and torque,
 /// stress-integrated force, coefficients if configured), fem_probes.csv, fem_summary.txt.
 /// Every file is written atomically. max_steps >= 0 stops an unsteady run after that many steps
-/// (smoke tests: `grainflow run --steps N`). Returns normally or throws gf::Error.
-void run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir,
-                   int max_steps = -1);
+/// (smoke tests: `grainflow run --steps N`). Returns the SIGINT / SIGTERM that ended an
+/// unsteady run early (its outputs up to the last step are written), else 0; throws gf::Error.
+int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir,
+                  int max_steps = -1);
 
 }  // namespace gf::fem

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "core/error.hpp"
+#include "core/stop.hpp"
 
 namespace gf::fem {
 
@@ -28,6 +29,7 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
     return err > 0 ? 0.9 * std::pow(err, -1.0 / (k + 1)) : std::numeric_limits<double>::infinity();
   };
   while (ns.time() < tc.t_end - eps && (tc.max_steps < 0 || st.steps < tc.max_steps)) {
+    if ((st.stop_signal = stop::requested())) break;
     const double t = ns.time();
     double h = std::min(dt, tc.t_end - t);
     if (tc.t_end - t - h < 0.01 * h) h = tc.t_end - t;  // avoid a sliver step at the end

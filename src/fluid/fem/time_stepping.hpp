@@ -42,9 +42,11 @@ struct TimeControl {
 struct TimeStats {
   int steps = 0, rejected = 0, newton_iterations = 0, factorizations = 0;
   std::array<int, kMaxBdfOrder + 1> steps_at_order{};  ///< accepted steps by order (index 1-3)
+  int stop_signal = 0;  ///< SIGINT / SIGTERM that ended the loop before t_end (core/stop.hpp)
 };
 
-/// Integrates from ns.time() to tc.t_end; calls observe after every accepted step.
+/// Integrates from ns.time() to tc.t_end; calls observe after every accepted step. Ends early,
+/// after a step, when SIGINT / SIGTERM asked the program to stop (TimeStats::stop_signal).
 TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions& opt,
                     const std::function<void(const NavierStokes&, double dt)>& observe);
 

@@ -1,0 +1,73 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// SIGINT / SIGTERM handlers that only record the signal (async-signal-safe: a sig_atomic_t,
+// write(2), signal(2), raise(3)).
+#include "core/stop.hpp"
+
+#include <unistd.h>
+
+#include <csignal>
+#include <cstring>
+
+namespace gf::stop {
+
+namespace {
+
+volatile std::sig_atomic_t g_signal = 0;
+
+void say(const char* text) {
+  // Nothing to do if stderr is gone; the flag is what matters.
+  [[maybe_unused]] const auto n = ::write(STDERR_FILENO, text, std::strlen(text));
+}
+
+extern "C" void on_signal(int sig) {
+  if (g_signal != 0) {  // second request: stop now, as without a handler
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+    std::raise(sig);
+    return;
+  }
+  g_signal = sig;
+  say(sig == SIGINT ? "\ngrainflow: SIGINT received: stopping after this step and writing the "
+                      "outputs (a second signal stops at once)\n"
+                    : "\ngrainflow: SIGTERM received: stopping after this step and writing the "
+                      "outputs (a second signal stops at once)\n");
+}
+
+void set_action(int sig, void (*handler)(int)) {
+  struct sigaction sa {};
+  sa.sa_handler = handler;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;  // file and terminal writes of the run carry on undisturbed
+  sigaction(sig, &sa, nullptr);
+}
+
+}  // namespace
+
+void install_handlers() {
+  g_signal = 0;
+  set_action(SIGINT, on_signal);
+  set_action(SIGTERM, on_signal);
+}
+
+int requested() {
+  return g_signal;
+}
+
+void reset() {
+  set_action(SIGINT, SIG_DFL);
+  set_action(SIGTERM, SIG_DFL);
+  g_signal = 0;
+}
+
+const char* signal_name(int sig) {
+  switch (sig) {
+    case SIGINT:
+      return "SIGINT";
+    case SIGTERM:
+      return "SIGTERM";
+    default:
+      return "signal";
+  }
+}
+
+}  // namespace gf::stop
