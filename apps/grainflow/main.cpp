@@ -195,6 +195,7 @@ int main(int argc, char** argv) {
       opts.output = output;
       if (steps >= 0) opts.steps = steps;
       opts.quiet = quiet;
+      if (!restart.empty()) opts.restart = restart;
       std::filesystem::path fem_dir;
       if (const auto fem_cfg = gf::load_fem_case(run_file, fem_dir)) {
         gf::stop::install_handlers();
@@ -208,7 +209,6 @@ int main(int argc, char** argv) {
         gf::log::info(
             "the case has a sweep: block; this runs its base values only (grainflow "
             "sweep runs every combination)");
-      if (!restart.empty()) opts.restart = restart;
       gf::Simulation sim(cfg);
       // From here a first SIGINT / SIGTERM ends the run after its step, with every output and a
       // checkpoint written; the exit status then says so (128 + signal, as for a killed program).

@@ -80,6 +80,10 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   auto h = io::h5::File::open_read(file);
   if (!h.has_attribute("/", "program") || h.read_string_attribute("/", "program") != "grainflow")
     throw InputError(fmt::format("{}: not a grainflow checkpoint", file.string()));
+  if (h.has_attribute("/", "kind"))
+    throw InputError(fmt::format("{}: a {} checkpoint; continue it with its {} case", file.string(),
+                                 h.read_string_attribute("/", "kind"),
+                                 h.read_string_attribute("/", "kind")));
   const double dt = h.read_double_attribute("/", "dt");
   if (dt != dt_)
     throw InputError(

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Dispatch of `fluid_fem:` cases from the grainflow command line.
+// Dispatch of `fluid_fem:` cases from the grainflow command line, and their HDF5 checkpoints.
 #include "simulation/fem_case.hpp"
 
 #include <fmt/format.h>
@@ -8,6 +8,8 @@
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/stop.hpp"
+#include "core/version.hpp"
+#include "io/restart/h5.hpp"
 
 namespace gf {
 
@@ -47,12 +49,97 @@ std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& 
   return fem::parse_fluid_fem(doc["fluid_fem"], file.string());
 }
 
+void save_fem_checkpoint(const fs::path& file, const fem::FemCheckpoint& c) {
+  io::write_checkpoint_atomically(file, [&](io::h5::File& h) {
+    const auto& f = c.flow;
+    h.set_attribute("/", "program", "grainflow");
+    h.set_attribute("/", "version", version_string);
+    h.set_attribute("/", "kind", "fluid_fem");
+    h.set_attribute("/", "time", f.t);
+    h.set_attribute("/", "steps", c.steps);
+    h.set_attribute("/", "n_fields", c.n_fields);
+    h.set_attribute("/", "next_vtk", c.next_vtk);
+    h.set_attribute("/", "next_csv", c.next_csv);
+    h.set_attribute("/", "next_checkpoint", c.next_checkpoint);
+    h.set_attribute("/", "mesh_hash", static_cast<std::int64_t>(c.mesh_hash));
+    h.create_group("loop");
+    h.set_attribute("loop", "dt", c.loop.dt);
+    h.set_attribute("loop", "dt_config", c.loop.dt_config);
+    h.set_attribute("loop", "order", static_cast<std::int64_t>(c.loop.order));
+    h.set_attribute("loop", "same_order_steps", static_cast<std::int64_t>(c.loop.same_order_steps));
+    h.set_attribute("loop", "error_rejections", static_cast<std::int64_t>(c.loop.error_rejections));
+    h.create_group("flow");
+    h.set_attribute("flow", "last_order", static_cast<std::int64_t>(f.last_order));
+    h.set_attribute("flow", "alpha0", f.alpha0);
+    h.write("flow/x", std::span<const double>(f.x));
+    h.write("flow/hist_t", std::span<const double>(f.hist_t));
+    for (std::size_t k = 0; k < f.hist_x.size(); ++k)
+      h.write(fmt::format("flow/hist_x_{}", k), std::span<const double>(f.hist_x[k]));
+    h.write("flow/hist_term", std::span<const double>(f.hist_term));
+    h.set_attribute("flow", "factorized", static_cast<std::int64_t>(f.factorized));
+    if (f.factorized) {
+      h.write("flow/factor_x", std::span<const double>(f.factor_x));
+      h.set_attribute("flow", "factor_alpha0", f.factor_alpha0);
+      h.set_attribute("flow", "factor_newton", static_cast<std::int64_t>(f.factor_newton));
+    }
+  });
+}
+
+fem::FemCheckpoint load_fem_checkpoint(const fs::path& file) {
+  auto h = io::h5::File::open_read(file);
+  if (!h.has_attribute("/", "program") || h.read_string_attribute("/", "program") != "grainflow")
+    throw InputError(fmt::format("{}: not a grainflow checkpoint", file.string()));
+  if (!h.has_attribute("/", "kind") || h.read_string_attribute("/", "kind") != "fluid_fem")
+    throw InputError(fmt::format(
+        "{}: a particle (DEM / CFD-DEM) checkpoint; a fluid_fem case continues only from a "
+        "fem_checkpoint_*.h5 of a fluid_fem run",
+        file.string()));
+  fem::FemCheckpoint c;
+  auto& f = c.flow;
+  f.t = h.read_double_attribute("/", "time");
+  c.steps = h.read_int_attribute("/", "steps");
+  c.n_fields = h.read_int_attribute("/", "n_fields");
+  c.next_vtk = h.read_double_attribute("/", "next_vtk");
+  c.next_csv = h.read_double_attribute("/", "next_csv");
+  c.next_checkpoint = h.read_double_attribute("/", "next_checkpoint");
+  c.mesh_hash = static_cast<std::uint64_t>(h.read_int_attribute("/", "mesh_hash"));
+  c.loop.dt = h.read_double_attribute("loop", "dt");
+  c.loop.dt_config = h.read_double_attribute("loop", "dt_config");
+  c.loop.order = static_cast<int>(h.read_int_attribute("loop", "order"));
+  c.loop.same_order_steps = static_cast<int>(h.read_int_attribute("loop", "same_order_steps"));
+  c.loop.error_rejections = static_cast<int>(h.read_int_attribute("loop", "error_rejections"));
+  f.last_order = static_cast<int>(h.read_int_attribute("flow", "last_order"));
+  f.alpha0 = h.read_double_attribute("flow", "alpha0");
+  f.x = h.read_double("flow/x");
+  f.hist_t = h.read_double("flow/hist_t");
+  for (std::size_t k = 0; k < f.hist_t.size(); ++k)
+    f.hist_x.push_back(h.read_double(fmt::format("flow/hist_x_{}", k)));
+  f.hist_term = h.read_double("flow/hist_term");
+  f.factorized = h.read_int_attribute("flow", "factorized") != 0;
+  if (f.factorized) {
+    f.factor_x = h.read_double("flow/factor_x");
+    f.factor_alpha0 = h.read_double_attribute("flow", "factor_alpha0");
+    f.factor_newton = h.read_int_attribute("flow", "factor_newton") != 0;
+  }
+  return c;
+}
+
 int run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
                  const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? default_dir : opts.output;
+  // Read before the output folder is prepared: --overwrite may empty the folder it lies in.
+  std::optional<fem::FemCheckpoint> resume;
+  if (opts.restart) resume = load_fem_checkpoint(*opts.restart);
   prepare_output_dir(dir, opts.overwrite);
   log::info("fluid_fem run, output in '{}'", dir.string());
-  const int sig = fem::run_fluid_fem(cfg, dir, opts.steps ? static_cast<int>(*opts.steps) : -1);
+  fem::FemCheckpointIo io;
+  io.save = save_fem_checkpoint;
+  if (resume) {
+    io.resume = &*resume;
+    log::info("continuing from '{}' at t = {} s (step {})", opts.restart->string(), resume->flow.t,
+              resume->steps);
+  }
+  const int sig = fem::run_fluid_fem(cfg, dir, opts.steps ? static_cast<int>(*opts.steps) : -1, io);
   if (sig)
     log::warn("fluid_fem run stopped by {}: outputs up to the last step written in '{}'",
               stop::signal_name(sig), dir.string());

@@ -17,9 +17,15 @@ std::optional<fem::FemCaseConfig> load_fem_case(const std::filesystem::path& fil
                                                 std::filesystem::path& output_dir);
 
 /// Runs a FEM case with the same output-folder policy as DEM runs (refuses a non-empty folder
-/// without --overwrite); opts.steps limits the number of time steps. Returns the SIGINT /
-/// SIGTERM that stopped the run early (outputs written), else 0.
+/// without --overwrite); opts.steps limits the number of time steps; opts.restart continues an
+/// unsteady run from a fem_checkpoint_*.h5 bit-identically. Returns the SIGINT / SIGTERM that
+/// stopped the run early (outputs and a checkpoint written), else 0.
 int run_fem_case(const fem::FemCaseConfig& cfg, const std::filesystem::path& default_dir,
                  const RunOptions& opts);
+
+/// Writes / reads a fluid_fem checkpoint (HDF5, written atomically). Reading a file that is not
+/// a grainflow fluid_fem checkpoint throws InputError.
+void save_fem_checkpoint(const std::filesystem::path& file, const fem::FemCheckpoint& c);
+fem::FemCheckpoint load_fem_checkpoint(const std::filesystem::path& file);
 
 }  // namespace gf

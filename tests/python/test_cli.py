@@ -157,5 +157,32 @@ with tempfile.TemporaryDirectory() as TMP:
     check(not os.path.exists(os.path.join(TMP, "sweep", "phi_0.3_rate_100")), "no run started after the stop")
     check("1 not started" in err, f"the sweep reports what it did: {err}")
 
+    # fluid_fem from the command line: a checkpoint at the end, --restart continues it, and a
+    # particle checkpoint given to a fluid_fem case is refused with exit code 2.
+    fem_case = os.path.join(TMP, "fem.yaml")
+    with open(fem_case, "w") as f:
+        f.write("""fluid_fem:
+  fluid: {density: 1.0, viscosity: 0.01}
+  domain:
+    outline: [[0, 0], [1, 0], [1, 0.4], [0, 0.4]]
+    boundaries:
+      - {edges: [1], type: outflow}
+      - {edges: [3], type: inflow, u_max: 0.5}
+  bodies:
+    - {name: disk, circle: {centre: [0.3, 0.2], radius: 0.05}}
+  mesh: {h_max: 0.08, h_body: 0.03}
+  time: {mode: unsteady, scheme: bdf2, step: 0.01, end: 1.0}
+""")
+    r = run("run", fem_case, "--output", "fem_a", "--quiet", "--steps", "4")
+    fem_ckpt = os.path.join(TMP, "fem_a", "fem_checkpoint_final.h5")
+    check(r.returncode == 0 and os.path.exists(fem_ckpt), f"fluid_fem run writes a checkpoint: {r.stderr}")
+    r = run("run", fem_case, "--output", "fem_b", "--quiet", "--steps", "3", "--restart", fem_ckpt)
+    summary = open(os.path.join(TMP, "fem_b", "fem_summary.txt")).read() if r.returncode == 0 else ""
+    check("continued from t = 0.04 s (step 4)" in summary and "(over restarts): 7" in summary,
+          f"fluid_fem --restart continues: {r.stderr} {summary}")
+    r = run("run", fem_case, "--output", "fem_c", "--quiet", "--restart", stop_ckpt)
+    check(r.returncode == 2 and "fluid_fem" in r.stderr, f"a particle checkpoint is refused: {r.returncode} {r.stderr}")
+    check(not os.path.exists(os.path.join(TMP, "fem_c")), "a refused restart writes nothing")
+
 print(f"{passed} passed, {failed} failed")
 sys.exit(1 if failed else 0)

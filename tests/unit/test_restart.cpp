@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
@@ -17,6 +18,7 @@
 #include "core/files.hpp"
 #include "core/stop.hpp"
 #include "io/input/parse_case.hpp"
+#include "simulation/fem_case.hpp"
 #include "simulation/simulation.hpp"
 #include "state_compare.hpp"
 #include "temp_dir.hpp"
@@ -188,4 +190,130 @@ TEST(Restart, CfdDemContinuesBitIdentically) {
   dry.output.quantities.clear();
   Simulation c(dry);
   EXPECT_THROW(c.load_checkpoint(r->file), InputError);
+}
+
+namespace {
+
+// A channel with a turning disk, automatic BDF order with adaptive steps and the chord method
+// (the LU kept across steps): every piece of state a continuation needs.
+const char* kFemCase = R"(fluid_fem:
+  fluid: {density: 1.0, viscosity: 0.01}
+  domain:
+    outline: [[0, 0], [1, 0], [1, 0.4], [0, 0.4]]
+    boundaries:
+      - {edges: [0, 2], type: wall}
+      - {edges: [1], type: outflow}
+      - {edges: [3], type: inflow, u_max: 0.5, time_function: {type: ramp, duration: 0.1}}
+  bodies:
+    - {name: disk, circle: {centre: [0.3, 0.2], radius: 0.05}, angular_velocity: 1.0}
+  mesh: {h_max: 0.08, h_body: 0.03, grading: 0.3}
+  time: {mode: unsteady, scheme: auto, step: 0.005, end: 0.5, adaptive: {rtol: 1.0e-4, dt_max: 0.02}}
+  newton: {reuse_factorization: true}
+  output: {checkpoint_every: 0.1}
+)";
+
+std::vector<std::string> lines_of(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> out;
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+void expect_same_flow(const fem::FemCheckpoint& a, const fem::FemCheckpoint& b) {
+  EXPECT_EQ(a.steps, b.steps);
+  EXPECT_EQ(a.flow.t, b.flow.t);
+  EXPECT_TRUE(test::same_bits(std::span(a.flow.x), std::span(b.flow.x)));
+  ASSERT_EQ(a.flow.hist_x.size(), b.flow.hist_x.size());
+  for (std::size_t k = 0; k < a.flow.hist_x.size(); ++k)
+    EXPECT_TRUE(test::same_bits(std::span(a.flow.hist_x[k]), std::span(b.flow.hist_x[k])));
+  EXPECT_EQ(a.loop.dt, b.loop.dt);
+  EXPECT_EQ(a.loop.order, b.loop.order);
+}
+
+}  // namespace
+
+TEST(Restart, FluidFemContinuesBitIdentically) {
+  test::TempDir tmp;
+  const auto file = tmp.write("case.yaml", kFemCase);
+  std::filesystem::path unused;
+  const auto cfg = load_fem_case(file, unused);
+  ASSERT_TRUE(cfg);
+  RunOptions a;
+  a.output = tmp / "a";
+  ASSERT_EQ(run_fem_case(*cfg, unused, a), 0);
+  std::vector<std::filesystem::path> ckpts;
+  for (const auto& e : std::filesystem::directory_iterator(a.output))
+    if (e.path().filename().string().rfind("fem_checkpoint_0", 0) == 0) ckpts.push_back(e.path());
+  std::sort(ckpts.begin(), ckpts.end());
+  ASSERT_EQ(ckpts.size(), 4u);  // t = 0.1, 0.2, 0.3, 0.4 (the end has fem_checkpoint_final.h5)
+  const auto end_a = load_fem_checkpoint(a.output / "fem_checkpoint_final.h5");
+  const auto mid = load_fem_checkpoint(ckpts[1]);
+  EXPECT_NEAR(mid.flow.t, 0.2, 0.02);
+  EXPECT_TRUE(mid.flow.factorized);
+  EXPECT_GE(mid.loop.order, 2);
+
+  // Continued from t ~ 0.2: the same final bits, and the same force rows after the restart.
+  RunOptions b;
+  b.output = tmp / "b";
+  b.restart = ckpts[1];
+  ASSERT_EQ(run_fem_case(*cfg, unused, b), 0);
+  expect_same_flow(end_a, load_fem_checkpoint(b.output / "fem_checkpoint_final.h5"));
+  const auto rows_a = lines_of(a.output / "fem_forces.csv");
+  const auto rows_b = lines_of(b.output / "fem_forces.csv");
+  ASSERT_GT(rows_b.size(), 5u);
+  ASSERT_LT(rows_b.size(), rows_a.size());
+  EXPECT_EQ(rows_b[0], rows_a[0]);  // the header
+  EXPECT_TRUE(std::equal(rows_b.begin() + 1, rows_b.end(), rows_a.end() - (rows_b.size() - 1)));
+
+  // Stopped by a signal (here before its first step): the checkpoint is named by the step and
+  // holds the restored state, LU iterate included; continuing it gives the same bits again.
+  RunOptions c;
+  c.output = tmp / "c";
+  c.restart = ckpts[1];
+  stop::install_handlers();
+  std::raise(SIGTERM);
+  EXPECT_EQ(run_fem_case(*cfg, unused, c), SIGTERM);
+  stop::reset();
+  const auto stopped = c.output / fmt::format("fem_checkpoint_{:07d}.h5", mid.steps);
+  ASSERT_TRUE(std::filesystem::exists(stopped));
+  EXPECT_FALSE(std::filesystem::exists(c.output / "fem_checkpoint_final.h5"));
+  RunOptions d;
+  d.output = tmp / "d";
+  d.restart = stopped;
+  ASSERT_EQ(run_fem_case(*cfg, unused, d), 0);
+  expect_same_flow(end_a, load_fem_checkpoint(d.output / "fem_checkpoint_final.h5"));
+}
+
+TEST(Restart, FluidFemRefusesForeignCheckpoints) {
+  test::TempDir tmp;
+  std::filesystem::path unused;
+  const auto cfg = load_fem_case(tmp.write("case.yaml", kFemCase), unused);
+  ASSERT_TRUE(cfg);
+  RunOptions a;
+  a.output = tmp / "a";
+  a.steps = 3;
+  ASSERT_EQ(run_fem_case(*cfg, unused, a), 0);
+  const auto fem_ckpt = a.output / "fem_checkpoint_final.h5";
+
+  // Another mesh (the case's mesh sizes changed).
+  std::string other = kFemCase;
+  other.replace(other.find("h_max: 0.08"), 11, "h_max: 0.07");
+  const auto cfg2 = load_fem_case(tmp.write("other.yaml", other), unused);
+  RunOptions b;
+  b.output = tmp / "b";
+  b.restart = fem_ckpt;
+  try {
+    run_fem_case(*cfg2, unused, b);
+    ADD_FAILURE() << "a checkpoint of another mesh was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("another mesh"), std::string::npos) << e.what();
+  }
+  // A particle case refuses the fluid_fem checkpoint, and the fluid_fem case a particle one.
+  Simulation dem(settling_case());
+  EXPECT_THROW(dem.load_checkpoint(fem_ckpt), InputError);
+  const auto dem_ckpt = tmp / "dem.h5";
+  dem.save_checkpoint(dem_ckpt);
+  b.restart = dem_ckpt;
+  b.overwrite = true;
+  EXPECT_THROW(run_fem_case(*cfg, unused, b), InputError);
 }

@@ -357,9 +357,10 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
 
   if (const auto out = block["output"]; out.IsDefined()) {
     const std::string op = root + ".output";
-    r.keys(out, op, {"vtk_every", "csv_every", "probes", "coefficients"});
+    r.keys(out, op, {"vtk_every", "csv_every", "checkpoint_every", "probes", "coefficients"});
     cfg.output.vtk_every = r.number_or(out, "vtk_every", op, 0.0, 0, 1e30);
     cfg.output.csv_every = r.number_or(out, "csv_every", op, 0.0, 0, 1e30);
+    cfg.output.checkpoint_every = r.number_or(out, "checkpoint_every", op, 0.0, 0, 1e30);
     if (out["probes"].IsDefined()) cfg.output.probes = r.points(out["probes"], op + ".probes", 1);
     if (const auto c = out["coefficients"]; c.IsDefined()) {
       r.keys(c, op + ".coefficients", {"velocity", "length"});
@@ -372,8 +373,19 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   return cfg;
 }
 
-int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir,
-                  int max_steps) {
+std::uint64_t mesh_hash(const Mesh& m) {
+  std::uint64_t h = 1469598103934665603ULL;
+  auto add = [&h](const void* data, std::size_t n) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ULL;
+  };
+  add(m.nodes.data(), m.nodes.size() * sizeof(Vec2));
+  add(m.cells.data(), m.cells.size() * sizeof(m.cells[0]));
+  return h;
+}
+
+int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir, int max_steps,
+                  const FemCheckpointIo& io) {
   const auto t_start = std::chrono::steady_clock::now();
   std::filesystem::create_directories(output_dir);
   FlowProblem pb;
@@ -422,13 +434,30 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     }
     probes << '\n';
   };
+  const FemCheckpoint* resume = io.resume;
+  if (resume) {
+    if (cfg.steady)
+      throw InputError(
+          fmt::format("{}: error: --restart: a steady fluid_fem case has no time "
+                      "steps to continue",
+                      cfg.file));
+    if (resume->mesh_hash != mesh_hash(ns.mesh()))
+      throw InputError(fmt::format(
+          "{}: error: --restart: the checkpoint belongs to another mesh (the case's domain, "
+          "bodies or mesh sizes changed, or another build meshed it)",
+          cfg.file));
+    ns.restore(resume->flow);
+  }
+  // Numbering of the field files continues over restarts.
+  const std::int64_t fields_before = resume ? resume->n_fields : 0;
   vtk::PvdSeries series(output_dir / "fem_fields.pvd");
   auto flush = [&] {
     write_atomically(output_dir / "fem_forces.csv", [&](std::ostream& os) { os << forces.str(); });
     write_atomically(output_dir / "fem_probes.csv", [&](std::ostream& os) { os << probes.str(); });
   };
   auto write_fields = [&](const NavierStokes& s) {
-    const std::string name = fmt::format("fem_fields_{:05d}.vtu", series.size());
+    const std::string name = fmt::format("fem_fields_{:05d}.vtu",
+                                         fields_before + static_cast<std::int64_t>(series.size()));
     write_vtu(output_dir / name, s);
     series.add(s.time(), name);
     flush();
@@ -456,30 +485,73 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     record(ns, 0.0);
     write_fields(ns);
   } else {
-    if (cfg.initial_steady) summary = solve_steady("initial steady state");
+    if (cfg.initial_steady && !resume) summary = solve_steady("initial steady state");
     write_fields(ns);
     double next_vtk = cfg.output.vtk_every, next_csv = 0.0;
+    double next_ckpt = cfg.output.checkpoint_every;
+    std::int64_t steps_before = 0;
+    TimeLoopState loop;
+    if (resume) {
+      next_vtk = resume->next_vtk;
+      next_csv = resume->next_csv;
+      next_ckpt = resume->next_checkpoint;
+      steps_before = resume->steps;
+      loop = resume->loop;
+      summary = fmt::format("continued from t = {:.9g} s (step {})\n", ns.time(), steps_before);
+    }
+    std::int64_t steps = steps_before;
+    auto checkpoint = [&](const std::string& name) {
+      if (!io.save) return;
+      FemCheckpoint c;
+      c.flow = ns.state();
+      c.loop = loop;
+      c.steps = steps;
+      c.next_vtk = next_vtk;
+      c.next_csv = next_csv;
+      c.next_checkpoint = next_ckpt;
+      c.n_fields = fields_before + static_cast<std::int64_t>(series.size());
+      c.mesh_hash = mesh_hash(ns.mesh());
+      flush();  // the series up to the checkpoint are on disk with it
+      io.save(output_dir / name, c);
+    };
+    // Advances an output time past t by whole intervals (at least one).
+    auto advance = [](double& next, double every, double t) {
+      next += every * std::max(1.0, std::floor((t - next) / every + 1));
+    };
     TimeControl tc = cfg.time;
     tc.max_steps = max_steps;
-    const auto st = integrate(ns, tc, cfg.newton, [&](const NavierStokes& s, double h) {
-      const double eps = 1e-9 * h;
-      if (s.time() >= next_csv - eps) {
-        record(s, h);
-        next_csv = s.time() + cfg.output.csv_every;
-      }
-      if (cfg.output.vtk_every > 0 && s.time() >= next_vtk - eps) {
-        write_fields(s);
-        next_vtk += cfg.output.vtk_every *
-                    std::max(1.0, std::floor((s.time() - next_vtk) / cfg.output.vtk_every + 1));
-      }
-    });
+    const auto st = integrate(
+        ns, tc, cfg.newton,
+        [&](const NavierStokes& s, double h) {
+          ++steps;
+          const double eps = 1e-9 * h;
+          if (s.time() >= next_csv - eps) {
+            record(s, h);
+            next_csv = s.time() + cfg.output.csv_every;
+          }
+          if (cfg.output.vtk_every > 0 && s.time() >= next_vtk - eps) {
+            write_fields(s);
+            advance(next_vtk, cfg.output.vtk_every, s.time());
+          }
+          if (cfg.output.checkpoint_every > 0 && s.time() >= next_ckpt - eps &&
+              s.time() < cfg.time.t_end - eps) {
+            advance(next_ckpt, cfg.output.checkpoint_every, s.time());
+            checkpoint(fmt::format("fem_checkpoint_{:07d}.h5", steps));
+          }
+        },
+        &loop);
     if (cfg.output.vtk_every == 0 || series.last_time() < ns.time()) write_fields(ns);
+    if (st.stop_signal)
+      checkpoint(fmt::format("fem_checkpoint_{:07d}.h5", steps));
+    else
+      checkpoint("fem_checkpoint_final.h5");
     summary += fmt::format(
         "unsteady BDF{}{}: steps {} (at orders 1/2/3: {}/{}/{}), rejected {}, Newton iterations "
         "{}, factorizations {}\n",
         cfg.time.variable_order ? "1-" : "", cfg.time.order, st.steps, st.steps_at_order[1],
         st.steps_at_order[2], st.steps_at_order[3], st.rejected, st.newton_iterations,
         st.factorizations);
+    if (resume) summary += fmt::format("steps since t = 0 (over restarts): {}\n", steps);
     if ((stop_signal = st.stop_signal))
       summary += fmt::format("stopped by {} at t = {:.9g} s (time.end {} s)\n",
                              stop::signal_name(stop_signal), ns.time(), cfg.time.t_end);

@@ -4,7 +4,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -24,11 +26,12 @@ struct TimeFunctionSpec {
 };
 
 struct FemOutputConfig {
-  double vtk_every = 0.0;      ///< [s]; 0: only the initial and final states
-  double csv_every = 0.0;      ///< [s]; 0: every accepted step
-  std::vector<Vec2> probes;    ///< points where u and p are recorded [m]
-  double coef_velocity = 0.0;  ///< if > 0: C_D, C_L = 2 F / (rho U^2 L) columns [m/s]
-  double coef_length = 0.0;    ///< [m]
+  double vtk_every = 0.0;         ///< [s]; 0: only the initial and final states
+  double csv_every = 0.0;         ///< [s]; 0: every accepted step
+  std::vector<Vec2> probes;       ///< points where u and p are recorded [m]
+  double coef_velocity = 0.0;     ///< if > 0: C_D, C_L = 2 F / (rho U^2 L) columns [m/s]
+  double coef_length = 0.0;       ///< [m]
+  double checkpoint_every = 0.0;  ///< [s]; 0: a checkpoint only at the end (or at a stop)
 };
 
 /// Everything the `fluid_fem:` block defines (units SI).
@@ -56,13 +59,38 @@ struct FemCaseConfig {
 /// file:line:column, the key path, what was expected and what was found.
 FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file);
 
+/// An unsteady fluid_fem run between two steps: what a checkpoint holds to continue it
+/// bit-identically (the caller writes and reads it; see simulation/fem_case.cpp).
+struct FemCheckpoint {
+  NavierStokes::State flow;
+  TimeLoopState loop;
+  std::int64_t steps = 0;  ///< accepted steps since the run began (over all restarts)
+  double next_vtk = 0.0, next_csv = 0.0, next_checkpoint = 0.0;  ///< [s] output schedule
+  std::int64_t n_fields = 0;    ///< fem_fields_*.vtu written so far (the numbering continues)
+  std::uint64_t mesh_hash = 0;  ///< mesh_hash() of the mesh it belongs to
+};
+
+/// Checkpoint hooks of run_fluid_fem: `save` writes one (empty: none written); `resume`
+/// continues from one instead of starting at t = 0.
+struct FemCheckpointIo {
+  std::function<void(const std::filesystem::path&, const FemCheckpoint&)> save;
+  const FemCheckpoint* resume = nullptr;
+};
+
+/// FNV-1a hash of a mesh's node coordinates and cells: the same case meshed again gives the
+/// same value, any other mesh (almost surely) another.
+std::uint64_t mesh_hash(const Mesh& m);
+
 /// Builds the mesh and runs the case, writing into output_dir: fem_mesh.vtu, fem_fields_*.vtu +
 /// fem_fields.pvd (ParaView series), fem_forces.csv (per body: reaction force and torque,
 /// stress-integrated force, coefficients if configured), fem_probes.csv, fem_summary.txt.
 /// Every file is written atomically. max_steps >= 0 stops an unsteady run after that many steps
-/// (smoke tests: `grainflow run --steps N`). Returns the SIGINT / SIGTERM that ended an
-/// unsteady run early (its outputs up to the last step are written), else 0; throws gf::Error.
+/// (smoke tests: `grainflow run --steps N`). Unsteady runs with `io.save` write
+/// fem_checkpoint_NNNNNNN.h5 every output.checkpoint_every, at a stop, and
+/// fem_checkpoint_final.h5 at the end. Returns the SIGINT / SIGTERM that ended an unsteady run
+/// early (its outputs up to the last step are written), else 0; throws gf::Error, and
+/// gf::InputError for a checkpoint of another mesh or of a steady case.
 int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir,
-                  int max_steps = -1);
+                  int max_steps = -1, const FemCheckpointIo& io = {});
 
 }  // namespace gf::fem

@@ -352,6 +352,7 @@ NewtonReport NavierStokes::newton(const NewtonOptions& opt) {
       lu_.factorize(values_.data());
       factor_alpha0_ = alpha0_;
       factor_newton_ = newton_terms;
+      factor_x_ = x_;
       ++rep.factorizations;
       need_fresh = !opt.reuse_factorization;
     }
@@ -494,6 +495,57 @@ void NavierStokes::accept_step() {
     hist_t_.pop_back();
     hist_x_.pop_back();
   }
+}
+
+NavierStokes::State NavierStokes::state() const {
+  State s;
+  s.t = t_;
+  s.last_order = last_order_;
+  s.x = x_;
+  s.hist_t = hist_t_;
+  s.hist_x = hist_x_;
+  s.alpha0 = alpha0_;
+  s.hist_term = hist_term_;
+  s.factorized = lu_.has_factors();
+  if (s.factorized) {
+    s.factor_x = factor_x_;
+    s.factor_alpha0 = factor_alpha0_;
+    s.factor_newton = factor_newton_;
+  }
+  return s;
+}
+
+void NavierStokes::restore(const State& s) {
+  const auto n = static_cast<std::size_t>(n_dofs_);
+  REQUIRE(s.x.size() == n && s.hist_term.size() == hist_term_.size() &&
+              s.hist_x.size() == s.hist_t.size() && s.hist_t.size() <= kMaxBdfOrder + 1 &&
+              (!s.factorized || s.factor_x.size() == n),
+          "fluid_fem state of another problem: {} unknowns and {} history states, expected {}",
+          s.x.size(), s.hist_t.size(), n);
+  for (const auto& h : s.hist_x)
+    REQUIRE(h.size() == n, "fluid_fem state: a history state of {} unknowns, expected {}", h.size(),
+            n);
+  if (s.factorized) {  // the same values in the same pattern give the same factors
+    x_ = s.factor_x;
+    alpha0_ = s.factor_alpha0;
+    assemble(true, s.factor_newton);
+    lu_.factorize(values_.data());
+    factor_x_ = s.factor_x;
+    factor_alpha0_ = s.factor_alpha0;
+    factor_newton_ = s.factor_newton;
+  } else {  // as without factors: the next Newton solve factorises afresh
+    factor_alpha0_ = -1.0;
+    factor_newton_ = false;
+    factor_x_.clear();
+  }
+  hist_t_ = s.hist_t;
+  hist_x_ = s.hist_x;
+  last_order_ = s.last_order;
+  alpha0_ = s.alpha0;
+  hist_term_ = s.hist_term;
+  x_ = s.x;
+  set_time(s.t);
+  assemble(false, true);  // residual and reactions of the restored state, as after a solve
 }
 
 void NavierStokes::reject_step() {

@@ -140,6 +140,28 @@ class NavierStokes {
   /// the initial guess of nested iteration. Dirichlet values are re-imposed afterwards.
   void interpolate_from(const NavierStokes& other);
 
+  /// What a checkpoint keeps to continue a time integration bit-identically: the solution and
+  /// the BDF history, the last step's time-derivative coefficients (for the reaction forces),
+  /// and the iterate and coefficient at which the kept LU factorisation (chord method) was
+  /// assembled, so that restore() can rebuild the very same factors.
+  struct State {
+    double t = 0.0;  ///< [s]
+    int last_order = 0;
+    std::vector<double> x;                    ///< unknowns (n_dofs)
+    std::vector<double> hist_t;               ///< [s], newest first
+    std::vector<std::vector<double>> hist_x;  ///< unknowns at hist_t
+    double alpha0 = 0.0;                      ///< [1/s]
+    std::vector<double> hist_term;            ///< [m/s^2] (2 x P2 nodes)
+    bool factorized = false;
+    std::vector<double> factor_x;  ///< iterate of the kept factorisation (empty if none)
+    double factor_alpha0 = -1.0;
+    bool factor_newton = false;
+  };
+  [[nodiscard]] State state() const;
+  /// Restores a state taken from a solver of the same problem (same mesh, sizes checked) and
+  /// re-assembles and factorises the kept Jacobian.
+  void restore(const State& s);
+
   /// Timings [s] and counts for benchmarks.
   [[nodiscard]] double assembly_seconds() const { return assembly_seconds_; }
   [[nodiscard]] const SparseLu& lu() const { return lu_; }
@@ -180,6 +202,7 @@ class NavierStokes {
   SparseLu lu_;
   double factor_alpha0_ = -1.0;
   bool factor_newton_ = false;
+  std::vector<double> factor_x_;  // the iterate the factorisation was assembled at
 
   // Point location: uniform grid of buckets listing the cells whose bounding box meets them.
   Vec2 grid_lo_;

@@ -12,7 +12,8 @@
 namespace gf::fem {
 
 TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions& opt,
-                    const std::function<void(const NavierStokes&, double)>& observe) {
+                    const std::function<void(const NavierStokes&, double)>& observe,
+                    TimeLoopState* loop) {
   REQUIRE(tc.order >= 1 && tc.order <= kMaxBdfOrder, "BDF order must be 1 to {}, got {}",
           kMaxBdfOrder, tc.order);
   REQUIRE(tc.dt > 0, "time step must be positive");
@@ -22,6 +23,17 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
   const double eps = 1e-12 * std::max(1.0, std::abs(tc.t_end));
   int order = tc.variable_order ? 1 : tc.order;  // the order aimed at
   int same_order_steps = 0, error_rejections = 0;
+  const double dt_config = dt;
+  if (loop && loop->dt > 0) {  // continue a run (checkpoint)
+    // The controller's step, unless the case now asks for another initial / fixed step.
+    if (loop->dt_config == dt_config) dt = loop->dt;
+    order = std::clamp(loop->order, 1, tc.order);
+    same_order_steps = loop->same_order_steps;
+    error_rejections = loop->error_rejections;
+  }
+  auto keep_state = [&] {
+    if (loop) *loop = {dt, dt_config, order, same_order_steps, error_rejections};
+  };
   // Step factor 0.9 err^{-1/(k+1)} that would bring an error estimate err of order k to 0.9^(k+1).
   // An estimate of exactly zero (a flow at rest, data that are polynomials of low degree in t)
   // allows any step: the growth limits below then apply.
@@ -63,7 +75,6 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
     ++st.steps;
     ++st.steps_at_order[k];
     ++same_order_steps;
-    if (observe) observe(ns, h);
     if (choose) {
       int next = k;
       if (r.error_lower >= 0 && factor(r.error_lower, k - 1) >= fac) {
@@ -82,7 +93,10 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
     // Step growth bounded for zero-stability of variable-step BDF: ratios below 1 + sqrt(2)
     // for BDF2, about 1.5 for BDF3 (Calvo, Grande & Grigorieff, Numer. Math. 57, 1990).
     if (tc.adaptive) dt = std::min(tc.dt_max, h * std::clamp(fac, 0.2, order >= 3 ? 1.5 : 2.0));
+    keep_state();  // the observer may checkpoint: the controller is ready for the next step
+    if (observe) observe(ns, h);
   }
+  keep_state();
   return st;
 }
 

@@ -45,9 +45,20 @@ struct TimeStats {
   int stop_signal = 0;  ///< SIGINT / SIGTERM that ended the loop before t_end (core/stop.hpp)
 };
 
-/// Integrates from ns.time() to tc.t_end; calls observe after every accepted step. Ends early,
+/// The step controller between two steps: with NavierStokes::State, what a checkpoint keeps.
+struct TimeLoopState {
+  double dt = 0.0;         ///< [s] the next step to try; 0 before the first step (tc.dt is used)
+  double dt_config = 0.0;  ///< [s] min(tc.dt, tc.dt_max) of the run that left this state
+  int order = 0;           ///< the BDF order aimed at
+  int same_order_steps = 0, error_rejections = 0;
+};
+
+/// Integrates from ns.time() to tc.t_end; calls observe after every accepted step (when *loop,
+/// if given, already holds the controller's choice for the next step). Ends early,
 /// after a step, when SIGINT / SIGTERM asked the program to stop (TimeStats::stop_signal).
+/// With `loop`, the controller starts from *loop (unless its dt is 0) and leaves its state there.
 TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions& opt,
-                    const std::function<void(const NavierStokes&, double dt)>& observe);
+                    const std::function<void(const NavierStokes&, double dt)>& observe,
+                    TimeLoopState* loop = nullptr);
 
 }  // namespace gf::fem
