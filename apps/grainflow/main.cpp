@@ -86,13 +86,9 @@ std::vector<gf::input::Override> overrides(const std::vector<std::string>& sets)
 
 int check(const std::string& file, const std::vector<std::string>& sets) {
   std::filesystem::path fem_dir;
-  if (const auto fem_cfg = gf::load_fem_case(file, fem_dir)) {
+  if (const auto fem_cfg = gf::load_fem_case(file, fem_dir, overrides(sets))) {
     fmt::print("{}: OK (fluid_fem case)\n", file);
-    fmt::print("  {:<40} {}\n", "bodies", fem_cfg->body_names.size());
-    fmt::print("  {:<40} {}\n", "density (kg/m^3), viscosity (m^2/s)",
-               fmt::format("{}, {}", fem_cfg->density, fem_cfg->viscosity));
-    fmt::print("  {:<40} {}\n", "time stepping",
-               fem_cfg->steady ? "steady (Newton)" : "unsteady (BDF)");
+    for (const auto& [k, v] : gf::fem::describe_case(*fem_cfg)) fmt::print("  {:<40} {}\n", k, v);
     return 0;
   }
   const auto cfg = gf::input::load_case(file, overrides(sets));
@@ -197,7 +193,7 @@ int main(int argc, char** argv) {
       opts.quiet = quiet;
       if (!restart.empty()) opts.restart = restart;
       std::filesystem::path fem_dir;
-      if (const auto fem_cfg = gf::load_fem_case(run_file, fem_dir)) {
+      if (const auto fem_cfg = gf::load_fem_case(run_file, fem_dir, overrides(sets))) {
         gf::stop::install_handlers();
         const int sig = gf::run_fem_case(*fem_cfg, fem_dir, opts);
         return sig ? gf::stop::exit_status(sig) : 0;

@@ -15,7 +15,8 @@ namespace gf {
 
 namespace fs = std::filesystem;
 
-std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& output_dir) {
+std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& output_dir,
+                                                const std::vector<input::Override>& overrides) {
   YAML::Node doc;
   try {
     doc = YAML::LoadFile(file.string());
@@ -26,6 +27,7 @@ std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& 
                                  e.mark.column + 1, e.msg));
   }
   if (!doc.IsMap() || !doc["fluid_fem"]) return std::nullopt;
+  input::apply_overrides(doc, overrides, file);
   for (const auto& kv : doc) {
     const auto key = kv.first.as<std::string>();
     if (key != "name" && key != "fluid_fem" && key != "output") {

@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "fluid/fem/case.hpp"
+#include "io/input/parse_case.hpp"
 #include "simulation/simulation.hpp"
 
 namespace gf {
@@ -13,8 +14,10 @@ namespace gf {
 /// Reads the case file; if it holds a `fluid_fem:` block, returns the parsed FEM case (strict:
 /// the only other top-level keys allowed are `name` and `output: {directory}`), else nothing.
 /// YAML syntax errors and wrong keys throw gf::InputError with file:line:column.
+/// `overrides` (--set KEY.PATH=VALUE) are applied to the YAML before it is read.
 std::optional<fem::FemCaseConfig> load_fem_case(const std::filesystem::path& file,
-                                                std::filesystem::path& output_dir);
+                                                std::filesystem::path& output_dir,
+                                                const std::vector<input::Override>& overrides = {});
 
 /// Runs a FEM case with the same output-folder policy as DEM runs (refuses a non-empty folder
 /// without --overwrite); opts.steps limits the number of time steps; opts.restart continues an

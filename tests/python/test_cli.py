@@ -183,6 +183,15 @@ with tempfile.TemporaryDirectory() as TMP:
     r = run("run", fem_case, "--output", "fem_c", "--quiet", "--restart", stop_ckpt)
     check(r.returncode == 2 and "fluid_fem" in r.stderr, f"a particle checkpoint is refused: {r.returncode} {r.stderr}")
     check(not os.path.exists(os.path.join(TMP, "fem_c")), "a refused restart writes nothing")
+    # --set reaches fluid_fem cases too (it used to be ignored there), and check derives Re.
+    r = run("run", fem_case, "--output", "fem_d", "--quiet", "--set", "fluid_fem.time.end=0.02")
+    summary = open(os.path.join(TMP, "fem_d", "fem_summary.txt")).read() if r.returncode == 0 else ""
+    check("steps 2 " in summary, f"--set fluid_fem.time.end=0.02 gives 2 steps: {r.stderr} {summary}")
+    r = run("run", fem_case, "--output", "fem_e", "--set", "fluid_fem.time.end=-1")
+    check(r.returncode == 2 and "fluid_fem.time.end" in r.stderr, f"a bad --set exits 2: {r.stderr}")
+    r = run("check", fem_case, "--set", "fluid_fem.fluid.viscosity=0.001")
+    check(r.returncode == 0 and "Reynolds number" in r.stdout and " 33.33 " in r.stdout,
+          f"check of a fluid_fem case derives Re = U D / nu: {r.stdout}")
 
 print(f"{passed} passed, {failed} failed")
 sys.exit(1 if failed else 0)

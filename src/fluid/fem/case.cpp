@@ -373,6 +373,59 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   return cfg;
 }
 
+std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConfig& cfg) {
+  std::vector<std::pair<std::string, std::string>> rows;
+  auto row = [&rows](std::string label, std::string value) {
+    rows.emplace_back(std::move(label), std::move(value));
+  };
+  std::string names;
+  double size = 0.0;  // largest body extent [m]
+  for (std::size_t j = 0; j < cfg.mesh.bodies.size(); ++j) {
+    const auto& b = cfg.mesh.bodies[j];
+    names += (j ? ", " : "") + cfg.body_names[j];
+    double d = 2.0 * b.radius;
+    if (b.kind == BodyShape::Kind::Polygon)
+      for (const auto& p : b.vertices)
+        for (const auto& q : b.vertices) d = std::max(d, std::hypot(p.x - q.x, p.y - q.y));
+    size = std::max(size, d);
+  }
+  row("bodies",
+      fmt::format("{}{}", cfg.mesh.bodies.size(), names.empty() ? "" : " (" + names + ")"));
+  const Mesh mesh = build_mesh(cfg.mesh);
+  row("mesh: cells, P2 nodes, unknowns", fmt::format("{}, {}, {}", mesh.n_cells(), mesh.n_nodes(),
+                                                     2 * mesh.n_nodes() + mesh.n_vertices));
+  row("mesh sizes h_body, h_max (m)", fmt::format("{:g}, {:g}", cfg.mesh.h_body, cfg.mesh.h_max));
+  row("density (kg/m^3), viscosity (m^2/s)", fmt::format("{:g}, {:g}", cfg.density, cfg.viscosity));
+  double u_max = 0.0, u_mean = 0.0;  // at full strength of the time functions
+  for (const auto& bc : cfg.outline_bc)
+    if (bc.kind == OutlineBcKind::Inflow) {
+      u_max = std::max(u_max, bc.u_max);
+      u_mean = std::max(u_mean, bc.parabolic ? 2.0 / 3.0 * bc.u_max : bc.u_max);
+    }
+  for (const auto& m : cfg.body_motion)
+    u_max = std::max(u_max, std::hypot(m.velocity.x, m.velocity.y));
+  if (u_mean > 0) {
+    row("mean inflow speed U (m/s)", fmt::format("{:g}", u_mean));
+    if (size > 0)
+      row("Reynolds number U D / nu (D: largest body)",
+          fmt::format("{:.4g} (D = {:g} m)", u_mean * size / cfg.viscosity, size));
+  }
+  if (cfg.steady) {
+    row("time stepping", "steady (Newton)");
+    return rows;
+  }
+  const auto& t = cfg.time;
+  row("time stepping",
+      fmt::format("unsteady, BDF{}{}, {} step {:g} s, end {:g} s", t.variable_order ? "1-" : "",
+                  t.order, t.adaptive ? "adaptive, first" : "fixed", t.dt, t.t_end));
+  if (!t.adaptive) row("steps", fmt::format("{}", std::llround(t.t_end / t.dt)));
+  if (u_max > 0)
+    row("Courant number u_max dt / h_body", fmt::format("{:.3g}", u_max * t.dt / cfg.mesh.h_body));
+  row("viscous number nu dt / h_body^2",
+      fmt::format("{:.3g}", cfg.viscosity * t.dt / (cfg.mesh.h_body * cfg.mesh.h_body)));
+  return rows;
+}
+
 std::uint64_t mesh_hash(const Mesh& m) {
   std::uint64_t h = 1469598103934665603ULL;
   auto add = [&h](const void* data, std::size_t n) {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fluid/fem/navier_stokes.hpp"
@@ -58,6 +59,12 @@ struct FemCaseConfig {
 /// (unknown key, wrong type, value out of range, missing key) throws gf::InputError with
 /// file:line:column, the key path, what was expected and what was found.
 FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file);
+
+/// Derived numbers of a case for `grainflow check` (label, value), meshing it to count cells
+/// and unknowns: the inflow's mean speed U, the largest body's size D, Re = U D / nu, and for
+/// unsteady runs the steps and the Courant (U_max dt / h_body) and viscous (nu dt / h_body^2)
+/// numbers of the first step on the finest cells.
+std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConfig& cfg);
 
 /// An unsteady fluid_fem run between two steps: what a checkpoint holds to continue it
 /// bit-identically (the caller writes and reads it; see simulation/fem_case.cpp).

@@ -1503,10 +1503,10 @@ YAML::Node value_node(const Override& o) {
 
 }  // namespace
 
-config::Case load_case(const fs::path& file, const std::vector<Override>& overrides) {
-  const YamlNode root = YamlNode::parse_file(file);
+void apply_overrides(const YAML::Node& root, const std::vector<Override>& overrides,
+                     const fs::path& file) {
   for (const auto& o : overrides) {
-    YAML::Node node = root.raw();
+    YAML::Node node = root;
     std::string_view rest = o.path;
     std::string done;
     while (!rest.empty()) {
@@ -1558,6 +1558,11 @@ config::Case load_case(const fs::path& file, const std::vector<Override>& overri
       }
     }
   }
+}
+
+config::Case load_case(const fs::path& file, const std::vector<Override>& overrides) {
+  const YamlNode root = YamlNode::parse_file(file);
+  apply_overrides(root.raw(), overrides, file);
   return parse(root, file);
 }
 

@@ -9,6 +9,10 @@
 
 #include "io/input/config.hpp"
 
+namespace YAML {
+class Node;
+}
+
 namespace gf::input {
 
 /// Reads and checks a case file (see docs/case-file.md). Relative CSV paths are taken from the
@@ -26,6 +30,11 @@ struct Override {
 
 /// Parses "KEY.PATH=VALUE"; throws gf::InputError for a malformed text.
 Override parse_override(std::string_view text);
+
+/// Applies overrides to a parsed YAML document in place (a missing list item is an error; a
+/// missing map key is added); `file` names the case in messages. Throws gf::InputError.
+void apply_overrides(const YAML::Node& root, const std::vector<Override>& overrides,
+                     const std::filesystem::path& file);
 
 /// load_case with overrides applied to the YAML first (a missing list item is an error; a
 /// missing map key is added). Messages about an overridden value name its key path.
