@@ -141,6 +141,10 @@ int main(int argc, char** argv) {
   run->add_option("--steps", steps, "run this many steps instead of up to time.end")
       ->check(CLI::Range(0L, 1L << 50));
   run->add_flag("--overwrite", opts.overwrite, "replace the contents of an existing output folder");
+  run->add_flag("--append", opts.append,
+                "with --restart: continue in the checkpoint's folder (default output), keeping its "
+                "series and samples up to the checkpoint")
+      ->excludes("--overwrite");
   run->add_flag("-q,--quiet", quiet, "no progress output, warnings only");
   std::vector<std::string> sets;
   run->add_option("--set", sets, "replace a key of the case, e.g. --set shear.rate=100")
@@ -160,6 +164,11 @@ int main(int argc, char** argv) {
   sweep->add_option("--steps", sweep_steps, "run this many steps in every run")
       ->check(CLI::Range(0L, 1L << 50));
   sweep->add_flag("--overwrite", sweep_opts.overwrite, "replace an existing output folder");
+  sweep
+      ->add_flag("--continue", sweep_opts.resume,
+                 "continue a stopped sweep in its folder: keep finished runs, continue stopped "
+                 "ones from their newest checkpoint, start the rest")
+      ->excludes("--overwrite");
   bool no_plots = false;
   sweep->add_flag("--no-plots", no_plots, "write the table only");
   sweep->add_option("--set", sets, "replace a key of the case in every run")
@@ -189,6 +198,8 @@ int main(int argc, char** argv) {
     if (*run) {
       gf::exec::set_threads(threads);  // 0: OMP_NUM_THREADS, else all cores
       opts.output = output;
+      if (opts.append && output.empty() && !restart.empty())
+        opts.output = std::filesystem::path(restart).parent_path();
       if (steps >= 0) opts.steps = steps;
       opts.quiet = quiet;
       if (!restart.empty()) opts.restart = restart;

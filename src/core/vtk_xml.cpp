@@ -5,7 +5,12 @@
 #include <fmt/format.h>
 
 #include <bit>
+#include <cstring>
+#include <optional>
+#include <stdexcept>
+#include <utility>
 
+#include "core/error.hpp"
 #include "core/files.hpp"
 
 namespace gf::vtk {
@@ -76,6 +81,66 @@ void AppendedArrays::write_appended(std::ostream& out) const {
 }
 
 PvdSeries::PvdSeries(std::filesystem::path pvd_file) : path_(std::move(pvd_file)) {}
+
+namespace {
+
+/// Value of attribute `name` in one XML element's text, entities decoded; nullopt if absent.
+std::optional<std::string> xml_attribute(const std::string& element, const std::string& name) {
+  const std::string key = " " + name + "=\"";
+  const auto at = element.find(key);
+  if (at == std::string::npos) return std::nullopt;
+  const auto begin = at + key.size();
+  const auto end = element.find('"', begin);
+  if (end == std::string::npos) return std::nullopt;
+  std::string out;
+  for (std::size_t i = begin; i < end; ++i) {
+    if (element[i] != '&') {
+      out += element[i];
+      continue;
+    }
+    static const std::pair<const char*, char> entities[] = {
+        {"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&apos;", '\''}};
+    bool known = false;
+    for (const auto& [text, c] : entities)
+      if (element.compare(i, std::strlen(text), text) == 0) {
+        out += c;
+        i += std::strlen(text) - 1;
+        known = true;
+        break;
+      }
+    if (!known) return std::nullopt;
+  }
+  return out;
+}
+
+}  // namespace
+
+PvdSeries::PvdSeries(std::filesystem::path pvd_file, double before) : path_(std::move(pvd_file)) {
+  if (!std::filesystem::exists(path_)) return;
+  const std::string xml = read_text_file(path_);
+  if (xml.find("type=\"Collection\"") == std::string::npos)
+    throw IoError(
+        fmt::format("'{}' is not a ParaView collection (.pvd) to continue", path_.string()));
+  for (std::size_t at = xml.find("<DataSet "); at != std::string::npos;
+       at = xml.find("<DataSet ", at + 1)) {
+    const auto close = xml.find("/>", at);
+    if (close == std::string::npos) break;
+    const std::string element = xml.substr(at, close - at);
+    const auto t = xml_attribute(element, "timestep");
+    const auto file = xml_attribute(element, "file");
+    const auto part = xml_attribute(element, "part");
+    double time = 0;
+    int piece = 0;
+    try {
+      if (!t || !file) throw std::invalid_argument("missing attribute");
+      time = std::stod(*t);
+      if (part) piece = std::stoi(*part);
+    } catch (const std::exception&) {
+      throw IoError(fmt::format("'{}': unreadable data set '{}'", path_.string(), element));
+    }
+    if (time < before) entries_.push_back({time, *file, piece});
+  }
+}
 
 void PvdSeries::add(double time, const std::string& relative_file, int part) {
   entries_.push_back({time, relative_file, part});

@@ -106,6 +106,10 @@ class AppendedArrays {
 class PvdSeries {
  public:
   explicit PvdSeries(std::filesystem::path pvd_file);
+  /// Continues an existing series in place (run --append): keeps the data sets of `pvd_file`
+  /// (if it exists) whose time is below `before` [s]; the file is rewritten on the next add().
+  /// A file that is not such a series throws IoError.
+  PvdSeries(std::filesystem::path pvd_file, double before);
 
   /// Adds a data set: `time` in s, `relative_file` relative to the .pvd's folder, `part` the
   /// piece number (several files at one time step).

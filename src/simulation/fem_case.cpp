@@ -130,12 +130,19 @@ int run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
                  const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? default_dir : opts.output;
   // Read before the output folder is prepared: --overwrite may empty the folder it lies in.
+  if (opts.append) {
+    if (!opts.restart)
+      throw InputError("--append continues a run in its folder: give the checkpoint (--restart)");
+    if (!fs::is_directory(dir))
+      throw InputError(fmt::format("--append: output folder '{}' does not exist", dir.string()));
+  }
   std::optional<fem::FemCheckpoint> resume;
   if (opts.restart) resume = load_fem_checkpoint(*opts.restart);
-  prepare_output_dir(dir, opts.overwrite);
+  if (!opts.append) prepare_output_dir(dir, opts.overwrite);
   log::info("fluid_fem run, output in '{}'", dir.string());
   fem::FemCheckpointIo io;
   io.save = save_fem_checkpoint;
+  io.append = opts.append;
   if (resume) {
     io.resume = &*resume;
     log::info("continuing from '{}' at t = {} s (step {})", opts.restart->string(), resume->flow.t,

@@ -74,14 +74,25 @@ const RheologySummaryRow* RheologySummary::find(const std::string& q) const {
   return nullptr;
 }
 
-RheologyOutput::RheologyOutput(const std::filesystem::path& dir, const Simulation& sim)
+RheologyOutput::RheologyOutput(const std::filesystem::path& dir, const Simulation& sim,
+                               std::optional<double> continue_at)
     : dir_(dir) {
   const auto& r = *sim.config().analysis.rheology;
   every_ = std::max<std::int64_t>(1, std::llround(r.every / sim.dt()));
   std::vector<std::string> cols{"strain"};
   for (const auto& c : analysis::rheology_columns()) cols.push_back(c);
-  csv_ = std::make_unique<io::SeriesCsv>(dir / "rheology.csv", cols);
   values_.resize(analysis::rheology_columns().size());
+  if (!continue_at) {
+    csv_ = std::make_unique<io::SeriesCsv>(dir / "rheology.csv", cols);
+    return;
+  }
+  // The sample at the checkpoint's step, if one was taken, was taken before it: keep it.
+  csv_ = std::make_unique<io::SeriesCsv>(dir / "rheology.csv", cols,
+                                         io::SeriesContinuation{*continue_at, true});
+  for (const auto& row : csv_->kept_rows()) {  // time, strain, then the rheology columns
+    times_.push_back(row[0]);
+    for (std::size_t k = 0; k < values_.size(); ++k) values_[k].push_back(row[k + 2]);
+  }
 }
 
 void RheologyOutput::sample(const Simulation& sim) {

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -43,8 +44,11 @@ std::map<std::string, std::array<double, 3>> read_rheology_summary(
 
 class RheologyOutput {
  public:
-  /// Opens dir/rheology.csv for the case's analysis.rheology block.
-  RheologyOutput(const std::filesystem::path& dir, const Simulation& sim);
+  /// Opens dir/rheology.csv for the case's analysis.rheology block. With `continue_at` [s]
+  /// (run --append), the samples already in the file up to that time are kept and count in the
+  /// steady-state averages as if this run had taken them.
+  RheologyOutput(const std::filesystem::path& dir, const Simulation& sim,
+                 std::optional<double> continue_at = std::nullopt);
 
   /// Whether the step `step` ends on a sample (the force stage then collects the virial).
   bool due(std::int64_t step) const { return every_ > 0 && step % every_ == 0; }

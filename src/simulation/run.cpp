@@ -63,8 +63,23 @@ void prepare_output_dir(const fs::path& dir, bool overwrite) {
 
 RunSummary Simulation::run(const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? cfg_.output.directory : opts.output;
+  if (opts.append) {
+    if (!opts.restart)
+      throw InputError("--append continues a run in its folder: give the checkpoint (--restart)");
+    if (opts.overwrite) throw InputError("--append and --overwrite exclude each other");
+    if (!fs::is_directory(dir))
+      throw InputError(fmt::format("--append: output folder '{}' does not exist", dir.string()));
+  }
   if (opts.restart) load_checkpoint(*opts.restart);
-  prepare_output_dir(dir, opts.overwrite);
+  if (!opts.append) prepare_output_dir(dir, opts.overwrite);
+  // --append: the outputs continue from the checkpoint's time; what the earlier run wrote after
+  // it is dropped (rows, data sets) or rewritten when reached again (files named by the step).
+  const std::optional<double> resume_time =
+      opts.append ? std::optional<double>(time()) : std::nullopt;
+  auto pvd = [&](const char* name) {
+    return resume_time ? std::make_unique<io::PvdSeries>(dir / name, *resume_time)
+                       : std::make_unique<io::PvdSeries>(dir / name);
+  };
 
   write_atomically(dir / "resolved_case.yaml",
                    [&](std::ostream& o) { o << input::echo_yaml(cfg_, version_string); });
@@ -81,21 +96,24 @@ RunSummary Simulation::run(const RunOptions& opts) {
 
   std::unique_ptr<io::PvdSeries> pvd_particles, pvd_walls, pvd_polygons, pvd_fluid;
   if (vtk_every > 0) {
-    pvd_particles = std::make_unique<io::PvdSeries>(dir / "particles.pvd");
-    if (cfd_) pvd_fluid = std::make_unique<io::PvdSeries>(dir / "fluid.pvd");
-    if (!walls_.empty()) pvd_walls = std::make_unique<io::PvdSeries>(dir / "walls.pvd");
-    if (io::count_polygon_grains(particles_) > 0)
-      pvd_polygons = std::make_unique<io::PvdSeries>(dir / "polygons.pvd");
+    pvd_particles = pvd("particles.pvd");
+    if (cfd_) pvd_fluid = pvd("fluid.pvd");
+    if (!walls_.empty()) pvd_walls = pvd("walls.pvd");
+    if (io::count_polygon_grains(particles_) > 0) pvd_polygons = pvd("polygons.pvd");
   }
   std::unique_ptr<io::SeriesCsv> series;
   std::vector<std::string> columns;
   if (series_every > 0) {
     columns = series_columns();
-    series = std::make_unique<io::SeriesCsv>(dir / "series.csv", columns);
+    // (a row at the checkpoint's step is written again below, when it is due)
+    series = resume_time
+                 ? std::make_unique<io::SeriesCsv>(dir / "series.csv", columns,
+                                                   io::SeriesContinuation{*resume_time, false})
+                 : std::make_unique<io::SeriesCsv>(dir / "series.csv", columns);
   }
 
   std::unique_ptr<RheologyOutput> rheology;
-  if (cfg_.analysis.rheology) rheology = std::make_unique<RheologyOutput>(dir, *this);
+  if (cfg_.analysis.rheology) rheology = std::make_unique<RheologyOutput>(dir, *this, resume_time);
 
   auto last_flush = StageTimers::clock::now();
   // `sampled`: the step just taken ended on a rheology sample.
@@ -249,7 +267,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
   if (stop_signal)
     log::warn(
         "run stopped by {} at t = {} s (step {} of {}): outputs written; continue with "
-        "--restart {}",
+        "--restart {} (and --append to carry on in this folder)",
         stop::signal_name(stop_signal), time(), step_, last, final_checkpoint.string());
   return s;
 }

@@ -27,6 +27,9 @@ struct RunOptions {
   std::filesystem::path output;  ///< empty: the case's output.directory
   bool overwrite = false;        ///< allow writing into an existing, non-empty folder
   std::optional<std::filesystem::path> restart;
+  /// With restart: continue in the existing output folder (series, rheology samples and
+  /// ParaView series kept up to the checkpoint and continued) instead of a fresh one.
+  bool append = false;
   std::optional<std::int64_t> steps;  ///< run this many steps instead of up to time.end
   bool quiet = false;                 ///< no progress output
 };

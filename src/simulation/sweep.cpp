@@ -14,6 +14,7 @@
 #include <csignal>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -39,11 +40,13 @@ int fraction_group(const config::Case& c) {
   return -1;
 }
 
-/// Starts `args` with stdout and stderr to `log`; returns the child's pid.
-pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
+/// Starts `args` with stdout and stderr to `log` (truncated, or appended to); returns the
+/// child's pid.
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log, bool append = false) {
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addopen(&fa, 1, log.c_str(),
+                                   O_WRONLY | O_CREAT | (append ? O_APPEND : O_TRUNC), 0644);
   posix_spawn_file_actions_adddup2(&fa, 1, 2);
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -60,6 +63,30 @@ pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0) throw std::runtime_error(fmt::format("cannot start {}: error {}", args[0], rc));
   return pid;
+}
+
+/// Whether the run in `dir` ended (summary.json with "completed": true; runs of builds before
+/// that key: a checkpoint_final.h5).
+bool run_completed(const fs::path& dir) {
+  const fs::path summary = dir / "summary.json";
+  if (!fs::exists(summary)) return false;
+  const std::string text = read_text_file(summary);
+  if (text.find("\"completed\"") == std::string::npos)
+    return fs::exists(dir / "checkpoint_final.h5");
+  return text.find("\"completed\": true") != std::string::npos;
+}
+
+/// The checkpoint of `dir` with the highest step (checkpoint_NNNNNNNNN.h5), if any.
+std::optional<fs::path> newest_checkpoint(const fs::path& dir) {
+  std::optional<fs::path> best;
+  if (!fs::is_directory(dir)) return best;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string n = e.path().filename().string();
+    if (n.size() == 23 && n.rfind("checkpoint_", 0) == 0 && n.ends_with(".h5") &&
+        n.find_first_not_of("0123456789", 11) == 20 && (!best || n > best->filename().string()))
+      best = e.path();
+  }
+  return best;
 }
 
 }  // namespace
@@ -84,7 +111,13 @@ std::vector<SweepPoint> sweep_points(const config::Case& c) {
 int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptions& opts) {
   const auto points = sweep_points(c);
   const fs::path dir = opts.output.empty() ? c.output.directory : opts.output;
-  prepare_output_dir(dir, opts.overwrite);
+  if (opts.resume) {
+    if (opts.overwrite) throw InputError("sweep: --continue and --overwrite exclude each other");
+    if (!fs::is_directory(dir))
+      throw InputError(fmt::format("sweep --continue: no sweep folder '{}'", dir.string()));
+  } else {
+    prepare_output_dir(dir, opts.overwrite);
+  }
   int procs = opts.processes > 0 ? opts.processes : c.sweep->processes;
   if (procs <= 0) procs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const int group = fraction_group(c);
@@ -118,16 +151,31 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
   while (next < points.size() || !running.empty()) {
     while (next < points.size() && static_cast<int>(running.size()) < procs && !stop::requested()) {
       const auto& p = points[next];
+      const fs::path run_dir = dir / p.name;
       std::vector<std::string> args{opts.program.string(),
                                     "run",
                                     case_file.string(),
                                     "--output",
-                                    (dir / p.name).string(),
+                                    run_dir.string(),
                                     "--threads",
                                     "1",
                                     "--quiet",
                                     "--set",
                                     fmt::format("shear.rate={}", p.shear_rate)};
+      if (opts.resume) {
+        if (run_completed(run_dir)) {
+          status[next] = 0;
+          log::info("sweep: {} finished before; kept", p.name);
+          ++next;
+          continue;
+        }
+        if (const auto ckpt = newest_checkpoint(run_dir)) {
+          args.insert(args.end(), {"--restart", ckpt->string(), "--append"});
+          log::info("sweep: {} continues from {}", p.name, ckpt->filename().string());
+        } else {
+          args.push_back("--overwrite");  // started and left no checkpoint: start again
+        }
+      }
       if (!std::isnan(p.volume_fraction)) {
         args.push_back("--set");
         args.push_back(
@@ -141,7 +189,8 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
         args.push_back("--set");
         args.push_back(o.path + "=" + o.value);
       }
-      running[spawn(args, dir / (p.name + ".log"))] = next;
+      // (a continued run adds to its log)
+      running[spawn(args, dir / (p.name + ".log"), opts.resume)] = next;
       ++next;
     }
     if (running.empty()) break;  // stopped before the remaining runs started

@@ -22,6 +22,9 @@ struct SweepOptions {
   int processes = 0;                  ///< 0: sweep.processes, else the number of cores
   std::optional<std::int64_t> steps;  ///< passed on to every run (smoke tests)
   bool overwrite = false;
+  /// Continue a stopped sweep in its folder: finished runs are kept, stopped or killed ones
+  /// continue from their newest checkpoint (run --append), the others start.
+  bool resume = false;
   bool plots = true;
   std::vector<input::Override> overrides;  ///< passed on to every run
 };

@@ -133,6 +133,15 @@ with tempfile.TemporaryDirectory() as TMP:
     b = os.path.join(TMP, "resumed", f"particles_{n:09d}.csv")
     check(os.path.exists(a) and os.path.exists(b) and filecmp.cmp(a, b, shallow=False),
           "stopped + continued equals uninterrupted (particle CSV)")
+    # --append continues in the stopped run's own folder (the default with --append): its
+    # series.csv then equals the uninterrupted run's (the stop's extra last row is dropped).
+    r = run("run", long_case, "--quiet", "--restart", stop_ckpt, "--append", "--steps", str(n - k))
+    check(r.returncode == 0, f"--append run: {r.stderr}")
+    check(filecmp.cmp(os.path.join(TMP, "stopped", "series.csv"),
+                      os.path.join(TMP, "straight", "series.csv"), shallow=False),
+          "stopped + appended series.csv equals the uninterrupted one")
+    r = run("run", long_case, "--quiet", "--restart", stop_ckpt, "--append", "--overwrite")
+    check(r.returncode == 2, f"--append with --overwrite exits 2, got {r.returncode}")
 
     # SIGTERM to a sweep: it starts no more runs, passes the signal on to the running ones
     # (each in its own process group, so a terminal's Ctrl-C reaches only the sweep), waits for
@@ -156,6 +165,21 @@ with tempfile.TemporaryDirectory() as TMP:
               f"run phi = {p} stopped with its outputs")
     check(not os.path.exists(os.path.join(TMP, "sweep", "phi_0.3_rate_100")), "no run started after the stop")
     check("1 not started" in err, f"the sweep reports what it did: {err}")
+    # ... and --continue finishes it in place: the stopped runs continue from their checkpoints
+    # (run --append), the one not started starts; the table then has all three.
+    r = subprocess.run([GF, "sweep", rods, "-o", "sweep", "-j", "2", "--no-plots", "--continue",
+                        "--steps", "2500",
+                        "--set", "sweep.volume_fraction=[0.1, 0.2, 0.3]",
+                        "--set", "sweep.shear_rate=[100]"], cwd=TMP, capture_output=True, text=True)
+    table = open(os.path.join(TMP, "sweep", "sweep.csv")).read().split("\n") if r.returncode == 0 else []
+    check(r.returncode == 0 and len([l for l in table if l]) == 4,
+          f"sweep --continue completes the table: {r.returncode} {r.stderr}")
+    check(r.stderr.count("continues from checkpoint_") == 2, f"two runs continued: {r.stderr}")
+    r = subprocess.run([GF, "sweep", rods, "-o", "sweep", "--no-plots", "--continue",
+                        "--set", "sweep.volume_fraction=[0.1, 0.2, 0.3]",
+                        "--set", "sweep.shear_rate=[100]"], cwd=TMP, capture_output=True, text=True)
+    check(r.returncode == 0 and r.stderr.count("finished before; kept") == 3,
+          f"a finished sweep continued again runs nothing: {r.stderr}")
 
     # fluid_fem from the command line: a checkpoint at the end, --restart continues it, and a
     # particle checkpoint given to a fluid_fem case is refused with exit code 2.

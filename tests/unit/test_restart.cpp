@@ -129,6 +129,45 @@ TEST(Restart, StoppedRunContinuesBitIdentically) {
   test::expect_same_state(b, c);
 }
 
+TEST(Restart, AppendContinuesTheOutputsOfTheRunInPlace) {
+  // A sheared run cut at step 2345 (no output is due there) and continued in its own folder with
+  // --append must leave the same series, rheology samples and summary and ParaView series as a
+  // run that was never cut: the rows the cut run wrote at its last step are dropped, the
+  // samples before it count in the steady-state averages.
+  test::TempDir tmp;
+  const auto cfg = input::load_case(
+      std::string(GF_SOURCE_DIR) + "/cases/rheology/lees_edwards_spheres/case.yaml",
+      {{"shear.rate", "400"},
+       {"shear.strain", "2"},
+       {"time.step", "1.0e-6"},
+       {"output.series.every", "1.0e-4"},
+       {"output.vtk.every", "5.0e-4"}});
+  RunOptions whole;
+  whole.output = tmp / "whole";
+  whole.quiet = true;
+  Simulation(cfg).run(whole);
+
+  RunOptions cut = whole;
+  cut.output = tmp / "cut";
+  cut.steps = 2345;
+  Simulation(cfg).run(cut);
+  RunOptions rest = cut;
+  rest.steps.reset();
+  rest.restart = cut.output / "checkpoint_final.h5";
+  rest.append = true;
+  Simulation(cfg).run(rest);
+  for (const char* f : {"series.csv", "rheology.csv", "rheology_summary.csv", "particles.pvd",
+                        "particles_000005000.vtp"})
+    EXPECT_EQ(read_text_file(whole.output / f), read_text_file(cut.output / f)) << f;
+
+  RunOptions bad = rest;  // --append needs the checkpoint and an existing folder
+  bad.restart.reset();
+  EXPECT_THROW(Simulation(cfg).run(bad), InputError);
+  bad = rest;
+  bad.output = tmp / "nowhere";
+  EXPECT_THROW(Simulation(cfg).run(bad), InputError);
+}
+
 TEST(Restart, RejectsForeignFileAndMismatchedTimeStep) {
   auto cfg = settling_case();
   const auto file = std::filesystem::temp_directory_path() /
@@ -264,6 +303,18 @@ TEST(Restart, FluidFemContinuesBitIdentically) {
   ASSERT_LT(rows_b.size(), rows_a.size());
   EXPECT_EQ(rows_b[0], rows_a[0]);  // the header
   EXPECT_TRUE(std::equal(rows_b.begin() + 1, rows_b.end(), rows_a.end() - (rows_b.size() - 1)));
+
+  // Cut after 30 steps and continued in its folder (--append): the same CSV series.
+  RunOptions e;
+  e.output = tmp / "e";
+  e.steps = 30;
+  ASSERT_EQ(run_fem_case(*cfg, unused, e), 0);
+  e.steps.reset();
+  e.restart = e.output / "fem_checkpoint_final.h5";
+  e.append = true;
+  ASSERT_EQ(run_fem_case(*cfg, unused, e), 0);
+  for (const char* f : {"fem_forces.csv", "fem_probes.csv"})
+    EXPECT_EQ(read_text_file(a.output / f), read_text_file(e.output / f)) << f;
 
   // Stopped by a signal (here before its first step): the checkpoint is named by the step and
   // holds the restored state, LU iterate included; continuing it gives the same bits again.

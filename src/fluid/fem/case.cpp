@@ -426,6 +426,33 @@ std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConf
   return rows;
 }
 
+namespace {
+
+/// The header line and the rows up to time `until` [s] of a CSV an earlier run wrote (first
+/// column t, 9 significant digits: compared with a relative tolerance of 1e-8), for --append.
+/// A missing file gives the header alone; another header is an InputError.
+std::string kept_csv(const std::filesystem::path& file, const std::string& header, double until) {
+  std::string out = header + '\n';
+  if (!std::filesystem::exists(file)) return out;
+  std::istringstream in(read_text_file(file));
+  std::string line;
+  std::getline(in, line);
+  if (line != header)
+    throw InputError(
+        fmt::format("{}: the series to continue has the columns '{}', this run "
+                    "writes '{}' (--append needs the same bodies and outputs)",
+                    file.string(), line, header));
+  while (std::getline(in, line)) {
+    char* end = nullptr;
+    const double t = std::strtod(line.c_str(), &end);
+    if (end == line.c_str() || t > until * (1 + 1e-8) + 1e-300) break;
+    out += line + '\n';
+  }
+  return out;
+}
+
+}  // namespace
+
 std::uint64_t mesh_hash(const Mesh& m) {
   std::uint64_t h = 1469598103934665603ULL;
   auto add = [&h](const void* data, std::size_t n) {
@@ -454,18 +481,22 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
   NavierStokes ns(std::move(pb));
   const std::size_t nb = cfg.mesh.bodies.size();
 
-  std::ostringstream forces, probes;
-  forces << "t,dt,order";  // dt and BDF order of the step that ended at t (0 when steady)
+  std::string forces_header = "t,dt,order";  // dt and BDF order of the step that ended at t
   for (std::size_t j = 0; j < nb; ++j) {
     const auto& n = cfg.body_names[j];
-    forces << fmt::format(",{0}.fx,{0}.fy,{0}.torque,{0}.fx_stress,{0}.fy_stress", n);
-    if (cfg.output.coef_velocity > 0) forces << fmt::format(",{0}.cd,{0}.cl", n);
+    forces_header += fmt::format(",{0}.fx,{0}.fy,{0}.torque,{0}.fx_stress,{0}.fy_stress", n);
+    if (cfg.output.coef_velocity > 0) forces_header += fmt::format(",{0}.cd,{0}.cl", n);
   }
-  forces << '\n';
-  probes << "t";
+  std::string probes_header = "t";
   for (std::size_t i = 0; i < cfg.output.probes.size(); ++i)
-    probes << fmt::format(",p{0},ux{0},uy{0}", i);
-  probes << '\n';
+    probes_header += fmt::format(",p{0},ux{0},uy{0}", i);
+  // --append: the rows the earlier run wrote up to the checkpoint come first.
+  const bool append = io.resume && io.append;
+  std::ostringstream forces, probes;
+  forces << (append ? kept_csv(output_dir / "fem_forces.csv", forces_header, io.resume->flow.t)
+                    : forces_header + '\n');
+  probes << (append ? kept_csv(output_dir / "fem_probes.csv", probes_header, io.resume->flow.t)
+                    : probes_header + '\n');
   auto record = [&](const NavierStokes& s, double dt) {
     const auto fr = s.reaction_forces();
     const auto fs = s.stress_forces();
@@ -501,16 +532,23 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
           cfg.file));
     ns.restore(resume->flow);
   }
-  // Numbering of the field files continues over restarts.
-  const std::int64_t fields_before = resume ? resume->n_fields : 0;
-  vtk::PvdSeries series(output_dir / "fem_fields.pvd");
+  // (appending: the data sets up to and including the checkpoint's time stay; the state there
+  // is not written again)
+  vtk::PvdSeries series =
+      append ? vtk::PvdSeries(output_dir / "fem_fields.pvd",
+                              std::nextafter(resume->flow.t, std::numeric_limits<double>::max()))
+             : vtk::PvdSeries(output_dir / "fem_fields.pvd");
+  // Numbering of the field files continues over restarts (an appended series also keeps the
+  // earlier run's data sets up to the checkpoint).
+  const std::int64_t fields_before =
+      (resume ? resume->n_fields : 0) - static_cast<std::int64_t>(series.size());
+  auto fields_written = [&] { return fields_before + static_cast<std::int64_t>(series.size()); };
   auto flush = [&] {
     write_atomically(output_dir / "fem_forces.csv", [&](std::ostream& os) { os << forces.str(); });
     write_atomically(output_dir / "fem_probes.csv", [&](std::ostream& os) { os << probes.str(); });
   };
   auto write_fields = [&](const NavierStokes& s) {
-    const std::string name = fmt::format("fem_fields_{:05d}.vtu",
-                                         fields_before + static_cast<std::int64_t>(series.size()));
+    const std::string name = fmt::format("fem_fields_{:05d}.vtu", fields_written());
     write_vtu(output_dir / name, s);
     series.add(s.time(), name);
     flush();
@@ -539,7 +577,7 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     write_fields(ns);
   } else {
     if (cfg.initial_steady && !resume) summary = solve_steady("initial steady state");
-    write_fields(ns);
+    if (!append) write_fields(ns);
     double next_vtk = cfg.output.vtk_every, next_csv = 0.0;
     double next_ckpt = cfg.output.checkpoint_every;
     std::int64_t steps_before = 0;
@@ -562,7 +600,7 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
       c.next_vtk = next_vtk;
       c.next_csv = next_csv;
       c.next_checkpoint = next_ckpt;
-      c.n_fields = fields_before + static_cast<std::int64_t>(series.size());
+      c.n_fields = fields_written();
       c.mesh_hash = mesh_hash(ns.mesh());
       flush();  // the series up to the checkpoint are on disk with it
       io.save(output_dir / name, c);

@@ -82,6 +82,9 @@ struct FemCheckpoint {
 struct FemCheckpointIo {
   std::function<void(const std::filesystem::path&, const FemCheckpoint&)> save;
   const FemCheckpoint* resume = nullptr;
+  /// With resume: continue the CSV and ParaView series of the run in output_dir (rows and data
+  /// sets up to the checkpoint's time are kept) instead of starting them afresh.
+  bool append = false;
 };
 
 /// FNV-1a hash of a mesh's node coordinates and cells: the same case meshed again gives the

@@ -6,8 +6,10 @@
 #include <fmt/ranges.h>
 
 #include <array>
+#include <cstdlib>
 #include <iterator>
 #include <ostream>
+#include <sstream>
 #include <variant>
 
 #include "core/error.hpp"
@@ -121,6 +123,42 @@ SeriesCsv::SeriesCsv(std::filesystem::path path, std::vector<std::string> column
   for (const auto& c : columns_) out_ << ',' << c;
   out_ << '\n';
   flush();  // the header is on disk at once, and a full disk is noticed here
+}
+
+SeriesCsv::SeriesCsv(std::filesystem::path path, std::vector<std::string> columns,
+                     const SeriesContinuation& from)
+    : path_(std::move(path)), columns_(std::move(columns)) {
+  for (const auto& c : columns_) require_plain_name(c, path_);
+  std::string header = "time";
+  for (const auto& c : columns_) header += ',' + c;
+  std::string kept_text = header + '\n';
+  if (std::filesystem::exists(path_)) {
+    std::istringstream in(read_text_file(path_));
+    std::string line;
+    std::getline(in, line);
+    if (line != header)
+      throw InputError(fmt::format(
+          "{}: the series to continue has the columns '{}', this run writes '{}' (--append "
+          "needs the same outputs as the run it continues)",
+          path_.string(), line, header));
+    while (std::getline(in, line)) {
+      std::vector<double> row;
+      const char* p = line.c_str();
+      char* end = nullptr;
+      for (std::size_t k = 0; k <= columns_.size(); ++k) {
+        row.push_back(std::strtod(p, &end));
+        if (end == p || (*end != ',' && *end != '\0')) break;
+        p = *end ? end + 1 : end;
+      }
+      if (row.size() != columns_.size() + 1 || *end != '\0') break;  // a torn last line
+      if (row[0] > from.time || (row[0] == from.time && !from.keep_at_time)) break;
+      kept_text += line + '\n';
+      kept_.push_back(std::move(row));
+    }
+  }
+  write_atomically(path_, [&](std::ostream& o) { o << kept_text; });
+  out_.open(path_, std::ios::binary | std::ios::app);
+  if (!out_) throw IoError(fmt::format("cannot open '{}' for writing", path_.string()));
 }
 
 SeriesCsv::~SeriesCsv() {

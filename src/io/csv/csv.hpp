@@ -28,12 +28,25 @@ std::vector<std::string> particle_csv_columns(const ParticleStore& store);
 /// integers, reals in the shortest form that reads back to the same double). Atomic.
 void write_particles_csv(const std::filesystem::path& path, const ParticleStore& store);
 
+/// Where a continued time series picks up (run --append): rows later than `time` [s] were
+/// written after the checkpoint and are dropped; a row at exactly `time` is kept or dropped as
+/// `keep_at_time` says (dropped when the run writes it again).
+struct SeriesContinuation {
+  double time = 0.0;
+  bool keep_at_time = true;
+};
+
 /// A time-series CSV: header `time,<columns>`, then one row per append. The file is created
 /// (truncated) by the constructor and kept open; rows are buffered and reach the disk at the
 /// latest on flush() or destruction.
 class SeriesCsv {
  public:
   SeriesCsv(std::filesystem::path path, std::vector<std::string> columns);
+  /// Continues the series in `path` (a missing file starts afresh): its header must name the
+  /// same columns (else InputError); the rows up to `from` are kept (kept_rows()), the file is
+  /// rewritten with them atomically, and new rows are appended.
+  SeriesCsv(std::filesystem::path path, std::vector<std::string> columns,
+            const SeriesContinuation& from);
   ~SeriesCsv();
   SeriesCsv(SeriesCsv&&) noexcept = default;
   SeriesCsv& operator=(SeriesCsv&&) noexcept = default;
@@ -50,11 +63,14 @@ class SeriesCsv {
 
   const std::filesystem::path& path() const { return path_; }
   const std::vector<std::string>& columns() const { return columns_; }
+  /// Rows kept from the file when continuing: time, then one value per column.
+  const std::vector<std::vector<double>>& kept_rows() const { return kept_; }
 
  private:
   std::filesystem::path path_;
   std::vector<std::string> columns_;
   std::ofstream out_;
+  std::vector<std::vector<double>> kept_;
 };
 
 }  // namespace gf::io
