@@ -130,12 +130,7 @@ int run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
                  const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? default_dir : opts.output;
   // Read before the output folder is prepared: --overwrite may empty the folder it lies in.
-  if (opts.append) {
-    if (!opts.restart)
-      throw InputError("--append continues a run in its folder: give the checkpoint (--restart)");
-    if (!fs::is_directory(dir))
-      throw InputError(fmt::format("--append: output folder '{}' does not exist", dir.string()));
-  }
+  check_append(dir, opts);
   std::optional<fem::FemCheckpoint> resume;
   if (opts.restart) resume = load_fem_checkpoint(*opts.restart);
   if (!opts.append) prepare_output_dir(dir, opts.overwrite);

@@ -61,15 +61,18 @@ void prepare_output_dir(const fs::path& dir, bool overwrite) {
   fs::create_directories(dir);
 }
 
+void check_append(const fs::path& dir, const RunOptions& opts) {
+  if (!opts.append) return;
+  if (!opts.restart)
+    throw InputError("--append continues a run in its folder: give the checkpoint (--restart)");
+  if (opts.overwrite) throw InputError("--append and --overwrite exclude each other");
+  if (!fs::is_directory(dir))
+    throw InputError(fmt::format("--append: output folder '{}' does not exist", dir.string()));
+}
+
 RunSummary Simulation::run(const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? cfg_.output.directory : opts.output;
-  if (opts.append) {
-    if (!opts.restart)
-      throw InputError("--append continues a run in its folder: give the checkpoint (--restart)");
-    if (opts.overwrite) throw InputError("--append and --overwrite exclude each other");
-    if (!fs::is_directory(dir))
-      throw InputError(fmt::format("--append: output folder '{}' does not exist", dir.string()));
-  }
+  check_append(dir, opts);
   if (opts.restart) load_checkpoint(*opts.restart);
   if (!opts.append) prepare_output_dir(dir, opts.overwrite);
   // --append: the outputs continue from the checkpoint's time; what the earlier run wrote after

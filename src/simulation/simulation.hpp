@@ -51,6 +51,10 @@ struct RunSummary {
 /// which case its contents are removed. Shared by DEM and FEM runs.
 void prepare_output_dir(const std::filesystem::path& dir, bool overwrite);
 
+/// With opts.append: a checkpoint must be given, --overwrite not, and `dir` must exist
+/// (InputError otherwise); without, nothing. Shared by DEM and FEM runs.
+void check_append(const std::filesystem::path& dir, const RunOptions& opts);
+
 class Simulation {
  public:
   /// Builds particles (fills, explicit lists), walls and per-pair tables from the case.
