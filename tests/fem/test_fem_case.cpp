@@ -11,27 +11,15 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "fem_case_text.hpp"
 #include "fluid/fem/case.hpp"
 
 using namespace gf::fem;
 
 namespace {
 
-const char* kGood = R"(fluid_fem:
-  fluid: {density: 1.0, viscosity: 0.01}
-  domain:
-    outline: [[0, 0], [1, 0], [1, 0.4], [0, 0.4]]
-    boundaries:
-      - {edges: [0, 2], type: wall}
-      - {edges: [1], type: outflow}
-      - {edges: [3], type: inflow, u_max: 0.5, time_function: {type: ramp, duration: 0.1}}
-  bodies:
-    - {name: disk, circle: {centre: [0.3, 0.2], radius: 0.05}, angular_velocity: 1.0}
-    - {name: tri, polygon: [[0.6, 0.15], [0.7, 0.15], [0.65, 0.25]]}
-  mesh: {h_max: 0.08, h_body: 0.03, grading: 0.3}
-  time: {mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2}
-  output: {vtk_every: 0.1, probes: [[0.9, 0.2]], coefficients: {velocity: 0.33, length: 0.1}}
-)";
+const char* kGood = gf::test::kFemChannelCase;
+using gf::test::replaced;
 
 std::string error_of(const std::string& yaml) {
   try {
@@ -40,12 +28,6 @@ std::string error_of(const std::string& yaml) {
     return e.what();
   }
   return "no error";
-}
-
-std::string replaced(std::string s, const std::string& from, const std::string& to) {
-  const auto at = s.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return s.replace(at, from.size(), to);
 }
 
 /// Rows of a CSV file after its header.

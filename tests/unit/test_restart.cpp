@@ -17,6 +17,7 @@
 #include "case_builder.hpp"
 #include "core/files.hpp"
 #include "core/stop.hpp"
+#include "fem_case_text.hpp"
 #include "io/input/parse_case.hpp"
 #include "simulation/fem_case.hpp"
 #include "simulation/simulation.hpp"
@@ -233,23 +234,16 @@ TEST(Restart, CfdDemContinuesBitIdentically) {
 
 namespace {
 
-// A channel with a turning disk, automatic BDF order with adaptive steps and the chord method
-// (the LU kept across steps): every piece of state a continuation needs.
-const char* kFemCase = R"(fluid_fem:
-  fluid: {density: 1.0, viscosity: 0.01}
-  domain:
-    outline: [[0, 0], [1, 0], [1, 0.4], [0, 0.4]]
-    boundaries:
-      - {edges: [0, 2], type: wall}
-      - {edges: [1], type: outflow}
-      - {edges: [3], type: inflow, u_max: 0.5, time_function: {type: ramp, duration: 0.1}}
-  bodies:
-    - {name: disk, circle: {centre: [0.3, 0.2], radius: 0.05}, angular_velocity: 1.0}
-  mesh: {h_max: 0.08, h_body: 0.03, grading: 0.3}
-  time: {mode: unsteady, scheme: auto, step: 0.005, end: 0.5, adaptive: {rtol: 1.0e-4, dt_max: 0.02}}
-  newton: {reuse_factorization: true}
-  output: {checkpoint_every: 0.1}
-)";
+// The shared channel case with automatic BDF order, adaptive steps and the chord method (the
+// LU kept across steps): every piece of state a continuation needs.
+std::string fem_case() {
+  const std::string unsteady = test::replaced(
+      test::kFemChannelCase, "time: {mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2}",
+      "time: {mode: unsteady, scheme: auto, step: 0.005, end: 0.5,\n"
+      "         adaptive: {rtol: 1.0e-4, dt_max: 0.02}}\n"
+      "  newton: {reuse_factorization: true}");
+  return test::replaced(unsteady, "output: {", "output: {checkpoint_every: 0.1, ");
+}
 
 std::vector<std::string> lines_of(const std::filesystem::path& file) {
   std::ifstream in(file);
@@ -273,7 +267,7 @@ void expect_same_flow(const fem::FemCheckpoint& a, const fem::FemCheckpoint& b) 
 
 TEST(Restart, FluidFemContinuesBitIdentically) {
   test::TempDir tmp;
-  const auto file = tmp.write("case.yaml", kFemCase);
+  const auto file = tmp.write("case.yaml", fem_case());
   std::filesystem::path unused;
   const auto cfg = load_fem_case(file, unused);
   ASSERT_TRUE(cfg);
@@ -338,7 +332,7 @@ TEST(Restart, FluidFemContinuesBitIdentically) {
 TEST(Restart, FluidFemRefusesForeignCheckpoints) {
   test::TempDir tmp;
   std::filesystem::path unused;
-  const auto cfg = load_fem_case(tmp.write("case.yaml", kFemCase), unused);
+  const auto cfg = load_fem_case(tmp.write("case.yaml", fem_case()), unused);
   ASSERT_TRUE(cfg);
   RunOptions a;
   a.output = tmp / "a";
@@ -347,8 +341,7 @@ TEST(Restart, FluidFemRefusesForeignCheckpoints) {
   const auto fem_ckpt = a.output / "fem_checkpoint_final.h5";
 
   // Another mesh (the case's mesh sizes changed).
-  std::string other = kFemCase;
-  other.replace(other.find("h_max: 0.08"), 11, "h_max: 0.07");
+  const std::string other = test::replaced(fem_case(), "h_max: 0.08", "h_max: 0.07");
   const auto cfg2 = load_fem_case(tmp.write("other.yaml", other), unused);
   RunOptions b;
   b.output = tmp / "b";
