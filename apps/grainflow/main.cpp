@@ -140,6 +140,11 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   run->add_option("--steps", steps, "run this many steps instead of up to time.end")
       ->check(CLI::Range(0L, 1L << 50));
+  double max_hours = 0;
+  run->add_option("--max-hours", max_hours,
+                  "stop after this much wall time (hours) as on SIGTERM, with every output and a "
+                  "checkpoint, exit status 3")
+      ->check(CLI::PositiveNumber);
   run->add_flag("--overwrite", opts.overwrite, "replace the contents of an existing output folder");
   run->add_flag("--append", opts.append,
                 "with --restart: continue in the checkpoint's folder (default output), keeping its "
@@ -163,6 +168,11 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 4096));
   sweep->add_option("--steps", sweep_steps, "run this many steps in every run")
       ->check(CLI::Range(0L, 1L << 50));
+  sweep
+      ->add_option("--max-hours", max_hours,
+                   "stop every run after this much wall time (hours), exit status 3 (--continue "
+                   "finishes the sweep later)")
+      ->check(CLI::PositiveNumber);
   sweep->add_flag("--overwrite", sweep_opts.overwrite, "replace an existing output folder");
   sweep
       ->add_flag("--continue", sweep_opts.resume,
@@ -193,6 +203,7 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : kExitInput;
   }
   gf::log::init(verbose, quiet);
+  if (max_hours > 0) gf::stop::set_time_limit(max_hours * 3600.0);  // from the program's start
 
   try {
     if (*run) {

@@ -1,18 +1,21 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // SIGINT / SIGTERM handlers that only record the signal (async-signal-safe: a sig_atomic_t,
-// write(2), signal(2), raise(3)).
+// write(2), signal(2), raise(3)), and the wall-time limit.
 #include "core/stop.hpp"
 
 #include <unistd.h>
 
+#include <chrono>
 #include <csignal>
 #include <cstring>
+#include <optional>
 
 namespace gf::stop {
 
 namespace {
 
 volatile std::sig_atomic_t g_signal = 0;
+std::optional<std::chrono::steady_clock::time_point> g_deadline;
 
 void say(const char* text) {
   // Nothing to do if stderr is gone; the flag is what matters.
@@ -49,14 +52,23 @@ void install_handlers() {
   set_action(SIGTERM, on_signal);
 }
 
+void set_time_limit(double seconds) {
+  g_deadline = std::chrono::steady_clock::now() +
+               std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                   std::chrono::duration<double>(seconds));
+}
+
 int requested() {
-  return g_signal;
+  if (g_signal != 0) return g_signal;
+  if (g_deadline && std::chrono::steady_clock::now() >= *g_deadline) return kTimeLimit;
+  return 0;
 }
 
 void reset() {
   set_action(SIGINT, SIG_DFL);
   set_action(SIGTERM, SIG_DFL);
   g_signal = 0;
+  g_deadline.reset();
 }
 
 const char* signal_name(int sig) {
@@ -65,6 +77,8 @@ const char* signal_name(int sig) {
       return "SIGINT";
     case SIGTERM:
       return "SIGTERM";
+    case kTimeLimit:
+      return "time limit";
     default:
       return "signal";
   }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Graceful stop: SIGINT / SIGTERM set a flag that the time loops poll, so a run ends its step
-// and writes its outputs (series, summaries, a checkpoint to restart from) instead of dying.
+// Graceful stop: SIGINT / SIGTERM set a flag, and a wall-time limit expires, that the time loops
+// poll, so a run ends its step and writes its outputs (series, summaries, a checkpoint to restart
+// from) instead of dying.
 #pragma once
 
 namespace gf::stop {
@@ -10,18 +11,26 @@ namespace gf::stop {
 /// action: the process ends at once. Calling it again re-arms the handlers.
 void install_handlers();
 
-/// The signal that asked the program to stop (SIGINT or SIGTERM), or 0 when none has.
+/// What requested() returns once the wall-time limit has passed (no signal number is negative).
+inline constexpr int kTimeLimit = -1;
+
+/// Asks the loops to stop once `seconds` (> 0) of wall time have passed from now (--max-hours).
+void set_time_limit(double seconds);
+
+/// The signal that asked the program to stop (SIGINT or SIGTERM), kTimeLimit when the time limit
+/// has passed, or 0. Cheap enough to call once per time step (a clock read with a limit set).
 int requested();
 
-/// Clears the request and restores the default actions of SIGINT and SIGTERM.
+/// Clears the request and the time limit, and restores the default actions of SIGINT and SIGTERM.
 void reset();
 
-/// "SIGINT", "SIGTERM", or "signal" for any other.
+/// "SIGINT", "SIGTERM", "time limit", or "signal" for any other.
 const char* signal_name(int sig);
 
-/// The exit status of a program stopped by `sig`, as a shell reports a killed one: 128 + sig.
+/// The exit status of a program stopped by `sig`: as a shell reports a killed one, 128 + sig;
+/// 3 for the time limit (the run did not reach its end; its checkpoint continues it).
 inline int exit_status(int sig) {
-  return 128 + sig;
+  return sig == kTimeLimit ? 3 : 128 + sig;
 }
 
 }  // namespace gf::stop

@@ -195,7 +195,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
     if (!opts.quiet)
       progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first),
                       n_contacts_);
-    if (stop::requested()) break;  // SIGINT / SIGTERM: end here, with the outputs below
+    if (stop::requested()) break;  // SIGINT / SIGTERM / time limit: end with the outputs below
   }
   // An interrupted run may end on a step whose second half kick was deferred: complete it, so
   // that the checkpoint holds the same state as one written by an uninterrupted run.

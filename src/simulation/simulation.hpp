@@ -41,8 +41,8 @@ struct RunSummary {
   double loop_seconds = 0;
   double particle_steps_per_second = 0;
   std::int64_t peak_rss_bytes = 0;
-  /// SIGINT / SIGTERM that stopped the run before its end (see core/stop.hpp), else 0; the
-  /// outputs were written and `checkpoint` continues the run.
+  /// SIGINT / SIGTERM (or stop::kTimeLimit, --max-hours) that stopped the run before its end
+  /// (see core/stop.hpp), else 0; the outputs were written and `checkpoint` continues the run.
   int stop_signal = 0;
   std::filesystem::path checkpoint;  ///< the checkpoint written at the run's last step
 };

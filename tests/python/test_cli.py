@@ -143,6 +143,16 @@ with tempfile.TemporaryDirectory() as TMP:
     r = run("run", long_case, "--quiet", "--restart", stop_ckpt, "--append", "--overwrite")
     check(r.returncode == 2, f"--append with --overwrite exits 2, got {r.returncode}")
 
+    # --max-hours: the run stops at its time limit as on SIGTERM (outputs, checkpoint) and
+    # exits 3; its summary says why.
+    t0 = time.monotonic()
+    r = run("run", long_case, "--output", "limited", "--quiet", "--max-hours", "0.0003")
+    summary = json.load(open(os.path.join(TMP, "limited", "summary.json"))) if r.returncode == 3 else {}
+    check(r.returncode == 3 and summary.get("stopped_by") == "time limit" and not summary["completed"]
+          and os.path.exists(os.path.join(TMP, "limited", f"checkpoint_{summary['steps']:09d}.h5")),
+          f"--max-hours stops with a checkpoint and exit 3: {r.returncode} {summary} {r.stderr}")
+    check(time.monotonic() - t0 < 30, "--max-hours 0.0003 (1.1 s) ends the run in seconds")
+
     # SIGTERM to a sweep: it starts no more runs, passes the signal on to the running ones
     # (each in its own process group, so a terminal's Ctrl-C reaches only the sweep), waits for
     # them to write their outputs and exits 143.

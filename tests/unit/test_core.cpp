@@ -61,3 +61,14 @@ TEST(Stop, FirstSignalIsRecordedSecondEndsTheProcess) {
   EXPECT_EQ(stop::requested(), SIGTERM);
   stop::reset();
 }
+
+TEST(Stop, TimeLimitAsksToStopOnceItHasPassed) {
+  stop::set_time_limit(3600.0);
+  EXPECT_EQ(stop::requested(), 0);
+  stop::set_time_limit(1e-9);
+  EXPECT_EQ(stop::requested(), stop::kTimeLimit);
+  EXPECT_STREQ(stop::signal_name(stop::kTimeLimit), "time limit");
+  EXPECT_EQ(stop::exit_status(stop::kTimeLimit), 3);
+  stop::reset();
+  EXPECT_EQ(stop::requested(), 0);
+}

@@ -42,7 +42,7 @@ struct TimeControl {
 struct TimeStats {
   int steps = 0, rejected = 0, newton_iterations = 0, factorizations = 0;
   std::array<int, kMaxBdfOrder + 1> steps_at_order{};  ///< accepted steps by order (index 1-3)
-  int stop_signal = 0;  ///< SIGINT / SIGTERM that ended the loop before t_end (core/stop.hpp)
+  int stop_signal = 0;  ///< SIGINT / SIGTERM / time limit that ended the loop (core/stop.hpp)
 };
 
 /// The step controller between two steps: with NavierStokes::State, what a checkpoint keeps.
