@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -47,6 +48,28 @@ std::string read_text_file(const fs::path& path) {
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+std::vector<std::string> continued_csv_lines(const std::filesystem::path& file,
+                                             const std::string& header,
+                                             const std::function<bool(double)>& keep) {
+  std::vector<std::string> lines;
+  if (!std::filesystem::exists(file)) return lines;
+  std::istringstream in(read_text_file(file));
+  std::string line;
+  std::getline(in, line);
+  if (line != header)
+    throw InputError(fmt::format(
+        "{}: the series to continue has the columns '{}', this run writes '{}' (--append needs "
+        "the same outputs as the run it continues)",
+        file.string(), line, header));
+  while (std::getline(in, line)) {
+    char* end = nullptr;
+    const double t = std::strtod(line.c_str(), &end);
+    if (end == line.c_str() || !keep(t)) break;
+    lines.push_back(line);
+  }
+  return lines;
 }
 
 }  // namespace gf

@@ -6,6 +6,7 @@
 #include <functional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 namespace gf {
 
@@ -19,5 +20,13 @@ void write_atomically_path(const std::filesystem::path& path,
 
 /// Full contents of a text file; throws IoError naming the file.
 std::string read_text_file(const std::filesystem::path& path);
+
+/// For continuing a time-series CSV that an earlier run wrote (--append): its data lines, in
+/// order, while `keep(t)` holds for a line's first field t (a line whose first field is not a
+/// number ends them). The file's first line must equal `header` (else InputError naming both);
+/// a missing file has no lines.
+std::vector<std::string> continued_csv_lines(const std::filesystem::path& file,
+                                             const std::string& header,
+                                             const std::function<bool(double)>& keep);
 
 }  // namespace gf

@@ -430,24 +430,11 @@ namespace {
 
 /// The header line and the rows up to time `until` [s] of a CSV an earlier run wrote (first
 /// column t, 9 significant digits: compared with a relative tolerance of 1e-8), for --append.
-/// A missing file gives the header alone; another header is an InputError.
 std::string kept_csv(const std::filesystem::path& file, const std::string& header, double until) {
   std::string out = header + '\n';
-  if (!std::filesystem::exists(file)) return out;
-  std::istringstream in(read_text_file(file));
-  std::string line;
-  std::getline(in, line);
-  if (line != header)
-    throw InputError(
-        fmt::format("{}: the series to continue has the columns '{}', this run "
-                    "writes '{}' (--append needs the same bodies and outputs)",
-                    file.string(), line, header));
-  while (std::getline(in, line)) {
-    char* end = nullptr;
-    const double t = std::strtod(line.c_str(), &end);
-    if (end == line.c_str() || t > until * (1 + 1e-8) + 1e-300) break;
+  for (const auto& line : continued_csv_lines(
+           file, header, [until](double t) { return t <= until * (1 + 1e-8) + 1e-300; }))
     out += line + '\n';
-  }
   return out;
 }
 

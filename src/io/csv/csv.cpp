@@ -9,7 +9,6 @@
 #include <cstdlib>
 #include <iterator>
 #include <ostream>
-#include <sstream>
 #include <variant>
 
 #include "core/error.hpp"
@@ -132,29 +131,21 @@ SeriesCsv::SeriesCsv(std::filesystem::path path, std::vector<std::string> column
   std::string header = "time";
   for (const auto& c : columns_) header += ',' + c;
   std::string kept_text = header + '\n';
-  if (std::filesystem::exists(path_)) {
-    std::istringstream in(read_text_file(path_));
-    std::string line;
-    std::getline(in, line);
-    if (line != header)
-      throw InputError(fmt::format(
-          "{}: the series to continue has the columns '{}', this run writes '{}' (--append "
-          "needs the same outputs as the run it continues)",
-          path_.string(), line, header));
-    while (std::getline(in, line)) {
-      std::vector<double> row;
-      const char* p = line.c_str();
-      char* end = nullptr;
-      for (std::size_t k = 0; k <= columns_.size(); ++k) {
-        row.push_back(std::strtod(p, &end));
-        if (end == p || (*end != ',' && *end != '\0')) break;
-        p = *end ? end + 1 : end;
-      }
-      if (row.size() != columns_.size() + 1 || *end != '\0') break;  // a torn last line
-      if (row[0] > from.time || (row[0] == from.time && !from.keep_at_time)) break;
-      kept_text += line + '\n';
-      kept_.push_back(std::move(row));
+  const auto lines = continued_csv_lines(path_, header, [&](double t) {
+    return t < from.time || (t == from.time && from.keep_at_time);
+  });
+  for (const auto& line : lines) {
+    std::vector<double> row;
+    const char* p = line.c_str();
+    char* end = nullptr;
+    for (std::size_t k = 0; k <= columns_.size(); ++k) {
+      row.push_back(std::strtod(p, &end));
+      if (end == p || (*end != ',' && *end != '\0')) break;
+      p = *end ? end + 1 : end;
     }
+    if (row.size() != columns_.size() + 1 || *end != '\0') break;  // a torn last line
+    kept_text += line + '\n';
+    kept_.push_back(std::move(row));
   }
   write_atomically(path_, [&](std::ostream& o) { o << kept_text; });
   out_.open(path_, std::ios::binary | std::ios::app);
