@@ -3,10 +3,12 @@
 // write(2), signal(2), raise(3)), and the wall-time limit.
 #include "core/stop.hpp"
 
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <optional>
 
@@ -50,6 +52,12 @@ void install_handlers() {
   g_signal = 0;
   set_action(SIGINT, on_signal);
   set_action(SIGTERM, on_signal);
+  if (const char* parent = std::getenv(kParentEnv)) {
+    // Linux: SIGTERM when the parent ends. Armed after the handler, so it stops gracefully;
+    // a parent gone already (between spawn and here) is a stop request at once.
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != static_cast<pid_t>(std::atol(parent))) g_signal = SIGTERM;
+  }
 }
 
 void set_time_limit(double seconds) {

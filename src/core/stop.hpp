@@ -9,7 +9,13 @@ namespace gf::stop {
 /// Installs handlers for SIGINT and SIGTERM that record the first signal and say on stderr that
 /// the run will stop after its current step. A second signal of either kind gets the default
 /// action: the process ends at once. Calling it again re-arms the handlers.
+/// A process started by `grainflow sweep` (kParentEnv set to the sweep's pid) is also asked to
+/// stop when the sweep itself dies (SIGKILL, a crash): the kernel then sends it SIGTERM, so it
+/// ends its step and leaves a checkpoint for `sweep --continue` instead of running on alone.
 void install_handlers();
+
+/// Environment variable naming the pid of a sweep that started this run.
+inline constexpr const char* kParentEnv = "GRAINFLOW_SWEEP_PARENT";
 
 /// What requested() returns once the wall-time limit has passed (no signal number is negative).
 inline constexpr int kTimeLimit = -1;

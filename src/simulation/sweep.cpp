@@ -16,6 +16,7 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <thread>
 
 #include "core/error.hpp"
@@ -57,8 +58,16 @@ pid_t spawn(const std::vector<std::string>& args, const fs::path& log, bool appe
   posix_spawnattr_init(&attr);
   posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
   posix_spawnattr_setpgroup(&attr, 0);
+  // ... and told who its sweep is, so that it stops (with a checkpoint) if the sweep dies.
+  const std::string key = fmt::format("{}=", stop::kParentEnv);
+  const std::string parent = key + std::to_string(getpid());
+  std::vector<char*> envp;
+  for (char** e = environ; *e; ++e)
+    if (std::string_view(*e).substr(0, key.size()) != key) envp.push_back(*e);
+  envp.push_back(const_cast<char*>(parent.c_str()));
+  envp.push_back(nullptr);
   pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], &fa, &attr, argv.data(), environ);
+  const int rc = posix_spawn(&pid, argv[0], &fa, &attr, argv.data(), envp.data());
   posix_spawnattr_destroy(&attr);
   posix_spawn_file_actions_destroy(&fa);
   if (rc != 0) throw std::runtime_error(fmt::format("cannot start {}: error {}", args[0], rc));

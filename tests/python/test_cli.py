@@ -191,6 +191,47 @@ with tempfile.TemporaryDirectory() as TMP:
     check(r.returncode == 0 and r.stderr.count("finished before; kept") == 3,
           f"a finished sweep continued again runs nothing: {r.stderr}")
 
+    # A sweep killed outright (SIGKILL: no chance to pass anything on) does not leave its runs
+    # going on alone: the kernel sends each one SIGTERM, and it stops with its outputs and a
+    # checkpoint, which --continue then carries on.
+    proc = subprocess.Popen([GF, "sweep", rods, "-o", "killed", "-j", "2", "--no-plots",
+                             "--set", "sweep.volume_fraction=[0.1, 0.2]",
+                             "--set", "sweep.shear_rate=[100]"], cwd=TMP,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    runs = [os.path.join(TMP, "killed", f"phi_{p}_rate_100") for p in ("0.1", "0.2")]
+    deadline = time.monotonic() + 60
+    while (not all(os.path.exists(os.path.join(d, "resolved_case.yaml")) for d in runs)
+           and proc.poll() is None and time.monotonic() < deadline):
+        time.sleep(0.02)
+    time.sleep(0.2)
+    proc.kill()
+    proc.wait()
+    summaries = [os.path.join(d, "summary.json") for d in runs]
+    deadline = time.monotonic() + 60
+    while not all(map(os.path.exists, summaries)) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    for d, f in zip(runs, summaries):
+        s = json.load(open(f)) if os.path.exists(f) else {}
+        check(s.get("stopped_by") == "SIGTERM" and
+              os.path.exists(os.path.join(d, f"checkpoint_{s['steps']:09d}.h5")),
+              f"a run of a killed sweep stops with its outputs and a checkpoint: {d} {s}")
+    r = subprocess.run([GF, "sweep", rods, "-o", "killed", "-j", "2", "--no-plots", "--continue",
+                        "--steps", "2500",
+                        "--set", "sweep.volume_fraction=[0.1, 0.2]",
+                        "--set", "sweep.shear_rate=[100]"], cwd=TMP, capture_output=True, text=True)
+    check(r.returncode == 0 and r.stderr.count("continues from checkpoint_") == 2,
+          f"--continue carries on the runs of a killed sweep: {r.returncode} {r.stderr}")
+    # The run checks that the sweep it names is its parent: one whose named sweep is gone
+    # already when it starts stops at once; one started by the named process runs.
+    env = dict(os.environ)
+    r = subprocess.run([GF, "run", long_case, "--output", "orphan", "--quiet"], cwd=TMP,
+                       capture_output=True, text=True, env=dict(env, GRAINFLOW_SWEEP_PARENT="1"))
+    check(r.returncode == 143, f"a run whose sweep is gone stops at once: {r.returncode} {r.stderr}")
+    r = subprocess.run([GF, "run", long_case, "--output", "child", "--quiet", "--steps", "50"],
+                       cwd=TMP, capture_output=True, text=True,
+                       env=dict(env, GRAINFLOW_SWEEP_PARENT=str(os.getpid())))
+    check(r.returncode == 0, f"a run of a living sweep runs: {r.returncode} {r.stderr}")
+
     # fluid_fem from the command line: a checkpoint at the end, --restart continues it, and a
     # particle checkpoint given to a fluid_fem case is refused with exit code 2.
     fem_case = os.path.join(TMP, "fem.yaml")
