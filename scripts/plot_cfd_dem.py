@@ -4,22 +4,23 @@
 shear box of rods in air and water against the dry box (Mahajan et al. 2019).
 
 Usage:
-  /usr/bin/python3 scripts/plot_cfd_dem.py [BUILD_DIR]
+  /usr/bin/python3 scripts/plot_cfd_dem.py [--out DIR] [BUILD_DIR]
       runs gf_validation_tests --gtest_filter='CfdDem*' with GF_VALIDATION_OUT set and writes
       docs/validation/cfd_dem_ergun.png and cfd_dem_hindered_settling.png;
-  /usr/bin/python3 scripts/plot_cfd_dem.py --shear DRY.csv AIR.csv WATER.csv
+  /usr/bin/python3 scripts/plot_cfd_dem.py [--out DIR] --shear DRY.csv AIR.csv WATER.csv
       reads three sweep.csv tables of `grainflow sweep` (cases/rheology/shear_box_rods,
       cases/cfd_dem/shear_box_rods_air, .../shear_box_rods_water) and writes
       docs/validation/cfd_dem_shear_box_temperature.png and cfd_dem_shear_box_stresses.png;
-  /usr/bin/python3 scripts/plot_cfd_dem.py --slip WINDOWS.csv
+  /usr/bin/python3 scripts/plot_cfd_dem.py [--out DIR] --slip WINDOWS.csv
       reads strain windows of water runs (scripts/rheology_windows.py --csv, labels
       phi_<phi>_rate_<rate>) and writes docs/validation/cfd_dem_shear_box_slip.png: T, the fluid
       temperature T_f and the slip temperature T_s against phi per shear rate (mean of each
       run's later half of windows).
+--out DIR writes the plots into DIR (created if missing) instead of docs/validation.
 Uses Debian's python3-numpy and python3-matplotlib."""
+import argparse
 import os
 import subprocess
-import sys
 import tempfile
 
 import numpy as np
@@ -38,7 +39,7 @@ def load(path):
                                        encoding="utf-8"))
 
 
-def ergun(folder):
+def ergun(folder, out):
     d = load(os.path.join(folder, "cfd_dem_min_fluidisation.csv"))
     fixed = d[d["ergun_dp"] > 0]
     fluid = d[d["ergun_dp"] == 0]
@@ -68,11 +69,11 @@ def ergun(folder):
     ax.set_ylim(0, 1.25 * w)
     ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "cfd_dem_ergun.png"), dpi=120)
+    fig.savefig(os.path.join(out, "cfd_dem_ergun.png"), dpi=120)
     plt.close(fig)
 
 
-def hindered(folder):
+def hindered(folder, out):
     d = load(os.path.join(folder, "cfd_dem_hindered_settling.csv"))
     n = d["n"][0]
     eps = np.linspace(0.75, 1.0, 100)
@@ -88,11 +89,11 @@ def hindered(folder):
     ax.set_title("Hindered settling of a homogeneous suspension", fontsize=10)
     ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "cfd_dem_hindered_settling.png"), dpi=120)
+    fig.savefig(os.path.join(out, "cfd_dem_hindered_settling.png"), dpi=120)
     plt.close(fig)
 
 
-def shear(dry, air, water):
+def shear(dry, air, water, out):
     media = [("dry", load(dry), "k", "o"), ("air", load(air), "tab:blue", "s"),
              ("water", load(water), "tab:red", "^")]
     phis = sorted(set(float(p) for p in media[0][1]["volume_fraction_nominal"]) &
@@ -121,7 +122,7 @@ def shear(dry, air, water):
                 a.set_title("phi = %.1f" % phi)
             a.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "cfd_dem_shear_box_stresses.png"), dpi=110)
+    fig.savefig(os.path.join(out, "cfd_dem_shear_box_stresses.png"), dpi=110)
     plt.close(fig)
 
     fig, ax = plt.subplots(1, 2, figsize=(10, 4))
@@ -146,11 +147,11 @@ def shear(dry, air, water):
     for a in ax:
         a.legend(fontsize=6, ncol=3)
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "cfd_dem_shear_box_temperature.png"), dpi=110)
+    fig.savefig(os.path.join(out, "cfd_dem_shear_box_temperature.png"), dpi=110)
     plt.close(fig)
 
 
-def slip(path):
+def slip(path, out):
     d = load(path)
     runs = {}
     for r in d:
@@ -176,28 +177,41 @@ def slip(path):
     np.atleast_1d(ax)[0].set_ylabel("m^2/s^2")
     np.atleast_1d(ax)[0].legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "cfd_dem_shear_box_slip.png"), dpi=110)
+    fig.savefig(os.path.join(out, "cfd_dem_shear_box_slip.png"), dpi=110)
     plt.close(fig)
 
 
 def main():
-    if len(sys.argv) == 3 and sys.argv[1] == "--slip":
-        slip(sys.argv[2])
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("build", nargs="?", metavar="BUILD_DIR",
+                    default=os.path.join(ROOT, "build", "release"),
+                    help="build folder with tests/gf_validation_tests (default build/release)")
+    mode = ap.add_mutually_exclusive_group()
+    mode.add_argument("--shear", nargs=3, metavar=("DRY", "AIR", "WATER"),
+                      help="three sweep.csv tables")
+    mode.add_argument("--slip", metavar="WINDOWS", help="strain windows of rheology_windows.py")
+    ap.add_argument("--out", metavar="DIR", default=OUT,
+                    help="output folder (default docs/validation)")
+    a = ap.parse_args()
+    if (a.shear or a.slip) and a.build != ap.get_default("build"):
+        ap.error("BUILD_DIR is not used with --shear or --slip")
+    os.makedirs(a.out, exist_ok=True)
+    if a.slip:
+        slip(a.slip, a.out)
         return
-    if len(sys.argv) > 1 and sys.argv[1] == "--shear":
-        if len(sys.argv) != 5:
-            sys.exit(__doc__)
-        shear(*sys.argv[2:5])
+    if a.shear:
+        shear(*a.shear, a.out)
         return
-    build = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "release")
-    exe = os.path.join(build, "tests", "gf_validation_tests")
+    exe = os.path.join(a.build, "tests", "gf_validation_tests")
     with tempfile.TemporaryDirectory() as tmp:
         env = dict(os.environ, GF_VALIDATION_OUT=tmp)
         subprocess.run([exe, "--gtest_filter=CfdDem*"], env=env, check=True,
                        stdout=subprocess.DEVNULL)
-        ergun(tmp)
-        hindered(tmp)
-    print("wrote docs/validation/cfd_dem_ergun.png, cfd_dem_hindered_settling.png")
+        ergun(tmp, a.out)
+        hindered(tmp, a.out)
+    shown = os.path.relpath(OUT, ROOT) if a.out == OUT else a.out
+    print(f"wrote {shown}/cfd_dem_ergun.png, cfd_dem_hindered_settling.png")
 
 
 if __name__ == "__main__":

@@ -2,15 +2,14 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Plots of the CFD-DEM drag-law validation (tests/validation/test_drag_validation.cpp).
 
-Usage: /usr/bin/python3 scripts/plot_drag.py [BUILD_DIR]   (default build/release)
+Usage: /usr/bin/python3 scripts/plot_drag.py [--out DIR] [BUILD_DIR]   (default build/release)
 
 Runs gf_validation_tests --gtest_filter='DragValidation*' with GF_VALIDATION_OUT set and writes
-docs/validation/drag_terminal.png, drag_laws.png and drag_hs_rod.png. Uses Debian's
-python3-numpy and python3-matplotlib."""
-import math
+docs/validation/drag_terminal.png, drag_laws.png and drag_hs_rod.png (into DIR, created if
+missing, with --out DIR). Uses Debian's python3-numpy and python3-matplotlib."""
+import argparse
 import os
 import subprocess
-import sys
 import tempfile
 
 import numpy as np
@@ -31,7 +30,7 @@ def load(folder, name):
     return np.genfromtxt(os.path.join(folder, name + ".csv"), delimiter=",", names=True)
 
 
-def terminal(folder):
+def terminal(folder, out):
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
     # Gas case of the issue: d = 100 um, rho_p = 3000, rho_f = 10, nu = 1e-5.
     a = ax[0]
@@ -63,10 +62,10 @@ def terminal(folder):
     a.legend(fontsize=7)
     fig.suptitle("Terminal settling of one sphere (gravity, buoyancy -V grad p, drag; no added mass)")
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "drag_terminal.png"), dpi=120)
+    fig.savefig(os.path.join(out, "drag_terminal.png"), dpi=120)
 
 
-def laws(folder):
+def laws(folder, out):
     fig, ax = plt.subplots(1, 3, figsize=(14, 4.2))
     a = ax[0]
     for law in LAWS:
@@ -87,10 +86,10 @@ def laws(folder):
         a.set_title("Re_e = eps rho |u| d / mu = %d" % re)
         a.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "drag_laws.png"), dpi=120)
+    fig.savefig(os.path.join(out, "drag_laws.png"), dpi=120)
 
 
-def hs_rod(folder):
+def hs_rod(folder, out):
     d = load(folder, "drag_hs_rod")
     re = d["re"]
     sn = np.where(re < 1000, 24 / re * (1 + 0.15 * re ** 0.687), 0.44)
@@ -104,20 +103,29 @@ def hs_rod(folder):
     ax.set_title("Hoelzer & Sommerfeld (2008)")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "drag_hs_rod.png"), dpi=120)
+    fig.savefig(os.path.join(out, "drag_hs_rod.png"), dpi=120)
 
 
 def main():
-    build = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "release")
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("build", nargs="?", metavar="BUILD_DIR",
+                    default=os.path.join(ROOT, "build", "release"),
+                    help="build folder with tests/gf_validation_tests (default build/release)")
+    ap.add_argument("--out", metavar="DIR", default=OUT,
+                    help="output folder (default docs/validation)")
+    a = ap.parse_args()
+    build, out = a.build, a.out
+    os.makedirs(out, exist_ok=True)
     binary = os.path.join(build, "tests", "gf_validation_tests")
     with tempfile.TemporaryDirectory() as folder:
         env = dict(os.environ, GF_VALIDATION_OUT=folder)
         subprocess.run([binary, "--gtest_filter=DragValidation*"], env=env, check=True,
                        stdout=subprocess.DEVNULL)
-        terminal(folder)
-        laws(folder)
-        hs_rod(folder)
-    print("plots written to", OUT)
+        terminal(folder, out)
+        laws(folder, out)
+        hs_rod(folder, out)
+    print("plots written to", out)
 
 
 if __name__ == "__main__":

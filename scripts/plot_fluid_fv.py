@@ -2,16 +2,16 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Plots of the finite-volume fluid validation (tests/validation/test_fluid_fv_validation.cpp).
 
-Usage: /usr/bin/python3 scripts/plot_fluid_fv.py [BUILD_DIR]   (default build/release)
+Usage: /usr/bin/python3 scripts/plot_fluid_fv.py [--out DIR] [BUILD_DIR]   (default build/release)
 
 Runs gf_validation_tests --gtest_filter='FluidFVValidation*' with GF_VALIDATION_OUT set and
 writes docs/validation/fluid_fv_cavity.png (centre-line profiles of the lid-driven cavity at
 Re = 100 against Ghia, Ghia & Shin 1982) and docs/validation/fluid_fv_convergence.png (grid
-convergence of plane Poiseuille flow and of the Taylor-Green vortex). Uses Debian's
-python3-numpy and python3-matplotlib."""
+convergence of plane Poiseuille flow and of the Taylor-Green vortex); with --out DIR, into DIR
+(created if missing) instead. Uses Debian's python3-numpy and python3-matplotlib."""
+import argparse
 import os
 import subprocess
-import sys
 import tempfile
 
 import numpy as np
@@ -40,7 +40,7 @@ def load(folder, name):
     return np.genfromtxt(os.path.join(folder, name + ".csv"), delimiter=",", names=True)
 
 
-def cavity(folder):
+def cavity(folder, out):
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.6))
     for name, style in (("van_leer", "-"), ("central", "--")):
         d = load(folder, "fluid_fv_cavity_" + name)
@@ -58,10 +58,10 @@ def cavity(folder):
         a.legend(fontsize=8)
     fig.suptitle("Lid-driven cavity, Re = 100 (tolerance: 2 % of U_lid at the 17 points)")
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "fluid_fv_cavity.png"), dpi=120)
+    fig.savefig(os.path.join(out, "fluid_fv_cavity.png"), dpi=120)
 
 
-def convergence(folder):
+def convergence(folder, out):
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.4))
     p = load(folder, "fluid_fv_poiseuille_convergence")
     n = p["n"]
@@ -85,19 +85,28 @@ def convergence(folder):
         a.grid(alpha=0.3, which="both")
         a.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "fluid_fv_convergence.png"), dpi=120)
+    fig.savefig(os.path.join(out, "fluid_fv_convergence.png"), dpi=120)
 
 
 def main():
-    build = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "release")
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("build", nargs="?", metavar="BUILD_DIR",
+                    default=os.path.join(ROOT, "build", "release"),
+                    help="build folder with tests/gf_validation_tests (default build/release)")
+    ap.add_argument("--out", metavar="DIR", default=OUT,
+                    help="output folder (default docs/validation)")
+    a = ap.parse_args()
+    build, out = a.build, a.out
+    os.makedirs(out, exist_ok=True)
     binary = os.path.join(build, "tests", "gf_validation_tests")
     with tempfile.TemporaryDirectory() as folder:
         env = dict(os.environ, GF_VALIDATION_OUT=folder, OMP_NUM_THREADS="1")
         subprocess.run([binary, "--gtest_filter=FluidFVValidation*"], env=env, check=True,
                        stdout=subprocess.DEVNULL)
-        cavity(folder)
-        convergence(folder)
-    print("plots written to", OUT)
+        cavity(folder, out)
+        convergence(folder, out)
+    print("plots written to", out)
 
 
 if __name__ == "__main__":

@@ -4,7 +4,14 @@
 Mahajan et al. (2019): log-log granular temperature, pressure and shear stress against the
 measured shear rate for each volume fraction (kinetic theory of volume-equivalent spheres dashed),
 apparent friction and viscosity, -N2/N1, and the alignment angle against shear rate and volume
-fraction. Usage: plot_sweep.py sweep.csv OUTPUT_FOLDER [PREFIX]"""
+fraction.
+
+Usage: plot_sweep.py sweep.csv OUTPUT_FOLDER [PREFIX]
+writes OUTPUT_FOLDER/PREFIX_stresses.png, PREFIX_friction_normal_stress.png and (when the grains
+have an orientation order) PREFIX_alignment.png; PREFIX defaults to "rheology", a trailing "_"
+is dropped (PREFIX rheology_rods_ gives rheology_rods_stresses.png), and OUTPUT_FOLDER is
+created if missing. `grainflow sweep` calls it on its own table."""
+import os
 import sys
 
 import numpy as np
@@ -36,8 +43,11 @@ def errorbars(ax, x, y, e, **kw):
 
 
 def main():
+    if len(sys.argv) not in (3, 4):
+        sys.exit(__doc__)
     table, out = sys.argv[1], sys.argv[2]
-    prefix = sys.argv[3] if len(sys.argv) > 3 else "rheology"
+    prefix = sys.argv[3].rstrip("_") if len(sys.argv) > 3 else "rheology"
+    os.makedirs(out, exist_ok=True)
     d = load(table)
     colors = plt.cm.viridis(np.linspace(0, 0.9, max(1, len(list(groups(d))))))
 

@@ -4,10 +4,13 @@
 where) a long run became steady. The run may be split over restarts: give its rheology.csv files
 in order (`grainflow run --restart` writes the continuation into a new folder); samples are
 concatenated and, where a later file repeats strains, the later samples win. Prints one row per
-window; with --csv also writes them to a file.
+window (windows with fewer than 5 samples are left out); with --csv also appends them to a CSV
+file (its header first when the file is new or empty), each row starting with --label, so that
+several runs can be collected in one table (scripts/plot_cfd_dem.py --slip reads such a table).
 Usage: rheology_windows.py [--width STRAIN] [--csv OUT.csv] [--label NAME] rheology.csv..."""
 import argparse
 import csv
+import sys
 
 import numpy as np
 
@@ -32,17 +35,21 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("files", nargs="+")
     ap.add_argument("--width", type=float, default=2.0, help="strain per window (default 2)")
-    ap.add_argument("--csv", help="also write the windows to this CSV file")
+    ap.add_argument("--csv", help="also append the windows to this CSV file")
     ap.add_argument("--label", default="", help="first column of the CSV rows")
     a = ap.parse_args()
     strain, q = load(a.files)
+    if len(strain) == 0:
+        sys.exit("rheology_windows.py: no samples in " + " ".join(a.files))
     out = []
-    lo = 0.0
-    while lo < strain[-1]:
-        m = (strain > lo) & (strain <= lo + a.width)
+    k = 0
+    while k * a.width < strain[-1]:
+        # Bounds rounded as the strains are, so a sample at a bound falls in the window it ends.
+        lo, hi = round(k * a.width, 9), round((k + 1) * a.width, 9)
+        m = (strain > lo) & (strain <= hi)
         if m.sum() >= 5:
-            out.append([lo, lo + a.width, int(m.sum())] + [v[m].mean() for v in q.values()])
-        lo += a.width
+            out.append([lo, hi, int(m.sum())] + [v[m].mean() for v in q.values()])
+        k += 1
     header = ["strain_from", "strain_to", "samples"] + list(q)
     print(" ".join(f"{h:>12.12}" for h in header))
     for r in out:

@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Runs the DEM validation tests with curve output switched on and plots them against the references.
-"""Usage: /usr/bin/python3 docs/validation/make_plots.py [BUILD_DIR]   (default build/release)
+"""Usage: /usr/bin/python3 docs/validation/make_plots.py [--out DIR] [BUILD_DIR]
+(BUILD_DIR default build/release)
 
-Writes docs/validation/dem_*.png. Uses Debian's python3-numpy and python3-matplotlib."""
+Writes docs/validation/dem_*.png, or with --out DIR into DIR (created if missing). Uses Debian's
+python3-numpy and python3-matplotlib."""
+import argparse
 import glob
 import math
 import os
 import subprocess
-import sys
 import tempfile
 
 import matplotlib
@@ -19,8 +21,17 @@ import numpy as np  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
-build = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build", "release")
-binary = os.path.join(build, "tests", "gf_validation_tests")
+ap = argparse.ArgumentParser(description=__doc__,
+                             formatter_class=argparse.RawDescriptionHelpFormatter)
+ap.add_argument("build", nargs="?", metavar="BUILD_DIR",
+                default=os.path.join(ROOT, "build", "release"),
+                help="build folder with tests/gf_validation_tests (default build/release)")
+ap.add_argument("--out", metavar="DIR", default=HERE,
+                help="output folder (default docs/validation)")
+args = ap.parse_args()
+binary = os.path.join(args.build, "tests", "gf_validation_tests")
+PLOT_DIR = args.out
+os.makedirs(PLOT_DIR, exist_ok=True)
 
 
 def load(path):
@@ -53,7 +64,7 @@ with tempfile.TemporaryDirectory() as out:
     ax[1].legend(fontsize=8)
     fig.suptitle("Two glass spheres, 10 m/s head-on (Chung & Ooi 2011, test 1)")
     fig.tight_layout()
-    fig.savefig(os.path.join(HERE, "dem_chung_ooi_test1.png"), dpi=120)
+    fig.savefig(os.path.join(PLOT_DIR, "dem_chung_ooi_test1.png"), dpi=120)
 
     # Realised restitution.
     fig, ax = plt.subplots(figsize=(5.5, 4.5))
@@ -71,7 +82,7 @@ with tempfile.TemporaryDirectory() as out:
     ax.legend(fontsize=8)
     ax.set_title("Realised restitution of binary collisions (dt = t_c/1000)")
     fig.tight_layout()
-    fig.savefig(os.path.join(HERE, "dem_restitution.png"), dpi=120)
+    fig.savefig(os.path.join(PLOT_DIR, "dem_restitution.png"), dpi=120)
 
     # Energy of an elastic, frictionless gas.
     d = load(os.path.join(out, "energy_elastic_gas.csv"))
@@ -84,7 +95,7 @@ with tempfile.TemporaryDirectory() as out:
     ax.set_title("Elastic frictionless Hertz gas, 300 spheres, periodic box")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(HERE, "dem_energy_conservation.png"), dpi=120)
+    fig.savefig(os.path.join(PLOT_DIR, "dem_energy_conservation.png"), dpi=120)
 
     # Floor force over bed weight during settling.
     d = load(os.path.join(out, "floor_force.csv"))
@@ -97,7 +108,7 @@ with tempfile.TemporaryDirectory() as out:
     ax.set_title("Settling bed, periodic sides")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(HERE, "dem_floor_force.png"), dpi=120)
+    fig.savefig(os.path.join(PLOT_DIR, "dem_floor_force.png"), dpi=120)
 
     # Sliding to rolling.
     d = load(os.path.join(out, "sliding_rolling.csv"))
@@ -114,7 +125,7 @@ with tempfile.TemporaryDirectory() as out:
     ax.set_title("Sphere launched sliding, mu = 0.3: rolling at t = 2 v0 / (7 mu g)")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(HERE, "dem_sliding_rolling.png"), dpi=120)
+    fig.savefig(os.path.join(PLOT_DIR, "dem_sliding_rolling.png"), dpi=120)
 
     # Non-spherical grains and Gear (tests/validation/test_shape_validation.cpp).
     fig, ax = plt.subplots(2, 2, figsize=(11, 8))
@@ -164,6 +175,6 @@ with tempfile.TemporaryDirectory() as out:
     a.set_title("Clipped spring-dashpot collision, e = 0.7")
     a.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(os.path.join(HERE, "dem_shapes.png"), dpi=120)
+    fig.savefig(os.path.join(PLOT_DIR, "dem_shapes.png"), dpi=120)
 
-print("plots written to", HERE)
+print("plots written to", PLOT_DIR)
