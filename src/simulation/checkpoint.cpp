@@ -3,6 +3,9 @@
 // random-generator state, so that a restart continues bit-identically.
 #include <fmt/format.h>
 
+#include <chrono>
+#include <limits>
+
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "core/version.hpp"
@@ -24,6 +27,13 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
     h.set_attribute("/", "rng_state", rng_.state());
     h.set_attribute("/", "n_contacts", static_cast<std::int64_t>(n_contacts_));
     h.set_attribute("/", "n_wall_contacts", static_cast<std::int64_t>(n_wall_contacts_));
+    // History over restarts: the runs so far, this one included, and their wall time.
+    const double running =
+        run_started_
+            ? std::chrono::duration<double>(StageTimers::clock::now() - *run_started_).count()
+            : 0.0;
+    h.set_attribute("/", "runs", runs_before_ + (run_started_ ? 1 : 0));
+    h.set_attribute("/", "wall_seconds", wall_seconds_before_ + running);
     io::save_particles(h, particles_);
 
     h.create_group("neighbor");
@@ -99,6 +109,11 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   rng_.set_state(h.read_string_attribute("/", "rng_state"));
   n_contacts_ = h.read_int_attribute("/", "n_contacts");
   n_wall_contacts_ = h.read_int_attribute("/", "n_wall_contacts");
+  // (checkpoints before 2026-12-01 did not record them: one run at least, of unknown length)
+  runs_before_ = h.has_attribute("/", "runs") ? h.read_int_attribute("/", "runs") : 1;
+  wall_seconds_before_ = h.has_attribute("/", "wall_seconds")
+                             ? h.read_double_attribute("/", "wall_seconds")
+                             : std::numeric_limits<double>::quiet_NaN();
   io::load_particles(h, particles_);
 
   nlist_.restore(h.read_int64("neighbor/offsets"), h.read_int32("neighbor/neighbors"),

@@ -173,6 +173,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
 
   Progress progress(time(), static_cast<double>(last) * dt_, stderr, 5.0);
   const auto t_start = StageTimers::clock::now();
+  run_started_ = t_start;
   // The fluid's time is its own stage, "fluid" (kept by the coupling).
   auto fluid_seconds = [this] { return cfd_ ? cfd_->seconds() : 0.0; };
   const double loop_before =
@@ -244,12 +245,21 @@ RunSummary Simulation::run(const RunOptions& opts) {
         "  \"loop_seconds\": {:.6f},\n  \"wall_seconds\": {:.6f},\n  "
         "\"particle_steps_per_second\": {:.6g},\n"
         "  \"peak_rss_bytes\": {},\n  \"neighbor_builds\": {},\n  \"stages\": {{{}}},\n"
-        "  \"completed\": {},\n  \"stopped_by\": {},\n  \"time\": {:.17g}\n}}\n",
+        "  \"completed\": {},\n  \"stopped_by\": {},\n  \"time\": {:.17g},\n"
+        "  \"step\": {},\n  \"runs\": {},\n  \"wall_seconds_all_runs\": {}\n}}\n",
         version_string, s.n_particles, s.steps, exec::n_threads(), s.loop_seconds, wall,
         s.particle_steps_per_second, s.peak_rss_bytes, nlist_.n_builds() - builds_before, stages,
         stop_signal ? "false" : "true",
-        stop_signal ? fmt::format("\"{}\"", stop::signal_name(stop_signal)) : "null", time());
+        stop_signal ? fmt::format("\"{}\"", stop::signal_name(stop_signal)) : "null", time(), step_,
+        runs_before_ + 1,
+        std::isnan(wall_seconds_before_) ? "null"
+                                         : fmt::format("{:.6f}", wall_seconds_before_ + wall));
   });
+  // This run now counts among those before any later one (a run() again, a checkpoint saved
+  // after it).
+  ++runs_before_;
+  wall_seconds_before_ += wall;
+  run_started_.reset();
 
   log::info("timing summary ({} steps, {} thread{}):", steps, exec::n_threads(),
             exec::n_threads() > 1 ? "s" : "");

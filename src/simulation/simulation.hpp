@@ -152,6 +152,12 @@ class Simulation {
   std::vector<Mat3> virial_rows_;  ///< per row of the force loop (no races), summed in order
   Mat3 virial_sum_;
   std::unique_ptr<CfdDemCoupling> cfd_;  ///< unresolved CFD-DEM (optional)
+  // The runs that led to the state a checkpoint continues (summary.json's totals over restarts):
+  // their number and wall time (NaN: a checkpoint of a build that did not record it), and when
+  // the current run's time loop started.
+  std::int64_t runs_before_ = 0;
+  double wall_seconds_before_ = 0;
+  std::optional<StageTimers::clock::time_point> run_started_;
 };
 
 }  // namespace gf

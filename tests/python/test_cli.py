@@ -137,6 +137,15 @@ with tempfile.TemporaryDirectory() as TMP:
     # series.csv then equals the uninterrupted run's (the stop's extra last row is dropped).
     r = run("run", long_case, "--quiet", "--restart", stop_ckpt, "--append", "--steps", str(n - k))
     check(r.returncode == 0, f"--append run: {r.stderr}")
+    # Its summary.json counts both runs: the step reached, 2 runs, their wall time together.
+    appended = json.load(open(os.path.join(TMP, "stopped", "summary.json")))
+    check(appended["completed"] and appended["step"] == n and appended["steps"] == n - k and
+          appended["runs"] == 2 and summary["runs"] == 1 and
+          # (the first run's share is its time up to the checkpoint: its loop at least, its
+          # whole wall time at most)
+          summary["loop_seconds"] + appended["wall_seconds"] <= appended["wall_seconds_all_runs"]
+          <= summary["wall_seconds"] + appended["wall_seconds"] + 1e-6,
+          f"summary.json totals over the restart: {summary} then {appended}")
     check(filecmp.cmp(os.path.join(TMP, "stopped", "series.csv"),
                       os.path.join(TMP, "straight", "series.csv"), shallow=False),
           "stopped + appended series.csv equals the uninterrupted one")

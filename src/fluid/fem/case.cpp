@@ -521,9 +521,13 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
   }
   // (appending: the data sets up to and including the checkpoint's time stay; the state there
   // is not written again)
+  // (checkpoints before 2026-12-01 did not record fields_until: everything up to their time)
+  const double fields_until = !append                            ? 0.0
+                              : std::isnan(resume->fields_until) ? resume->flow.t
+                                                                 : resume->fields_until;
   vtk::PvdSeries series =
       append ? vtk::PvdSeries(output_dir / "fem_fields.pvd",
-                              std::nextafter(resume->flow.t, std::numeric_limits<double>::max()))
+                              std::nextafter(fields_until, std::numeric_limits<double>::max()))
              : vtk::PvdSeries(output_dir / "fem_fields.pvd");
   // Numbering of the field files continues over restarts (an appended series also keeps the
   // earlier run's data sets up to the checkpoint).
@@ -589,6 +593,11 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
       c.next_checkpoint = next_ckpt;
       c.n_fields = fields_written();
       c.mesh_hash = mesh_hash(ns.mesh());
+      c.fields_until = series.size() > 0 ? series.last_time() : NAN;
+      c.runs = (resume ? resume->runs : 0) + 1;
+      c.wall_seconds =
+          (resume ? resume->wall_seconds : 0.0) +
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
       flush();  // the series up to the checkpoint are on disk with it
       io.save(output_dir / name, c);
     };
@@ -618,18 +627,27 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
           }
         },
         &loop);
+    // The last state is always written out; the checkpoint comes first, so that it does not
+    // count that data set as one of the schedule's (unless the schedule just wrote it): a run
+    // continued in place (--append) drops it and numbers its next file as a run never stopped.
+    checkpoint(st.stop_signal ? fmt::format("fem_checkpoint_{:07d}.h5", steps)
+                              : std::string("fem_checkpoint_final.h5"));
     if (cfg.output.vtk_every == 0 || series.last_time() < ns.time()) write_fields(ns);
-    if (st.stop_signal)
-      checkpoint(fmt::format("fem_checkpoint_{:07d}.h5", steps));
-    else
-      checkpoint("fem_checkpoint_final.h5");
     summary += fmt::format(
         "unsteady BDF{}{}: steps {} (at orders 1/2/3: {}/{}/{}), rejected {}, Newton iterations "
         "{}, factorizations {}\n",
         cfg.time.variable_order ? "1-" : "", cfg.time.order, st.steps, st.steps_at_order[1],
         st.steps_at_order[2], st.steps_at_order[3], st.rejected, st.newton_iterations,
         st.factorizations);
-    if (resume) summary += fmt::format("steps since t = 0 (over restarts): {}\n", steps);
+    if (resume) {
+      summary += fmt::format("steps since t = 0 (over restarts): {}\n", steps);
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
+      summary += std::isnan(resume->wall_seconds)
+                     ? fmt::format("runs over restarts: {}\n", resume->runs + 1)
+                     : fmt::format("runs over restarts: {}, wall time of them all {:.3f} s\n",
+                                   resume->runs + 1, resume->wall_seconds + wall);
+    }
     if ((stop_signal = st.stop_signal))
       summary += fmt::format("stopped by {} at t = {:.9g} s (time.end {} s)\n",
                              stop::signal_name(stop_signal), ns.time(), cfg.time.t_end);

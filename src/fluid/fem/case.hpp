@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -75,6 +76,11 @@ struct FemCheckpoint {
   double next_vtk = 0.0, next_csv = 0.0, next_checkpoint = 0.0;  ///< [s] output schedule
   std::int64_t n_fields = 0;    ///< fem_fields_*.vtu written so far (the numbering continues)
   std::uint64_t mesh_hash = 0;  ///< mesh_hash() of the mesh it belongs to
+  /// Time of the last field data set the schedule wrote (NaN: none), up to which --append keeps
+  /// fem_fields.pvd: a data set written only because the run stopped there is dropped.
+  double fields_until = std::numeric_limits<double>::quiet_NaN();
+  std::int64_t runs = 1;    ///< runs over restarts up to this checkpoint, its own included
+  double wall_seconds = 0;  ///< their wall time up to this checkpoint [s] (NaN: not recorded)
 };
 
 /// Checkpoint hooks of run_fluid_fem: `save` writes one (empty: none written); `resume`
