@@ -1196,6 +1196,51 @@ TEST(InputShear, WallsAreGeneratedAndEchoRoundTrips) {
   EXPECT_EQ(*again.particles[0].fill->volume_fraction, 0.1);
 }
 
+TEST(InputShear, OutputIntervalsInStrain) {
+  // In a shear case the output intervals may be given in strain: one case then writes as many
+  // frames, rows and checkpoints per unit strain at every shear rate of a sweep.
+  const std::string le = "shear: {rate: 20, boundary: lees_edwards}\n";
+  const std::string out =
+      "output:\n  vtk: {every_strain: 0.5}\n  particles_csv: {every: 0.01}\n"
+      "  series: {every_strain: 0.01, quantities: [kinetic_energy]}\n"
+      "  checkpoint: {every_strain: 1}\n";
+  const auto c = input::load_case_text(shear_case("[true, true, true]", le, out), "t.yaml");
+  EXPECT_DOUBLE_EQ(c.output.vtk.every, 0.5 / 20);
+  EXPECT_DOUBLE_EQ(c.output.series.every, 0.01 / 20);
+  EXPECT_DOUBLE_EQ(c.output.checkpoint.every, 1.0 / 20);
+  EXPECT_EQ(c.output.particles_csv.every, 0.01);
+  EXPECT_FALSE(c.output.particles_csv.every_strain);
+  // A sweep's --set shear.rate=... rescales them (the strain is what the case says).
+  TempDir dir;
+  const auto slow = input::load_case(
+      dir.write("case.yaml", shear_case("[true, true, true]", le, out)), {{"shear.rate", "0.5"}});
+  EXPECT_DOUBLE_EQ(slow.output.vtk.every, 0.5 / 0.5);
+  EXPECT_DOUBLE_EQ(slow.output.series.every, 0.01 / 0.5);
+  // The echo keeps the strain, so that a resolved case read again has the same intervals.
+  const auto again = input::load_case(dir.write("echo.yaml", input::echo_yaml(c, "1")));
+  EXPECT_EQ(*again.output.vtk.every_strain, 0.5);
+  EXPECT_DOUBLE_EQ(again.output.vtk.every, c.output.vtk.every);
+  EXPECT_DOUBLE_EQ(again.output.series.every, c.output.series.every);
+  EXPECT_DOUBLE_EQ(again.output.checkpoint.every, c.output.checkpoint.every);
+  EXPECT_EQ(again.output.particles_csv.every, 0.01);
+  // Errors: no shear block; both keys; an interval below one time step.
+  EXPECT_NE(error_of(shear_case("[true, true, true]", "", "output: {vtk: {every_strain: 0.5}}\n"))
+                .find("output.vtk.every_strain: 'every_strain' needs a shear: block"),
+            std::string::npos)
+      << error_of(shear_case("[true, true, true]", "", "output: {vtk: {every_strain: 0.5}}\n"));
+  EXPECT_NE(error_of(shear_case("[true, true, true]", le,
+                                "output: {checkpoint: {every: 1, every_strain: 0.5}}\n"))
+                .find("give only one of every, every_strain"),
+            std::string::npos);
+  const std::string tiny = error_of(shear_case("[true, true, true]", le,
+                                               "output: {series: {every_strain: 1.0e-5, "
+                                               "quantities: [kinetic_energy]}}\n"));
+  EXPECT_NE(tiny.find("output.series.every_strain: expected 0 (off) or an interval >= time.step "
+                      "(1e-05 s): a strain >= 0.0002 at shear.rate 20"),
+            std::string::npos)
+      << tiny;
+}
+
 TEST(InputShear, CommandLineOverrides) {
   TempDir dir;
   const auto file = dir.write(
@@ -1209,6 +1254,20 @@ TEST(InputShear, CommandLineOverrides) {
   EXPECT_THROW(input::parse_override("shear.rate"), InputError);
   EXPECT_THROW(input::load_case(file, {input::parse_override("particles[3].radius=1")}),
                InputError);
+  // A key given instead of its alternative replaces it: every for every_strain (and back),
+  // count for volume_fraction.
+  const auto strained = dir.write(
+      "s.yaml", shear_case("[true, true, true]", "shear: {rate: 10, boundary: lees_edwards}\n",
+                           "output: {vtk: {every_strain: 0.5}}\n"));
+  const auto off = input::load_case(strained, {input::parse_override("output.vtk.every=0")});
+  EXPECT_EQ(off.output.vtk.every, 0.0);
+  EXPECT_FALSE(off.output.vtk.every_strain);
+  const auto seconds = input::load_case(file, {input::parse_override("output.vtk.every=0.01"),
+                                               input::parse_override("output.vtk.every_strain=1")});
+  EXPECT_DOUBLE_EQ(seconds.output.vtk.every, 0.1);
+  const auto counted = input::load_case(file, {input::parse_override("particles[0].fill.count=7")});
+  EXPECT_FALSE(counted.particles[0].fill->volume_fraction);
+  EXPECT_EQ(*counted.particles[0].fill->count, 7);
 }
 
 // ---------------------------------------------------------------------------------------------

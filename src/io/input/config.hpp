@@ -280,7 +280,8 @@ struct Coupling {
 };
 
 struct OutputEvery {
-  double every = 0;  ///< s; 0 = disabled
+  double every = 0;  ///< s; 0 = disabled (from every_strain / shear.rate if given)
+  std::optional<double> every_strain;  ///< the interval as given in strain (shear cases)
 };
 
 struct Output {

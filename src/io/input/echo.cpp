@@ -301,9 +301,15 @@ void emit_wall(YAML::Emitter& out, const config::Wall& w, int dim) {
 
 void emit_every(YAML::Emitter& out, const char* key, const config::OutputEvery& e) {
   out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap;
-  key_number(out, "every", e.every);
+  if (e.every_strain)
+    key_number(out, "every_strain", *e.every_strain);
+  else
+    key_number(out, "every", e.every);
   out << YAML::EndMap;
-  if (e.every == 0) out << YAML::Comment("off");
+  if (e.every == 0)
+    out << YAML::Comment("off");
+  else if (e.every_strain)
+    out << YAML::Comment(fmt::format("every {} s", number_text(e.every)));
 }
 
 }  // namespace
@@ -477,7 +483,10 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
   emit_every(out, "vtk", c.output.vtk);
   emit_every(out, "particles_csv", c.output.particles_csv);
   out << YAML::Key << "series" << YAML::Value << YAML::BeginMap;
-  key_number(out, "every", c.output.series.every);
+  if (c.output.series.every_strain)
+    key_number(out, "every_strain", *c.output.series.every_strain);
+  else
+    key_number(out, "every", c.output.series.every);
   out << YAML::Key << "quantities" << YAML::Value << YAML::Flow << c.output.quantities;
   out << YAML::EndMap;
   emit_every(out, "checkpoint", c.output.checkpoint);

@@ -1313,23 +1313,37 @@ void Reader::read_output(const YamlMap& root) {
     if (dir.empty()) d->fail_expected("a folder name");
     c.output.directory = dir;
   }
-  auto every = [&](const YamlMap& m) {
-    auto n = m.find("every");
-    if (!n) return 0.0;
-    const double v = n->as_number(Range::non_negative());
-    if (v > 0 && v < c.time.step)
-      n->fail_expected(
-          fmt::format("0 (off) or an interval >= time.step ({} s)", number_text(c.time.step)));
-    return v;
+  // The interval in seconds (`every`) or, in a shear case, in strain (`every_strain`, so that
+  // one case gives as many outputs per strain at every shear rate of a sweep).
+  auto every = [&](const YamlMap& m, config::OutputEvery& target) {
+    if (!m.find("every") && !m.find("every_strain")) return;
+    const std::string how = m.exactly_one_of({"every", "every_strain"});
+    const YamlNode n = m.at(how);
+    const double v = n.as_number(Range::non_negative());
+    if (how == "every_strain") {
+      if (!c.shear)
+        n.fail(
+            "'every_strain' needs a shear: block (its rate turns strain into time); use 'every' "
+            "(s)");
+      target.every_strain = v;
+    }
+    target.every = how == "every" ? v : v / c.shear->rate;
+    if (target.every > 0 && target.every < c.time.step)
+      n.fail_expected(fmt::format(
+          "0 (off) or an interval >= time.step ({} s){}", number_text(c.time.step),
+          how == "every" ? ""
+                         : fmt::format(": a strain >= {} at shear.rate {}",
+                                       fmt::format("{:.3g}", c.time.step * c.shear->rate),
+                                       number_text(c.shear->rate))));
   };
   for (auto [key, target] :
        {std::pair{"vtk", &c.output.vtk}, std::pair{"particles_csv", &c.output.particles_csv},
         std::pair{"checkpoint", &c.output.checkpoint}}) {
-    if (auto n = om.find(key)) target->every = every(YamlMap(*n, {"every"}));
+    if (auto n = om.find(key)) every(YamlMap(*n, {"every", "every_strain"}), *target);
   }
   if (auto s = om.find("series")) {
-    YamlMap sm(*s, {"every", "quantities"});
-    c.output.series.every = every(sm);
+    YamlMap sm(*s, {"every", "every_strain", "quantities"});
+    every(sm, c.output.series);
     std::vector<std::string> walls;
     for (const auto& w : c.walls) {
       walls.push_back(w.name);
@@ -1503,6 +1517,15 @@ YAML::Node value_node(const Override& o) {
 
 }  // namespace
 
+namespace {
+/// Keys of one map of which a case gives at most one (the reader says "give only one of").
+const std::vector<std::vector<const char*>> kAlternativeKeys = {{"every", "every_strain"},
+                                                                {"count", "volume_fraction"},
+                                                                {"length", "aspect_ratio"},
+                                                                {"radius", "equivalent_diameter"},
+                                                                {"rpm", "rate"}};
+}  // namespace
+
 void apply_overrides(const YAML::Node& root, const std::vector<Override>& overrides,
                      const fs::path& file) {
   for (const auto& o : overrides) {
@@ -1526,6 +1549,12 @@ void apply_overrides(const YAML::Node& root, const std::vector<Override>& overri
           fail(fmt::format("'{}' is not a map", done.empty() ? "the case" : done));
         done += (done.empty() ? "" : ".") + key;
         if (last_step) {
+          // A key given instead of an alternative replaces it (--set output.vtk.every=0 on a
+          // case with output.vtk.every_strain).
+          for (const auto& group : kAlternativeKeys)
+            if (std::find(group.begin(), group.end(), key) != group.end())
+              for (const char* other : group)
+                if (other != key && node[other]) node.remove(other);
           node[key] = value_node(o);
           break;
         }
