@@ -1216,6 +1216,16 @@ TEST(InputShear, OutputIntervalsInStrain) {
       dir.write("case.yaml", shear_case("[true, true, true]", le, out)), {{"shear.rate", "0.5"}});
   EXPECT_DOUBLE_EQ(slow.output.vtk.every, 0.5 / 0.5);
   EXPECT_DOUBLE_EQ(slow.output.series.every, 0.01 / 0.5);
+  // `check` says how many outputs the run writes (t = 0 included, checkpoints not) and warns
+  // about tens of thousands of files.
+  EXPECT_EQ(derived(input::validate(c), "outputs over the run"),
+            "vtk 5, particles_csv 11, series 201, checkpoint 2");
+  EXPECT_TRUE(input::validate(c).warnings.empty());
+  const auto many = input::validate(input::load_case(
+      dir / "case.yaml", {{"time.end", "1"}, {"output.vtk.every_strain", "2.0e-4"}}));
+  ASSERT_EQ(many.warnings.size(), 1u);
+  EXPECT_NE(many.warnings[0].find("output.vtk writes 100001 times over the run"), std::string::npos)
+      << many.warnings[0];
   // The echo keeps the strain, so that a resolved case read again has the same intervals.
   const auto again = input::load_case(dir.write("echo.yaml", input::echo_yaml(c, "1")));
   EXPECT_EQ(*again.output.vtk.every_strain, 0.5);

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <random>
 #include <set>
+#include <string_view>
 
 #include "contact/geometry/capsule.hpp"
 #include "contact/geometry/polygon2d.hpp"
@@ -958,12 +959,26 @@ void Validator::check_output() {
                                                    {"particles_csv", c_.output.particles_csv.every},
                                                    {"series", c_.output.series.every},
                                                    {"checkpoint", c_.output.checkpoint.every}};
-  for (const auto& [name, every] : blocks)
+  std::string counts;
+  for (const auto& [name, every] : blocks) {
     if (every > c_.time.end)
       report_.warnings.push_back(
           fmt::format("output.{}.every ({} s) is longer than the run (time.end = {} s): only "
                       "the initial state will be written",
                       name, number_text(every), number_text(c_.time.end)));
+    if (every <= 0) continue;
+    // Outputs at t = 0, every, 2 every, ... up to time.end (checkpoints: not at t = 0).
+    const double n = std::floor(c_.time.end / every * (1 + 1e-12)) + (name[0] == 'c' ? 0 : 1);
+    counts += fmt::format("{}{} {:.0f}", counts.empty() ? "" : ", ", name, n);
+    // Past this a run's output folder becomes hard to handle (ParaView, the file system).
+    constexpr double kManyFiles = 20000;
+    if (std::string_view(name) != "series" && n > kManyFiles)
+      report_.warnings.push_back(fmt::format(
+          "output.{} writes {:.0f} times over the run (every {} s up to {} s), a file or more "
+          "each time; is the interval meant to be that short?",
+          name, n, number_text(every), number_text(c_.time.end)));
+  }
+  if (!counts.empty()) report_.derived.emplace_back("outputs over the run", counts);
   double r_max = 0, reach_max = 0;
   for (const auto& [name, gs] : grains_) {
     r_max = std::max(r_max, gs.r_max);
