@@ -163,7 +163,7 @@ with tempfile.TemporaryDirectory() as out:
     a.plot(d["t"], np.abs(d["momentum_error"]) + 1e-18, label="|dL|/|L|")
     a.set_yscale("log")
     a.set_xlabel("t (s)")
-    a.set_title("Free rotation of a capsule (NO_SQUISH)")
+    a.set_title("Free rotation of a capsule (closed-form symmetric top)")
     a.legend(fontsize=7)
     a = ax[1, 1]
     for integ, marker in (("gear5", "o-"), ("velocity_verlet", "s-")):
