@@ -18,10 +18,7 @@ Usage:
       run's later half of windows).
 --out DIR writes the plots into DIR (created if missing) instead of docs/validation.
 Uses Debian's python3-numpy and python3-matplotlib."""
-import argparse
 import os
-import subprocess
-import tempfile
 
 import numpy as np
 
@@ -30,8 +27,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OUT = os.path.join(ROOT, "docs", "validation")
+import validation_run  # noqa: E402
+
+ROOT = validation_run.ROOT
+OUT = validation_run.VALIDATION_DIR
 
 
 def load(path):
@@ -182,17 +181,12 @@ def slip(path, out):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("build", nargs="?", metavar="BUILD_DIR",
-                    default=os.path.join(ROOT, "build", "release"),
-                    help="build folder with tests/gf_validation_tests (default build/release)")
+    ap = validation_run.parser(__doc__, out=False)
     mode = ap.add_mutually_exclusive_group()
     mode.add_argument("--shear", nargs=3, metavar=("DRY", "AIR", "WATER"),
                       help="three sweep.csv tables")
     mode.add_argument("--slip", metavar="WINDOWS", help="strain windows of rheology_windows.py")
-    ap.add_argument("--out", metavar="DIR", default=OUT,
-                    help="output folder (default docs/validation)")
+    validation_run.add_out(ap)
     a = ap.parse_args()
     if (a.shear or a.slip) and a.build != ap.get_default("build"):
         ap.error("BUILD_DIR is not used with --shear or --slip")
@@ -203,11 +197,7 @@ def main():
     if a.shear:
         shear(*a.shear, a.out)
         return
-    exe = os.path.join(a.build, "tests", "gf_validation_tests")
-    with tempfile.TemporaryDirectory() as tmp:
-        env = dict(os.environ, GF_VALIDATION_OUT=tmp)
-        subprocess.run([exe, "--gtest_filter=CfdDem*"], env=env, check=True,
-                       stdout=subprocess.DEVNULL)
+    with validation_run.validation_run(a.build, "CfdDem*") as tmp:
         ergun(tmp, a.out)
         hindered(tmp, a.out)
     shown = os.path.relpath(OUT, ROOT) if a.out == OUT else a.out

@@ -7,10 +7,7 @@ Usage: /usr/bin/python3 scripts/plot_drag.py [--out DIR] [BUILD_DIR]   (default 
 Runs gf_validation_tests --gtest_filter='DragValidation*' with GF_VALIDATION_OUT set and writes
 docs/validation/drag_terminal.png, drag_laws.png and drag_hs_rod.png (into DIR, created if
 missing, with --out DIR). Uses Debian's python3-numpy and python3-matplotlib."""
-import argparse
 import os
-import subprocess
-import tempfile
 
 import numpy as np
 
@@ -19,8 +16,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OUT = os.path.join(ROOT, "docs", "validation")
+import validation_run  # noqa: E402
+
 LAWS = ["schiller_naumann", "di_felice", "wen_yu", "gidaspow", "beetstra", "holzer_sommerfeld"]
 STYLE = {"schiller_naumann": "-", "di_felice": "--", "wen_yu": ":", "gidaspow": "-.",
          "beetstra": "-", "holzer_sommerfeld": "--"}
@@ -107,25 +104,7 @@ def hs_rod(folder, out):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("build", nargs="?", metavar="BUILD_DIR",
-                    default=os.path.join(ROOT, "build", "release"),
-                    help="build folder with tests/gf_validation_tests (default build/release)")
-    ap.add_argument("--out", metavar="DIR", default=OUT,
-                    help="output folder (default docs/validation)")
-    a = ap.parse_args()
-    build, out = a.build, a.out
-    os.makedirs(out, exist_ok=True)
-    binary = os.path.join(build, "tests", "gf_validation_tests")
-    with tempfile.TemporaryDirectory() as folder:
-        env = dict(os.environ, GF_VALIDATION_OUT=folder)
-        subprocess.run([binary, "--gtest_filter=DragValidation*"], env=env, check=True,
-                       stdout=subprocess.DEVNULL)
-        terminal(folder, out)
-        laws(folder, out)
-        hs_rod(folder, out)
-    print("plots written to", out)
+    validation_run.plot_main(__doc__, "DragValidation*", [terminal, laws, hs_rod])
 
 
 if __name__ == "__main__":

@@ -9,10 +9,7 @@ writes docs/validation/fluid_fv_cavity.png (centre-line profiles of the lid-driv
 Re = 100 against Ghia, Ghia & Shin 1982) and docs/validation/fluid_fv_convergence.png (grid
 convergence of plane Poiseuille flow and of the Taylor-Green vortex); with --out DIR, into DIR
 (created if missing) instead. Uses Debian's python3-numpy and python3-matplotlib."""
-import argparse
 import os
-import subprocess
-import tempfile
 
 import numpy as np
 
@@ -21,8 +18,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-OUT = os.path.join(ROOT, "docs", "validation")
+import validation_run  # noqa: E402
 
 # Ghia, Ghia & Shin, J. Comput. Phys. 48 (1982) 387, Re = 100: Table I (u on x = 0.5) and
 # Table II (v on y = 0.5).
@@ -89,24 +85,8 @@ def convergence(folder, out):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("build", nargs="?", metavar="BUILD_DIR",
-                    default=os.path.join(ROOT, "build", "release"),
-                    help="build folder with tests/gf_validation_tests (default build/release)")
-    ap.add_argument("--out", metavar="DIR", default=OUT,
-                    help="output folder (default docs/validation)")
-    a = ap.parse_args()
-    build, out = a.build, a.out
-    os.makedirs(out, exist_ok=True)
-    binary = os.path.join(build, "tests", "gf_validation_tests")
-    with tempfile.TemporaryDirectory() as folder:
-        env = dict(os.environ, GF_VALIDATION_OUT=folder, OMP_NUM_THREADS="1")
-        subprocess.run([binary, "--gtest_filter=FluidFVValidation*"], env=env, check=True,
-                       stdout=subprocess.DEVNULL)
-        cavity(folder, out)
-        convergence(folder, out)
-    print("plots written to", out)
+    validation_run.plot_main(__doc__, "FluidFVValidation*", [cavity, convergence],
+                             OMP_NUM_THREADS="1")
 
 
 if __name__ == "__main__":

@@ -6,12 +6,10 @@
 
 Writes docs/validation/dem_*.png, or with --out DIR into DIR (created if missing). Uses Debian's
 python3-numpy and python3-matplotlib."""
-import argparse
 import glob
 import math
 import os
-import subprocess
-import tempfile
+import sys
 
 import matplotlib
 
@@ -19,17 +17,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
-ap = argparse.ArgumentParser(description=__doc__,
-                             formatter_class=argparse.RawDescriptionHelpFormatter)
-ap.add_argument("build", nargs="?", metavar="BUILD_DIR",
-                default=os.path.join(ROOT, "build", "release"),
-                help="build folder with tests/gf_validation_tests (default build/release)")
-ap.add_argument("--out", metavar="DIR", default=HERE,
-                help="output folder (default docs/validation)")
-args = ap.parse_args()
-binary = os.path.join(args.build, "tests", "gf_validation_tests")
+# scripts/validation_run.py, found from this file's own place (whatever the working folder, also
+# through a symbolic link to this file) and ahead of any other module of that name.
+HERE = os.path.dirname(os.path.realpath(__file__))
+sys.path.insert(0, os.path.normpath(os.path.join(HERE, os.pardir, os.pardir, "scripts")))
+import validation_run  # noqa: E402
+
+args = validation_run.parser(__doc__).parse_args()
 PLOT_DIR = args.out
 os.makedirs(PLOT_DIR, exist_ok=True)
 
@@ -38,11 +32,7 @@ def load(path):
     return np.genfromtxt(path, delimiter=",", names=True)
 
 
-with tempfile.TemporaryDirectory() as out:
-    env = dict(os.environ, GF_VALIDATION_OUT=out)
-    subprocess.run([binary, "--gtest_filter=Validation*:AllLaws*:Laws*"], env=env, check=True,
-                   stdout=subprocess.DEVNULL)
-
+with validation_run.validation_run(args.build, "Validation*:AllLaws*:Laws*") as out:
     # Chung & Ooi test 1: force against overlap, with Hertz theory and the published extrema.
     d = load(os.path.join(out, "chung_ooi_test1.csv"))
     E, nu, R = 48e9, 0.2, 0.010

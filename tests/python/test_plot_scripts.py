@@ -22,7 +22,7 @@ Checks:
   committed windows table and on the windows of the run above;
 - where BUILD_DIR/tests/gf_validation_tests exists (BUILD_DIR: the folder of GRAINFLOW_BINARY),
   the modes that run it: plot_cfd_dem.py BUILD_DIR, plot_drag.py, plot_fluid_fv.py and
-  make_plots.py (each under 10 s on one core).
+  make_plots.py (seconds each on one core).
 Every script is given --out (or its output folder) as a folder that does not exist yet, must
 exit 0 and write exactly the expected files, each a non-empty PNG; docs/validation (names, sizes,
 modification times) is the same afterwards. The scripts run at most os.cpu_count() at a time.
