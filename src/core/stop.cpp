@@ -38,6 +38,13 @@ extern "C" void on_signal(int sig) {
                       "outputs (a second signal stops at once)\n");
 }
 
+extern "C" void on_parent_gone(int) {
+  if (g_signal != 0) return;  // stopping already: nothing more to ask
+  g_signal = kParentGone;
+  say("\ngrainflow: the sweep that started this run ended: stopping after this step and writing "
+      "the outputs\n");
+}
+
 void set_action(int sig, void (*handler)(int)) {
   struct sigaction sa {};
   sa.sa_handler = handler;
@@ -53,10 +60,11 @@ void install_handlers() {
   set_action(SIGINT, on_signal);
   set_action(SIGTERM, on_signal);
   if (const char* parent = std::getenv(kParentEnv)) {
-    // Linux: SIGTERM when the parent ends. Armed after the handler, so it stops gracefully;
+    // Linux: SIGUSR1 when the parent ends. Armed after the handler, so it stops gracefully;
     // a parent gone already (between spawn and here) is a stop request at once.
-    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
-    if (::getppid() != static_cast<pid_t>(std::atol(parent))) g_signal = SIGTERM;
+    set_action(SIGUSR1, on_parent_gone);
+    ::prctl(PR_SET_PDEATHSIG, SIGUSR1);
+    if (::getppid() != static_cast<pid_t>(std::atol(parent))) g_signal = kParentGone;
   }
 }
 
@@ -75,6 +83,7 @@ int requested() {
 void reset() {
   set_action(SIGINT, SIG_DFL);
   set_action(SIGTERM, SIG_DFL);
+  set_action(SIGUSR1, SIG_DFL);
   g_signal = 0;
   g_deadline.reset();
 }
@@ -87,6 +96,8 @@ const char* signal_name(int sig) {
       return "SIGTERM";
     case kTimeLimit:
       return "time limit";
+    case kParentGone:
+      return "sweep ended";
     default:
       return "signal";
   }

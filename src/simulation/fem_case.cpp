@@ -66,7 +66,7 @@ void save_fem_checkpoint(const fs::path& file, const fem::FemCheckpoint& c) {
     h.set_attribute("/", "next_csv", c.next_csv);
     h.set_attribute("/", "next_checkpoint", c.next_checkpoint);
     h.set_attribute("/", "mesh_hash", static_cast<std::int64_t>(c.mesh_hash));
-    h.set_attribute("/", "fields_until", c.fields_until);
+    if (c.fields_until) h.set_attribute("/", "fields_until", *c.fields_until);
     h.set_attribute("/", "runs", c.runs);
     h.set_attribute("/", "wall_seconds", c.wall_seconds);
     h.create_group("loop");
@@ -110,10 +110,10 @@ fem::FemCheckpoint load_fem_checkpoint(const fs::path& file) {
   c.next_csv = h.read_double_attribute("/", "next_csv");
   c.next_checkpoint = h.read_double_attribute("/", "next_checkpoint");
   c.mesh_hash = static_cast<std::uint64_t>(h.read_int_attribute("/", "mesh_hash"));
-  // (not in checkpoints before 2026-12-01: then NaN, one run at least, wall time unknown)
+  // (not in checkpoints before 2026-12-01: then no schedule time, one run, wall time unknown)
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  c.fields_until =
-      h.has_attribute("/", "fields_until") ? h.read_double_attribute("/", "fields_until") : nan;
+  if (h.has_attribute("/", "fields_until"))
+    c.fields_until = h.read_double_attribute("/", "fields_until");
   c.runs = h.has_attribute("/", "runs") ? h.read_int_attribute("/", "runs") : 1;
   c.wall_seconds =
       h.has_attribute("/", "wall_seconds") ? h.read_double_attribute("/", "wall_seconds") : nan;

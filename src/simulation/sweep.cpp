@@ -23,6 +23,7 @@
 #include "core/files.hpp"
 #include "core/log.hpp"
 #include "core/stop.hpp"
+#include "io/input/validate.hpp"
 #include "simulation/rheology_output.hpp"
 #include "simulation/simulation.hpp"
 
@@ -117,8 +118,40 @@ std::vector<SweepPoint> sweep_points(const config::Case& c) {
   return out;
 }
 
+std::vector<input::Override> point_overrides(const config::Case& c, const SweepPoint& p,
+                                             const std::vector<input::Override>& overrides) {
+  std::vector<input::Override> out = overrides;
+  out.push_back({"shear.rate", fmt::format("{}", p.shear_rate)});
+  if (!std::isnan(p.volume_fraction))
+    out.push_back({fmt::format("particles[{}].fill.volume_fraction", fraction_group(c)),
+                   fmt::format("{}", p.volume_fraction)});
+  return out;
+}
+
+std::vector<std::string> check_sweep_points(const fs::path& case_file, const config::Case& c,
+                                            const std::vector<input::Override>& overrides) {
+  std::vector<std::string> warnings;
+  for (const auto& p : sweep_points(c)) {
+    try {
+      const auto report =
+          input::validate(input::load_case(case_file, point_overrides(c, p, overrides)));
+      for (const auto& w : report.warnings) warnings.push_back(fmt::format("{}: {}", p.name, w));
+    } catch (const InputError& e) {
+      throw InputError(fmt::format(
+          "{}\n(in sweep run {}: --set shear.rate={}{})", e.what(), p.name, p.shear_rate,
+          std::isnan(p.volume_fraction)
+              ? ""
+              : fmt::format(" and volume fraction {}", p.volume_fraction)));
+    }
+  }
+  return warnings;
+}
+
 int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptions& opts) {
   const auto points = sweep_points(c);
+  // Every run's case is valid before the first one starts (warnings are each run's own, in its
+  // log).
+  check_sweep_points(case_file, c, opts.overrides);
   const fs::path dir = opts.output.empty() ? c.output.directory : opts.output;
   if (opts.resume) {
     if (opts.overwrite) throw InputError("sweep: --continue and --overwrite exclude each other");
@@ -129,7 +162,6 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
   }
   int procs = opts.processes > 0 ? opts.processes : c.sweep->processes;
   if (procs <= 0) procs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int group = fraction_group(c);
   log::info("sweep: {} runs, {} at a time, output in '{}'", points.size(), procs, dir.string());
 
   std::map<pid_t, std::size_t> running;
@@ -161,16 +193,9 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
     while (next < points.size() && static_cast<int>(running.size()) < procs && !stop::requested()) {
       const auto& p = points[next];
       const fs::path run_dir = dir / p.name;
-      std::vector<std::string> args{opts.program.string(),
-                                    "run",
-                                    case_file.string(),
-                                    "--output",
-                                    run_dir.string(),
-                                    "--threads",
-                                    "1",
-                                    "--quiet",
-                                    "--set",
-                                    fmt::format("shear.rate={}", p.shear_rate)};
+      std::vector<std::string> args{
+          opts.program.string(), "run", case_file.string(), "--output", run_dir.string(),
+          "--threads",           "1",   "--quiet"};
       if (opts.resume) {
         if (run_completed(run_dir)) {
           status[next] = 0;
@@ -185,16 +210,11 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
           args.push_back("--overwrite");  // started and left no checkpoint: start again
         }
       }
-      if (!std::isnan(p.volume_fraction)) {
-        args.push_back("--set");
-        args.push_back(
-            fmt::format("particles[{}].fill.volume_fraction={}", group, p.volume_fraction));
-      }
       if (opts.steps) {
         args.push_back("--steps");
         args.push_back(std::to_string(*opts.steps));
       }
-      for (const auto& o : opts.overrides) {
+      for (const auto& o : point_overrides(c, p, opts.overrides)) {
         args.push_back("--set");
         args.push_back(o.path + "=" + o.value);
       }

@@ -39,8 +39,21 @@ struct SweepPoint {
 /// The combinations of a case's sweep block, in table order (volume fraction major).
 std::vector<SweepPoint> sweep_points(const config::Case& c);
 
-/// Runs the sweep; returns 0 when every run succeeded, 1 otherwise (the table then holds the
-/// runs that did).
+/// The --set overrides that make run `p` of the sweep out of the case: the case's own
+/// (`overrides`), then the point's shear rate and volume fraction.
+std::vector<input::Override> point_overrides(const config::Case& c, const SweepPoint& p,
+                                             const std::vector<input::Override>& overrides);
+
+/// Reads and validates the case of every run of the sweep, so that a value that only one
+/// combination makes invalid (an output interval in strain below a time step at the highest
+/// rate, a fill that cannot hold the volume fraction) stops the sweep before it starts, with the
+/// run's name in the message. Throws InputError; returns the warnings, each naming its run.
+std::vector<std::string> check_sweep_points(const std::filesystem::path& case_file,
+                                            const config::Case& c,
+                                            const std::vector<input::Override>& overrides);
+
+/// Runs the sweep (after check_sweep_points); returns 0 when every run succeeded, 1 otherwise
+/// (the table then holds the runs that did).
 int run_sweep(const std::filesystem::path& case_file, const config::Case& c,
               const SweepOptions& opts);
 

@@ -184,6 +184,16 @@ with tempfile.TemporaryDirectory() as TMP:
               f"run phi = {p} stopped with its outputs")
     check(not os.path.exists(os.path.join(TMP, "sweep", "phi_0.3_rate_100")), "no run started after the stop")
     check("1 not started" in err, f"the sweep reports what it did: {err}")
+    # Every run of a sweep is checked before any starts: at 2e6 1/s the case's series interval
+    # (0.1 strain) is below one time step; check and sweep both stop with exit 2 naming the run.
+    for cmd in ("check", "sweep"):
+        r = subprocess.run([GF, cmd, rods, "--set", "sweep.shear_rate=[100, 2.0e6]", "--set",
+                            "sweep.volume_fraction=[0.1]"] + (["-o", "toofast"] if cmd == "sweep" else []),
+                           cwd=TMP, capture_output=True, text=True)
+        check(r.returncode == 2 and "sweep run phi_0.1_rate_2e+06" in r.stderr and
+              "output.series.every_strain" in r.stderr and
+              not os.path.exists(os.path.join(TMP, "toofast", "phi_0.1_rate_100")),
+              f"{cmd}: an invalid sweep run stops it before it starts: {r.returncode} {r.stderr}")
     # ... and --continue finishes it in place: the stopped runs continue from their checkpoints
     # (run --append), the one not started starts; the table then has all three.
     r = subprocess.run([GF, "sweep", rods, "-o", "sweep", "-j", "2", "--no-plots", "--continue",
@@ -201,29 +211,40 @@ with tempfile.TemporaryDirectory() as TMP:
           f"a finished sweep continued again runs nothing: {r.stderr}")
 
     # A sweep killed outright (SIGKILL: no chance to pass anything on) does not leave its runs
-    # going on alone: the kernel sends each one SIGTERM, and it stops with its outputs and a
-    # checkpoint, which --continue then carries on.
-    proc = subprocess.Popen([GF, "sweep", rods, "-o", "killed", "-j", "2", "--no-plots",
-                             "--set", "sweep.volume_fraction=[0.1, 0.2]",
-                             "--set", "sweep.shear_rate=[100]"], cwd=TMP,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    runs = [os.path.join(TMP, "killed", f"phi_{p}_rate_100") for p in ("0.1", "0.2")]
-    deadline = time.monotonic() + 60
-    while (not all(os.path.exists(os.path.join(d, "resolved_case.yaml")) for d in runs)
-           and proc.poll() is None and time.monotonic() < deadline):
-        time.sleep(0.02)
-    time.sleep(0.2)
-    proc.kill()
-    proc.wait()
-    summaries = [os.path.join(d, "summary.json") for d in runs]
-    deadline = time.monotonic() + 60
-    while not all(map(os.path.exists, summaries)) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    for d, f in zip(runs, summaries):
-        s = json.load(open(f)) if os.path.exists(f) else {}
-        check(s.get("stopped_by") == "SIGTERM" and
-              os.path.exists(os.path.join(d, f"checkpoint_{s['steps']:09d}.h5")),
-              f"a run of a killed sweep stops with its outputs and a checkpoint: {d} {s}")
+    # going on alone: the kernel signals each one, and it stops with its outputs and a
+    # checkpoint ("sweep ended"), which --continue then carries on. Killed after it has passed a
+    # SIGTERM on (a batch system's SIGTERM, then SIGKILL), its runs are not cut short by that
+    # second notice: they finish stopping on the SIGTERM.
+    def killed_sweep(name, term_first):
+        proc = subprocess.Popen([GF, "sweep", rods, "-o", name, "-j", "2", "--no-plots",
+                                 "--set", "sweep.volume_fraction=[0.1, 0.2]",
+                                 "--set", "sweep.shear_rate=[100]"], cwd=TMP,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        runs = [os.path.join(TMP, name, f"phi_{p}_rate_100") for p in ("0.1", "0.2")]
+        deadline = time.monotonic() + 60
+        while (not all(os.path.exists(os.path.join(d, "resolved_case.yaml")) for d in runs)
+               and proc.poll() is None and time.monotonic() < deadline):
+            time.sleep(0.02)
+        time.sleep(0.2)
+        if term_first:
+            proc.send_signal(signal.SIGTERM)
+            time.sleep(0.15)  # the sweep passes it on within 50 ms
+        proc.kill()
+        proc.wait()
+        summaries = [os.path.join(d, "summary.json") for d in runs]
+        deadline = time.monotonic() + 60
+        while not all(map(os.path.exists, summaries)) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        time.sleep(0.2)
+        expected = "SIGTERM" if term_first else "sweep ended"
+        for d, f in zip(runs, summaries):
+            s = json.load(open(f)) if os.path.exists(f) else {}
+            check(s.get("stopped_by") == expected and
+                  os.path.exists(os.path.join(d, f"checkpoint_{s['steps']:09d}.h5")),
+                  f"a run of a killed sweep stops with its outputs and a checkpoint "
+                  f"({expected}): {d} {s}")
+    killed_sweep("killed", False)
+    killed_sweep("killed_after_term", True)
     r = subprocess.run([GF, "sweep", rods, "-o", "killed", "-j", "2", "--no-plots", "--continue",
                         "--steps", "2500",
                         "--set", "sweep.volume_fraction=[0.1, 0.2]",

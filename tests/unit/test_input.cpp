@@ -1216,6 +1216,9 @@ TEST(InputShear, OutputIntervalsInStrain) {
       dir.write("case.yaml", shear_case("[true, true, true]", le, out)), {{"shear.rate", "0.5"}});
   EXPECT_DOUBLE_EQ(slow.output.vtk.every, 0.5 / 0.5);
   EXPECT_DOUBLE_EQ(slow.output.series.every, 0.01 / 0.5);
+  // The smallest strain the message names is accepted (no round-off below one step).
+  EXPECT_NO_THROW(input::load_case(
+      dir / "case.yaml", {{"output.series.every_strain", "2.0e-4"}, {"shear.rate", "20"}}));
   // `check` says how many outputs the run writes (t = 0 included, checkpoints not) and warns
   // about tens of thousands of files.
   EXPECT_EQ(derived(input::validate(c), "outputs over the run"),

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <thread>
@@ -330,6 +331,34 @@ TEST(Restart, FluidFemContinuesBitIdentically) {
   EXPECT_EQ(end_a.runs, 1);
   EXPECT_EQ(end_e.runs, 2);
   EXPECT_GT(end_e.wall_seconds, 0.0);
+  // A checkpoint of an older build (no schedule time, run count or wall time): still continued,
+  // with everything up to its time kept (the cut's extra data set too) and the wall time unknown.
+  RunOptions g;
+  g.output = tmp / "g";
+  g.steps = 30;
+  ASSERT_EQ(run_fem_case(*cfg, unused, g), 0);
+  auto old = load_fem_checkpoint(g.output / "fem_checkpoint_final.h5");
+  old.fields_until.reset();
+  ++old.n_fields;  // an older build took the checkpoint after the cut's extra data set
+  old.runs = 1;
+  old.wall_seconds = std::numeric_limits<double>::quiet_NaN();
+  save_fem_checkpoint(tmp / "old.h5", old);
+  EXPECT_FALSE(load_fem_checkpoint(tmp / "old.h5").fields_until);
+  g.steps.reset();
+  g.restart = tmp / "old.h5";
+  g.append = true;
+  ASSERT_EQ(run_fem_case(*cfg, unused, g), 0);
+  expect_same_flow(end_a, load_fem_checkpoint(g.output / "fem_checkpoint_final.h5"));
+  auto data_sets = [](const std::string& pvd) {
+    std::size_t n = 0;
+    for (auto at = pvd.find("<DataSet"); at != std::string::npos; at = pvd.find("<DataSet", at + 1))
+      ++n;
+    return n;
+  };
+  EXPECT_EQ(data_sets(read_text_file(g.output / "fem_fields.pvd")),
+            data_sets(read_text_file(a.output / "fem_fields.pvd")) + 1);
+  const std::string summary = read_text_file(g.output / "fem_summary.txt");
+  EXPECT_NE(summary.find("runs over restarts: 2\n"), std::string::npos) << summary;
 
   // Stopped by a signal (here before its first step): the checkpoint is named by the step and
   // holds the restored state, LU iterate included; continuing it gives the same bits again.

@@ -522,9 +522,7 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
   // (appending: the data sets up to and including the checkpoint's time stay; the state there
   // is not written again)
   // (checkpoints before 2026-12-01 did not record fields_until: everything up to their time)
-  const double fields_until = !append                            ? 0.0
-                              : std::isnan(resume->fields_until) ? resume->flow.t
-                                                                 : resume->fields_until;
+  const double fields_until = !append ? 0.0 : resume->fields_until.value_or(resume->flow.t);
   vtk::PvdSeries series =
       append ? vtk::PvdSeries(output_dir / "fem_fields.pvd",
                               std::nextafter(fields_until, std::numeric_limits<double>::max()))
@@ -593,7 +591,8 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
       c.next_checkpoint = next_ckpt;
       c.n_fields = fields_written();
       c.mesh_hash = mesh_hash(ns.mesh());
-      c.fields_until = series.size() > 0 ? series.last_time() : NAN;
+      c.fields_until =
+          series.size() > 0 ? series.last_time() : -std::numeric_limits<double>::infinity();
       c.runs = (resume ? resume->runs : 0) + 1;
       c.wall_seconds =
           (resume ? resume->wall_seconds : 0.0) +

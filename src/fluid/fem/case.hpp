@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -76,9 +77,10 @@ struct FemCheckpoint {
   double next_vtk = 0.0, next_csv = 0.0, next_checkpoint = 0.0;  ///< [s] output schedule
   std::int64_t n_fields = 0;    ///< fem_fields_*.vtu written so far (the numbering continues)
   std::uint64_t mesh_hash = 0;  ///< mesh_hash() of the mesh it belongs to
-  /// Time of the last field data set the schedule wrote (NaN: none), up to which --append keeps
-  /// fem_fields.pvd: a data set written only because the run stopped there is dropped.
-  double fields_until = std::numeric_limits<double>::quiet_NaN();
+  /// Time of the last field data set the schedule wrote (-inf: none), up to which --append keeps
+  /// fem_fields.pvd: a data set written only because the run stopped there is dropped. Empty for
+  /// a checkpoint of a build before 2026-12-01 (then everything up to its time is kept).
+  std::optional<double> fields_until;
   std::int64_t runs = 1;    ///< runs over restarts up to this checkpoint, its own included
   double wall_seconds = 0;  ///< their wall time up to this checkpoint [s] (NaN: not recorded)
 };

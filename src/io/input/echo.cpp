@@ -299,12 +299,17 @@ void emit_wall(YAML::Emitter& out, const config::Wall& w, int dim) {
   out << YAML::EndMap;
 }
 
+/// An interval as the case gave it: every_strain (strain) or every (s).
+void key_interval(YAML::Emitter& out, double every, const std::optional<double>& every_strain) {
+  if (every_strain)
+    key_number(out, "every_strain", *every_strain);
+  else
+    key_number(out, "every", every);
+}
+
 void emit_every(YAML::Emitter& out, const char* key, const config::OutputEvery& e) {
   out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginMap;
-  if (e.every_strain)
-    key_number(out, "every_strain", *e.every_strain);
-  else
-    key_number(out, "every", e.every);
+  key_interval(out, e.every, e.every_strain);
   out << YAML::EndMap;
   if (e.every == 0)
     out << YAML::Comment("off");
@@ -399,10 +404,7 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     const auto& r = *c.analysis.rheology;
     out << YAML::Key << "analysis" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "rheology" << YAML::Value << YAML::Flow << YAML::BeginMap;
-    if (r.every_strain)
-      key_number(out, "every_strain", *r.every_strain);
-    else
-      key_number(out, "every", r.every);
+    key_interval(out, r.every, r.every_strain);
     out << YAML::Key << "bins" << YAML::Value << r.bins;
     if (r.margin) key_number(out, "margin", *r.margin);
     if (r.start) key_number(out, "start", *r.start);
@@ -483,10 +485,7 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
   emit_every(out, "vtk", c.output.vtk);
   emit_every(out, "particles_csv", c.output.particles_csv);
   out << YAML::Key << "series" << YAML::Value << YAML::BeginMap;
-  if (c.output.series.every_strain)
-    key_number(out, "every_strain", *c.output.series.every_strain);
-  else
-    key_number(out, "every", c.output.series.every);
+  key_interval(out, c.output.series.every, c.output.series.every_strain);
   out << YAML::Key << "quantities" << YAML::Value << YAML::Flow << c.output.quantities;
   out << YAML::EndMap;
   emit_every(out, "checkpoint", c.output.checkpoint);

@@ -116,6 +116,7 @@ struct Reader {
   void read_walls(const YamlMap& root);
   config::Motion read_motion(const YamlNode& node);
   void read_output(const YamlMap& root);
+  std::optional<config::OutputEvery> read_interval(const YamlMap& m, bool off_allowed) const;
   void read_shear(const YamlMap& root);
   void read_analysis(const YamlMap& root);
   void read_sweep(const YamlMap& root);
@@ -219,21 +220,11 @@ void Reader::read_analysis(const YamlMap& root) {
     YamlMap rm(*rn, {"every", "every_strain", "bins", "margin", "start"});
     config::Rheology r;
     r.loc = rn->loc();
-    const std::string how = rm.exactly_one_of({"every", "every_strain"});
-    if (how == "every") {
-      r.every = rm.number("every", Range::positive());
-    } else {
-      if (!c.shear)
-        rm.at("every_strain")
-            .fail(
-                "'every_strain' needs a shear: block (its rate turns strain into time); use "
-                "'every' (s)");
-      r.every_strain = rm.number("every_strain", Range::positive());
-      r.every = *r.every_strain / c.shear->rate;
-    }
-    const YamlNode every = rm.at(how);
-    if (r.every < c.time.step)
-      every.fail_expected(fmt::format("an interval >= time.step ({} s)", number_text(c.time.step)));
+    const auto interval = read_interval(rm, false);
+    if (!interval) rm.exactly_one_of({"every", "every_strain"});  // throws: one is required
+    r.every = interval->every;
+    r.every_strain = interval->every_strain;
+    const YamlNode every = rm.at(r.every_strain ? "every_strain" : "every");
     if (r.every > 0.5 * c.time.end)
       every.fail_expected(
           fmt::format("an interval that gives at least 2 samples before the end "
@@ -1304,6 +1295,37 @@ void Reader::read_walls(const YamlMap& root) {
   }
 }
 
+// The interval of an output or of the rheology sampling: `every` (s) or, in a shear case,
+// `every_strain` (strain: the same number per unit strain at every rate of a sweep).
+std::optional<config::OutputEvery> Reader::read_interval(const YamlMap& m, bool off_allowed) const {
+  if (!m.find("every") && !m.find("every_strain")) return std::nullopt;
+  const std::string how = m.exactly_one_of({"every", "every_strain"});
+  const YamlNode n = m.at(how);
+  const double v = n.as_number(off_allowed ? Range::non_negative() : Range::positive());
+  config::OutputEvery out;
+  if (how == "every_strain") {
+    if (!c.shear)
+      n.fail(
+          "'every_strain' needs a shear: block (its rate turns strain into time); use 'every' "
+          "(s)");
+    out.every_strain = v;
+  }
+  out.every = out.every_strain ? v / c.shear->rate : v;
+  // (with a tolerance: a strain interval converted to seconds may round below one step)
+  if ((!off_allowed || out.every > 0) && out.every < c.time.step * (1 - 1e-12)) {
+    std::string hint;
+    if (out.every_strain) {  // the smallest strain, rounded up to 3 digits
+      const double strain = c.time.step * c.shear->rate;
+      const double unit = std::pow(10.0, std::floor(std::log10(strain)) - 2);
+      hint = fmt::format(": a strain >= {:.3g} at shear.rate {}",
+                         std::ceil(strain / unit * (1 - 1e-12)) * unit, number_text(c.shear->rate));
+    }
+    n.fail_expected(fmt::format("{}an interval >= time.step ({} s){}",
+                                off_allowed ? "0 (off) or " : "", number_text(c.time.step), hint));
+  }
+  return out;
+}
+
 void Reader::read_output(const YamlMap& root) {
   auto on = root.find("output");
   if (!on) return;
@@ -1316,25 +1338,7 @@ void Reader::read_output(const YamlMap& root) {
   // The interval in seconds (`every`) or, in a shear case, in strain (`every_strain`, so that
   // one case gives as many outputs per strain at every shear rate of a sweep).
   auto every = [&](const YamlMap& m, config::OutputEvery& target) {
-    if (!m.find("every") && !m.find("every_strain")) return;
-    const std::string how = m.exactly_one_of({"every", "every_strain"});
-    const YamlNode n = m.at(how);
-    const double v = n.as_number(Range::non_negative());
-    if (how == "every_strain") {
-      if (!c.shear)
-        n.fail(
-            "'every_strain' needs a shear: block (its rate turns strain into time); use 'every' "
-            "(s)");
-      target.every_strain = v;
-    }
-    target.every = how == "every" ? v : v / c.shear->rate;
-    if (target.every > 0 && target.every < c.time.step)
-      n.fail_expected(fmt::format(
-          "0 (off) or an interval >= time.step ({} s){}", number_text(c.time.step),
-          how == "every" ? ""
-                         : fmt::format(": a strain >= {} at shear.rate {}",
-                                       fmt::format("{:.3g}", c.time.step * c.shear->rate),
-                                       number_text(c.shear->rate))));
+    if (auto e = read_interval(m, true)) target = *e;
   };
   for (auto [key, target] :
        {std::pair{"vtk", &c.output.vtk}, std::pair{"particles_csv", &c.output.particles_csv},
@@ -1518,12 +1522,11 @@ YAML::Node value_node(const Override& o) {
 }  // namespace
 
 namespace {
-/// Keys of one map of which a case gives at most one (the reader says "give only one of").
+/// Keys of one map of which a case gives at most one, where switching from the command line is
+/// expected (an output or sampling interval in seconds or in strain; a fill by count or by
+/// volume fraction): --set of one removes the other. Other one-of choices stay errors.
 const std::vector<std::vector<const char*>> kAlternativeKeys = {{"every", "every_strain"},
-                                                                {"count", "volume_fraction"},
-                                                                {"length", "aspect_ratio"},
-                                                                {"radius", "equivalent_diameter"},
-                                                                {"rpm", "rate"}};
+                                                                {"count", "volume_fraction"}};
 }  // namespace
 
 void apply_overrides(const YAML::Node& root, const std::vector<Override>& overrides,
