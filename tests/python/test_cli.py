@@ -38,16 +38,10 @@ output:
   checkpoint: {every: 0.02}
 """
 
-passed = failed = 0
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from checks import Checks  # noqa: E402
 
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL:", what)
+check = Checks()
 
 
 def run(*args):
@@ -298,5 +292,4 @@ with tempfile.TemporaryDirectory() as TMP:
     check(r.returncode == 0 and "Reynolds number" in r.stdout and " 33.33 " in r.stdout,
           f"check of a fluid_fem case derives Re = U D / nu: {r.stdout}")
 
-print(f"{passed} passed, {failed} failed")
-sys.exit(1 if failed else 0)
+check.exit()

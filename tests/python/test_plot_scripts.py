@@ -41,16 +41,10 @@ import time
 SKIP = 77
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
-passed = failed = 0
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from checks import Checks  # noqa: E402
 
-
-def check(cond, what):
-    global passed, failed
-    if cond:
-        passed += 1
-    else:
-        failed += 1
-        print("FAIL:", what)
+check = Checks()
 
 
 def snapshot(folder):
@@ -245,5 +239,4 @@ check(after == before, "docs/validation is unchanged: "
       f"new {sorted(set(after) - set(before))}, gone {sorted(set(before) - set(after))}, "
       f"changed {sorted(k for k in set(after) & set(before) if after[k] != before[k])}")
 
-print(f"{passed} passed, {failed} failed ({time.monotonic() - start:.1f} s)")
-sys.exit(1 if failed else 0)
+check.exit(f" ({time.monotonic() - start:.1f} s)")
