@@ -230,10 +230,12 @@ with tempfile.TemporaryDirectory() as TMP:
         while not all(map(os.path.exists, summaries)) and time.monotonic() < deadline:
             time.sleep(0.05)
         time.sleep(0.2)
-        expected = "SIGTERM" if term_first else "sweep ended"
+        # (after a SIGTERM the sweep passes it on within 50 ms; on a loaded machine its death
+        # may come first, and the run then stops on that: either way with its outputs)
+        expected = ("SIGTERM", "sweep ended") if term_first else ("sweep ended",)
         for d, f in zip(runs, summaries):
             s = json.load(open(f)) if os.path.exists(f) else {}
-            check(s.get("stopped_by") == expected and
+            check(s.get("stopped_by") in expected and
                   os.path.exists(os.path.join(d, f"checkpoint_{s['steps']:09d}.h5")),
                   f"a run of a killed sweep stops with its outputs and a checkpoint "
                   f"({expected}): {d} {s}")
