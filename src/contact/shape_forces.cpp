@@ -23,12 +23,13 @@ std::int64_t touching_rows(const ParticleStore& p, const Domain& domain, const V
     const Vec3 xi = x[i];
     ConvexPolygon poly_i;
     if (s.code(i) == ShapeCode::Polygon) poly_i = s.world_polygon(i, xi);
+    const Capsule cap_i = s.capsule(i, xi);  // (its axis: once per row, not per pair)
     std::int64_t touching = 0;
     for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
       const std::int32_t j = nb[k];
       const Vec3 xj = xi - domain.delta(xi, x[j]);  // the image of j nearest to i
       ShapeGeometry g;
-      if (!shape_pair_geometry(s, i, j, xi, xj, &poly_i, g)) {
+      if (!shape_pair_geometry(s, i, j, xi, xj, &poly_i, g, &cap_i)) {
         miss(k);
         continue;
       }

@@ -87,10 +87,12 @@ GF_HOST_DEVICE inline void polygon_law_inputs(const PolygonOverlap& o, double l_
 }
 
 /// Narrow phase of i (at xi) with j (at xj, the image nearest to i); false when apart.
-/// `poly_i` is i's world polygon when i is a polygon (computed once per row by the caller).
+/// `poly_i` is i's world polygon when i is a polygon, `cap_i` (optional) s.capsule(i, xi):
+/// computed once per row by the caller.
 GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t i, std::int64_t j,
                                                const Vec3& xi, const Vec3& xj,
-                                               const ConvexPolygon* poly_i, ShapeGeometry& g) {
+                                               const ConvexPolygon* poly_i, ShapeGeometry& g,
+                                               const Capsule* cap_i = nullptr) {
   const ShapeCode ci = s.code(i), cj = s.code(j);
   // Bounding spheres (circles) apart: most pairs of the Verlet list end here, before any
   // polygon transform or segment computation.
@@ -119,7 +121,7 @@ GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t 
     return true;
   }
   ShapeContact k;
-  if (!capsule_capsule(s.capsule(i, xi), s.capsule(j, xj), k)) return false;
+  if (!capsule_capsule(cap_i ? *cap_i : s.capsule(i, xi), s.capsule(j, xj), k)) return false;
   g.overlap = k.overlap;
   g.normal = k.normal;
   g.point = k.point;

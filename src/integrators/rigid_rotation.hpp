@@ -44,17 +44,12 @@ namespace detail {
 GF_HOST_DEVICE inline Vec3 inverse_inertia(const Vec3& inertia) {
   return {1.0 / inertia.x, 1.0 / inertia.y, 1.0 / inertia.z};
 }
-/// R(q) e3: the world direction of body axis 3 (a symmetric top's axis).
-GF_HOST_DEVICE constexpr Vec3 body_axis_3(const Quat& q) {
-  return {2 * (q.x * q.z + q.w * q.y), 2 * (q.y * q.z - q.w * q.x),
-          1 - 2 * (q.x * q.x + q.y * q.y)};
-}
 /// omega (world) = R I^-1 R^T L from the inverse principal moments; for a symmetric top
 /// (I1 = I2) the same as L / I1 + (1/I3 - 1/I1) (L . a) a with a its axis.
 GF_HOST_DEVICE inline Vec3 omega_world(const Quat& q, const Vec3& angular_momentum,
                                        const Vec3& inverse_inertia) {
   if (inverse_inertia.x == inverse_inertia.y) {
-    const Vec3 a = body_axis_3(q);
+    const Vec3 a = rotate_z(q);
     return inverse_inertia.x * angular_momentum +
            ((inverse_inertia.z - inverse_inertia.x) * dot(angular_momentum, a)) * a;
   }
@@ -111,7 +106,7 @@ namespace detail {
 GF_HOST_DEVICE inline void symmetric_top_rotation(Quat& q, const Vec3& angular_momentum,
                                                   const Vec3& inverse_inertia, double dt) {
   // Spin about the body's axis 3 (right factor), by b = (1/I3 - 1/I1) L3 dt.
-  const double l3 = dot(angular_momentum, body_axis_3(q));
+  const double l3 = dot(angular_momentum, rotate_z(q));
   double cb = 1, sb = 0;
   cos_sin(0.5 * dt * (inverse_inertia.z - inverse_inertia.x) * l3, cb, sb);
   // Precession about L (left factor), by a = |L| dt / I1: (cos(a/2), sin(a/2) / |L| L).

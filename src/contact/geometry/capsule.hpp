@@ -44,7 +44,7 @@ struct Capsule {
 
 /// World axis of a capsule with orientation q (its body axis is e_z).
 GF_HOST_DEVICE inline Vec3 capsule_axis(const Quat& q) {
-  return rotate(q, Vec3{0, 0, 1});
+  return rotate_z(q);
 }
 
 /// Which part of the surface carries the contact.
