@@ -103,25 +103,27 @@ GF_HOST_DEVICE inline SegmentClosest closest_points_segments(const Vec3& p0, con
   } else if (e <= tiny) {
     s = clamp01(-c / a);
   } else {
+    // (the reciprocals up front: off the dependent chain below)
+    const double inv_a = 1.0 / a, inv_e = 1.0 / e;
     const Vec3 n = cross(d1, d2);
     const double nn = dot(n, n);  // a e sin^2(angle)
     if (nn > 1e-24 * a * e) {
       s = clamp01(dot(cross(-r, d2), n) / nn);
     } else {
       // Parallel: parameters of q0 and q1 on segment p; middle of the overlap with [0, 1].
-      const double sq0 = -c / a, sq1 = (b - c) / a;
+      const double sq0 = -c * inv_a, sq1 = (b - c) * inv_a;
       const double lo = sq0 < sq1 ? sq0 : sq1, hi = sq0 < sq1 ? sq1 : sq0;
       const double l = lo > 0 ? lo : 0.0, h = hi < 1 ? hi : 1.0;
       s = l <= h ? 0.5 * (l + h) : (hi < 0 ? 0.0 : 1.0);
     }
     // Best t for this s, then best s for a clamped t.
-    t = (b * s + f) / e;
+    t = (b * s + f) * inv_e;
     if (t < 0) {
       t = 0;
-      s = clamp01(-c / a);
+      s = clamp01(-c * inv_a);
     } else if (t > 1) {
       t = 1;
-      s = clamp01((b - c) / a);
+      s = clamp01((b - c) * inv_a);
     }
   }
   SegmentClosest out;
