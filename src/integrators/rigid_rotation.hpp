@@ -98,9 +98,6 @@ GF_HOST_DEVICE inline void body_axis_rotation(int k, Quat& q, Vec3& lb, double i
 }
 }  // namespace detail
 
-/// Torque-free rotation of orientation q over dt (s) at constant world angular momentum L
-/// (kg m^2/s); `inertia` = principal moments (kg m^2): exact for I1 = I2, NO_SQUISH otherwise.
-/// q is renormalised.
 namespace detail {
 /// Exact free rotation of a symmetric top (inverse_inertia.x == inverse_inertia.y) over dt.
 GF_HOST_DEVICE inline void symmetric_top_rotation(Quat& q, const Vec3& angular_momentum,
@@ -140,6 +137,9 @@ GF_HOST_DEVICE inline void free_rotation(Quat& q, const Vec3& angular_momentum,
 }
 }  // namespace detail
 
+/// Torque-free rotation of orientation q over dt (s) at constant world angular momentum L
+/// (kg m^2/s); `inertia` = principal moments (kg m^2): exact for I1 = I2, NO_SQUISH otherwise.
+/// q is renormalised.
 GF_HOST_DEVICE inline void free_rotation(Quat& q, const Vec3& angular_momentum, const Vec3& inertia,
                                          double dt) {
   detail::free_rotation(q, angular_momentum, detail::inverse_inertia(inertia), dt);
