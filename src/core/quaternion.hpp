@@ -47,7 +47,7 @@ GF_HOST_DEVICE inline Quat normalized(const Quat& q) {
 /// does. Ten times cheaper than a library call; larger angles take the library's.
 GF_HOST_DEVICE inline void cos_sin(real x, real& c, real& s) {
   if (std::abs(x) < 0.02) {
-    // (coefficients as products: a division by a constant is not turned into one)
+    // (Horner form in x^2 with the reciprocal factorials as constants: multiplications only)
     const real x2 = x * x;
     s = x + x * x2 * (-1.0 / 6 + x2 * (1.0 / 120 + x2 * (-1.0 / 5040)));
     c = 1 + x2 * (-0.5 + x2 * (1.0 / 24 + x2 * (-1.0 / 720 + x2 * (1.0 / 40320))));
