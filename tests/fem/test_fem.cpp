@@ -17,6 +17,7 @@
 #include "fluid/fem/schaefer_turek.hpp"
 #include "fluid/fem/time_stepping.hpp"
 #include "fluid/fem/vtu.hpp"
+#include "temp_dir.hpp"
 #include "vtk_reader.hpp"
 
 using namespace gf::fem;
@@ -190,11 +191,9 @@ TEST(FemOutput, VtuCarriesMeshAndFieldsBitExactly) {
   NavierStokes ns(channel(1.0, 0.2, 0.05, 1.0));
   ASSERT_TRUE(ns.solve_steady(NewtonOptions{}).converged);
   const Mesh& m = ns.mesh();
-  const auto dir = std::filesystem::temp_directory_path() / "gf_fem_vtu_test";
-  std::filesystem::create_directories(dir);
-  write_vtu(dir / "f.vtu", ns);
-  const gf::test::VtkFile v(dir / "f.vtu");
-  std::filesystem::remove_all(dir);
+  const gf::test::TempDir tmp;
+  write_vtu(tmp.path() / "f.vtu", ns);
+  const gf::test::VtkFile v(tmp.path() / "f.vtu");
   EXPECT_EQ(v.piece("NumberOfPoints"), std::to_string(m.n_nodes()));
   EXPECT_EQ(v.piece("NumberOfCells"), std::to_string(m.n_cells()));
   EXPECT_EQ(v.blocks_size(), v.appended.size());

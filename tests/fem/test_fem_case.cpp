@@ -13,6 +13,7 @@
 #include "core/error.hpp"
 #include "fem_case_text.hpp"
 #include "fluid/fem/case.hpp"
+#include "temp_dir.hpp"
 
 using namespace gf::fem;
 
@@ -57,14 +58,15 @@ struct CaseRun {
 };
 
 CaseRun run_case(const FemCaseConfig& cfg) {
-  const auto dir = std::filesystem::temp_directory_path() / "gf_fem_case_run_test";
-  std::filesystem::remove_all(dir);
+  // A folder of this test and process: ctest runs the tests side by side (a shared fixed name
+  // let one test remove another's outputs while it wrote them).
+  const gf::test::TempDir tmp;
+  const auto& dir = tmp.path();
   run_fluid_fem(cfg, dir);
   CaseRun r;
   std::ifstream in(dir / "fem_summary.txt");
   std::getline(in, r.summary);
   r.forces = csv_rows(dir / "fem_forces.csv");
-  std::filesystem::remove_all(dir);
   return r;
 }
 
@@ -198,8 +200,8 @@ TEST(FemCase, PicardIterationsServeSteadySolvesOnly) {
 
 TEST(FemCase, RunWritesSeriesAndCsv) {
   const auto cfg = parse_fluid_fem(YAML::Load(kGood)["fluid_fem"], "case.yaml");
-  const auto dir = std::filesystem::temp_directory_path() / "gf_fem_case_test";
-  std::filesystem::remove_all(dir);
+  const gf::test::TempDir tmp;
+  const auto& dir = tmp.path();
   run_fluid_fem(cfg, dir);
   for (const char* f :
        {"fem_mesh.vtu", "fem_fields.pvd", "fem_fields_00000.vtu", "fem_fields_00002.vtu",
@@ -214,5 +216,4 @@ TEST(FemCase, RunWritesSeriesAndCsv) {
   int rows = 0;
   while (std::getline(in, line)) ++rows;
   EXPECT_EQ(rows, 4);  // t = 0.05 .. 0.2
-  std::filesystem::remove_all(dir);
 }
