@@ -4,6 +4,8 @@
 // from) instead of dying.
 #pragma once
 
+#include <csignal>
+
 namespace gf::stop {
 
 /// Installs handlers for SIGINT and SIGTERM that record the first signal and say on stderr that
@@ -42,7 +44,7 @@ const char* signal_name(int sig);
 /// 3 for the time limit (the run did not reach its end; its checkpoint continues it); that of
 /// SIGTERM when its sweep ended.
 inline int exit_status(int sig) {
-  return sig == kTimeLimit ? 3 : sig == kParentGone ? 128 + 15 : 128 + sig;
+  return sig == kTimeLimit ? 3 : sig == kParentGone ? 128 + SIGTERM : 128 + sig;
 }
 
 }  // namespace gf::stop
