@@ -4,11 +4,12 @@
 Mahajan et al. (2019): log-log granular temperature, pressure and shear stress against the
 measured shear rate for each volume fraction (kinetic theory of volume-equivalent spheres dashed),
 apparent friction and viscosity, -N2/N1, and the alignment angle against shear rate and volume
-fraction.
+fraction, and (for tables that have them) the coordination number and the contact fabric.
 
 Usage: plot_sweep.py sweep.csv OUTPUT_FOLDER [PREFIX]
 writes OUTPUT_FOLDER/PREFIX_stresses.png, PREFIX_friction_normal_stress.png and (when the grains
-have an orientation order) PREFIX_alignment.png; PREFIX defaults to "rheology", a trailing "_"
+have an orientation order) PREFIX_alignment.png and (when the table has the contact columns)
+PREFIX_contacts.png; PREFIX defaults to "rheology", a trailing "_"
 is dropped (PREFIX rheology_rods_ gives rheology_rods_stresses.png), and OUTPUT_FOLDER is
 created if missing. `grainflow sweep` calls it on its own table."""
 import os
@@ -121,6 +122,37 @@ def main():
             ax.grid(True, alpha=0.3)
         fig.tight_layout()
         fig.savefig(f"{out}/{prefix}_alignment.png", dpi=110)
+        plt.close(fig)
+
+    # 4. Contacts (tables of builds that measure them): coordination number, the angle of the
+    # contact fabric's major axis, and the fabric's anisotropies next to the normal stress
+    # differences they feed (F_xx - F_zz with N1, F_zz - F_yy with N2).
+    if "coordination_number" in d.dtype.names:
+        fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+        for (phi, g), c in zip(groups(d), colors):
+            lab = "measured" if phi is None else f"phi = {phi:g}"
+            rate = np.abs(g["shear_rate"])
+            errorbars(axes[0], rate, g["coordination_number"], g["coordination_number_err"],
+                      fmt="o-", color=c, label=lab)
+            errorbars(axes[1], rate, g["fabric_angle"], g["fabric_angle_err"], fmt="o-",
+                      color=c, label=lab)
+            errorbars(axes[2], rate, g["F_xx"] - g["F_zz"],
+                      np.hypot(g["F_xx_err"], g["F_zz_err"]), fmt="o-", color=c, label=lab)
+            errorbars(axes[2], rate, g["F_zz"] - g["F_yy"],
+                      np.hypot(g["F_zz_err"], g["F_yy_err"]), fmt="s--", color=c, mfc="none")
+        axes[0].set_ylabel("coordination number Z")
+        axes[0].set_yscale("log")
+        axes[1].set_ylabel("major axis of the contact fabric (degrees)")
+        axes[1].axhline(-45, color="k", lw=0.8, ls=":")
+        axes[2].set_ylabel("fabric anisotropy: $F_{xx}-F_{zz}$ (o), $F_{zz}-F_{yy}$ (s)")
+        axes[2].axhline(0, color="k", lw=0.8, ls=":")
+        for ax in axes:
+            ax.set_xscale("log")
+            ax.set_xlabel("measured shear rate (1/s)")
+            ax.grid(True, which="both", alpha=0.3)
+        axes[0].legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(f"{out}/{prefix}_contacts.png", dpi=110)
         plt.close(fig)
 
 

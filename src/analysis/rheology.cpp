@@ -48,7 +48,7 @@ double RheologySample::second_normal_difference() const {
 }
 
 RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& region,
-                                const Mat3& virial, std::span<const double> density) {
+                                const ContactSums& contacts, std::span<const double> density) {
   REQUIRE(region.z_hi > region.z_lo && region.bins >= 1 && region.area > 0,
           "invalid rheology region");
   const std::size_t n = p.size();
@@ -138,7 +138,16 @@ RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& re
   if (counted > 0 && counted < count)
     s.streaming = (static_cast<double>(count) / static_cast<double>(counted)) * s.streaming;
   s.streaming = (1.0 / V) * s.streaming;
-  s.collisional = (1.0 / V) * virial;
+  s.collisional = (1.0 / V) * contacts.virial;
+  const Mat3& nn = contacts.normals;
+  const double pairs = nn.a[0][0] + nn.a[1][1] + nn.a[2][2];
+  s.contacts = std::llround(pairs);
+  if (pairs > 0) {
+    s.fabric = (1.0 / pairs) * nn;
+    const double fxx = s.fabric.a[0][0], fzz = s.fabric.a[2][2], fxz = s.fabric.a[0][2];
+    s.fabric_angle = 0.5 * std::atan2(2 * fxz, fxx - fzz) * 180.0 / std::numbers::pi;
+  }
+  if (count > 0) s.coordination = 2.0 * pairs / static_cast<double>(count);
   const double per_grain = counted > 0 ? 1.0 / (3.0 * static_cast<double>(counted)) : 0.0;
   s.temperature = per_grain * t_sum;
   s.fluid_temperature = per_grain * fluid_sum;
@@ -185,7 +194,13 @@ const std::vector<std::string>& rheology_columns() {
                                              "S_xz",
                                              "alignment_angle",
                                              "order_parameter",
-                                             "grains"};
+                                             "grains",
+                                             "coordination_number",
+                                             "F_xx",
+                                             "F_yy",
+                                             "F_zz",
+                                             "F_xz",
+                                             "fabric_angle"};
   return cols;
 }
 
@@ -222,7 +237,13 @@ std::vector<double> rheology_values(const RheologySample& s) {
           s.order.a[0][2],
           s.alignment_angle,
           s.order_parameter,
-          static_cast<double>(s.grains)};
+          static_cast<double>(s.grains),
+          s.coordination,
+          s.fabric.a[0][0],
+          s.fabric.a[1][1],
+          s.fabric.a[2][2],
+          s.fabric.a[0][2],
+          s.fabric_angle};
 }
 
 }  // namespace gf::analysis

@@ -19,7 +19,14 @@
 //   - order tensor S = <u (x) u> of the axes u of spherocylinders, the alignment angle
 //     theta = 1/2 atan2(2 S_xz, S_xx - S_zz) between the preferred axis and the flow, and the
 //     nematic order parameter (largest eigenvalue of (3 S - I) / 2);
-//   - the actual shear rate (least-squares slope of v_x against z) and volume fraction.
+//   - the actual shear rate (least-squares slope of v_x against z) and volume fraction;
+//   - the contacts: coordination number Z = 2 C / N (C touching pairs counted like the virial,
+//     N grains in the layer) and the contact fabric F = <n (x) n> over those pairs (n the unit
+//     contact normal, tr F = 1; Oda 1982, Satake 1982), with the angle of its major axis
+//     theta_F = 1/2 atan2(2 F_xz, F_xx - F_zz) in the flow-gradient plane (near -45 degrees, the
+//     compressive axis of simple shear). For frictionless spheres sigma_c = (C/V) <l f_n n (x) n>
+//     (l = |d|, f_n the normal force): normal stress differences come from F's anisotropy and from
+//     how force and branch length vary with direction, which the fabric tells apart.
 // Everything is restricted to the layer z_lo <= z < z_hi (grains by their centre). Stresses
 // use the compressive-positive sign (pressure > 0); in simple shear u_x = gamma_dot z, s_xz < 0.
 #pragma once
@@ -42,11 +49,19 @@ struct RheologyRegion {
   double volume() const { return area * (z_hi - z_lo); }
 };
 
+/// What the force stage collects over the pairs counted in the layer (contact::VirialSink).
+struct ContactSums {
+  Mat3 virial;   ///< sum of d (x) F, N m
+  Mat3 normals;  ///< sum of n (x) n (its trace: the number of pairs)
+};
+
 struct RheologySample {
   Mat3 streaming;    ///< Pa
   Mat3 collisional;  ///< Pa
   Mat3 order;        ///< <u u> of spherocylinder axes (zero without them)
+  Mat3 fabric;       ///< <n n> of the contact normals (zero without contacts)
   std::int64_t grains = 0;
+  std::int64_t contacts = 0;  ///< touching pairs counted in the layer
   std::int64_t rods = 0;
   double volume_fraction = 0;
   double shear_rate = 0;         ///< 1/s, measured
@@ -55,6 +70,8 @@ struct RheologySample {
   double slip_temperature = 0;   ///< m^2/s^2, of the grains relative to that fluid velocity
   double alignment_angle = 0;    ///< degrees
   double order_parameter = 0;
+  double coordination = 0;   ///< 2 contacts / grains
+  double fabric_angle = 0;   ///< degrees, major axis of F in the x-z plane
 
   Mat3 total() const { return streaming + collisional; }
   double pressure() const;
@@ -74,10 +91,10 @@ struct RheologySample {
 double first_normal_difference(const Mat3& s);
 double second_normal_difference(const Mat3& s);
 
-/// Measures one sample. `virial` is the sum of the contact virial over the pairs counted in the
-/// layer (contact::VirialSink); `density` the density of each material (grain volume m / rho).
+/// Measures one sample. `contacts` holds the sums over the pairs counted in the layer
+/// (contact::VirialSink); `density` the density of each material (grain volume m / rho).
 RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& region,
-                                const Mat3& virial, std::span<const double> density);
+                                const ContactSums& contacts, std::span<const double> density);
 
 /// Column names of a sample in the time series (rheology.csv, after time and strain), and the
 /// values in that order.

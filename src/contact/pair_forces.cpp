@@ -59,7 +59,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
     const PairCoeffs* const c_row = coeffs + static_cast<std::size_t>(mat[i]) * n_mat;
     std::int64_t touching = 0;
     Vec3 fi{}, ti{};
-    [[maybe_unused]] Mat3 wi{};
+    [[maybe_unused]] Mat3 wi{}, ni{};
     const std::int64_t end = off[i + 1];
     for (std::int64_t k = off[i]; k < end; ++k) {
       const std::int32_t j = nb[k];
@@ -90,9 +90,10 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
       fi += res.force;
       f[j] -= res.force;
       if constexpr (Virial) {
-        if (sink.counts(xi, d))
-          for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) wi.a[a][b] += d[a] * res.force[b];
+        if (sink.counts(xi, d)) {
+          VirialSink::add_outer(wi, d, res.force);
+          VirialSink::add_outer(ni, kin.normal, kin.normal);
+        }
       }
       if constexpr (Rolling) {
         ti += res.rolling_torque - arm_i * nxf;
@@ -104,7 +105,10 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
     }
     f[i] += fi;
     tq[i] += ti;
-    if constexpr (Virial) sink.rows[i] = sink.rows[i] + wi;
+    if constexpr (Virial) {
+      sink.rows[i] = sink.rows[i] + wi;
+      if (sink.normals != nullptr) sink.normals[i] = sink.normals[i] + ni;
+    }
     return touching;
   };
   return for_rows_in_slabs(list, row);
@@ -281,9 +285,8 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
       if constexpr (Virial) {
         const Vec3 d = b.d.get(c);
         if (sink.counts(x[i], d)) {
-          Mat3& w = sink.rows[i];
-          for (int a = 0; a < 3; ++a)
-            for (int e = 0; e < 3; ++e) w.a[a][e] += d[a] * fc[e];
+          const double dist = norm(d);  // the normal as the batch's kernel takes it
+          sink.add(i, d, dist > 0 ? (1.0 / dist) * d : Vec3{0, 0, 1}, fc);
         }
       }
     }

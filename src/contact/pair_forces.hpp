@@ -35,16 +35,28 @@ GF_HOST_DEVICE inline bool sphere_sphere(const Domain& dom, const Vec3& xi, cons
 /// Where a force loop adds the contact virial W = sum over pairs of d (x) F (W[a][b] = d_a F_b,
 /// d = x_i - x_j to the nearest image of j, F the force on i from j): rows[i] collects the pairs
 /// of row i whose branch midpoint x_i - d/2 has coordinate `axis` in [lo, hi). The collisional
-/// stress of a region of volume V is then sum_i rows[i] / V (analysis/rheology.hpp). Written
-/// only on the steps that ask for it; `rows` holds n zeroed entries.
+/// stress of a region of volume V is then sum_i rows[i] / V (analysis/rheology.hpp). With
+/// `normals`, normals[i] also collects n (x) n of the same pairs (n the unit contact normal; its
+/// trace counts the pairs): the contact fabric. Written only on the steps that ask for it; `rows`
+/// (and `normals`) hold n zeroed entries.
 struct VirialSink {
   Mat3* rows = nullptr;
+  Mat3* normals = nullptr;
   int axis = 2;
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();
   GF_HOST_DEVICE bool counts(const Vec3& xi, const Vec3& d) const {
     const double c = xi[axis] - 0.5 * d[axis];
     return c >= lo && c < hi;
+  }
+  /// Adds the pair of row i (branch d, unit normal n, force f on i) to the row's sums.
+  GF_HOST_DEVICE void add(std::int64_t i, const Vec3& d, const Vec3& n, const Vec3& f) const {
+    add_outer(rows[i], d, f);
+    if (normals != nullptr) add_outer(normals[i], n, n);
+  }
+  GF_HOST_DEVICE static void add_outer(Mat3& w, const Vec3& a, const Vec3& b) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) w.a[r][c] += a[r] * b[c];
   }
 };
 

@@ -79,11 +79,7 @@ std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, V
         tq[j] -= res.rolling_torque + cross(arm_j, res.force);
         if (virial) {
           const Vec3 d = x[i] - xj;
-          if (virial->counts(x[i], d)) {
-            Mat3& w = virial->rows[i];
-            for (int a = 0; a < 3; ++a)
-              for (int b = 0; b < 3; ++b) w.a[a][b] += d[a] * res.force[b];
-          }
+          if (virial->counts(x[i], d)) virial->add(i, d, g.normal, res.force);
         }
       },
       [&](std::int64_t k) { hist[k] = {}; });

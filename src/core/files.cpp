@@ -58,16 +58,25 @@ std::vector<std::string> continued_csv_lines(const std::filesystem::path& file,
   std::istringstream in(read_text_file(file));
   std::string line;
   std::getline(in, line);
-  if (line != header)
-    throw InputError(fmt::format(
-        "{}: the series to continue has the columns '{}', this run writes '{}' (--append needs "
-        "the same outputs as the run it continues)",
-        file.string(), line, header));
+  // Columns this build appends to the series that the file lacks.
+  std::string padding;
+  if (line != header) {
+    if (!line.empty() && header.starts_with(line + ',')) {
+      const std::string added = header.substr(line.size());
+      for (char c : added)
+        if (c == ',') padding += ",nan";
+    } else {
+      throw InputError(fmt::format(
+          "{}: the series to continue has the columns '{}', this run writes '{}' (--append needs "
+          "the same outputs as the run it continues)",
+          file.string(), line, header));
+    }
+  }
   while (std::getline(in, line)) {
     char* end = nullptr;
     const double t = std::strtod(line.c_str(), &end);
     if (end == line.c_str() || !keep(t)) break;
-    lines.push_back(line);
+    lines.push_back(line + padding);
   }
   return lines;
 }

@@ -23,8 +23,9 @@ std::string read_text_file(const std::filesystem::path& path);
 
 /// For continuing a time-series CSV that an earlier run wrote (--append): its data lines, in
 /// order, while `keep(t)` holds for a line's first field t (a line whose first field is not a
-/// number ends them). The file's first line must equal `header` (else InputError naming both);
-/// a missing file has no lines.
+/// number ends them). The file's first line must equal `header` (else InputError naming both),
+/// or be its first columns: a series written by an earlier build before columns were added at
+/// the end, whose lines then get "nan" in those columns. A missing file has no lines.
 std::vector<std::string> continued_csv_lines(const std::filesystem::path& file,
                                              const std::string& header,
                                              const std::function<bool(double)>& keep);

@@ -502,7 +502,9 @@ void Simulation::compute_forces() {
     const contact::VirialSink* virial = nullptr;
     if (collect_virial_) {
       virial_rows_.assign(particles_.size(), Mat3{});
+      normal_rows_.assign(particles_.size(), Mat3{});
       sink.rows = virial_rows_.data();
+      sink.normals = normal_rows_.data();
       // Pairs across a periodic z boundary have their midpoint outside the box: a layer that
       // spans the whole periodic box takes every pair.
       if (!domain_.periodic[2]) {
@@ -516,8 +518,11 @@ void Simulation::compute_forces() {
             ? contact::compute_shape_pair_forces(particles_, domain_, nlist_, pairs_, dt_, virial)
             : contact::compute_pair_forces(particles_, domain_, nlist_, pairs_, dt_, virial);
     if (collect_virial_) {
-      virial_sum_ = Mat3{};
-      for (const auto& w : virial_rows_) virial_sum_ = virial_sum_ + w;
+      contact_sums_ = {};
+      for (std::size_t i = 0; i < virial_rows_.size(); ++i) {
+        contact_sums_.virial = contact_sums_.virial + virial_rows_[i];
+        contact_sums_.normals = contact_sums_.normals + normal_rows_[i];
+      }
     }
   }
   {
@@ -590,7 +595,7 @@ void Simulation::step(bool defer_kick) {
 analysis::RheologySample Simulation::rheology_sample() const {
   std::vector<double> density;
   for (const auto& m : materials_) density.push_back(m.density);
-  return analysis::measure_rheology(particles_, rheo_region_, virial_sum_, density);
+  return analysis::measure_rheology(particles_, rheo_region_, contact_sums_, density);
 }
 
 double Simulation::total_energy() const {

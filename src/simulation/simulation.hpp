@@ -150,7 +150,8 @@ class Simulation {
   double drift_max_d2_ = -1;
   bool kick_pending_ = false;      ///< the last step's second half kick is deferred (step())
   std::vector<Mat3> virial_rows_;  ///< per row of the force loop (no races), summed in order
-  Mat3 virial_sum_;
+  std::vector<Mat3> normal_rows_;  ///< the same for the contact normals' n (x) n
+  analysis::ContactSums contact_sums_;
   std::unique_ptr<CfdDemCoupling> cfd_;  ///< unresolved CFD-DEM (optional)
   // The runs that led to the state a checkpoint continues (summary.json's totals over restarts):
   // their number and wall time (NaN: a checkpoint of a build that did not record it), and when

@@ -17,7 +17,7 @@ Checks:
   samples replace an earlier file's at the same strain, a table without samples exits non-zero;
 - scripts/plot_sweep.py on the committed dry rod table (prefix "rheology_rods_" gives
   rheology_rods_*.png, alignment included) and on the sweep.csv of a short `grainflow sweep` of
-  spheres (no alignment plot);
+  spheres (no alignment plot; the contacts plot from its coordination and fabric columns);
 - scripts/plot_cfd_dem.py --shear on the committed dry / air / water tables, --slip on the
   committed windows table and on the windows of the run above;
 - where BUILD_DIR/tests/gf_validation_tests exists (BUILD_DIR: the folder of GRAINFLOW_BINARY),
@@ -185,7 +185,8 @@ with tempfile.TemporaryDirectory() as TMP:
         ("plot_sweep.py (fresh sweep of spheres)",
          script(os.path.join(SCRIPTS, "plot_sweep.py"), os.path.join(TMP, "sweep", "sweep.csv"),
                 out("sweep_spheres")), out("sweep_spheres"),
-         ["rheology_stresses.png", "rheology_friction_normal_stress.png"]),
+         ["rheology_stresses.png", "rheology_friction_normal_stress.png",
+          "rheology_contacts.png"]),
         ("plot_cfd_dem.py --shear",
          script(os.path.join(SCRIPTS, "plot_cfd_dem.py"), "--out", out("shear"), "--shear",
                 table("cfd_dem_shear_box_dry.csv"), table("cfd_dem_shear_box_air.csv"),

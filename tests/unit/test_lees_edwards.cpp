@@ -1,15 +1,20 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Lees-Edwards images: the shifted minimum image against a search over all 27 images, wrapping
 // of positions and velocities, the neighbour list against the brute-force oracle at offsets
-// that are not whole cells, and the contact virial against independent computations.
+// that are not whole cells, and the contact virial and fabric (spheres and spherocylinders)
+// against independent computations.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <random>
 
+#include "contact/geometry/capsule.hpp"
 #include "contact/pair_forces.hpp"
 #include "contact/registry.hpp"
 #include "contact/shape_forces.hpp"
+#include "core/quaternion.hpp"
 #include "neighbor/brute_force.hpp"
 #include "neighbor/verlet_list.hpp"
 
@@ -178,17 +183,23 @@ struct VirialSetup {
 };
 
 /// The virial of the force loop over a fresh list (forces zeroed first); `touching` gets the
-/// number of touching pairs.
-Mat3 loop_virial(VirialSetup& s, const Domain& d, std::int64_t& touching) {
+/// number of touching pairs, `normals` (if given) the sum of n (x) n over them.
+Mat3 loop_virial(VirialSetup& s, const Domain& d, std::int64_t& touching,
+                 Mat3* normals = nullptr) {
   VerletList list;
   list.build(d, s.p.x(), s.p.radius(), s.p.size(), 0.001);
-  std::vector<Mat3> rows(s.p.size());
+  std::vector<Mat3> rows(s.p.size()), nrows(s.p.size());
   contact::VirialSink sink;
   sink.rows = rows.data();
+  if (normals != nullptr) sink.normals = nrows.data();
   for (std::size_t i = 0; i < s.p.size(); ++i) s.p.f()[i] = {};
   touching = contact::compute_pair_forces(s.p, d, list, s.pairs, 1e-6, &sink);
   Mat3 w;
   for (const auto& r : rows) w = w + r;
+  if (normals != nullptr) {
+    *normals = {};
+    for (const auto& r : nrows) *normals = *normals + r;
+  }
   return w;
 }
 
@@ -201,14 +212,16 @@ void expect_virial_near(const Mat3& w, const Mat3& ref, double tol) {
     for (int b = 0; b < 3; ++b) EXPECT_NEAR(w.a[a][b], ref.a[a][b], tol * scale) << a << b;
 }
 
-/// The virial of a dense random packing in a periodic (optionally sheared) box by the force
-/// loop, against an O(N^2) sum written here: F = k delta n for every overlapping pair.
+/// The virial and the contact fabric (sum of n n) of a dense random packing in a periodic
+/// (optionally sheared) box by the force loop, against O(N^2) sums written here: F = k delta n
+/// for every overlapping pair.
 void check_periodic_virial(Domain d) {
   VirialSetup s(d, 400, 21);
   std::int64_t touching = 0;
-  const Mat3 w = loop_virial(s, d, touching);
+  Mat3 nn;
+  const Mat3 w = loop_virial(s, d, touching, &nn);
   ASSERT_GT(touching, 100);
-  Mat3 ref;
+  Mat3 ref, ref_nn;
   const Vec3* x = s.p.x();
   const double* r = s.p.radius();
   for (std::size_t i = 0; i < s.p.size(); ++i)
@@ -218,12 +231,19 @@ void check_periodic_virial(Domain d) {
       if (overlap <= 0) continue;
       const Vec3 f = (1000.0 * overlap / dist) * dd;
       for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) ref.a[a][b] += dd[a] * f[b];
+        for (int b = 0; b < 3; ++b) {
+          ref.a[a][b] += dd[a] * f[b];
+          ref_nn.a[a][b] += dd[a] * dd[b] / (dist * dist);
+        }
     }
   // Same pairs, same products, summed in a different order: round-off only (~1e-15 relative
   // per term, a few hundred terms); 1e-10 of the pressure scale leaves a wide margin but
   // catches any missed pair or a wrong image (each pair is ~1e-3 of the sum).
   expect_virial_near(w, ref, 1e-10);
+  // The fabric's trace counts the pairs exactly (round-off aside); each entry is a sum of a few
+  // hundred terms of order 1.
+  EXPECT_NEAR(nn.a[0][0] + nn.a[1][1] + nn.a[2][2], static_cast<double>(touching), 1e-9);
+  expect_virial_near(nn, ref_nn, 1e-12);
 }
 
 }  // namespace
@@ -262,4 +282,117 @@ TEST(Virial, OpenBoxEqualsSumOfPositionTimesForce) {
   // x_i F_i sums large cancelling terms (|x| ~ 0.05 m vs branch vectors ~ 0.005 m): round-off
   // ~1e-14 relative; 1e-10 as required by the issue.
   expect_virial_near(w, ref, 1e-10);
+}
+
+namespace {
+
+/// Closest points of the segments c_i + s a_i (|s| <= h_i) and c_j + t a_j (|t| <= h_j), as the
+/// difference p_i - p_j, written here from the definition: the squared distance is a convex
+/// quadratic in (s, t), so its minimum over the rectangle is the interior stationary point (if
+/// it lies inside) or the best of the four edges, each a clamped one-dimensional minimum.
+Vec3 segment_gap(const Vec3& ci, const Vec3& ai, double hi, const Vec3& cj, const Vec3& aj,
+                 double hj) {
+  const Vec3 w = ci - cj;
+  const double ab = dot(ai, aj), wa = dot(w, ai), wb = dot(w, aj);
+  auto gap = [&](double s, double t) { return w + s * ai - t * aj; };
+  Vec3 best{};
+  double best2 = 1e300;
+  auto consider = [&](double s, double t) {
+    const Vec3 g = gap(s, t);
+    if (norm2(g) < best2) {
+      best2 = norm2(g);
+      best = g;
+    }
+  };
+  const double det = 1 - ab * ab;
+  if (det > 1e-12) {
+    const double s = (ab * wb - wa) / det, t = (wb - ab * wa) / det;
+    if (std::abs(s) <= hi && std::abs(t) <= hj) consider(s, t);
+  }
+  for (double s : {-hi, hi}) consider(s, std::clamp(wb + s * ab, -hj, hj));
+  for (double t : {-hj, hj}) consider(std::clamp(t * ab - wa, -hi, hi), t);
+  return best;
+}
+
+}  // namespace
+
+// Spherocylinders (random sizes and orientations, ~4 contacts each) through the shape force
+// loop: in an open box the virial equals sum_i x_i F_i (Newton's third law, independent of
+// how each pair's force is found); in open, periodic and Lees-Edwards boxes the contact fabric
+// (sum of n n) equals a sum over all pairs of the unit gaps between their axes' closest points.
+TEST(Virial, CapsulesVirialAndFabricMatchPairSums) {
+  Material m{"m", 1395, 1e7, 0.3};
+  PairTable<contact::PairCoeffs> pairs{1};
+  pairs.set(0, 0,
+            contact::prepare_pair("hooke", {&m, &m, 0.004},
+                                  {{"restitution", 0.7},
+                                   {"stiffness", 6e5},
+                                   {"friction", 0.3},
+                                   {"rolling_friction", 0.0},
+                                   {"tangential_stiffness_ratio", 2.0 / 7.0}}));
+  Domain open;
+  open.lo = {0, 0, 0};
+  open.hi = {0.06, 0.04, 0.05};
+  Domain periodic = open;
+  periodic.periodic = {true, true, true};
+  for (const Domain& d : {open, periodic, sheared_box(0.0217)}) {
+    ParticleStore p;
+    p.enable_shapes();
+    std::mt19937_64 g(9);
+    std::uniform_real_distribution<double> u(0, 1);
+    const Vec3 L = d.length();
+    for (int k = 0; k < 320; ++k) {
+      const double r = 0.001 + 0.001 * u(g), h = 0.002 + 0.004 * u(g);
+      const std::size_t i =
+          p.add_sphere(k + 1, 0, r + h, 1395, {u(g) * L.x, u(g) * L.y, u(g) * L.z},
+                       {u(g) - 0.5, u(g) - 0.5, u(g) - 0.5});
+      p.shape()[i] = static_cast<std::int32_t>(ShapeCode::Spherocylinder);
+      p.half_length()[i] = h;
+      const Vec3 axis = normalized(Vec3{u(g) - 0.5, u(g) - 0.5, u(g) - 0.5});
+      p.orientation()[i] = quat_from_axis_angle(axis, 2 * std::numbers::pi * u(g));
+      p.mass()[i] = 1e-4;
+    }
+    VerletList list;
+    list.build(d, p.x(), p.radius(), p.size(), 0.001);
+    std::vector<Mat3> rows(p.size()), normals(p.size());
+    contact::VirialSink sink;
+    sink.rows = rows.data();
+    sink.normals = normals.data();
+    const auto touching = contact::compute_shape_pair_forces(p, d, list, pairs, 1e-6, &sink);
+    ASSERT_GT(touching, 200);
+    Mat3 w, nn;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      w = w + rows[i];
+      nn = nn + normals[i];
+    }
+    Mat3 ref_nn;
+    std::int64_t count = 0;
+    const Vec3* x = p.x();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (std::size_t j = i + 1; j < p.size(); ++j) {
+        const double hi = p.half_length()[i], hj = p.half_length()[j];
+        const Vec3 xj = x[i] - d.delta(x[i], x[j]);  // the image of j nearest to i
+        const Vec3 gap = segment_gap(x[i], contact::capsule_axis(p.orientation()[i]), hi, xj,
+                                     contact::capsule_axis(p.orientation()[j]), hj);
+        const double reach = p.radius()[i] - hi + p.radius()[j] - hj;
+        if (norm2(gap) >= reach * reach) continue;
+        ++count;
+        const Vec3 n = (1.0 / norm(gap)) * gap;
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) ref_nn.a[a][b] += n[a] * n[b];
+      }
+    EXPECT_EQ(touching, count);
+    // The loop's narrow phase finds the same closest points by another route: round-off of
+    // order 1e-12 in each unit normal (near-parallel axes amplify it), summed over ~500 pairs.
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) EXPECT_NEAR(nn.a[a][b], ref_nn.a[a][b], 1e-8) << a << b;
+    if (!d.periodic[0]) {
+      Mat3 ref;
+      for (std::size_t i = 0; i < p.size(); ++i)
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) ref.a[a][b] += x[i][a] * p.f()[i][b];
+      // As OpenBoxEqualsSumOfPositionTimesForce: cancelling terms, round-off ~1e-14 relative.
+      expect_virial_near(w, ref, 1e-10);
+    }
+  }
 }

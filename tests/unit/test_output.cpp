@@ -392,6 +392,32 @@ TEST(Csv, SeriesAppendsAndFlushes) {
   EXPECT_THROW(io::SeriesCsv(dir / "missing_dir" / "s.csv", {"a"}), IoError);
 }
 
+// Continuing a series (--append): rows up to the continuation time are kept; a series written
+// by an earlier build with fewer columns at the end gets "nan" in the new ones (its kept rows
+// and its file); any other change of columns is an input error, leaving the file as it was.
+TEST(Csv, SeriesContinuesAnEarlierBuildsColumns) {
+  TempDir dir;
+  const std::string old_text = "time,a,b\n0,1,2\n1,3,4\n2,5,6\n";
+  std::ofstream(dir / "s.csv") << old_text;
+  for (const std::vector<std::string>& cols :
+       {std::vector<std::string>{"a", "c"}, std::vector<std::string>{"a"},
+        std::vector<std::string>{"b", "a", "c"}, std::vector<std::string>{"ab", "c"}}) {
+    EXPECT_THROW(io::SeriesCsv(dir / "s.csv", cols, io::SeriesContinuation{1.5, true}),
+                 InputError)
+        << cols.size();
+    EXPECT_EQ(slurp(dir / "s.csv"), old_text);
+  }
+  {
+    io::SeriesCsv csv(dir / "s.csv", {"a", "b", "c", "d"}, io::SeriesContinuation{1.0, true});
+    ASSERT_EQ(csv.kept_rows().size(), 2u);
+    EXPECT_EQ(csv.kept_rows()[1][2], 4.0);
+    EXPECT_TRUE(std::isnan(csv.kept_rows()[1][3]));
+    EXPECT_TRUE(std::isnan(csv.kept_rows()[1][4]));
+    csv.append(1.5, {7, 8, 9, 10});
+  }
+  EXPECT_EQ(slurp(dir / "s.csv"), "time,a,b,c,d\n0,1,2,nan,nan\n1,3,4,nan,nan\n1.5,7,8,9,10\n");
+}
+
 // ---- VTK ------------------------------------------------------------------------------------
 
 namespace {

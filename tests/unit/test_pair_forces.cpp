@@ -5,7 +5,8 @@
 // list holds for that pair. Covered: the batched loop (one law for all pairs; one or two
 // materials; with and without rolling friction; open, periodic and Lees-Edwards boxes;
 // batches that fill up in the middle of a row), the per-contact dispatch of mixed laws, the
-// virial not changing a force, and the AVX2 and baseline kernels giving the same bits.
+// virial not changing a force, the contact fabric of both loops, and the AVX2 and baseline
+// kernels giving the same bits.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -240,6 +241,43 @@ TEST(PairForces, VirialLeavesForcesBitIdentical) {
     for (const auto& w : rows) trace += w.a[0][0] + w.a[1][1] + w.a[2][2];
     EXPECT_GT(trace, 0);  // repulsive contacts: positive virial
   }
+}
+
+// The contact fabric (sum of n n over the touching pairs) collected by the batched loop (one
+// law) and by the per-contact dispatch (mixed laws), against a sum over all pairs written here:
+// the fabric does not depend on the law, only on which pairs touch and their normals.
+TEST(PairForces, FabricOfBothLoopsMatchesPairSum) {
+  for (Box kind : {Box::Open, Box::Sheared})
+    for (const auto laws : {kHertz, std::array<const char*, 3>{"hertz_mindlin", "hooke",
+                                                               "hertz_mindlin"}}) {
+      Packing s(kind, 700, 2, laws, 0.1, 7);
+      s.zero_forces();
+      std::vector<Mat3> rows(s.p.size()), normals(s.p.size());
+      contact::VirialSink sink;
+      sink.rows = rows.data();
+      sink.normals = normals.data();
+      const auto touching = contact::compute_pair_forces(s.p, s.d, s.list, s.pairs, 1e-5, &sink);
+      ASSERT_GT(touching, 300);
+      Mat3 got, ref;
+      for (const auto& w : normals) got = got + w;
+      const Vec3* x = s.p.x();
+      const double* r = s.p.radius();
+      std::int64_t pairs = 0;
+      for (std::size_t i = 0; i < s.p.size(); ++i)
+        for (std::size_t j = i + 1; j < s.p.size(); ++j) {
+          const Vec3 d = s.d.delta(x[i], x[j]);
+          if (norm2(d) >= (r[i] + r[j]) * (r[i] + r[j])) continue;
+          ++pairs;
+          const Vec3 n = (1.0 / norm(d)) * d;
+          for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) ref.a[a][b] += n[a] * n[b];
+        }
+      EXPECT_EQ(touching, pairs);
+      // Sums of a few hundred unit-size terms in another order: round-off ~1e-13.
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) EXPECT_NEAR(got.a[a][b], ref.a[a][b], 1e-10) << a << b;
+      EXPECT_NEAR(got.a[0][0] + got.a[1][1] + got.a[2][2], static_cast<double>(pairs), 1e-10);
+    }
 }
 
 // The AVX2 kernel (where the CPU has it) and the baseline kernel do the same IEEE operations in

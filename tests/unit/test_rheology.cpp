@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The shear-box measurements of analysis/rheology on hand-built grain sets with known answers:
 // layer fluctuations with Bessel's correction, measured shear rate and volume fraction, and
-// the split of the granular temperature into the fluid's part and the slip relative to it.
+// the split of the granular temperature into the fluid's part and the slip relative to it, and
+// the coordination number and contact fabric from the force stage's sums.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -31,9 +32,9 @@ double layer_centre(int b) {
   return 0.25 + 0.1 * b;
 }
 
-analysis::RheologySample measure(const ParticleStore& p) {
+analysis::RheologySample measure(const ParticleStore& p, const analysis::ContactSums& c = {}) {
   const double density[] = {kDensity};
-  return analysis::measure_rheology(p, region(), Mat3{}, density);
+  return analysis::measure_rheology(p, region(), c, density);
 }
 
 }  // namespace
@@ -117,4 +118,39 @@ TEST(Rheology, TemperatureSplitsIntoFluidAndSlip) {
       EXPECT_NEAR(s.slip_temperature / s.temperature, 1.0, 1e-12);
     }
   }
+}
+
+// Three pairs counted in the layer, two with the normal along the compressive axis of simple
+// shear (1, 0, -1)/sqrt 2 and one along y, among ten grains: Z = 2 x 3 / 10, F = sum nn / 3 with
+// F_xx = F_yy = F_zz = 1/3, F_xz = -1/3, and its major axis in the x-z plane at -45 degrees.
+// The virial passes through unchanged (divided by the layer's volume).
+TEST(Rheology, CoordinationAndFabricFromTheContactSums) {
+  ParticleStore p;
+  for (int k = 0; k < 10; ++k)
+    p.add_sphere(k, 0, 0.01, kDensity, {0.05 + 0.1 * k, 0.5, 0.3 + 0.04 * k}, {0, 0, 0});
+  p.add_sphere(10, 0, 0.01, kDensity, {0.5, 0.5, 0.9}, {0, 0, 0});  // outside the layer
+  analysis::ContactSums c;
+  const double h = 1 / std::sqrt(2.0);
+  const Vec3 normals[] = {{h, 0, -h}, {-h, 0, h}, {0, 1, 0}};
+  for (const Vec3& n : normals)
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) c.normals.a[a][b] += n[a] * n[b];
+  c.virial.a[0][2] = -0.06;
+  const auto s = measure(p, c);
+  EXPECT_EQ(s.grains, 10);
+  EXPECT_EQ(s.contacts, 3);
+  EXPECT_NEAR(s.coordination, 0.6, 1e-15);
+  EXPECT_NEAR(s.fabric.a[0][0], 1.0 / 3, 1e-15);
+  EXPECT_NEAR(s.fabric.a[1][1], 1.0 / 3, 1e-15);
+  EXPECT_NEAR(s.fabric.a[2][2], 1.0 / 3, 1e-15);
+  EXPECT_NEAR(s.fabric.a[0][2], -1.0 / 3, 1e-15);
+  EXPECT_NEAR(s.fabric_angle, -45.0, 1e-12);
+  EXPECT_NEAR(s.collisional.a[0][2], -0.06 / region().volume(), 1e-15);
+
+  // No contacts: a zero fabric and Z = 0, not 0/0.
+  const auto none = measure(p);
+  EXPECT_EQ(none.contacts, 0);
+  EXPECT_EQ(none.coordination, 0.0);
+  EXPECT_EQ(none.fabric_angle, 0.0);
+  EXPECT_FALSE(std::isnan(none.fabric.a[0][0]));
 }
