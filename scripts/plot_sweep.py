@@ -43,6 +43,22 @@ def errorbars(ax, x, y, e, **kw):
     ax.errorbar(x, y, yerr=np.where(np.isfinite(e), e, 0), capsize=2, **kw)
 
 
+def save_against_rate(fig, axes, path):
+    """Shear-rate axes (logarithmic where the rates span more than a factor 3, as a sweep's
+    do; linear for one nominal rate, whose measured values lie within a few %) with grids, the
+    legend in the first panel; writes and closes fig."""
+    for ax in axes:
+        lo, hi = ax.dataLim.intervalx
+        if lo > 0 and hi > 3 * lo:
+            ax.set_xscale("log")
+        ax.set_xlabel("measured shear rate (1/s)")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def main():
     if len(sys.argv) not in (3, 4):
         sys.exit(__doc__)
@@ -91,14 +107,7 @@ def main():
     axes[1].set_yscale("log")
     axes[2].set_ylabel("$-N_2/N_1$")
     axes[2].axhline(0.5, color="k", lw=0.8, ls=":")
-    for ax in axes:
-        ax.set_xscale("log")
-        ax.set_xlabel("measured shear rate (1/s)")
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(f"{out}/{prefix}_friction_normal_stress.png", dpi=110)
-    plt.close(fig)
+    save_against_rate(fig, axes, f"{out}/{prefix}_friction_normal_stress.png")
 
     # 3. Alignment angle against shear rate and against volume fraction (highest rate).
     if np.any(np.abs(d["order_parameter"]) > 0):
@@ -146,14 +155,7 @@ def main():
         axes[1].axhline(-45, color="k", lw=0.8, ls=":")
         axes[2].set_ylabel("fabric anisotropy: $F_{xx}-F_{zz}$ (o), $F_{zz}-F_{yy}$ (s)")
         axes[2].axhline(0, color="k", lw=0.8, ls=":")
-        for ax in axes:
-            ax.set_xscale("log")
-            ax.set_xlabel("measured shear rate (1/s)")
-            ax.grid(True, which="both", alpha=0.3)
-        axes[0].legend(fontsize=8)
-        fig.tight_layout()
-        fig.savefig(f"{out}/{prefix}_contacts.png", dpi=110)
-        plt.close(fig)
+        save_against_rate(fig, axes, f"{out}/{prefix}_contacts.png")
 
 
 if __name__ == "__main__":

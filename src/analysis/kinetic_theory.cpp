@@ -15,6 +15,14 @@ double carnahan_starling_g0(double phi) {
   return (1 - 0.5 * phi) / (q * q * q);
 }
 
+double enskog_collision_frequency(double phi, double temperature, double diameter) {
+  REQUIRE(temperature >= 0 && diameter > 0,
+          "enskog_collision_frequency: temperature {} m^2/s^2 or diameter {} m out of range",
+          temperature, diameter);
+  return 24 * phi * carnahan_starling_g0(phi) / diameter *
+         std::sqrt(temperature / std::numbers::pi);
+}
+
 ShearFlowPrediction lun_simple_shear(double phi, double restitution, double diameter,
                                      double density, double shear_rate) {
   using std::numbers::pi;

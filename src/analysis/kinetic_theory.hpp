@@ -27,6 +27,12 @@ namespace gf::analysis {
 /// Carnahan-Starling radial distribution at contact, (1 - phi/2) / (1 - phi)^3; 0 <= phi < 1.
 double carnahan_starling_g0(double phi);
 
+/// Enskog collision frequency of one grain, 1/s: omega = (24 phi g0 / d) sqrt(T / pi) for
+/// smooth spheres of diameter d with Maxwellian velocities of temperature T (m^2/s^2) (Chapman &
+/// Cowling 1970, ch. 16; with g0 of Carnahan-Starling). With binary contacts of duration t_c a
+/// grain then touches omega t_c others on average: the coordination number of a dilute gas.
+double enskog_collision_frequency(double phi, double temperature, double diameter);
+
 /// Steady simple-shear state of Lun et al. (1984); stresses compressive positive.
 struct ShearFlowPrediction {
   double temperature = 0;               ///< m^2/s^2, velocity variance per component

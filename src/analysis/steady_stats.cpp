@@ -102,6 +102,33 @@ BlockAverage block_average(std::span<const double> x, std::size_t min_blocks) {
   return r;
 }
 
+BlockAverage weighted_block_average(std::span<const double> x, std::span<const double> w,
+                                    std::size_t min_blocks) {
+  REQUIRE(x.size() == w.size(), "weighted_block_average: {} values, {} weights", x.size(),
+          w.size());
+  std::vector<double> xs, ws;
+  double sw = 0, swx = 0;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    if (!std::isfinite(x[i]) || !std::isfinite(w[i])) continue;
+    xs.push_back(x[i]);
+    ws.push_back(w[i]);
+    sw += w[i];
+    swx += w[i] * x[i];
+  }
+  if (!(sw != 0)) {
+    BlockAverage r = block_average({});
+    r.samples = xs.size();
+    return r;
+  }
+  const double mean = swx / sw;
+  const double w_mean = sw / static_cast<double>(ws.size());
+  std::vector<double> lin(xs.size());
+  for (std::size_t i = 0; i < xs.size(); ++i) lin[i] = ws[i] / w_mean * (xs[i] - mean);
+  BlockAverage r = block_average(lin, min_blocks);
+  r.mean = mean;
+  return r;
+}
+
 namespace {
 
 /// (mean of the second half of x - mean of its first half) / (2 se), se the standard error of

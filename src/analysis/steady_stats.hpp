@@ -44,6 +44,13 @@ struct BlockAverage {
 /// (level 0, the samples themselves, always).
 BlockAverage block_average(std::span<const double> x, std::size_t min_blocks = 16);
 
+/// Ratio estimate sum w x / sum w (e.g. a per-contact mean from per-sample means x over w
+/// contacts) over the samples where both are finite, with the blocking standard error of the
+/// linearised series (w / mean w)(x - estimate) (the delta method for a ratio of means).
+/// NaN mean and error where the weights sum to zero; `samples` counts the samples used.
+BlockAverage weighted_block_average(std::span<const double> x, std::span<const double> w,
+                                    std::size_t min_blocks = 16);
+
 struct SteadyAverage {
   BlockAverage avg;       ///< over x[start..]
   std::size_t start = 0;  ///< first sample of the steady window

@@ -91,8 +91,8 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
       f[j] -= res.force;
       if constexpr (Virial) {
         if (sink.counts(xi, d)) {
-          VirialSink::add_outer(wi, d, res.force);
-          VirialSink::add_outer(ni, kin.normal, kin.normal);
+          wi = wi + outer(d, res.force);
+          ni = ni + outer(kin.normal, kin.normal);
         }
       }
       if constexpr (Rolling) {

@@ -51,12 +51,8 @@ struct VirialSink {
   }
   /// Adds the pair of row i (branch d, unit normal n, force f on i) to the row's sums.
   GF_HOST_DEVICE void add(std::int64_t i, const Vec3& d, const Vec3& n, const Vec3& f) const {
-    add_outer(rows[i], d, f);
-    if (normals != nullptr) add_outer(normals[i], n, n);
-  }
-  GF_HOST_DEVICE static void add_outer(Mat3& w, const Vec3& a, const Vec3& b) {
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) w.a[r][c] += a[r] * b[c];
+    rows[i] = rows[i] + outer(d, f);
+    if (normals != nullptr) normals[i] = normals[i] + outer(n, n);
   }
 };
 

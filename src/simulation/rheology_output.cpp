@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 #include "analysis/kinetic_theory.hpp"
@@ -106,6 +107,38 @@ void RheologyOutput::sample(const Simulation& sim) {
   for (std::size_t k = 0; k < v.size(); ++k) values_[k].push_back(v[k]);
 }
 
+void RheologyOutput::contact_weighted_fabric(std::size_t start,
+                                             std::vector<RheologySummaryRow>& rows) const {
+  // The fabric is a mean over contacts: samples weigh by their contacts C = Z N / 2 (a dilute
+  // layer's samples often have none, and their zero fabric must not count).
+  const std::size_t n = times_.size() - start;
+  auto column = [&](const char* q) {
+    return std::span<const double>(values_[column_index(q)]).subspan(start);
+  };
+  const auto z = column("coordination_number"), grains = column("grains");
+  std::vector<double> w(n);
+  for (std::size_t k = 0; k < n; ++k) w[k] = 0.5 * z[k] * grains[k];
+  const char* comp[] = {"F_xx", "F_zz", "F_xz", "F_yy"};
+  double mean[4];
+  for (int c = 0; c < 4; ++c) {
+    const auto a = analysis::weighted_block_average(column(comp[c]), w);
+    mean[c] = a.mean;
+    rows[column_index(comp[c])] = {comp[c], a.mean, a.std_error, std::nan("")};
+  }
+  // The angle of the mean fabric's major axis, theta = 1/2 atan2(b, a) with a = F_xx - F_zz,
+  // b = 2 F_xz; its error from the samples' linearised deviations (the delta method).
+  const double a = mean[0] - mean[1], b = 2 * mean[2], r2 = a * a + b * b;
+  const double deg = 180.0 / std::numbers::pi;
+  std::vector<double> lin(n);
+  const auto fxx = column("F_xx"), fzz = column("F_zz"), fxz = column("F_xz");
+  for (std::size_t k = 0; k < n; ++k)
+    lin[k] = 0.5 * deg *
+             (a * 2 * (fxz[k] - mean[2]) - b * ((fxx[k] - mean[0]) - (fzz[k] - mean[1]))) / r2;
+  const auto angle = analysis::weighted_block_average(lin, w);
+  rows[column_index("fabric_angle")] = {"fabric_angle", 0.5 * deg * std::atan2(b, a),
+                                        r2 > 0 ? angle.std_error : std::nan(""), std::nan("")};
+}
+
 RheologySummary RheologyOutput::finish(const Simulation& sim) {
   csv_->flush();
   RheologySummary out;
@@ -139,6 +172,7 @@ RheologySummary RheologyOutput::finish(const Simulation& sim) {
         drifting = q;
       }
   }
+  contact_weighted_fabric(start, rows);
   // Kinetic theory for volume-equivalent spheres at the measured volume fraction and rate.
   const double e = grain_restitution(cfg);
   const double phi = rows[column_index("volume_fraction")].mean;

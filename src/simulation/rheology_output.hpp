@@ -64,6 +64,10 @@ class RheologyOutput {
   const std::vector<double>& column(std::size_t k) const { return values_[k]; }
 
  private:
+  /// Replaces the steady rows of the fabric (F_.., fabric_angle) by means over the contacts of
+  /// the samples from `start` on.
+  void contact_weighted_fabric(std::size_t start, std::vector<RheologySummaryRow>& rows) const;
+
   std::filesystem::path dir_;
   std::int64_t every_ = 0;
   std::unique_ptr<io::SeriesCsv> csv_;

@@ -22,7 +22,7 @@ Checks:
   committed windows table and on the windows of the run above;
 - where BUILD_DIR/tests/gf_validation_tests exists (BUILD_DIR: the folder of GRAINFLOW_BINARY),
   the modes that run it: plot_cfd_dem.py BUILD_DIR, plot_drag.py, plot_fluid_fv.py and
-  make_plots.py (seconds each on one core).
+  make_plots.py (seconds each on one core), plot_rheology_spheres.py (45 s).
 Every script is given --out (or its output folder) as a folder that does not exist yet, must
 exit 0 and write exactly the expected files, each a non-empty PNG; docs/validation (names, sizes,
 modification times) is the same afterwards. The scripts run at most os.cpu_count() at a time.
@@ -209,6 +209,10 @@ with tempfile.TemporaryDirectory() as TMP:
             ("plot_drag.py BUILD_DIR",
              script(os.path.join(SCRIPTS, "plot_drag.py"), build, "--out", out("drag")),
              out("drag"), ["drag_terminal.png", "drag_laws.png", "drag_hs_rod.png"]),
+            ("plot_rheology_spheres.py BUILD_DIR",
+             script(os.path.join(SCRIPTS, "plot_rheology_spheres.py"), "--out",
+                    out("rheology_spheres"), build),
+             out("rheology_spheres"), ["rheology_spheres_kinetic_theory.png"]),
             ("plot_fluid_fv.py BUILD_DIR",
              script(os.path.join(SCRIPTS, "plot_fluid_fv.py"), "--out", out("fluid_fv"), build),
              out("fluid_fv"), ["fluid_fv_cavity.png", "fluid_fv_convergence.png"]),

@@ -156,19 +156,25 @@ TEST(LeesEdwards, RebuildWhenTheOffsetMovedBySkinOverThree) {
 
 namespace {
 
+/// One material with itself: Hooke law of stiffness k (N/m), e = 0.7, Coulomb friction mu.
+PairTable<contact::PairCoeffs> hooke_table(const Material& m, double k, double mu) {
+  PairTable<contact::PairCoeffs> pairs{1};
+  pairs.set(0, 0,
+            contact::prepare_pair("hooke", {&m, &m, 0.004},
+                                  {{"restitution", 0.7},
+                                   {"stiffness", k},
+                                   {"friction", mu},
+                                   {"rolling_friction", 0.0},
+                                   {"tangential_stiffness_ratio", 2.0 / 7.0}}));
+  return pairs;
+}
+
 /// Overlapping spheres at rest (no damping, no friction force), Hooke law k = 1000 N/m.
 struct VirialSetup {
   ParticleStore p;
-  PairTable<contact::PairCoeffs> pairs{1};
   Material m{"m", 2500, 1e7, 0.3};
+  PairTable<contact::PairCoeffs> pairs = hooke_table(m, 1000.0, 0.0);
   explicit VirialSetup(const Domain& d, int n, unsigned seed) {
-    pairs.set(0, 0,
-              contact::prepare_pair("hooke", {&m, &m, 0.004},
-                                    {{"restitution", 0.7},
-                                     {"stiffness", 1000.0},
-                                     {"friction", 0.0},
-                                     {"rolling_friction", 0.0},
-                                     {"tangential_stiffness_ratio", 2.0 / 7.0}}));
     std::mt19937_64 g(seed);
     std::uniform_real_distribution<double> u(0, 1);
     const Vec3 L = d.length();
@@ -230,11 +236,8 @@ void check_periodic_virial(Domain d) {
       const double dist = norm(dd), overlap = r[i] + r[j] - dist;
       if (overlap <= 0) continue;
       const Vec3 f = (1000.0 * overlap / dist) * dd;
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b) {
-          ref.a[a][b] += dd[a] * f[b];
-          ref_nn.a[a][b] += dd[a] * dd[b] / (dist * dist);
-        }
+      ref = ref + outer(dd, f);
+      ref_nn = ref_nn + outer((1 / dist) * dd, (1 / dist) * dd);
     }
   // Same pairs, same products, summed in a different order: round-off only (~1e-15 relative
   // per term, a few hundred terms); 1e-10 of the pressure scale leaves a wide margin but
@@ -321,15 +324,8 @@ Vec3 segment_gap(const Vec3& ci, const Vec3& ai, double hi, const Vec3& cj, cons
 // how each pair's force is found); in open, periodic and Lees-Edwards boxes the contact fabric
 // (sum of n n) equals a sum over all pairs of the unit gaps between their axes' closest points.
 TEST(Virial, CapsulesVirialAndFabricMatchPairSums) {
-  Material m{"m", 1395, 1e7, 0.3};
-  PairTable<contact::PairCoeffs> pairs{1};
-  pairs.set(0, 0,
-            contact::prepare_pair("hooke", {&m, &m, 0.004},
-                                  {{"restitution", 0.7},
-                                   {"stiffness", 6e5},
-                                   {"friction", 0.3},
-                                   {"rolling_friction", 0.0},
-                                   {"tangential_stiffness_ratio", 2.0 / 7.0}}));
+  const Material m{"m", 1395, 1e7, 0.3};
+  const auto pairs = hooke_table(m, 6e5, 0.3);
   Domain open;
   open.lo = {0, 0, 0};
   open.hi = {0.06, 0.04, 0.05};
@@ -378,8 +374,7 @@ TEST(Virial, CapsulesVirialAndFabricMatchPairSums) {
         if (norm2(gap) >= reach * reach) continue;
         ++count;
         const Vec3 n = (1.0 / norm(gap)) * gap;
-        for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b) ref_nn.a[a][b] += n[a] * n[b];
+        ref_nn = ref_nn + outer(n, n);
       }
     EXPECT_EQ(touching, count);
     // The loop's narrow phase finds the same closest points by another route: round-off of
@@ -388,9 +383,7 @@ TEST(Virial, CapsulesVirialAndFabricMatchPairSums) {
       for (int b = 0; b < 3; ++b) EXPECT_NEAR(nn.a[a][b], ref_nn.a[a][b], 1e-8) << a << b;
     if (!d.periodic[0]) {
       Mat3 ref;
-      for (std::size_t i = 0; i < p.size(); ++i)
-        for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b) ref.a[a][b] += x[i][a] * p.f()[i][b];
+      for (std::size_t i = 0; i < p.size(); ++i) ref = ref + outer(x[i], p.f()[i]);
       // As OpenBoxEqualsSumOfPositionTimesForce: cancelling terms, round-off ~1e-14 relative.
       expect_virial_near(w, ref, 1e-10);
     }

@@ -269,8 +269,7 @@ TEST(PairForces, FabricOfBothLoopsMatchesPairSum) {
           if (norm2(d) >= (r[i] + r[j]) * (r[i] + r[j])) continue;
           ++pairs;
           const Vec3 n = (1.0 / norm(d)) * d;
-          for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) ref.a[a][b] += n[a] * n[b];
+          ref = ref + outer(n, n);
         }
       EXPECT_EQ(touching, pairs);
       // Sums of a few hundred unit-size terms in another order: round-off ~1e-13.

@@ -132,9 +132,7 @@ TEST(Rheology, CoordinationAndFabricFromTheContactSums) {
   analysis::ContactSums c;
   const double h = 1 / std::sqrt(2.0);
   const Vec3 normals[] = {{h, 0, -h}, {-h, 0, h}, {0, 1, 0}};
-  for (const Vec3& n : normals)
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) c.normals.a[a][b] += n[a] * n[b];
+  for (const Vec3& n : normals) c.normals = c.normals + outer(n, n);
   c.virial.a[0][2] = -0.06;
   const auto s = measure(p, c);
   EXPECT_EQ(s.grains, 10);
