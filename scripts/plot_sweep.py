@@ -6,12 +6,13 @@ measured shear rate for each volume fraction (kinetic theory of volume-equivalen
 apparent friction and viscosity, -N2/N1, and the alignment angle against shear rate and volume
 fraction, and (for tables that have them) the coordination number and the contact fabric.
 
-Usage: plot_sweep.py sweep.csv OUTPUT_FOLDER [PREFIX]
+Usage: plot_sweep.py sweep.csv OUTPUT_FOLDER [PREFIX] [--only FIGURE[,FIGURE...]]
 writes OUTPUT_FOLDER/PREFIX_stresses.png, PREFIX_friction_normal_stress.png and (when the grains
 have an orientation order) PREFIX_alignment.png and (when the table has the contact columns)
 PREFIX_contacts.png; PREFIX defaults to "rheology", a trailing "_"
 is dropped (PREFIX rheology_rods_ gives rheology_rods_stresses.png), and OUTPUT_FOLDER is
-created if missing. `grainflow sweep` calls it on its own table."""
+created if missing. --only draws the named figures (stresses, friction_normal_stress, alignment,
+contacts) and no others. `grainflow sweep` calls it on its own table."""
 import os
 import sys
 
@@ -21,6 +22,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+
+FIGURES = ["stresses", "friction_normal_stress", "alignment", "contacts"]
 
 
 def load(path):
@@ -60,57 +64,75 @@ def save_against_rate(fig, axes, path):
 
 
 def main():
-    if len(sys.argv) not in (3, 4):
+    args = sys.argv[1:]
+    only = None
+    if "--only" in args:
+        k = args.index("--only")
+        if k + 1 >= len(args):
+            sys.exit(__doc__)
+        only = set(args[k + 1].split(","))
+        unknown = only - set(FIGURES)
+        if unknown:
+            sys.exit(f"plot_sweep.py: --only {','.join(sorted(unknown))}: not one of "
+                     f"{', '.join(FIGURES)}")
+        del args[k:k + 2]
+    if len(args) not in (2, 3):
         sys.exit(__doc__)
-    table, out = sys.argv[1], sys.argv[2]
-    prefix = sys.argv[3].rstrip("_") if len(sys.argv) > 3 else "rheology"
+    table, out = args[0], args[1]
+    prefix = args[2].rstrip("_") if len(args) > 2 else "rheology"
+
+    def want(figure):
+        return only is None or figure in only
+
     os.makedirs(out, exist_ok=True)
     d = load(table)
     colors = plt.cm.viridis(np.linspace(0, 0.9, max(1, len(list(groups(d))))))
 
-    # 1. T, P, -sigma_xz against shear rate (log-log), kinetic theory dashed.
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
-    for (phi, g), c in zip(groups(d), colors):
-        lab = "measured" if phi is None else f"phi = {phi:g}"
-        rate = np.abs(g["shear_rate"])
-        for ax, q, sign in zip(axes, ["granular_temperature", "pressure", "sigma_xz"], [1, 1, -1]):
-            errorbars(ax, rate, sign * g[q], g[q + "_err"], fmt="o-", color=c, label=lab)
-            kt = sign * g[q + "_kt"]
-            if np.any(np.isfinite(kt)):
-                ax.plot(rate, kt, "--", color=c, alpha=0.8)
-    for ax, t in zip(axes, ["granular temperature T (m$^2$/s$^2$)", "pressure P (Pa)",
-                            "shear stress $-\\sigma_{xz}$ (Pa)"]):
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_xlabel("measured shear rate (1/s)")
-        ax.set_ylabel(t)
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].legend(fontsize=8, title="dashed: kinetic theory,\nvolume-equivalent spheres",
-                   title_fontsize=7)
-    fig.tight_layout()
-    fig.savefig(f"{out}/{prefix}_stresses.png", dpi=110)
-    plt.close(fig)
+    if want("stresses"):
+        # 1. T, P, -sigma_xz against shear rate (log-log), kinetic theory dashed.
+        fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+        for (phi, g), c in zip(groups(d), colors):
+            lab = "measured" if phi is None else f"phi = {phi:g}"
+            rate = np.abs(g["shear_rate"])
+            for ax, q, sign in zip(axes, ["granular_temperature", "pressure", "sigma_xz"], [1, 1, -1]):
+                errorbars(ax, rate, sign * g[q], g[q + "_err"], fmt="o-", color=c, label=lab)
+                kt = sign * g[q + "_kt"]
+                if np.any(np.isfinite(kt)):
+                    ax.plot(rate, kt, "--", color=c, alpha=0.8)
+        for ax, t in zip(axes, ["granular temperature T (m$^2$/s$^2$)", "pressure P (Pa)",
+                                "shear stress $-\\sigma_{xz}$ (Pa)"]):
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel("measured shear rate (1/s)")
+            ax.set_ylabel(t)
+            ax.grid(True, which="both", alpha=0.3)
+        axes[0].legend(fontsize=8, title="dashed: kinetic theory,\nvolume-equivalent spheres",
+                       title_fontsize=7)
+        fig.tight_layout()
+        fig.savefig(f"{out}/{prefix}_stresses.png", dpi=110)
+        plt.close(fig)
 
-    # 2. Apparent friction and viscosity; -N2/N1.
-    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
-    for (phi, g), c in zip(groups(d), colors):
-        lab = "measured" if phi is None else f"phi = {phi:g}"
-        rate = np.abs(g["shear_rate"])
-        errorbars(axes[0], rate, g["friction"], g["friction_err"], fmt="o-", color=c, label=lab)
-        errorbars(axes[1], rate, g["viscosity"], g["viscosity_err"], fmt="o-", color=c, label=lab)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = -g["N2"] / g["N1"]
-            rerr = np.abs(ratio) * np.hypot(g["N2_err"] / g["N2"], g["N1_err"] / g["N1"])
-        errorbars(axes[2], rate, ratio, rerr, fmt="o-", color=c, label=lab)
-    axes[0].set_ylabel("apparent friction $|\\sigma_{xz}|/P$")
-    axes[1].set_ylabel("viscosity $-\\sigma_{xz}/\\dot\\gamma$ (Pa s)")
-    axes[1].set_yscale("log")
-    axes[2].set_ylabel("$-N_2/N_1$")
-    axes[2].axhline(0.5, color="k", lw=0.8, ls=":")
-    save_against_rate(fig, axes, f"{out}/{prefix}_friction_normal_stress.png")
+    if want("friction_normal_stress"):
+        # 2. Apparent friction and viscosity; -N2/N1.
+        fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+        for (phi, g), c in zip(groups(d), colors):
+            lab = "measured" if phi is None else f"phi = {phi:g}"
+            rate = np.abs(g["shear_rate"])
+            errorbars(axes[0], rate, g["friction"], g["friction_err"], fmt="o-", color=c, label=lab)
+            errorbars(axes[1], rate, g["viscosity"], g["viscosity_err"], fmt="o-", color=c, label=lab)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                ratio = -g["N2"] / g["N1"]
+                rerr = np.abs(ratio) * np.hypot(g["N2_err"] / g["N2"], g["N1_err"] / g["N1"])
+            errorbars(axes[2], rate, ratio, rerr, fmt="o-", color=c, label=lab)
+        axes[0].set_ylabel("apparent friction $|\\sigma_{xz}|/P$")
+        axes[1].set_ylabel("viscosity $-\\sigma_{xz}/\\dot\\gamma$ (Pa s)")
+        axes[1].set_yscale("log")
+        axes[2].set_ylabel("$-N_2/N_1$")
+        axes[2].axhline(0.5, color="k", lw=0.8, ls=":")
+        save_against_rate(fig, axes, f"{out}/{prefix}_friction_normal_stress.png")
 
     # 3. Alignment angle against shear rate and against volume fraction (highest rate).
-    if np.any(np.abs(d["order_parameter"]) > 0):
+    if want("alignment") and np.any(np.abs(d["order_parameter"]) > 0):
         fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
         phis, angles, errs = [], [], []
         for (phi, g), c in zip(groups(d), colors):
@@ -136,7 +158,7 @@ def main():
     # 4. Contacts (tables of builds that measure them): coordination number, the angle of the
     # contact fabric's major axis, and the fabric's anisotropies next to the normal stress
     # differences they feed (F_xx - F_zz with N1, F_zz - F_yy with N2).
-    if "coordination_number" in d.dtype.names:
+    if want("contacts") and "coordination_number" in d.dtype.names:
         fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
         for (phi, g), c in zip(groups(d), colors):
             lab = "measured" if phi is None else f"phi = {phi:g}"

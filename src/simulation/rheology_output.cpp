@@ -164,7 +164,11 @@ RheologySummary RheologyOutput::finish(const Simulation& sim) {
   const char* drifting = nullptr;  // the key quantity with the largest |drift|
   if (out.samples < 4) out.drift = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t k = 0; k < cols.size(); ++k) {
-    const auto a = analysis::steady_average(values_[k], start);
+    // A run continued with --append from an earlier build's series has nan in the columns that
+    // build did not write: such a column averages its samples from the first one it has.
+    std::size_t from = start;
+    while (from < values_[k].size() && !std::isfinite(values_[k][from])) ++from;
+    const auto a = analysis::steady_average(values_[k], from);
     rows.push_back({cols[k], a.avg.mean, a.avg.std_error, std::nan("")});
     for (const char* q : kKeyQuantities)
       if (cols[k] == q && std::abs(a.drift) > std::abs(out.drift)) {

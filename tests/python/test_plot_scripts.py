@@ -16,7 +16,8 @@ Checks:
   tables: windows of width 0.1 hold ten samples each (no drift of the bounds), a later file's
   samples replace an earlier file's at the same strain, a table without samples exits non-zero;
 - scripts/plot_sweep.py on the committed dry rod table (prefix "rheology_rods_" gives
-  rheology_rods_*.png, alignment included) and on the sweep.csv of a short `grainflow sweep` of
+  rheology_rods_*.png, alignment included), with --only contacts on the committed rod table
+  that has the contact columns (that figure alone), and on the sweep.csv of a short `grainflow sweep` of
   spheres (no alignment plot; the contacts plot from its coordination and fabric columns);
 - scripts/plot_cfd_dem.py --shear on the committed dry / air / water tables, --slip on the
   committed windows table and on the windows of the run above;
@@ -182,6 +183,10 @@ with tempfile.TemporaryDirectory() as TMP:
         ("plot_sweep.py (dry rods)",
          script(os.path.join(SCRIPTS, "plot_sweep.py"), table("cfd_dem_shear_box_dry.csv"),
                 out("sweep_rods"), "rheology_rods_"), out("sweep_rods"), rods),
+        ("plot_sweep.py --only contacts (committed rod table with contacts)",
+         script(os.path.join(SCRIPTS, "plot_sweep.py"), table("rheology_rods_contacts.csv"),
+                out("sweep_contacts"), "rheology_rods_", "--only", "contacts"),
+         out("sweep_contacts"), ["rheology_rods_contacts.png"]),
         ("plot_sweep.py (fresh sweep of spheres)",
          script(os.path.join(SCRIPTS, "plot_sweep.py"), os.path.join(TMP, "sweep", "sweep.csv"),
                 out("sweep_spheres")), out("sweep_spheres"),

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <thread>
 
@@ -21,6 +22,7 @@
 #include "fem_case_text.hpp"
 #include "io/input/parse_case.hpp"
 #include "simulation/fem_case.hpp"
+#include "simulation/rheology_output.hpp"
 #include "simulation/simulation.hpp"
 #include "state_compare.hpp"
 #include "temp_dir.hpp"
@@ -168,6 +170,51 @@ TEST(Restart, AppendContinuesTheOutputsOfTheRunInPlace) {
   bad = rest;
   bad.output = tmp / "nowhere";
   EXPECT_THROW(Simulation(cfg).run(bad), InputError);
+}
+
+TEST(Restart, AppendContinuesTheRheologyOfAnEarlierBuild) {
+  // A run of a build that wrote rheology.csv without the contact columns (coordination number,
+  // fabric), continued with --append by this build: its rows get nan there, and the summary
+  // averages those columns over the samples that have them.
+  test::TempDir tmp;
+  const auto cfg = input::load_case(
+      std::string(GF_SOURCE_DIR) + "/cases/rheology/lees_edwards_spheres/case.yaml",
+      {{"particles[0].fill.volume_fraction", "0.3"},
+       {"shear.rate", "400"},
+       {"shear.strain", "2"},
+       {"time.step", "1.0e-6"},
+       {"output.vtk.every", "0"}});
+  RunOptions cut;
+  cut.output = tmp / "cut";
+  cut.quiet = true;
+  cut.steps = 2345;
+  Simulation(cfg).run(cut);
+  // Drop the last six columns, as the earlier build wrote the file.
+  const std::filesystem::path csv = cut.output / "rheology.csv";
+  std::istringstream in(read_text_file(csv));
+  std::string text, line;
+  std::size_t kept_rows = 0;
+  while (std::getline(in, line)) {
+    for (int k = 0; k < 6; ++k) line.erase(line.rfind(','));
+    text += line + '\n';
+    ++kept_rows;
+  }
+  ASSERT_GT(kept_rows, 5u);
+  std::ofstream(csv) << text;
+
+  RunOptions rest = cut;
+  rest.steps.reset();
+  rest.restart = cut.output / "checkpoint_final.h5";
+  rest.append = true;
+  Simulation(cfg).run(rest);
+  const std::string after = read_text_file(csv);
+  EXPECT_NE(after.find("grains,coordination_number,F_xx,F_yy,F_zz,F_xz,fabric_angle\n"),
+            std::string::npos);
+  EXPECT_NE(after.find(",nan,nan,nan,nan,nan,nan\n"), std::string::npos);
+  const auto s = read_rheology_summary(cut.output / "rheology_summary.csv");
+  EXPECT_GT(s.at("coordination_number")[0], 0.0);
+  EXPECT_NEAR(s.at("F_xx")[0] + s.at("F_yy")[0] + s.at("F_zz")[0], 1.0, 1e-9);
+  EXPECT_TRUE(std::isfinite(s.at("fabric_angle")[0]));
 }
 
 TEST(Restart, RejectsForeignFileAndMismatchedTimeStep) {
