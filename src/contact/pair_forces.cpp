@@ -59,7 +59,6 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
     const PairCoeffs* const c_row = coeffs + static_cast<std::size_t>(mat[i]) * n_mat;
     std::int64_t touching = 0;
     Vec3 fi{}, ti{};
-    [[maybe_unused]] Mat3 wi{}, ni{};
     const std::int64_t end = off[i + 1];
     for (std::int64_t k = off[i]; k < end; ++k) {
       const std::int32_t j = nb[k];
@@ -89,12 +88,9 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
       const Vec3 nxf = cross(kin.normal, res.force);
       fi += res.force;
       f[j] -= res.force;
-      if constexpr (Virial) {
-        if (sink.counts(xi, d)) {
-          wi = wi + outer(d, res.force);
-          ni = ni + outer(kin.normal, kin.normal);
-        }
-      }
+      if constexpr (Virial)
+        sink.add(k, static_cast<std::int32_t>(i), j, xi, d, kin.normal, xi - arm_i * kin.normal,
+                 res.force, kin.overlap);
       if constexpr (Rolling) {
         ti += res.rolling_torque - arm_i * nxf;
         tq[j] -= res.rolling_torque + arm_j * nxf;
@@ -105,10 +101,6 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
     }
     f[i] += fi;
     tq[i] += ti;
-    if constexpr (Virial) {
-      sink.rows[i] = sink.rows[i] + wi;
-      if (sink.normals != nullptr) sink.normals[i] = sink.normals[i] + ni;
-    }
     return touching;
   };
   return for_rows_in_slabs(list, row);
@@ -284,10 +276,10 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
       hist[b.k[c]] = b.hist.get(c);
       if constexpr (Virial) {
         const Vec3 d = b.d.get(c);
-        if (sink.counts(x[i], d)) {
-          const double dist = norm(d);  // the normal as the batch's kernel takes it
-          sink.add(i, d, dist > 0 ? (1.0 / dist) * d : Vec3{0, 0, 1}, fc);
-        }
+        const double dist = norm(d);  // the normal as the batch's kernel takes it
+        const Vec3 unit = dist > 0 ? (1.0 / dist) * d : Vec3{0, 0, 1};
+        const double overlap = r[i] + r[j] - dist;
+        sink.add(b.k[c], i, j, x[i], d, unit, x[i] - (r[i] - 0.5 * overlap) * unit, fc, overlap);
       }
     }
   };

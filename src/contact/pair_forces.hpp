@@ -32,16 +32,31 @@ GF_HOST_DEVICE inline bool sphere_sphere(const Domain& dom, const Vec3& xi, cons
   return true;
 }
 
-/// Where a force loop adds the contact virial W = sum over pairs of d (x) F (W[a][b] = d_a F_b,
-/// d = x_i - x_j to the nearest image of j, F the force on i from j): rows[i] collects the pairs
-/// of row i whose branch midpoint x_i - d/2 has coordinate `axis` in [lo, hi). The collisional
-/// stress of a region of volume V is then sum_i rows[i] / V (analysis/rheology.hpp). With
-/// `normals`, normals[i] also collects n (x) n of the same pairs (n the unit contact normal; its
-/// trace counts the pairs): the contact fabric. Written only on the steps that ask for it; `rows`
-/// (and `normals`) hold n zeroed entries.
+/// One touching pair as the force loop saw it (output.contacts_csv): grains i and j (indices in
+/// the store; i < 0 marks a list entry whose pair is apart), the contact point, the unit normal
+/// (pointing from j to i), the force on i from j (j gets -force), the overlap and the branch
+/// vector x_i - x_j to the image of j that touches i.
+struct ContactRecord {
+  std::int32_t i = -1, j = -1;
+  Vec3 point, normal, force, branch;
+  double overlap = 0;
+};
+
+/// What a force loop reports besides the forces, on the steps that ask for it:
+/// - with `rows`, the contact virial W = sum over pairs of d (x) F (W[a][b] = d_a F_b,
+///   d = x_i - x_j to the nearest image of j, F the force on i from j): rows[i] collects the
+///   pairs of row i whose branch midpoint x_i - d/2 has coordinate `axis` in [lo, hi). The
+///   collisional stress of a region of volume V is then sum_i rows[i] / V
+///   (analysis/rheology.hpp). With `normals`, normals[i] also collects n (x) n of the same pairs
+///   (n the unit contact normal; its trace counts the pairs): the contact fabric. `rows` (and
+///   `normals`) hold n zeroed entries;
+/// - with `contacts`, contacts[k] gets the record of neighbour-list entry k when its pair
+///   touches (entries hold ContactRecord{} before the loop, whatever the region).
+/// Row i's sums are written only by the thread of row i, records only at their own entry.
 struct VirialSink {
   Mat3* rows = nullptr;
   Mat3* normals = nullptr;
+  ContactRecord* contacts = nullptr;
   int axis = 2;
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();
@@ -49,10 +64,16 @@ struct VirialSink {
     const double c = xi[axis] - 0.5 * d[axis];
     return c >= lo && c < hi;
   }
-  /// Adds the pair of row i (branch d, unit normal n, force f on i) to the row's sums.
-  GF_HOST_DEVICE void add(std::int64_t i, const Vec3& d, const Vec3& n, const Vec3& f) const {
-    rows[i] = rows[i] + outer(d, f);
-    if (normals != nullptr) normals[i] = normals[i] + outer(n, n);
+  /// Reports the touching pair (i, j) of list entry k at position xi of i: branch d, unit
+  /// normal n, contact point, force f on i, overlap.
+  GF_HOST_DEVICE void add(std::int64_t k, std::int32_t i, std::int32_t j, const Vec3& xi,
+                          const Vec3& d, const Vec3& n, const Vec3& point, const Vec3& f,
+                          double overlap) const {
+    if (rows != nullptr && counts(xi, d)) {
+      rows[i] = rows[i] + outer(d, f);
+      if (normals != nullptr) normals[i] = normals[i] + outer(n, n);
+    }
+    if (contacts != nullptr) contacts[k] = ContactRecord{i, j, point, n, f, d, overlap};
   }
 };
 

@@ -77,10 +77,9 @@ std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, V
         tq[i] += res.rolling_torque + cross(arm_i, res.force);
         f[j] -= res.force;
         tq[j] -= res.rolling_torque + cross(arm_j, res.force);
-        if (virial) {
-          const Vec3 d = x[i] - xj;
-          if (virial->counts(x[i], d)) virial->add(i, d, g.normal, res.force);
-        }
+        if (virial)
+          virial->add(k, static_cast<std::int32_t>(i), j, x[i], x[i] - xj, g.normal, g.point,
+                      res.force, g.overlap);
       },
       [&](std::int64_t k) { hist[k] = {}; });
 }

@@ -87,6 +87,7 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
 }
 
 void Simulation::load_checkpoint(const std::filesystem::path& file) {
+  contacts_step_ = -1;  // the records of the constructor's force evaluation are not this state's
   auto h = io::h5::File::open_read(file);
   if (!h.has_attribute("/", "program") || h.read_string_attribute("/", "program") != "grainflow")
     throw InputError(fmt::format("{}: not a grainflow checkpoint", file.string()));

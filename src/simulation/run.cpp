@@ -94,6 +94,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
   const auto& out = cfg_.output;
   const std::int64_t vtk_every = every_steps(out.vtk.every, dt_);
   const std::int64_t csv_every = every_steps(out.particles_csv.every, dt_);
+  const std::int64_t contacts_every = every_steps(out.contacts_csv.every, dt_);
   const std::int64_t series_every = every_steps(out.series.every, dt_);
   const std::int64_t ckpt_every = every_steps(out.checkpoint.every, dt_);
 
@@ -151,6 +152,10 @@ RunSummary Simulation::run(const RunOptions& opts) {
     }
     if (due(step_, csv_every))
       io::write_particles_csv(dir / fmt::format("particles_{:09d}.csv", step_), particles_);
+    // (The contacts of a checkpoint's step are those the run that wrote it recorded: a restart
+    // has not evaluated that step's forces.)
+    if (due(step_, contacts_every))
+      write_contacts_csv(dir / fmt::format("contacts_{:09d}.csv", step_));
     const bool row = series && due(step_, series_every);
     if (row) series->append(t, series_row(columns));
     // Someone may be watching the time series of a long run: flush them every few seconds (on
@@ -187,6 +192,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
   while (step_ < last) {
     const bool sample = rheology && rheology->due(step_ + 1);
     collect_virial(sample);
+    collect_contacts(due(step_ + 1, contacts_every));
     step(/*defer_kick=*/!observed_after(step_ + 1, sample));
     if (sample) {
       StageTimers::Scope timer(timers_, Stage::Output);

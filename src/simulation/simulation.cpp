@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/log.hpp"
+#include "io/csv/csv.hpp"
 #include "integrators/gear5.hpp"
 #include "integrators/rigid_bodies.hpp"
 #include "integrators/velocity_verlet.hpp"
@@ -159,7 +160,10 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
     cfd_->fluid_step(particles_);
   }
   update_neighbors(true);
+  // The initial state's contacts, if a run writes them (written at step 0 with the others).
+  collect_contacts_ = cfg.output.contacts_csv.every > 0;
   compute_forces();
+  collect_contacts_ = false;
   if (gear_) Gear5Integrator::start(particles_);
 }
 
@@ -513,6 +517,12 @@ void Simulation::compute_forces() {
       }
       virial = &sink;
     }
+    if (collect_contacts_) {
+      contact_records_.assign(nlist_.neighbors().size(), contact::ContactRecord{});
+      sink.contacts = contact_records_.data();
+      contacts_step_ = step_;
+      virial = &sink;
+    }
     n_contacts_ =
         particles_.has_shapes()
             ? contact::compute_shape_pair_forces(particles_, domain_, nlist_, pairs_, dt_, virial)
@@ -590,6 +600,12 @@ void Simulation::step(bool defer_kick) {
   // The next fluid step, from the grains at the end of this step (the fluid leads the DEM by
   // one interval: explicit sub-cycling, docs/models/cfd_dem.md).
   if (cfd_ && cfd_->due(step_)) cfd_->fluid_step(particles_);
+}
+
+bool Simulation::write_contacts_csv(const std::filesystem::path& path) const {
+  if (contacts_step_ != step_) return false;
+  io::write_contacts_csv(path, contact_records_, particles_);
+  return true;
 }
 
 analysis::RheologySample Simulation::rheology_sample() const {

@@ -6,12 +6,14 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "analysis/rheology.hpp"
 #include "boundaries/wall.hpp"
 #include "contact/laws/contact_io.hpp"
+#include "contact/pair_forces.hpp"
 #include "core/domain.hpp"
 #include "core/rng.hpp"
 #include "core/timer.hpp"
@@ -108,6 +110,14 @@ class Simulation {
   void collect_virial(bool on) { collect_virial_ = on; }
   /// A sample of the current state; the last force stage must have collected the virial.
   analysis::RheologySample rheology_sample() const;
+  /// Whether the next force stages record every touching grain pair (output.contacts_csv).
+  void collect_contacts(bool on) { collect_contacts_ = on; }
+  /// The touching pairs of the last force stage that recorded them, in neighbour-list order
+  /// (records with i < 0 are list entries whose pair was apart); empty if none did.
+  std::span<const contact::ContactRecord> contact_records() const { return contact_records_; }
+  /// Writes the touching pairs of the last force stage that recorded them (output.contacts_csv,
+  /// docs/output.md); false (nothing written) if that stage did not record them.
+  bool write_contacts_csv(const std::filesystem::path& path) const;
 
  private:
   void build_materials_and_pairs();
@@ -144,6 +154,9 @@ class Simulation {
   bool gear_ = false;           ///< integrator: gear5
   analysis::RheologyRegion rheo_region_;
   bool collect_virial_ = false;
+  bool collect_contacts_ = false;
+  std::int64_t contacts_step_ = -1;  ///< the step whose force stage recorded contact_records_
+  std::vector<contact::ContactRecord> contact_records_;
   // Set by the drift of this step (VelocityVerlet with DriftExtras): the forces are already
   // m g, and the largest squared displacement since the last list build (< 0: not measured).
   bool forces_reset_ = false;

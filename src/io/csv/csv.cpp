@@ -68,6 +68,29 @@ std::vector<std::string> particle_csv_columns(const ParticleStore& store) {
   return cols;
 }
 
+void write_contacts_csv(const std::filesystem::path& path,
+                        std::span<const contact::ContactRecord> records,
+                        const ParticleStore& store) {
+  const std::int64_t* id = store.id();
+  write_atomically(path, [&](std::ostream& out) {
+    fmt::memory_buffer buf;
+    auto it = std::back_inserter(buf);
+    fmt::format_to(it, "id_i,id_j,x,y,z,nx,ny,nz,fx,fy,fz,fn,overlap,bx,by,bz\n");
+    for (const auto& r : records) {
+      if (r.i < 0) continue;
+      fmt::format_to(it, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", id[r.i], id[r.j],
+                     r.point.x, r.point.y, r.point.z, r.normal.x, r.normal.y, r.normal.z,
+                     r.force.x, r.force.y, r.force.z, dot(r.force, r.normal), r.overlap,
+                     r.branch.x, r.branch.y, r.branch.z);
+      if (buf.size() > (1u << 20)) {
+        out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+        buf.clear();
+      }
+    }
+    out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  });
+}
+
 void write_particles_csv(const std::filesystem::path& path, const ParticleStore& store) {
   const std::vector<std::string> cols = particle_csv_columns(store);
   for (const auto& c : cols) require_plain_name(c, path);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/pair_forces.hpp"
 #include "particles/particle_store.hpp"
 
 namespace gf::io {
@@ -27,6 +28,15 @@ std::vector<std::string> particle_csv_columns(const ParticleStore& store);
 /// One row per particle under the header of particle_csv_columns (SI units; integer fields as
 /// integers, reals in the shortest form that reads back to the same double). Atomic.
 void write_particles_csv(const std::filesystem::path& path, const ParticleStore& store);
+
+/// The touching pairs of a force stage (records with i < 0 left out), one row each in the
+/// records' order: id_i,id_j (the grains' ids), x,y,z (contact point), nx,ny,nz (unit normal,
+/// from j to i), fx,fy,fz (force on i from j; j gets the opposite), fn (its normal component
+/// F . n, > 0 repulsive), overlap, bx,by,bz (branch vector x_i - x_j to the image of j that
+/// touches i). SI units, numbers as in write_particles_csv. Atomic.
+void write_contacts_csv(const std::filesystem::path& path,
+                        std::span<const contact::ContactRecord> records,
+                        const ParticleStore& store);
 
 /// Where a continued time series picks up (run --append): rows later than `time` [s] were
 /// written after the checkpoint and are dropped; a row at exactly `time` is kept or dropped as

@@ -957,6 +957,7 @@ void Validator::check_time_step() {
 void Validator::check_output() {
   const std::pair<const char*, double> blocks[] = {{"vtk", c_.output.vtk.every},
                                                    {"particles_csv", c_.output.particles_csv.every},
+                                                   {"contacts_csv", c_.output.contacts_csv.every},
                                                    {"series", c_.output.series.every},
                                                    {"checkpoint", c_.output.checkpoint.every}};
   std::string counts;
@@ -968,7 +969,8 @@ void Validator::check_output() {
                       name, number_text(every), number_text(c_.time.end)));
     if (every <= 0) continue;
     // Outputs at t = 0, every, 2 every, ... up to time.end (checkpoints: not at t = 0).
-    const double n = std::floor(c_.time.end / every * (1 + 1e-12)) + (name[0] == 'c' ? 0 : 1);
+    const bool at_start = std::string_view(name) != "checkpoint";
+    const double n = std::floor(c_.time.end / every * (1 + 1e-12)) + (at_start ? 1 : 0);
     counts += fmt::format("{}{} {:.0f}", counts.empty() ? "" : ", ", name, n);
     // Past this a run's output folder becomes hard to handle (ParaView, the file system).
     constexpr double kManyFiles = 20000;

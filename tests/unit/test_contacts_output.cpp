@@ -1,0 +1,180 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The contact network output (output.contacts_csv): the records of a force stage against a
+// brute-force search for touching pairs and against the forces the stage applied, for spheres
+// between Lees-Edwards images and for spherocylinders between walls; the CSV file it writes;
+// and the files a run writes on its schedule.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/files.hpp"
+#include "io/input/parse_case.hpp"
+#include "simulation/simulation.hpp"
+#include "temp_dir.hpp"
+
+using namespace gf;
+
+namespace {
+
+config::Case rheology_case(const std::string& rel, std::vector<input::Override> sets) {
+  return input::load_case(std::string(GF_SOURCE_DIR) + "/cases/rheology/" + rel, sets);
+}
+
+/// The touching records of the last recorded force stage.
+std::vector<contact::ContactRecord> touching(const Simulation& sim) {
+  std::vector<contact::ContactRecord> out;
+  for (const auto& r : sim.contact_records())
+    if (r.i >= 0) out.push_back(r);
+  return out;
+}
+
+/// Sum over the records of the force each grain received (i: +F, j: -F).
+std::vector<Vec3> record_forces(const Simulation& sim) {
+  std::vector<Vec3> f(sim.particles().size());
+  for (const auto& r : touching(sim)) {
+    f[static_cast<std::size_t>(r.i)] += r.force;
+    f[static_cast<std::size_t>(r.j)] -= r.force;
+  }
+  return f;
+}
+
+double max_norm(const std::vector<Vec3>& v) {
+  double m = 0;
+  for (const auto& a : v) m = std::max(m, norm(a));
+  return m;
+}
+
+}  // namespace
+
+// Dense spheres (phi = 0.35) sheared between Lees-Edwards images, after 3000 steps, with a soft
+// spring (k = 600 N/m: contacts last 30 x longer, ~100 at a time instead of ~10): the records
+// name exactly the pairs that a search over all pairs finds touching (nearest sliding image),
+// each with its branch vector, unit normal along it, overlap r_i + r_j - |b| and contact point
+// on the branch at r_i - overlap/2 from i; without gravity or walls the records' forces add up
+// to the force on every grain. Round-off: the loop and this sum add the same few terms per grain
+// in another order (1e-12 of the largest force); geometry to 1e-12 m.
+TEST(ContactsOutput, SpheresMatchBruteForceAndTheAppliedForces) {
+  const auto cfg = rheology_case("lees_edwards_spheres/case.yaml",
+                                 {{"particles[0].fill.volume_fraction", "0.35"},
+                                  {"shear.rate", "400"},
+                                  {"contacts[0].stiffness", "600"},
+                                  {"time.step", "1.0e-6"}});
+  Simulation sim(cfg);
+  for (int k = 0; k < 3000; ++k) sim.step();
+  sim.collect_contacts(true);
+  sim.step();
+  sim.collect_contacts(false);
+  const auto rec = touching(sim);
+  ASSERT_GT(rec.size(), 50u);
+  EXPECT_EQ(static_cast<std::int64_t>(rec.size()), sim.n_contacts());
+
+  const ParticleStore& p = sim.particles();
+  const Domain& d = sim.domain();
+  std::set<std::pair<std::int64_t, std::int64_t>> brute, found;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      const double rs = p.radius()[i] + p.radius()[j];
+      if (norm2(d.delta(p.x()[i], p.x()[j])) < rs * rs)
+        brute.insert({std::min(p.id()[i], p.id()[j]), std::max(p.id()[i], p.id()[j])});
+    }
+  for (const auto& r : rec) {
+    const auto i = static_cast<std::size_t>(r.i), j = static_cast<std::size_t>(r.j);
+    found.insert({std::min(p.id()[i], p.id()[j]), std::max(p.id()[i], p.id()[j])});
+    const Vec3 b = d.delta(p.x()[i], p.x()[j]);
+    EXPECT_LT(norm(r.branch - b), 1e-12);
+    EXPECT_NEAR(norm(r.normal), 1.0, 1e-14);
+    EXPECT_LT(norm(r.normal - (1 / norm(b)) * b), 1e-12);
+    EXPECT_NEAR(r.overlap, p.radius()[i] + p.radius()[j] - norm(b), 1e-12);
+    EXPECT_LT(norm(r.point - (p.x()[i] - (p.radius()[i] - 0.5 * r.overlap) * r.normal)), 1e-12);
+  }
+  EXPECT_EQ(found, brute);
+  EXPECT_EQ(found.size(), rec.size());  // each pair once
+
+  const auto f = record_forces(sim);
+  const double scale = max_norm(f);
+  ASSERT_GT(scale, 0);
+  for (std::size_t i = 0; i < p.size(); ++i) EXPECT_LT(norm(f[i] - p.f()[i]), 1e-12 * scale) << i;
+}
+
+// Spherocylinders between walls (the rods shear box, phi = 0.3, a soft spring k = 600 N/m for
+// longer contacts): every touching pair recorded
+// once, with a unit normal and a contact point within reach of both axes; for rods that touch
+// no wall the records' forces add up to the force on the rod.
+TEST(ContactsOutput, RodsAddUpToTheForceOnEachRod) {
+  const auto cfg = rheology_case("shear_box_rods/case.yaml",
+                                 {{"time.step", "1.0e-6"}, {"contacts[0].stiffness", "600"}});
+  Simulation sim(cfg);
+  for (int k = 0; k < 4000; ++k) sim.step();
+  sim.collect_contacts(true);
+  sim.step();
+  const auto rec = touching(sim);
+  ASSERT_GT(rec.size(), 20u);
+  EXPECT_EQ(static_cast<std::int64_t>(rec.size()), sim.n_contacts());
+  const ParticleStore& p = sim.particles();
+  const double h = p.half_length()[0], r = p.radius()[0] - h;  // one rod size in this case
+  for (const auto& c : rec) {
+    EXPECT_NEAR(norm(c.normal), 1.0, 1e-12);
+    EXPECT_GT(c.overlap, 0.0);
+    // The contact point lies within one radius of both rods' centres' reach (h + r).
+    EXPECT_LT(norm(c.point - p.x()[static_cast<std::size_t>(c.i)]), h + r);
+    EXPECT_LT(norm(c.branch), 2 * (h + r));
+  }
+  const auto f = record_forces(sim);
+  const double scale = max_norm(f);
+  ASSERT_GT(scale, 0);
+  const double zmax = sim.domain().hi.z, reach = h + r;
+  int checked = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double z = p.x()[i].z;
+    if (z < 1.5 * reach || z > zmax - 1.5 * reach) continue;  // may touch a wall
+    EXPECT_LT(norm(f[i] - p.f()[i]), 1e-12 * scale) << i;
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+// A run writes contacts_NNNNNNNNN.csv on its schedule, from step 0: the header, one row per
+// touching pair with the grains' ids and the normal force F . n, as many rows as the step's
+// contacts.
+TEST(ContactsOutput, RunWritesTheScheduledFiles) {
+  test::TempDir tmp;
+  const auto cfg = rheology_case("lees_edwards_spheres/case.yaml",
+                                 {{"particles[0].fill.volume_fraction", "0.35"},
+                                  {"shear.rate", "400"},
+                                  {"shear.strain", "1.2"},
+                                  {"contacts[0].stiffness", "600"},
+                                  {"time.step", "1.0e-6"},
+                                  {"output.vtk.every", "0"},
+                                  {"output.contacts_csv.every", "1.0e-3"}});
+  RunOptions o;
+  o.output = tmp / "run";
+  o.quiet = true;
+  Simulation sim(cfg);
+  sim.run(o);  // 3000 steps: files at 0, 1000, 2000, 3000
+  for (int s : {0, 1000, 2000, 3000})
+    EXPECT_TRUE(std::filesystem::exists(o.output / fmt::format("contacts_{:09d}.csv", s))) << s;
+  std::istringstream in(read_text_file(o.output / "contacts_000003000.csv"));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "id_i,id_j,x,y,z,nx,ny,nz,fx,fy,fz,fn,overlap,bx,by,bz");
+  std::int64_t rows = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    std::vector<double> v;
+    std::stringstream ss(line);
+    std::string field;
+    while (std::getline(ss, field, ',')) v.push_back(std::stod(field));
+    ASSERT_EQ(v.size(), 16u) << line;
+    EXPECT_NE(v[0], v[1]);
+    EXPECT_NEAR(v[11], v[8] * v[5] + v[9] * v[6] + v[10] * v[7], 1e-12 * (std::abs(v[11]) + 1));
+  }
+  EXPECT_EQ(rows, sim.n_contacts());
+  EXPECT_GT(rows, 50);
+}
