@@ -70,8 +70,8 @@ struct RheologySample {
   double slip_temperature = 0;   ///< m^2/s^2, of the grains relative to that fluid velocity
   double alignment_angle = 0;    ///< degrees
   double order_parameter = 0;
-  double coordination = 0;   ///< 2 contacts / grains
-  double fabric_angle = 0;   ///< degrees, major axis of F in the x-z plane
+  double coordination = 0;  ///< 2 contacts / grains
+  double fabric_angle = 0;  ///< degrees, major axis of F in the x-z plane
 
   Mat3 total() const { return streaming + collisional; }
   double pressure() const;

@@ -15,10 +15,10 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/log.hpp"
-#include "io/csv/csv.hpp"
 #include "integrators/gear5.hpp"
 #include "integrators/rigid_bodies.hpp"
 #include "integrators/velocity_verlet.hpp"
+#include "io/csv/csv.hpp"
 #include "io/input/validate.hpp"
 #include "simulation/shape_builder.hpp"
 

@@ -156,8 +156,8 @@ TEST(KineticTheory, EnskogCollisionFrequency) {
     sum += std::sqrt(a * a + b * b + c * c);
   }
   const double density = 6 * phi / (std::numbers::pi * d * d * d);
-  const double expected = density * std::numbers::pi * d * d *
-                          gf::analysis::carnahan_starling_g0(phi) * (sum / n);
+  const double expected =
+      density * std::numbers::pi * d * d * gf::analysis::carnahan_starling_g0(phi) * (sum / n);
   EXPECT_NEAR(gf::analysis::enskog_collision_frequency(phi, T, d) / expected, 1.0, 0.005);
   EXPECT_THROW(gf::analysis::enskog_collision_frequency(phi, T, 0.0), gf::Error);
 }

@@ -190,8 +190,7 @@ struct VirialSetup {
 
 /// The virial of the force loop over a fresh list (forces zeroed first); `touching` gets the
 /// number of touching pairs, `normals` (if given) the sum of n (x) n over them.
-Mat3 loop_virial(VirialSetup& s, const Domain& d, std::int64_t& touching,
-                 Mat3* normals = nullptr) {
+Mat3 loop_virial(VirialSetup& s, const Domain& d, std::int64_t& touching, Mat3* normals = nullptr) {
   VerletList list;
   list.build(d, s.p.x(), s.p.radius(), s.p.size(), 0.001);
   std::vector<Mat3> rows(s.p.size()), nrows(s.p.size());

@@ -402,8 +402,7 @@ TEST(Csv, SeriesContinuesAnEarlierBuildsColumns) {
   for (const std::vector<std::string>& cols :
        {std::vector<std::string>{"a", "c"}, std::vector<std::string>{"a"},
         std::vector<std::string>{"b", "a", "c"}, std::vector<std::string>{"ab", "c"}}) {
-    EXPECT_THROW(io::SeriesCsv(dir / "s.csv", cols, io::SeriesContinuation{1.5, true}),
-                 InputError)
+    EXPECT_THROW(io::SeriesCsv(dir / "s.csv", cols, io::SeriesContinuation{1.5, true}), InputError)
         << cols.size();
     EXPECT_EQ(slurp(dir / "s.csv"), old_text);
   }

@@ -248,8 +248,8 @@ TEST(PairForces, VirialLeavesForcesBitIdentical) {
 // the fabric does not depend on the law, only on which pairs touch and their normals.
 TEST(PairForces, FabricOfBothLoopsMatchesPairSum) {
   for (Box kind : {Box::Open, Box::Sheared})
-    for (const auto laws : {kHertz, std::array<const char*, 3>{"hertz_mindlin", "hooke",
-                                                               "hertz_mindlin"}}) {
+    for (const auto laws :
+         {kHertz, std::array<const char*, 3>{"hertz_mindlin", "hooke", "hertz_mindlin"}}) {
       Packing s(kind, 700, 2, laws, 0.1, 7);
       s.zero_forces();
       std::vector<Mat3> rows(s.p.size()), normals(s.p.size());

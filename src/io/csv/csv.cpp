@@ -79,9 +79,9 @@ void write_contacts_csv(const std::filesystem::path& path,
     for (const auto& r : records) {
       if (r.i < 0) continue;
       fmt::format_to(it, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", id[r.i], id[r.j],
-                     r.point.x, r.point.y, r.point.z, r.normal.x, r.normal.y, r.normal.z,
-                     r.force.x, r.force.y, r.force.z, dot(r.force, r.normal), r.overlap,
-                     r.branch.x, r.branch.y, r.branch.z);
+                     r.point.x, r.point.y, r.point.z, r.normal.x, r.normal.y, r.normal.z, r.force.x,
+                     r.force.y, r.force.z, dot(r.force, r.normal), r.overlap, r.branch.x,
+                     r.branch.y, r.branch.z);
       if (buf.size() > (1u << 20)) {
         out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
         buf.clear();
