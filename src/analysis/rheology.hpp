@@ -49,7 +49,7 @@ struct RheologyRegion {
   double volume() const { return area * (z_hi - z_lo); }
 };
 
-/// What the force stage collects over the pairs counted in the layer (contact::VirialSink).
+/// What the force stage collects over the pairs counted in the layer (contact::ContactSink).
 struct ContactSums {
   Mat3 virial;   ///< sum of d (x) F, N m
   Mat3 normals;  ///< sum of n (x) n (its trace: the number of pairs)
@@ -92,7 +92,7 @@ double first_normal_difference(const Mat3& s);
 double second_normal_difference(const Mat3& s);
 
 /// Measures one sample. `contacts` holds the sums over the pairs counted in the layer
-/// (contact::VirialSink); `density` the density of each material (grain volume m / rho).
+/// (contact::ContactSink); `density` the density of each material (grain volume m / rho).
 RheologySample measure_rheology(const ParticleStore& p, const RheologyRegion& region,
                                 const ContactSums& contacts, std::span<const double> density);
 

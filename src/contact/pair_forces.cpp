@@ -33,9 +33,9 @@ inline Vec3 pair_delta(const Domain& dom, const Vec3& a, const Vec3& b) {
 /// material-pair table) loaded once per row. The row is inlined into the slab loop so that the
 /// array pointers stay in registers. Without rolling friction in any pair (Rolling = false) the
 /// law's rolling torque is zero and is left out of the torque sums.
-template <bool Periodic, bool Sheared, bool Rolling, bool Virial, class Eval>
+template <bool Periodic, bool Sheared, bool Rolling, bool Report, class Eval>
 std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
-                       const PairTable<PairCoeffs>& pairs, double dt, const VirialSink* virial,
+                       const PairTable<PairCoeffs>& pairs, double dt, const ContactSink* report,
                        Eval&& eval) {
   const Vec3* const x = p.x();
   const Vec3* const v = p.v();
@@ -51,7 +51,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
   const PairCoeffs* const coeffs = pairs.data();
   const std::size_t n_mat = static_cast<std::size_t>(pairs.n());
   const Domain dom = domain;
-  const VirialSink sink = virial ? *virial : VirialSink{};
+  const ContactSink sink = report ? *report : ContactSink{};
   auto row = [ =, &eval ](std::int64_t i) __attribute__((always_inline))->std::int64_t {
     const Vec3 xi = x[i];
     const double ri = r[i];
@@ -88,7 +88,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
       const Vec3 nxf = cross(kin.normal, res.force);
       fi += res.force;
       f[j] -= res.force;
-      if constexpr (Virial)
+      if constexpr (Report)
         sink.add(k, static_cast<std::int32_t>(i), j, xi, d, kin.normal, xi - arm_i * kin.normal,
                  res.force, kin.overlap);
       if constexpr (Rolling) {
@@ -219,13 +219,13 @@ BatchKernel batch_kernel(bool rolling, bool one_type) {
 /// written to the batch, the count advances only for a touching one), the particle data of the
 /// touching ones gathered, the histories of the scanned entries cleared, the batch's forces
 /// computed by `compute` in one vectorised loop, then added to the particles (and the touching
-/// histories written back, and the virial collected) in the order of the list, so that the sums
+/// histories written back, and the contacts reported) in the order of the list, so that the sums
 /// do not depend on the thread count. Geometry: minimum image when some axis is periodic
 /// (Periodic), Lees-Edwards images and their velocities (Sheared).
-template <bool Periodic, bool Sheared, bool Virial, bool OneType>
+template <bool Periodic, bool Sheared, bool Report, bool OneType>
 std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
                                const PairTable<PairCoeffs>& pairs, double dt,
-                               const VirialSink* virial, BatchKernel compute) {
+                               const ContactSink* report, BatchKernel compute) {
   const Vec3* const x = p.x();
   Vec3* const f = p.f();
   Vec3* const tq = p.torque();
@@ -241,7 +241,7 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
   const PairCoeffs* const coeffs = pairs.data();
   const std::size_t n_mat = static_cast<std::size_t>(pairs.n());
   const PairCoeffs c0 = coeffs[0];
-  const VirialSink sink = virial ? *virial : VirialSink{};
+  const ContactSink sink = report ? *report : ContactSink{};
   // The batch holds the touching entries among the list entries [k_lo, k_hi).
   // Not inlined into the scan: the scan's loop then keeps its pointers in registers.
   auto flush = [=](ContactBatch & b, int n, std::int64_t k_lo, std::int64_t k_hi)
@@ -274,7 +274,7 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
       tq[i] += b.t_i.get(c);
       tq[j] -= b.t_j.get(c);
       hist[b.k[c]] = b.hist.get(c);
-      if constexpr (Virial) {
+      if constexpr (Report) {
         const Vec3 d = b.d.get(c);
         const double dist = norm(d);  // the normal as the batch's kernel takes it
         const Vec3 unit = dist > 0 ? (1.0 / dist) * d : Vec3{0, 0, 1};
@@ -326,22 +326,22 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
   });
 }
 
-/// batched_pair_loop for law M, with the geometry, virial and material choices made once.
+/// batched_pair_loop for law M, with the geometry, report and material choices made once.
 template <class M>
 std::int64_t batched_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
                                  const PairTable<PairCoeffs>& pairs, double dt,
-                                 const VirialSink* virial) {
+                                 const ContactSink* report) {
   const bool rolling = any_rolling_friction(pairs);
   const bool one = pairs.n() == 1;
   const BatchKernel kernel = batch_kernel<typename M::Law>(rolling, one);
   auto go = [&]<bool Periodic, bool Sheared>() {
-    auto go2 = [&]<bool Virial>() {
-      return one ? batched_pair_loop<Periodic, Sheared, Virial, true>(p, domain, list, pairs, dt,
-                                                                      virial, kernel)
-                 : batched_pair_loop<Periodic, Sheared, Virial, false>(p, domain, list, pairs, dt,
-                                                                       virial, kernel);
+    auto go2 = [&]<bool Report>() {
+      return one ? batched_pair_loop<Periodic, Sheared, Report, true>(p, domain, list, pairs, dt,
+                                                                      report, kernel)
+                 : batched_pair_loop<Periodic, Sheared, Report, false>(p, domain, list, pairs, dt,
+                                                                       report, kernel);
     };
-    return virial ? go2.template operator()<true>() : go2.template operator()<false>();
+    return report ? go2.template operator()<true>() : go2.template operator()<false>();
   };
   if (domain.sheared()) return go.template operator()<true, true>();
   if (domain.any_periodic()) return go.template operator()<true, false>();
@@ -351,27 +351,27 @@ std::int64_t batched_pair_forces(ParticleStore& p, const Domain& domain, VerletL
 template <bool Periodic, bool Sheared, class Eval>
 std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
                        const PairTable<PairCoeffs>& pairs, double dt, bool rolling,
-                       const VirialSink* virial, Eval&& eval) {
-  if (virial)
+                       const ContactSink* report, Eval&& eval) {
+  if (report)
     return rolling
-               ? pair_loop<Periodic, Sheared, true, true>(p, domain, list, pairs, dt, virial, eval)
-               : pair_loop<Periodic, Sheared, false, true>(p, domain, list, pairs, dt, virial,
+               ? pair_loop<Periodic, Sheared, true, true>(p, domain, list, pairs, dt, report, eval)
+               : pair_loop<Periodic, Sheared, false, true>(p, domain, list, pairs, dt, report,
                                                            eval);
   return rolling
-             ? pair_loop<Periodic, Sheared, true, false>(p, domain, list, pairs, dt, virial, eval)
-             : pair_loop<Periodic, Sheared, false, false>(p, domain, list, pairs, dt, virial, eval);
+             ? pair_loop<Periodic, Sheared, true, false>(p, domain, list, pairs, dt, report, eval)
+             : pair_loop<Periodic, Sheared, false, false>(p, domain, list, pairs, dt, report, eval);
 }
 
 template <class Eval>
 std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
-                       const PairTable<PairCoeffs>& pairs, double dt, const VirialSink* virial,
+                       const PairTable<PairCoeffs>& pairs, double dt, const ContactSink* report,
                        Eval&& eval) {
   const bool rolling = any_rolling_friction(pairs);
   if (domain.sheared())
-    return pair_loop<true, true>(p, domain, list, pairs, dt, rolling, virial, eval);
+    return pair_loop<true, true>(p, domain, list, pairs, dt, rolling, report, eval);
   if (domain.any_periodic())
-    return pair_loop<true, false>(p, domain, list, pairs, dt, rolling, virial, eval);
-  return pair_loop<false, false>(p, domain, list, pairs, dt, rolling, virial, eval);
+    return pair_loop<true, false>(p, domain, list, pairs, dt, rolling, report, eval);
+  return pair_loop<false, false>(p, domain, list, pairs, dt, rolling, report, eval);
 }
 
 }  // namespace
@@ -409,14 +409,14 @@ bool avx2_kernels() {
 
 std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
                                  const PairTable<PairCoeffs>& pairs, double dt,
-                                 const VirialSink* virial) {
+                                 const ContactSink* report) {
   int model;
   if (uniform_model(pairs, model)) {
     return dispatch_index(ContactModels{}, model, [&]<class M>() {
-      return batched_pair_forces<M>(p, domain, list, pairs, dt, virial);
+      return batched_pair_forces<M>(p, domain, list, pairs, dt, report);
     });
   }
-  return pair_loop(p, domain, list, pairs, dt, virial,
+  return pair_loop(p, domain, list, pairs, dt, report,
                    [](const PairCoeffs& c, const ContactKinematics& k, double h, Vec3& xi) {
                      return dispatch_index(ContactModels{}, c.model, [&]<class M>() {
                        return M::Law::evaluate(c, k, h, xi);

@@ -53,7 +53,7 @@ struct ContactRecord {
 /// - with `contacts`, contacts[k] gets the record of neighbour-list entry k when its pair
 ///   touches (entries hold ContactRecord{} before the loop, whatever the region).
 /// Row i's sums are written only by the thread of row i, records only at their own entry.
-struct VirialSink {
+struct ContactSink {
   Mat3* rows = nullptr;
   Mat3* normals = nullptr;
   ContactRecord* contacts = nullptr;
@@ -79,11 +79,12 @@ struct VirialSink {
 
 /// Adds contact forces and torques of all touching pairs to f and torque; clears the history of
 /// pairs that are apart. With Lees-Edwards images the relative velocity of a pair across the
-/// gradient boundary includes the image's velocity. With `virial`, also collects the virial.
+/// gradient boundary includes the image's velocity. With `report`, also collects what it asks for
+/// (virial, fabric, contact records: ContactSink).
 /// Returns the number of touching pairs.
 std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
                                  const PairTable<PairCoeffs>& pairs, double dt,
-                                 const VirialSink* virial = nullptr);
+                                 const ContactSink* report = nullptr);
 
 /// True when every interacting material pair (model >= 0) uses one law; `model` gets it.
 bool uniform_model(const PairTable<PairCoeffs>& pairs, int& model);

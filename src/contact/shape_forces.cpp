@@ -45,7 +45,7 @@ std::int64_t touching_rows(const ParticleStore& p, const Domain& domain, const V
 
 std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
                                        const PairTable<PairCoeffs>& pairs, double dt,
-                                       const VirialSink* virial) {
+                                       const ContactSink* report) {
   const Vec3* x = p.x();
   const Vec3* v = p.v();
   const Vec3* om = p.omega();
@@ -77,8 +77,8 @@ std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, V
         tq[i] += res.rolling_torque + cross(arm_i, res.force);
         f[j] -= res.force;
         tq[j] -= res.rolling_torque + cross(arm_j, res.force);
-        if (virial)
-          virial->add(k, static_cast<std::int32_t>(i), j, x[i], x[i] - xj, g.normal, g.point,
+        if (report)
+          report->add(k, static_cast<std::int32_t>(i), j, x[i], x[i] - xj, g.normal, g.point,
                       res.force, g.overlap);
       },
       [&](std::int64_t k) { hist[k] = {}; });

@@ -133,7 +133,7 @@ GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t 
 /// contact point; histories of separated pairs cleared). Returns the touching pairs.
 std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
                                        const PairTable<PairCoeffs>& pairs, double dt,
-                                       const VirialSink* virial = nullptr);
+                                       const ContactSink* report = nullptr);
 
 /// Elastic energy stored in all contacts of a store with shapes, J.
 double shape_pair_elastic_energy(const ParticleStore& p, const Domain& domain,

@@ -502,8 +502,8 @@ void Simulation::compute_forces() {
     StageTimers::Scope timer(timers_, Stage::Force);
     if (!forces_reset_) reset_forces(particles_, gravity_);
     forces_reset_ = false;
-    contact::VirialSink sink;
-    const contact::VirialSink* virial = nullptr;
+    contact::ContactSink sink;
+    const contact::ContactSink* report = nullptr;
     if (collect_virial_) {
       virial_rows_.assign(particles_.size(), Mat3{});
       normal_rows_.assign(particles_.size(), Mat3{});
@@ -515,18 +515,18 @@ void Simulation::compute_forces() {
         sink.lo = rheo_region_.z_lo;
         sink.hi = rheo_region_.z_hi;
       }
-      virial = &sink;
+      report = &sink;
     }
     if (collect_contacts_) {
       contact_records_.assign(nlist_.neighbors().size(), contact::ContactRecord{});
       sink.contacts = contact_records_.data();
       contacts_step_ = step_;
-      virial = &sink;
+      report = &sink;
     }
     n_contacts_ =
         particles_.has_shapes()
-            ? contact::compute_shape_pair_forces(particles_, domain_, nlist_, pairs_, dt_, virial)
-            : contact::compute_pair_forces(particles_, domain_, nlist_, pairs_, dt_, virial);
+            ? contact::compute_shape_pair_forces(particles_, domain_, nlist_, pairs_, dt_, report)
+            : contact::compute_pair_forces(particles_, domain_, nlist_, pairs_, dt_, report);
     if (collect_virial_) {
       contact_sums_ = {};
       for (std::size_t i = 0; i < virial_rows_.size(); ++i) {

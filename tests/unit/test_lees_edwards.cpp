@@ -194,7 +194,7 @@ Mat3 loop_virial(VirialSetup& s, const Domain& d, std::int64_t& touching, Mat3* 
   VerletList list;
   list.build(d, s.p.x(), s.p.radius(), s.p.size(), 0.001);
   std::vector<Mat3> rows(s.p.size()), nrows(s.p.size());
-  contact::VirialSink sink;
+  contact::ContactSink sink;
   sink.rows = rows.data();
   if (normals != nullptr) sink.normals = nrows.data();
   for (std::size_t i = 0; i < s.p.size(); ++i) s.p.f()[i] = {};
@@ -350,7 +350,7 @@ TEST(Virial, CapsulesVirialAndFabricMatchPairSums) {
     VerletList list;
     list.build(d, p.x(), p.radius(), p.size(), 0.001);
     std::vector<Mat3> rows(p.size()), normals(p.size());
-    contact::VirialSink sink;
+    contact::ContactSink sink;
     sink.rows = rows.data();
     sink.normals = normals.data();
     const auto touching = contact::compute_shape_pair_forces(p, d, list, pairs, 1e-6, &sink);

@@ -229,7 +229,7 @@ TEST(PairForces, VirialLeavesForcesBitIdentical) {
     a.zero_forces();
     b.zero_forces();
     std::vector<Mat3> rows(b.p.size());
-    contact::VirialSink sink;
+    contact::ContactSink sink;
     sink.rows = rows.data();
     contact::compute_pair_forces(a.p, a.d, a.list, a.pairs, 1e-5);
     contact::compute_pair_forces(b.p, b.d, b.list, b.pairs, 1e-5, &sink);
@@ -253,7 +253,7 @@ TEST(PairForces, FabricOfBothLoopsMatchesPairSum) {
       Packing s(kind, 700, 2, laws, 0.1, 7);
       s.zero_forces();
       std::vector<Mat3> rows(s.p.size()), normals(s.p.size());
-      contact::VirialSink sink;
+      contact::ContactSink sink;
       sink.rows = rows.data();
       sink.normals = normals.data();
       const auto touching = contact::compute_pair_forces(s.p, s.d, s.list, s.pairs, 1e-5, &sink);
