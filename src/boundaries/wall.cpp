@@ -245,7 +245,7 @@ __attribute__((noinline, flatten)) void wall_batch_default(WallBatch& b, int n, 
 template <class Law>
 std::int64_t sphere_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
                                 const PairTable<contact::PairCoeffs>& pairs, int model, double t,
-                                double dt) {
+                                double dt, contact::ContactRecord* records) {
   WallKernel kernel = wall_batch_default<Law>;
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
   if (contact::avx2_kernels()) kernel = wall_batch_avx2<Law>;
@@ -299,6 +299,8 @@ std::int64_t sphere_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCon
       reaction[2 * k + 1] = -(cross(point - w.torque_center(), fc) + rt);
       stiffness[k] = b.ov[c] > 0 ? 1.5 * b.fn[c] / b.ov[c] : 0.0;
       history[k] = b.hist.get(c);
+      if (records != nullptr)
+        records[k] = contact::ContactRecord{i, b.w[c], point, nrm, fc, x[i] - point, b.ov[c]};
     }
   };
   return exec::parallel_sum(
@@ -342,7 +344,8 @@ std::int64_t sphere_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCon
 /// Any shape, any number of slots, a law per contact.
 std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
                                  const PairTable<contact::PairCoeffs>& pairs,
-                                 const contact::ShapeView* sv, double t, double dt) {
+                                 const contact::ShapeView* sv, double t, double dt,
+                                 contact::ContactRecord* records) {
   const auto entries = list.entries();
   auto history = list.history();
   auto reaction = list.reactions();
@@ -403,6 +406,10 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
         reaction_force -= res.force;
         if (g.overlap > 0) k_sum += 1.5 * res.normal_force / g.overlap;
         reaction_torque -= cross(g.point - w.torque_center(), res.force) + res.rolling_torque;
+        if (records != nullptr)
+          records[static_cast<std::size_t>(slots) * ku + static_cast<std::size_t>(slot)] =
+              contact::ContactRecord{i,         entries[ku].wall, g.point,  g.normal,
+                                     res.force, x[i] - g.point,   g.overlap};
         ++touching;
       }
       reaction[2 * ku] = reaction_force;
@@ -416,7 +423,8 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
 }  // namespace
 
 std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
-                                 const PairTable<contact::PairCoeffs>& pairs, double t, double dt) {
+                                 const PairTable<contact::PairCoeffs>& pairs, double t, double dt,
+                                 contact::ContactRecord* records) {
   const auto entries = list.entries();
   auto reaction = list.reactions();
   auto stiffness = list.stiffness();
@@ -427,12 +435,13 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   // Spheres whose wall pairs all use one law: the batched, vectorised loop.
   int model = -1;
   const bool uniform = sv == nullptr && slots == 1 && contact::uniform_model(pairs, model);
-  const std::int64_t active = uniform ? dispatch_index(contact::ContactModels{}, model,
-                                                       [&]<class M>() {
-                                                         return sphere_wall_forces<typename M::Law>(
-                                                             p, walls, list, pairs, model, t, dt);
-                                                       })
-                                      : generic_wall_forces(p, walls, list, pairs, sv, t, dt);
+  const std::int64_t active =
+      uniform ? dispatch_index(contact::ContactModels{}, model,
+                               [&]<class M>() {
+                                 return sphere_wall_forces<typename M::Law>(p, walls, list, pairs,
+                                                                            model, t, dt, records);
+                               })
+              : generic_wall_forces(p, walls, list, pairs, sv, t, dt, records);
   // Reactions summed in entry order: the same bits whatever the thread count.
   for (auto& w : walls) {
     w.force = {};

@@ -11,6 +11,7 @@
 
 #include "boundaries/motion.hpp"
 #include "contact/laws/contact_io.hpp"
+#include "contact/pair_forces.hpp"
 #include "core/domain.hpp"
 #include "core/surface_mesh.hpp"
 #include "particles/material.hpp"
@@ -164,8 +165,13 @@ class WallContactList {
 
 /// Adds the wall contact forces and torques to the particles and accumulates the reactions on
 /// the walls. Returns the number of active wall contacts.
+/// With `records` (list.entries().size() * list.slots() entries, each ContactRecord{} before the
+/// call), records[slots * k + slot] gets the contact of slot `slot` of entry k when it touches:
+/// i the grain, j the wall's index in `walls`, the contact point, the unit normal from the wall
+/// to the grain, the force on the grain, the overlap and the branch x_i - point.
 std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
-                                 const PairTable<contact::PairCoeffs>& pairs, double t, double dt);
+                                 const PairTable<contact::PairCoeffs>& pairs, double t, double dt,
+                                 contact::ContactRecord* records = nullptr);
 
 /// Elastic energy stored in all particle-wall contacts (J), for energy balances.
 double wall_elastic_energy(const ParticleStore& p, std::span<const Wall> walls,

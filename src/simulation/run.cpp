@@ -95,10 +95,12 @@ RunSummary Simulation::run(const RunOptions& opts) {
   const std::int64_t vtk_every = every_steps(out.vtk.every, dt_);
   const std::int64_t csv_every = every_steps(out.particles_csv.every, dt_);
   const std::int64_t contacts_every = every_steps(out.contacts_csv.every, dt_);
+  const std::int64_t contacts_vtk_every = every_steps(out.contacts_vtk.every, dt_);
   const std::int64_t series_every = every_steps(out.series.every, dt_);
   const std::int64_t ckpt_every = every_steps(out.checkpoint.every, dt_);
 
-  std::unique_ptr<io::PvdSeries> pvd_particles, pvd_walls, pvd_polygons, pvd_fluid;
+  std::unique_ptr<io::PvdSeries> pvd_particles, pvd_walls, pvd_polygons, pvd_fluid, pvd_contacts;
+  if (contacts_vtk_every > 0) pvd_contacts = pvd("contacts.pvd");
   if (vtk_every > 0) {
     pvd_particles = pvd("particles.pvd");
     if (cfd_) pvd_fluid = pvd("fluid.pvd");
@@ -154,8 +156,9 @@ RunSummary Simulation::run(const RunOptions& opts) {
       io::write_particles_csv(dir / fmt::format("particles_{:09d}.csv", step_), particles_);
     // (The contacts of a checkpoint's step are those the run that wrote it recorded: a restart
     // has not evaluated that step's forces.)
-    if (due(step_, contacts_every))
-      write_contacts_csv(dir / fmt::format("contacts_{:09d}.csv", step_));
+    if (due(step_, contacts_every)) write_contacts_csv(dir);
+    if (std::string f; due(step_, contacts_vtk_every) && write_contacts_vtp(dir, f))
+      pvd_contacts->add(t, f);
     const bool row = series && due(step_, series_every);
     if (row) series->append(t, series_row(columns));
     // Someone may be watching the time series of a long run: flush them every few seconds (on
@@ -192,7 +195,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
   while (step_ < last) {
     const bool sample = rheology && rheology->due(step_ + 1);
     collect_virial(sample);
-    collect_contacts(due(step_ + 1, contacts_every));
+    collect_contacts(due(step_ + 1, contacts_every) || due(step_ + 1, contacts_vtk_every));
     step(/*defer_kick=*/!observed_after(step_ + 1, sample));
     if (sample) {
       StageTimers::Scope timer(timers_, Stage::Output);

@@ -20,6 +20,7 @@
 #include "integrators/velocity_verlet.hpp"
 #include "io/csv/csv.hpp"
 #include "io/input/validate.hpp"
+#include "io/vtk/vtk.hpp"
 #include "simulation/shape_builder.hpp"
 
 namespace gf {
@@ -161,7 +162,7 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   }
   update_neighbors(true);
   // The initial state's contacts, if a run writes them (written at step 0 with the others).
-  collect_contacts_ = cfg.output.contacts_csv.every > 0;
+  collect_contacts_ = cfg.output.contacts_csv.every > 0 || cfg.output.contacts_vtk.every > 0;
   compute_forces();
   collect_contacts_ = false;
   if (gear_) Gear5Integrator::start(particles_);
@@ -537,7 +538,14 @@ void Simulation::compute_forces() {
   }
   {
     StageTimers::Scope timer(timers_, Stage::Walls);
-    n_wall_contacts_ = compute_wall_forces(particles_, walls_, wlist_, pairs_, time(), dt_);
+    contact::ContactRecord* records = nullptr;
+    if (collect_contacts_) {
+      wall_records_.assign(wlist_.entries().size() * static_cast<std::size_t>(wlist_.slots()),
+                           contact::ContactRecord{});
+      records = wall_records_.data();
+    }
+    n_wall_contacts_ =
+        compute_wall_forces(particles_, walls_, wlist_, pairs_, time(), dt_, records);
   }
   // Drag with the grains' current velocities and the pressure-gradient force (timed by the
   // coupling: its "fluid" time).
@@ -602,9 +610,23 @@ void Simulation::step(bool defer_kick) {
   if (cfd_ && cfd_->due(step_)) cfd_->fluid_step(particles_);
 }
 
-bool Simulation::write_contacts_csv(const std::filesystem::path& path) const {
+bool Simulation::write_contacts_csv(const std::filesystem::path& dir) const {
   if (contacts_step_ != step_) return false;
-  io::write_contacts_csv(path, contact_records_, particles_);
+  io::write_contacts_csv(dir / fmt::format("contacts_{:09d}.csv", step_), contact_records_,
+                         particles_);
+  if (!walls_.empty()) {
+    std::vector<std::string> names;
+    for (const auto& w : walls_) names.push_back(w.name);
+    io::write_wall_contacts_csv(dir / fmt::format("wall_contacts_{:09d}.csv", step_), wall_records_,
+                                particles_, names);
+  }
+  return true;
+}
+
+bool Simulation::write_contacts_vtp(const std::filesystem::path& dir, std::string& file) const {
+  if (contacts_step_ != step_) return false;
+  file = fmt::format("contacts_{:09d}.vtp", step_);
+  io::write_contacts_vtp(dir / file, contact_records_, wall_records_, particles_);
   return true;
 }
 

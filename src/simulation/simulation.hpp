@@ -110,14 +110,22 @@ class Simulation {
   void collect_virial(bool on) { collect_virial_ = on; }
   /// A sample of the current state; the last force stage must have collected the virial.
   analysis::RheologySample rheology_sample() const;
-  /// Whether the next force stages record every touching grain pair (output.contacts_csv).
+  /// Whether the next force stages record every touching grain pair and grain-wall contact
+  /// (output.contacts_csv, output.contacts_vtk).
   void collect_contacts(bool on) { collect_contacts_ = on; }
   /// The touching pairs of the last force stage that recorded them, in neighbour-list order
   /// (records with i < 0 are list entries whose pair was apart); empty if none did.
   std::span<const contact::ContactRecord> contact_records() const { return contact_records_; }
-  /// Writes the touching pairs of the last force stage that recorded them (output.contacts_csv,
-  /// docs/output.md); false (nothing written) if that stage did not record them.
-  bool write_contacts_csv(const std::filesystem::path& path) const;
+  /// The grain-wall contacts of that stage, slots() records per wall-list entry (j: the wall's
+  /// index in walls(); see compute_wall_forces); empty without walls.
+  std::span<const contact::ContactRecord> wall_contact_records() const { return wall_records_; }
+  /// Writes the contacts of the last force stage that recorded them (docs/output.md):
+  /// contacts_NNNNNNNNN.csv (grain pairs) and, in a run with walls, wall_contacts_NNNNNNNNN.csv
+  /// into `dir`; false (nothing written) if that stage did not record them.
+  bool write_contacts_csv(const std::filesystem::path& dir) const;
+  /// The same network as line cells (pairs and walls), contacts_NNNNNNNNN.vtp in `dir`; false
+  /// (nothing written) if the last force stage did not record it. `file` gets the file's name.
+  bool write_contacts_vtp(const std::filesystem::path& dir, std::string& file) const;
 
  private:
   void build_materials_and_pairs();
@@ -156,7 +164,7 @@ class Simulation {
   bool collect_virial_ = false;
   bool collect_contacts_ = false;
   std::int64_t contacts_step_ = -1;  ///< the step whose force stage recorded contact_records_
-  std::vector<contact::ContactRecord> contact_records_;
+  std::vector<contact::ContactRecord> contact_records_, wall_records_;
   // Set by the drift of this step (VelocityVerlet with DriftExtras): the forces are already
   // m g, and the largest squared displacement since the last list build (< 0: not measured).
   bool forces_reset_ = false;

@@ -59,7 +59,7 @@ struct VtkFile {
     EXPECT_EQ(text.substr(text.size() - tail.size()), tail);
     appended = text.substr(mark + 1, text.size() - tail.size() - mark - 1);
     // Each DataArray is keyed by its enclosing element (PointData, CellData, Points, Verts,
-    // Polys, Cells).
+    // Polys, Lines, Cells).
     std::string section;
     std::uint64_t last_offset = 0;
     for (const std::string& t : tags()) {
@@ -71,7 +71,7 @@ struct VtkFile {
         last_offset = offset;
         arrays[section + "/" + a["Name"]] = a;
       } else if (name == "PointData" || name == "CellData" || name == "Points" || name == "Verts" ||
-                 name == "Polys" || name == "Cells") {
+                 name == "Polys" || name == "Lines" || name == "Cells") {
         section = name;
       }
     }

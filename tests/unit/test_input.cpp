@@ -1203,6 +1203,7 @@ TEST(InputShear, OutputIntervalsInStrain) {
   const std::string out =
       "output:\n  vtk: {every_strain: 0.5}\n  particles_csv: {every: 0.01}\n"
       "  contacts_csv: {every_strain: 0.25}\n"
+      "  contacts_vtk: {every_strain: 0.5}\n"
       "  series: {every_strain: 0.01, quantities: [kinetic_energy]}\n"
       "  checkpoint: {every_strain: 1}\n";
   const auto c = input::load_case_text(shear_case("[true, true, true]", le, out), "t.yaml");
@@ -1212,6 +1213,7 @@ TEST(InputShear, OutputIntervalsInStrain) {
   EXPECT_EQ(c.output.particles_csv.every, 0.01);
   EXPECT_FALSE(c.output.particles_csv.every_strain);
   EXPECT_DOUBLE_EQ(c.output.contacts_csv.every, 0.25 / 20);
+  EXPECT_DOUBLE_EQ(c.output.contacts_vtk.every, 0.5 / 20);
   // A sweep's --set shear.rate=... rescales them (the strain is what the case says).
   TempDir dir;
   const auto slow = input::load_case(
@@ -1224,7 +1226,7 @@ TEST(InputShear, OutputIntervalsInStrain) {
   // `check` says how many outputs the run writes (t = 0 included, checkpoints not) and warns
   // about tens of thousands of files.
   EXPECT_EQ(derived(input::validate(c), "outputs over the run"),
-            "vtk 5, particles_csv 11, contacts_csv 9, series 201, checkpoint 2");
+            "vtk 5, particles_csv 11, contacts_csv 9, contacts_vtk 5, series 201, checkpoint 2");
   EXPECT_TRUE(input::validate(c).warnings.empty());
   const auto many = input::validate(input::load_case(
       dir / "case.yaml", {{"time.end", "1"}, {"output.vtk.every_strain", "2.0e-4"}}));
@@ -1239,6 +1241,7 @@ TEST(InputShear, OutputIntervalsInStrain) {
   EXPECT_DOUBLE_EQ(again.output.checkpoint.every, c.output.checkpoint.every);
   EXPECT_EQ(again.output.particles_csv.every, 0.01);
   EXPECT_EQ(*again.output.contacts_csv.every_strain, 0.25);
+  EXPECT_EQ(*again.output.contacts_vtk.every_strain, 0.5);
   // Errors: no shear block; both keys; an interval below one time step.
   EXPECT_NE(error_of(shear_case("[true, true, true]", "", "output: {vtk: {every_strain: 0.5}}\n"))
                 .find("output.vtk.every_strain: 'every_strain' needs a shear: block"),

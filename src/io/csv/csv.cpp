@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <iterator>
 #include <ostream>
+#include <string_view>
 #include <variant>
 
 #include "core/error.hpp"
@@ -68,20 +69,20 @@ std::vector<std::string> particle_csv_columns(const ParticleStore& store) {
   return cols;
 }
 
-void write_contacts_csv(const std::filesystem::path& path,
-                        std::span<const contact::ContactRecord> records,
-                        const ParticleStore& store) {
-  const std::int64_t* id = store.id();
+namespace {
+
+/// Writes `header` and one row per touching record (i >= 0), formatted by row(it, record), into
+/// `path` atomically, in blocks of about 1 MB.
+template <class Row>
+void write_record_rows(const std::filesystem::path& path, std::string_view header,
+                       std::span<const contact::ContactRecord> records, Row row) {
   write_atomically(path, [&](std::ostream& out) {
     fmt::memory_buffer buf;
     auto it = std::back_inserter(buf);
-    fmt::format_to(it, "id_i,id_j,x,y,z,nx,ny,nz,fx,fy,fz,fn,overlap,bx,by,bz\n");
+    fmt::format_to(it, "{}\n", header);
     for (const auto& r : records) {
       if (r.i < 0) continue;
-      fmt::format_to(it, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", id[r.i], id[r.j],
-                     r.point.x, r.point.y, r.point.z, r.normal.x, r.normal.y, r.normal.z, r.force.x,
-                     r.force.y, r.force.z, dot(r.force, r.normal), r.overlap, r.branch.x,
-                     r.branch.y, r.branch.z);
+      row(it, r);
       if (buf.size() > (1u << 20)) {
         out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
         buf.clear();
@@ -89,6 +90,40 @@ void write_contacts_csv(const std::filesystem::path& path,
     }
     out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
   });
+}
+
+}  // namespace
+
+void write_contacts_csv(const std::filesystem::path& path,
+                        std::span<const contact::ContactRecord> records,
+                        const ParticleStore& store) {
+  const std::int64_t* id = store.id();
+  write_record_rows(path, "id_i,id_j,x,y,z,nx,ny,nz,fx,fy,fz,fn,overlap,bx,by,bz", records,
+                    [&](auto it, const contact::ContactRecord& r) {
+                      fmt::format_to(it, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+                                     id[r.i], id[r.j], r.point.x, r.point.y, r.point.z, r.normal.x,
+                                     r.normal.y, r.normal.z, r.force.x, r.force.y, r.force.z,
+                                     dot(r.force, r.normal), r.overlap, r.branch.x, r.branch.y,
+                                     r.branch.z);
+                    });
+}
+
+void write_wall_contacts_csv(const std::filesystem::path& path,
+                             std::span<const contact::ContactRecord> records,
+                             const ParticleStore& store, std::span<const std::string> wall_names) {
+  const std::int64_t* id = store.id();
+  for (const auto& r : records)
+    REQUIRE(r.i < 0 || (r.j >= 0 && static_cast<std::size_t>(r.j) < wall_names.size()),
+            "'{}': a wall contact names wall {} of {}", path.string(), r.j, wall_names.size());
+  for (const auto& w : wall_names) require_plain_name(w, path);
+  write_record_rows(path, "id,wall,x,y,z,nx,ny,nz,fx,fy,fz,fn,overlap,bx,by,bz", records,
+                    [&](auto it, const contact::ContactRecord& r) {
+                      fmt::format_to(it, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+                                     id[r.i], wall_names[static_cast<std::size_t>(r.j)], r.point.x,
+                                     r.point.y, r.point.z, r.normal.x, r.normal.y, r.normal.z,
+                                     r.force.x, r.force.y, r.force.z, dot(r.force, r.normal),
+                                     r.overlap, r.branch.x, r.branch.y, r.branch.z);
+                    });
 }
 
 void write_particles_csv(const std::filesystem::path& path, const ParticleStore& store) {

@@ -38,6 +38,15 @@ void write_contacts_csv(const std::filesystem::path& path,
                         std::span<const contact::ContactRecord> records,
                         const ParticleStore& store);
 
+/// The touching grain-wall contacts of a force stage (records with i < 0 left out; record j is
+/// the wall's index into `wall_names`), one row each in the records' order: id (the grain's id),
+/// wall (its name), x,y,z (contact point), nx,ny,nz (unit normal, from the wall to the grain),
+/// fx,fy,fz (force on the grain; the wall gets the opposite), fn (F . n, > 0 repulsive), overlap,
+/// bx,by,bz (x_grain - contact point). SI units, numbers as in write_particles_csv. Atomic.
+void write_wall_contacts_csv(const std::filesystem::path& path,
+                             std::span<const contact::ContactRecord> records,
+                             const ParticleStore& store, std::span<const std::string> wall_names);
+
 /// Where a continued time series picks up (run --append): rows later than `time` [s] were
 /// written after the checkpoint and are dropped; a row at exactly `time` is kept or dropped as
 /// `keep_at_time` says (dropped when the run writes it again).

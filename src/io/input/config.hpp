@@ -286,7 +286,7 @@ struct OutputEvery {
 
 struct Output {
   std::filesystem::path directory = "out";
-  OutputEvery vtk, particles_csv, contacts_csv, checkpoint;
+  OutputEvery vtk, particles_csv, contacts_csv, contacts_vtk, checkpoint;
   OutputEvery series{};
   std::vector<std::string> quantities;  ///< series quantities, validated against the known list
 };

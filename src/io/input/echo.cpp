@@ -485,6 +485,7 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
   emit_every(out, "vtk", c.output.vtk);
   emit_every(out, "particles_csv", c.output.particles_csv);
   emit_every(out, "contacts_csv", c.output.contacts_csv);
+  emit_every(out, "contacts_vtk", c.output.contacts_vtk);
   out << YAML::Key << "series" << YAML::Value << YAML::BeginMap;
   key_interval(out, c.output.series.every, c.output.series.every_strain);
   out << YAML::Key << "quantities" << YAML::Value << YAML::Flow << c.output.quantities;

@@ -1329,7 +1329,8 @@ std::optional<config::OutputEvery> Reader::read_interval(const YamlMap& m, bool 
 void Reader::read_output(const YamlMap& root) {
   auto on = root.find("output");
   if (!on) return;
-  YamlMap om(*on, {"directory", "vtk", "particles_csv", "contacts_csv", "series", "checkpoint"});
+  YamlMap om(*on, {"directory", "vtk", "particles_csv", "contacts_csv", "contacts_vtk", "series",
+                   "checkpoint"});
   if (auto d = om.find("directory")) {
     const std::string dir = d->as_string();
     if (dir.empty()) d->fail_expected("a folder name");
@@ -1343,6 +1344,7 @@ void Reader::read_output(const YamlMap& root) {
   for (auto [key, target] :
        {std::pair{"vtk", &c.output.vtk}, std::pair{"particles_csv", &c.output.particles_csv},
         std::pair{"contacts_csv", &c.output.contacts_csv},
+        std::pair{"contacts_vtk", &c.output.contacts_vtk},
         std::pair{"checkpoint", &c.output.checkpoint}}) {
     if (auto n = om.find(key)) every(YamlMap(*n, {"every", "every_strain"}), *target);
   }

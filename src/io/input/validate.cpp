@@ -958,6 +958,7 @@ void Validator::check_output() {
   const std::pair<const char*, double> blocks[] = {{"vtk", c_.output.vtk.every},
                                                    {"particles_csv", c_.output.particles_csv.every},
                                                    {"contacts_csv", c_.output.contacts_csv.every},
+                                                   {"contacts_vtk", c_.output.contacts_vtk.every},
                                                    {"series", c_.output.series.every},
                                                    {"checkpoint", c_.output.checkpoint.every}};
   std::string counts;

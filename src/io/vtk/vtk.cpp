@@ -145,19 +145,23 @@ std::size_t count_polygon_grains(const ParticleStore& store) {
 
 namespace {
 
-/// Writes a PolyData file of polygon cells. `cell_data` holds the tags of the cell arrays
+enum class CellKind { Polys, Lines };
+
+/// Writes a PolyData file of polygon or line cells. `cell_data` holds the tags of the cell arrays
 /// already added to `arrays`, `cell_attrs` the CellData attributes (active scalars/vectors); the
 /// points, connectivity and offsets are added after them (blocks are laid out in that order).
-void write_polys_file(const std::filesystem::path& path, AppendedArrays& arrays,
+void write_cells_file(const std::filesystem::path& path, AppendedArrays& arrays, CellKind kind,
                       const std::string& cell_attrs, const std::string& cell_data,
                       std::span<const Vec3> points, std::vector<std::int64_t> conn,
                       std::vector<std::int64_t> offsets) {
+  const bool lines = kind == CellKind::Lines;
+  const char* section = lines ? "Lines" : "Polys";
   std::string xml = vtk::file_open("PolyData");
   xml += "  <PolyData>\n";
   xml += fmt::format(
-      "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"0\" "
+      "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"0\" NumberOfLines=\"{}\" "
       "NumberOfStrips=\"0\" NumberOfPolys=\"{}\">\n",
-      points.size(), offsets.size());
+      points.size(), lines ? offsets.size() : 0, lines ? 0 : offsets.size());
   const std::string points_tag = AppendedArrays::tag(arrays.add("position", points));
   const std::string conn_tag =
       AppendedArrays::tag(arrays.add_owned("connectivity", 1, std::move(conn)));
@@ -165,7 +169,8 @@ void write_polys_file(const std::filesystem::path& path, AppendedArrays& arrays,
       AppendedArrays::tag(arrays.add_owned("offsets", 1, std::move(offsets)));
   xml += "      <CellData " + cell_attrs + ">\n" + cell_data + "      </CellData>\n";
   xml += "      <Points>\n        " + points_tag + "\n      </Points>\n";
-  xml += "      <Polys>\n        " + conn_tag + "\n        " + offsets_tag + "\n      </Polys>\n";
+  xml += fmt::format("      <{0}>\n        {1}\n        {2}\n      </{0}>\n", section, conn_tag,
+                     offsets_tag);
   xml += "    </Piece>\n  </PolyData>\n";
   write_atomically(path, [&](std::ostream& out) {
     out << xml;
@@ -231,8 +236,8 @@ void write_polygons_vtp(const std::filesystem::path& path, const ParticleStore& 
       "        " + AppendedArrays::tag(arrays.add_owned("speed", 1, std::move(speed))) + "\n";
   cell_data +=
       "        " + AppendedArrays::tag(arrays.add_owned("area", 1, std::move(area))) + "\n";
-  write_polys_file(path, arrays, "Scalars=\"speed\" Vectors=\"velocity\"", cell_data, points,
-                   std::move(conn), std::move(offsets));
+  write_cells_file(path, arrays, CellKind::Polys, "Scalars=\"speed\" Vectors=\"velocity\"",
+                   cell_data, points, std::move(conn), std::move(offsets));
 }
 
 void write_surfaces_vtp(const std::filesystem::path& path, std::span<const SurfaceMesh> meshes,
@@ -265,8 +270,56 @@ void write_surfaces_vtp(const std::filesystem::path& path, std::span<const Surfa
       "        " + AppendedArrays::tag(arrays.add_owned("wall_id", 1, std::move(wall_id))) + "\n";
   cell_data += "        " +
                AppendedArrays::tag(arrays.add("wall_force", std::span<const Vec3>(force))) + "\n";
-  write_polys_file(path, arrays, "Scalars=\"wall_id\" Vectors=\"wall_force\"", cell_data, points,
-                   std::move(conn), std::move(offsets));
+  write_cells_file(path, arrays, CellKind::Polys, "Scalars=\"wall_id\" Vectors=\"wall_force\"",
+                   cell_data, points, std::move(conn), std::move(offsets));
+}
+
+void write_contacts_vtp(const std::filesystem::path& path,
+                        std::span<const contact::ContactRecord> pairs,
+                        std::span<const contact::ContactRecord> walls, const ParticleStore& store) {
+  std::vector<Vec3> points, force, normal;
+  std::vector<std::int64_t> conn, offsets, id_i, id_j;
+  std::vector<std::int32_t> wall;
+  std::vector<double> fn, overlap;
+  const std::int64_t* id = store.id();
+  auto add = [&](const contact::ContactRecord& r, bool to_wall) {
+    const Vec3 xi = store.x()[r.i];
+    conn.push_back(static_cast<std::int64_t>(points.size()));
+    conn.push_back(static_cast<std::int64_t>(points.size()) + 1);
+    offsets.push_back(static_cast<std::int64_t>(conn.size()));
+    points.push_back(xi);
+    points.push_back(xi - r.branch);  // the touching image of j, or the contact point on the wall
+    id_i.push_back(id[r.i]);
+    id_j.push_back(to_wall ? -1 : id[r.j]);
+    wall.push_back(to_wall ? r.j : -1);
+    force.push_back(r.force);
+    normal.push_back(r.normal);
+    fn.push_back(dot(r.force, r.normal));
+    overlap.push_back(r.overlap);
+  };
+  for (const auto& r : pairs)
+    if (r.i >= 0) add(r, false);
+  for (const auto& r : walls)
+    if (r.i >= 0) add(r, true);
+
+  AppendedArrays arrays;
+  std::string cell_data;
+  // One statement per array: blocks are laid out in the order they are added.
+  cell_data += "        " + AppendedArrays::tag(arrays.add_owned("fn", 1, std::move(fn))) + "\n";
+  cell_data +=
+      "        " + AppendedArrays::tag(arrays.add("force", std::span<const Vec3>(force))) + "\n";
+  cell_data +=
+      "        " + AppendedArrays::tag(arrays.add("normal", std::span<const Vec3>(normal))) + "\n";
+  cell_data +=
+      "        " + AppendedArrays::tag(arrays.add_owned("overlap", 1, std::move(overlap))) + "\n";
+  cell_data +=
+      "        " + AppendedArrays::tag(arrays.add_owned("id_i", 1, std::move(id_i))) + "\n";
+  cell_data +=
+      "        " + AppendedArrays::tag(arrays.add_owned("id_j", 1, std::move(id_j))) + "\n";
+  cell_data +=
+      "        " + AppendedArrays::tag(arrays.add_owned("wall", 1, std::move(wall))) + "\n";
+  write_cells_file(path, arrays, CellKind::Lines, "Scalars=\"fn\" Vectors=\"force\"", cell_data,
+                   points, std::move(conn), std::move(offsets));
 }
 
 }  // namespace gf::io

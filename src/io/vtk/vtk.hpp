@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/pair_forces.hpp"
 #include "core/quaternion.hpp"
 #include "core/surface_mesh.hpp"
 #include "core/vec3.hpp"
@@ -62,6 +63,16 @@ void write_polygons_vtp(const std::filesystem::path& path, const ParticleStore& 
 /// `force_per_mesh` has one entry per mesh. An empty list gives a valid empty file.
 void write_surfaces_vtp(const std::filesystem::path& path, std::span<const SurfaceMesh> meshes,
                         std::span<const Vec3> force_per_mesh);
+
+/// The contact network as line cells (docs/output.md): one line per touching record (i >= 0),
+/// first the grain pairs, then the grain-wall contacts, each from the centre of grain i to
+/// x_i - branch (the image of grain j that touches i; for a wall record, the contact point).
+/// Cell data: "fn" (Float64, N: F . n, > 0 repulsive), "force" (3 x Float64, N: on grain i),
+/// "normal" (3 x Float64, unit, towards i), "overlap" (Float64, m), "id_i", "id_j" (Int64,
+/// grain ids; id_j = -1 for a wall), "wall" (Int32, the wall's index, -1 for a grain pair).
+void write_contacts_vtp(const std::filesystem::path& path,
+                        std::span<const contact::ContactRecord> pairs,
+                        std::span<const contact::ContactRecord> walls, const ParticleStore& store);
 
 /// The .pvd time series and XML escaping are the shared ones of core/vtk_xml.hpp.
 using vtk::PvdSeries;
