@@ -73,6 +73,17 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
     }
     h.write("walls/servo_offset", std::span<const Vec3>(so));
     h.write("walls/servo_velocity", std::span<const Vec3>(sv));
+    // The series' wall means of the interval in progress (a continued run writes the row that
+    // an uninterrupted one would).
+    for (const auto& [s, name] :
+         {std::pair{&wall_sums_[0], "series"}, std::pair{&wall_sums_[1], "rheology"}}) {
+      std::vector<Vec3> fs = s->force, ts = s->torque;
+      fs.resize(walls_.size());
+      ts.resize(walls_.size());
+      h.write(fmt::format("walls/{}_force_sum", name), std::span<const Vec3>(fs));
+      h.write(fmt::format("walls/{}_torque_sum", name), std::span<const Vec3>(ts));
+      h.set_attribute("walls", fmt::format("{}_sum_steps", name), s->steps);
+    }
 
     if (cfd_) {
       const auto st = cfd_->state();
@@ -186,6 +197,19 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   } else if (h.exists("fluid")) {
     throw InputError(fmt::format(
         "{}: the checkpoint has a fluid state but the case has no fluid: block", file.string()));
+  }
+  // Wall means of the series interval in progress (absent in checkpoints of older builds: the
+  // interval restarts here).
+  for (auto [s, name] :
+       {std::pair{&wall_sums_[0], "series"}, std::pair{&wall_sums_[1], "rheology"}}) {
+    s->clear(walls_.size());
+    if (!h.exists(fmt::format("walls/{}_force_sum", name))) continue;
+    s->force = h.read_vec3(fmt::format("walls/{}_force_sum", name));
+    s->torque = h.read_vec3(fmt::format("walls/{}_torque_sum", name));
+    s->steps = h.read_int_attribute("walls", fmt::format("{}_sum_steps", name));
+    if (s->force.size() != walls_.size() || s->torque.size() != walls_.size())
+      throw InputError(fmt::format("{}: checkpoint has wall sums for {} walls, the case {}",
+                                   file.string(), s->force.size(), walls_.size()));
   }
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     walls_[w].servo_offset = so[w];

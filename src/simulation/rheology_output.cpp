@@ -9,6 +9,7 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <sstream>
 
 #include "analysis/kinetic_theory.hpp"
@@ -25,11 +26,43 @@ namespace {
 /// The series that choose the steady window (MSER) and are checked for drift.
 constexpr const char* kKeyQuantities[] = {"granular_temperature", "pressure", "sigma_xz"};
 
+/// The columns of rheology.csv after time and strain: the layer's measurements
+/// (analysis::rheology_columns) and the shear walls' tractions.
+const std::vector<std::string>& sample_columns() {
+  static const std::vector<std::string> cols = [] {
+    auto c = analysis::rheology_columns();
+    c.insert(c.end(), {"wall_sigma_xz", "wall_sigma_zz"});
+    return c;
+  }();
+  return cols;
+}
+
 std::size_t column_index(const std::string& name) {
-  const auto& cols = analysis::rheology_columns();
+  const auto& cols = sample_columns();
   for (std::size_t k = 0; k < cols.size(); ++k)
     if (cols[k] == name) return k;
   return cols.size();
+}
+
+/// The traction of the shear walls (shear.boundary: walls) on the grains' momentum, averaged
+/// over the steps since the previous sample and over the two walls, in the layer's convention
+/// (compressive positive; sigma_xz of the sign of the layer's): {sigma_xz, sigma_zz} =
+/// (F_top - F_bottom)_{x, z} / (2 A), F the force of the grains on a wall, A = L_x L_y. NaN
+/// without those walls (Lees-Edwards) or in 2D.
+std::array<double, 2> shear_wall_traction(const Simulation& sim) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const auto& walls = sim.walls();
+  std::optional<std::size_t> top, bottom;
+  for (std::size_t k = 0; k < walls.size(); ++k) {
+    if (walls[k].name == "shear_top") top = k;
+    if (walls[k].name == "shear_bottom") bottom = k;
+  }
+  if (!top || !bottom || sim.config().dimension != 3) return {nan, nan};
+  const Vec3 l = sim.domain().length();
+  const double area = l.x * l.y;
+  const Vec3 ft = sim.wall_mean_force(Simulation::WallMeans::Rheology, *top);
+  const Vec3 fb = sim.wall_mean_force(Simulation::WallMeans::Rheology, *bottom);
+  return {(ft.x - fb.x) / (2 * area), (ft.z - fb.z) / (2 * area)};
 }
 
 /// Restitution of the first particle group's material with itself (NaN if not given).
@@ -81,8 +114,8 @@ RheologyOutput::RheologyOutput(const std::filesystem::path& dir, const Simulatio
   const auto& r = *sim.config().analysis.rheology;
   every_ = std::max<std::int64_t>(1, std::llround(r.every / sim.dt()));
   std::vector<std::string> cols{"strain"};
-  for (const auto& c : analysis::rheology_columns()) cols.push_back(c);
-  values_.resize(analysis::rheology_columns().size());
+  for (const auto& c : sample_columns()) cols.push_back(c);
+  values_.resize(sample_columns().size());
   if (!continue_at) {
     csv_ = std::make_unique<io::SeriesCsv>(dir / "rheology.csv", cols);
     return;
@@ -98,7 +131,9 @@ RheologyOutput::RheologyOutput(const std::filesystem::path& dir, const Simulatio
 
 void RheologyOutput::sample(const Simulation& sim) {
   const analysis::RheologySample s = sim.rheology_sample();
-  const auto v = analysis::rheology_values(s);
+  auto v = analysis::rheology_values(s);
+  const auto traction = shear_wall_traction(sim);
+  v.insert(v.end(), traction.begin(), traction.end());
   const auto& shear = sim.config().shear;
   std::vector<double> row{shear ? shear->rate * sim.time() : 0.0};
   row.insert(row.end(), v.begin(), v.end());
@@ -143,7 +178,7 @@ RheologySummary RheologyOutput::finish(const Simulation& sim) {
   csv_->flush();
   RheologySummary out;
   const auto& cfg = sim.config();
-  const auto& cols = analysis::rheology_columns();
+  const auto& cols = sample_columns();
   if (times_.size() < 2) return out;
   // One steady window for every quantity: the latest MSER-5 truncation of the key series, or
   // the first sample at or after analysis.rheology.start.
@@ -222,15 +257,35 @@ RheologySummary RheologyOutput::finish(const Simulation& sim) {
       "rheology: steady state from t = {:.4g} s ({} samples); mean +- standard error, "
       "kinetic theory (Lun et al. 1984, volume-equivalent spheres):",
       out.steady_start, out.samples);
+  // Momentum balance: in a steady shear flow between walls sigma_xz and sigma_zz are uniform
+  // across the gap, so the layer's equal the walls' tractions. A difference beyond 3 combined
+  // standard errors means the flow is not steady (a transient, e.g. walls that slip and cannot
+  // sustain the initial shear) even when the series look flat.
+  for (const auto& [q, w] :
+       {std::pair{"sigma_xz", "wall_sigma_xz"}, {"sigma_zz", "wall_sigma_zz"}}) {
+    const auto* a = out.find(q);
+    const auto* b = out.find(w);
+    if (!a || !b || !std::isfinite(b->mean)) continue;
+    const double err = std::hypot(a->std_error, b->std_error);
+    if (err > 0 && std::abs(a->mean - b->mean) > 3 * err)
+      log::warn(
+          "rheology: the layer's {} ({:.4g} +- {:.2g} Pa) differs from the shear walls' traction "
+          "({:.4g} +- {:.2g} Pa) by {:.1f} standard errors: momentum is not balanced, the flow is "
+          "not steady (a transient, or walls that slip and cannot sustain the shear); run longer "
+          "or set analysis.rheology.start",
+          q, a->mean, a->std_error, b->mean, b->std_error, std::abs(a->mean - b->mean) / err);
+  }
   if (drifting && std::abs(out.drift) > 3)
     log::warn(
         "rheology: {} drifts over the averaging window ({:+.1f} standard errors between its "
         "halves; steady runs exceed 3 in a few % of cases): the averages are likely not "
         "steady; run longer (shear.strain) or set analysis.rheology.start",
         drifting, out.drift);
-  for (const char* q : {"volume_fraction", "shear_rate", "granular_temperature", "pressure",
-                        "sigma_xz", "friction", "N1", "N2", "alignment_angle"}) {
+  for (const char* q :
+       {"volume_fraction", "shear_rate", "granular_temperature", "pressure", "sigma_xz",
+        "wall_sigma_xz", "sigma_zz", "wall_sigma_zz", "friction", "N1", "N2", "alignment_angle"}) {
     const auto* r = out.find(q);
+    if (q[0] == 'w' && !std::isfinite(r->mean)) continue;  // no shear walls
     log::info("  {:<22} {:12.5g} +- {:<10.3g} {}", q, r->mean, r->std_error,
               std::isnan(r->kinetic_theory) ? std::string("")
                                             : fmt::format("KT {:.5g}", r->kinetic_theory));

@@ -60,7 +60,8 @@ class RheologyOutput {
   RheologySummary finish(const Simulation& sim);
 
   const std::vector<double>& times() const { return times_; }
-  /// The sampled values of column k of analysis::rheology_columns().
+  /// The sampled values of column k of analysis::rheology_columns(), then wall_sigma_xz,
+  /// wall_sigma_zz (the shear walls' tractions; NaN without them).
   const std::vector<double>& column(std::size_t k) const { return values_[k]; }
 
  private:

@@ -160,7 +160,10 @@ RunSummary Simulation::run(const RunOptions& opts) {
     if (std::string f; due(step_, contacts_vtk_every) && write_contacts_vtp(dir, f))
       pvd_contacts->add(t, f);
     const bool row = series && due(step_, series_every);
-    if (row) series->append(t, series_row(columns));
+    if (row) {
+      series->append(t, series_row(columns));
+      reset_wall_means(WallMeans::Series);
+    }
     // Someone may be watching the time series of a long run: flush them every few seconds (on
     // steps that wrote a row), and before each checkpoint, so that a run killed later and
     // restarted from that checkpoint has every row up to it on disk.
@@ -200,6 +203,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
     if (sample) {
       StageTimers::Scope timer(timers_, Stage::Output);
       rheology->sample(*this);
+      reset_wall_means(WallMeans::Rheology);
     }
     write_outputs(sample);
     if (!opts.quiet)

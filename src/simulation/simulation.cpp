@@ -19,6 +19,7 @@
 #include "integrators/rigid_bodies.hpp"
 #include "integrators/velocity_verlet.hpp"
 #include "io/csv/csv.hpp"
+#include "io/input/parse_case.hpp"
 #include "io/input/validate.hpp"
 #include "io/vtk/vtk.hpp"
 #include "simulation/shape_builder.hpp"
@@ -591,6 +592,17 @@ void Simulation::step(bool defer_kick) {
   update_neighbors(false);
   compute_forces();
   update_servos();
+  if (!walls_.empty()) {
+    for (auto& s : wall_sums_) {
+      s.force.resize(walls_.size());
+      s.torque.resize(walls_.size());
+      for (std::size_t k = 0; k < walls_.size(); ++k) {
+        s.force[k] += walls_[k].force;
+        s.torque[k] += walls_[k].torque;
+      }
+      ++s.steps;
+    }
+  }
   {
     StageTimers::Scope timer(timers_, Stage::Integrate);
     if (gear_) {
@@ -641,11 +653,11 @@ double Simulation::total_energy() const {
 }
 
 std::vector<std::string> Simulation::series_columns() const {
-  // wall_force.NAME and wall_torque.NAME are vectors (three columns); NAME.x/.y/.z one component.
+  // Per-wall quantities PREFIX.NAME are vectors (three columns); NAME.x/.y/.z one component.
   std::vector<std::string> cols;
   for (const auto& q : cfg_.output.quantities) {
-    const bool wall = q.starts_with("wall_force.") || q.starts_with("wall_torque.") ||
-                      q.starts_with("wall_position.");
+    bool wall = false;
+    for (std::string_view prefix : input::wall_series_prefixes()) wall |= q.starts_with(prefix);
     const bool component =
         q.size() > 2 && q[q.size() - 2] == '.' && (q.back() >= 'x' && q.back() <= 'z');
     if (wall && !component) {
@@ -655,6 +667,16 @@ std::vector<std::string> Simulation::series_columns() const {
     }
   }
   return cols;
+}
+
+Vec3 Simulation::wall_mean_force(WallMeans who, std::size_t k) const {
+  const WallSums& s = wall_sums_[static_cast<int>(who)];
+  return s.steps > 0 ? (1.0 / static_cast<double>(s.steps)) * s.force[k] : walls_[k].force;
+}
+
+Vec3 Simulation::wall_mean_torque(WallMeans who, std::size_t k) const {
+  const WallSums& s = wall_sums_[static_cast<int>(who)];
+  return s.steps > 0 ? (1.0 / static_cast<double>(s.steps)) * s.torque[k] : walls_[k].torque;
 }
 
 double Simulation::quantity(const std::string& name) const {
@@ -695,9 +717,12 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       REQUIRE(found, "no wall named '{}'", rest);
       REQUIRE(comp >= 0, "wall_position needs a component");
       row.push_back(found->point[comp]);
-    } else if (name.starts_with("wall_force.") || name.starts_with("wall_torque.")) {
-      const bool force = name.starts_with("wall_force.");
-      std::string rest = name.substr(force ? 11 : 12);
+    } else if (name.starts_with("wall_force") || name.starts_with("wall_torque")) {
+      // wall_force.W, wall_torque.W: this step's; wall_force_mean.W, wall_torque_mean.W: the
+      // mean over the steps since the previous row (this step's at a row with none before).
+      const bool force = name.starts_with("wall_force");
+      const bool mean = name.starts_with(force ? "wall_force_mean." : "wall_torque_mean.");
+      std::string rest = name.substr(name.find('.') + 1);
       int comp = 2;
       if (rest.size() > 2 && rest[rest.size() - 2] == '.' && rest.back() >= 'x' &&
           rest.back() <= 'z') {
@@ -706,11 +731,16 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       }
       Vec3 sum{};
       bool found = false;
-      for (const auto& w : walls_)
-        if (w.group == rest || w.name == rest) {
+      for (std::size_t k = 0; k < walls_.size(); ++k) {
+        const Wall& w = walls_[k];
+        if (w.group != rest && w.name != rest) continue;
+        found = true;
+        if (mean)
+          sum += force ? wall_mean_force(WallMeans::Series, k)
+                       : wall_mean_torque(WallMeans::Series, k);
+        else
           sum += force ? w.force : w.torque;
-          found = true;
-        }
+      }
       REQUIRE(found, "no wall named '{}'", rest);
       row.push_back(sum[comp]);
     } else if (name == "kinetic_energy") {

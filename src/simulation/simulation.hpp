@@ -2,6 +2,7 @@
 // Simulation: the DEM state built from a validated case, and the time loop as named stages.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -102,6 +103,16 @@ class Simulation {
   std::vector<double> series_row(const std::vector<std::string>& columns) const;
   /// Series column names for the configured quantities (wall_force.X expands to .x/.y/.z).
   std::vector<std::string> series_columns() const;
+  /// Who reads the walls' forces and torques averaged over the steps of an interval: the
+  /// series (wall_force_mean, wall_torque_mean; interval: since the previous row) and the
+  /// rheology samples (wall tractions; since the previous sample).
+  enum class WallMeans { Series, Rheology };
+  /// Mean force (torque) on wall k over the steps of `who`'s interval so far; the current one
+  /// when the interval has no step yet.
+  Vec3 wall_mean_force(WallMeans who, std::size_t k) const;
+  Vec3 wall_mean_torque(WallMeans who, std::size_t k) const;
+  /// Starts `who`'s next interval.
+  void reset_wall_means(WallMeans who) { wall_sums_[static_cast<int>(who)].clear(walls_.size()); }
 
   /// Rheology (analysis.rheology): the measured layer, one grain length (2 x the largest
   /// bounding radius) or analysis.rheology.margin away from walls.
@@ -165,6 +176,18 @@ class Simulation {
   bool collect_contacts_ = false;
   std::int64_t contacts_step_ = -1;  ///< the step whose force stage recorded contact_records_
   std::vector<contact::ContactRecord> contact_records_, wall_records_;
+  /// Sums of each wall's force and torque over the steps of an interval, and their number (one
+  /// per WallMeans reader; kept in checkpoints).
+  struct WallSums {
+    std::vector<Vec3> force, torque;
+    std::int64_t steps = 0;
+    void clear(std::size_t n) {
+      force.assign(n, Vec3{});
+      torque.assign(n, Vec3{});
+      steps = 0;
+    }
+  };
+  std::array<WallSums, 2> wall_sums_;
   // Set by the drift of this step (VelocityVerlet with DriftExtras): the forces are already
   // m g, and the largest squared displacement since the last list build (< 0: not measured).
   bool forces_reset_ = false;

@@ -3,7 +3,8 @@
 // stage against a brute-force search for touching pairs and against the forces the stage
 // applied, for spheres between Lees-Edwards images and for spheres and spherocylinders between
 // walls (grain pairs and grain-wall contacts together give every grain's force and every wall's
-// reaction); the CSV and VTK files it writes; and the files a run writes on its schedule.
+// reaction); the CSV and VTK files it writes; the files a run writes on its schedule; and the
+// walls' interval means (series wall_force_mean, the rheology's wall tractions).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -336,5 +337,45 @@ TEST(ContactsOutput, RunWritesWallContactsAndTheVtkNetwork) {
     EXPECT_EQ(id_j[c], to_wall ? -1 : p.id()[static_cast<std::size_t>(r.j)]);
     EXPECT_EQ(wall[c], to_wall ? r.j : -1);
     EXPECT_EQ(conn[2 * c], static_cast<std::int64_t>(2 * c));
+  }
+}
+
+// The walls' interval means (series wall_force_mean / wall_torque_mean, rheology wall
+// tractions) are the means of the forces and torques the steps applied: against a sum taken
+// here over 700 steps (to round-off of the same sums), each reader with its own interval; an
+// interval without steps reports the current force.
+TEST(WallMeans, AreTheMeansOfTheStepsSinceTheReset) {
+  const auto cfg =
+      rheology_case("shear_box_spheres/case.yaml", {{"particles[0].fill.volume_fraction", "0.3"},
+                                                    {"shear.rate", "400"},
+                                                    {"contacts[0].stiffness", "600"},
+                                                    {"contacts[1].stiffness", "600"},
+                                                    {"time.step", "1.0e-6"}});
+  using M = Simulation::WallMeans;
+  Simulation sim(cfg);
+  for (int k = 0; k < 3000; ++k) sim.step();
+  const std::size_t n = sim.walls().size();
+  ASSERT_EQ(n, 2u);
+  sim.reset_wall_means(M::Series);
+  for (std::size_t w = 0; w < n; ++w) {
+    EXPECT_EQ(sim.wall_mean_force(M::Series, w), sim.walls()[w].force);
+    EXPECT_EQ(sim.wall_mean_torque(M::Series, w), sim.walls()[w].torque);
+  }
+  std::vector<Vec3> f(n), t(n), f_late(n);
+  for (int k = 0; k < 700; ++k) {
+    if (k == 300) sim.reset_wall_means(M::Rheology);
+    sim.step();
+    for (std::size_t w = 0; w < n; ++w) {
+      f[w] += sim.walls()[w].force;
+      t[w] += sim.walls()[w].torque;
+      if (k >= 300) f_late[w] += sim.walls()[w].force;
+    }
+  }
+  ASSERT_GT(norm(f[0]) + norm(f[1]), 0.0);  // (the top wall may have had no contact yet)
+  for (std::size_t w = 0; w < n; ++w) {
+    EXPECT_LE(norm(sim.wall_mean_force(M::Series, w) - (1.0 / 700) * f[w]), 1e-13 * norm(f[w]));
+    EXPECT_LE(norm(sim.wall_mean_torque(M::Series, w) - (1.0 / 700) * t[w]), 1e-13 * norm(t[w]));
+    EXPECT_LE(norm(sim.wall_mean_force(M::Rheology, w) - (1.0 / 400) * f_late[w]),
+              1e-13 * norm(f_late[w]));
   }
 }

@@ -133,6 +133,58 @@ TEST(Restart, StoppedRunContinuesBitIdentically) {
   test::expect_same_state(b, c);
 }
 
+namespace {
+
+/// Runs `cfg` whole and cut at step 2345 (no output due there) then continued in its own folder
+/// with --append; `files` must be the same in both folders.
+void expect_append_matches_whole_run(const config::Case& cfg, const test::TempDir& tmp,
+                                     std::initializer_list<const char*> files) {
+  RunOptions whole;
+  whole.output = tmp / "whole";
+  whole.quiet = true;
+  Simulation(cfg).run(whole);
+  RunOptions cut = whole;
+  cut.output = tmp / "cut";
+  cut.steps = 2345;
+  Simulation(cfg).run(cut);
+  RunOptions rest = cut;
+  rest.steps.reset();
+  rest.restart = cut.output / "checkpoint_final.h5";
+  rest.append = true;
+  Simulation(cfg).run(rest);
+  for (const char* f : files)
+    EXPECT_EQ(read_text_file(whole.output / f), read_text_file(cut.output / f)) << f;
+}
+
+}  // namespace
+
+// Shear between walls with the walls' interval means in the series (wall_force_mean,
+// wall_torque_mean) and in the rheology samples (wall_sigma_xz, wall_sigma_zz): the cut falls
+// inside an interval, whose sums the checkpoint keeps, so the continued run writes the rows
+// and samples of the run that was never cut.
+TEST(Restart, AppendContinuesTheWallMeans) {
+  test::TempDir tmp;
+  const auto cfg = input::load_case(
+      std::string(GF_SOURCE_DIR) + "/cases/rheology/shear_box_spheres/case.yaml",
+      {{"particles[0].fill.volume_fraction", "0.3"},
+       {"shear.rate", "400"},
+       {"shear.strain", "2"},
+       {"time.step", "1.0e-6"},
+       {"analysis.rheology.every_strain", "0.2"},
+       {"output.series.every", "1.0e-3"},
+       {"output.series.quantities",
+        "[wall_force_mean.shear_top, wall_torque_mean.shear_bottom.y, wall_force.shear_top.x]"},
+       {"output.vtk.every", "0"}});
+  expect_append_matches_whole_run(cfg, tmp, {"series.csv", "rheology.csv", "rheology_summary.csv"});
+  const std::string series = read_text_file(tmp / "whole" / "series.csv");
+  EXPECT_EQ(series.substr(0, series.find('\n')),
+            "time,wall_force_mean.shear_top.x,wall_force_mean.shear_top.y,"
+            "wall_force_mean.shear_top.z,wall_torque_mean.shear_bottom.y,wall_force.shear_top.x");
+  const auto s = read_rheology_summary(tmp / "whole" / "rheology_summary.csv");
+  EXPECT_LT(s.at("wall_sigma_xz")[0], 0.0);
+  EXPECT_GT(s.at("wall_sigma_zz")[0], 0.0);
+}
+
 TEST(Restart, AppendContinuesTheOutputsOfTheRunInPlace) {
   // A sheared run cut at step 2345 (no output is due there) and continued in its own folder with
   // --append must leave the same series, rheology samples and summary and ParaView series as a
@@ -146,28 +198,18 @@ TEST(Restart, AppendContinuesTheOutputsOfTheRunInPlace) {
        {"time.step", "1.0e-6"},
        {"output.series.every", "1.0e-4"},
        {"output.vtk.every", "5.0e-4"}});
-  RunOptions whole;
-  whole.output = tmp / "whole";
-  whole.quiet = true;
-  Simulation(cfg).run(whole);
-
-  RunOptions cut = whole;
-  cut.output = tmp / "cut";
-  cut.steps = 2345;
-  Simulation(cfg).run(cut);
-  RunOptions rest = cut;
-  rest.steps.reset();
-  rest.restart = cut.output / "checkpoint_final.h5";
+  expect_append_matches_whole_run(cfg, tmp,
+                                  {"series.csv", "rheology.csv", "rheology_summary.csv",
+                                   "particles.pvd", "particles_000005000.vtp"});
+  RunOptions rest;
+  rest.output = tmp / "cut";
+  rest.quiet = true;
   rest.append = true;
-  Simulation(cfg).run(rest);
-  for (const char* f : {"series.csv", "rheology.csv", "rheology_summary.csv", "particles.pvd",
-                        "particles_000005000.vtp"})
-    EXPECT_EQ(read_text_file(whole.output / f), read_text_file(cut.output / f)) << f;
-
   RunOptions bad = rest;  // --append needs the checkpoint and an existing folder
   bad.restart.reset();
   EXPECT_THROW(Simulation(cfg).run(bad), InputError);
   bad = rest;
+  bad.restart = tmp / "cut" / "checkpoint_final.h5";
   bad.output = tmp / "nowhere";
   EXPECT_THROW(Simulation(cfg).run(bad), InputError);
 }
@@ -189,13 +231,14 @@ TEST(Restart, AppendContinuesTheRheologyOfAnEarlierBuild) {
   cut.quiet = true;
   cut.steps = 2345;
   Simulation(cfg).run(cut);
-  // Drop the last six columns, as the earlier build wrote the file.
+  // Drop the last eight columns (the contacts' six and the walls' two), as the earlier build
+  // wrote the file.
   const std::filesystem::path csv = cut.output / "rheology.csv";
   std::istringstream in(read_text_file(csv));
   std::string text, line;
   std::size_t kept_rows = 0;
   while (std::getline(in, line)) {
-    for (int k = 0; k < 6; ++k) line.erase(line.rfind(','));
+    for (int k = 0; k < 8; ++k) line.erase(line.rfind(','));
     text += line + '\n';
     ++kept_rows;
   }
@@ -208,9 +251,10 @@ TEST(Restart, AppendContinuesTheRheologyOfAnEarlierBuild) {
   rest.append = true;
   Simulation(cfg).run(rest);
   const std::string after = read_text_file(csv);
-  EXPECT_NE(after.find("grains,coordination_number,F_xx,F_yy,F_zz,F_xz,fabric_angle\n"),
+  EXPECT_NE(after.find("grains,coordination_number,F_xx,F_yy,F_zz,F_xz,fabric_angle,wall_sigma_xz,"
+                       "wall_sigma_zz\n"),
             std::string::npos);
-  EXPECT_NE(after.find(",nan,nan,nan,nan,nan,nan\n"), std::string::npos);
+  EXPECT_NE(after.find(",nan,nan,nan,nan,nan,nan,nan,nan\n"), std::string::npos);
   const auto s = read_rheology_summary(cut.output / "rheology_summary.csv");
   EXPECT_GT(s.at("coordination_number")[0], 0.0);
   EXPECT_NEAR(s.at("F_xx")[0] + s.at("F_yy")[0] + s.at("F_zz")[0], 1.0, 1e-9);

@@ -56,6 +56,23 @@ double enskog_coordination(const Summary& s, double e) {
                                                     mean(s, "granular_temperature"), d);
 }
 
+/// Momentum balance of steady shear between walls: sigma_xz and sigma_zz are uniform across the
+/// gap, so the layer's (streaming + collisional, measured one grain length from the walls)
+/// equal the walls' tractions averaged over the same steps. Both are means over the steady
+/// window with block-averaged standard errors; 3.5 combined errors is a two-sided bound that a
+/// steady run exceeds in well under 1 % of cases. It fails for a stress estimator with the
+/// wrong volume or a missing part (a factor 2 in sigma_zz is ~10 errors here) and for a flow
+/// that is still decaying (the smooth-wall sphere box: 6-12 errors).
+void expect_momentum_balance(const Summary& s) {
+  for (const auto& [q, w] :
+       {std::pair{"sigma_xz", "wall_sigma_xz"}, std::pair{"sigma_zz", "wall_sigma_zz"}}) {
+    const double err = std::hypot(s.at(q)[1], s.at(w)[1]);
+    ASSERT_GT(err, 0.0) << q;
+    EXPECT_LT(std::abs(mean(s, q) - mean(s, w)), 3.5 * err)
+        << q << " " << mean(s, q) << " walls " << mean(s, w) << " +- " << err;
+  }
+}
+
 /// The contact fabric of the summary is a mean over contacts: unit trace.
 void expect_unit_trace_fabric(const Summary& s) {
   EXPECT_NEAR(mean(s, "F_xx") + mean(s, "F_yy") + mean(s, "F_zz"), 1.0, 1e-9);
@@ -144,6 +161,21 @@ TEST(RheologyValidation, DiluteSpheresBagnoldScalingAndLun) {
   }
 }
 
+// Spheres sheared between rough walls (the shipped shear_box_spheres: phi = 0.1, e = 0.7,
+// plates with friction 1 and rolling resistance 0.5), strain 40: the flow is steady and
+// balanced: the layer's sigma_xz and sigma_zz equal the walls' tractions (measured -16.2 +- 1.2
+// against -14.6 +- 0.9 Pa, 27.5 +- 1.7 against 26.1 +- 1.5 Pa), and the walls hold most of the
+// imposed shear (measured 76.8 +- 0.7 of 100 1/s; smooth plates without rolling resistance let
+// the spheres roll and the bulk rate decay below 60 1/s by strain 40).
+TEST(RheologyValidation, SphereWallShearBalancesMomentum) {
+  test::TempDir dir;
+  const auto s = run_case("shear_box_spheres/case.yaml",
+                          {{"time.step", "1.0e-6"}, {"output.vtk.every", "0"}}, dir, "walls");
+  expect_momentum_balance(s);
+  EXPECT_GT(mean(s, "shear_rate"), 65.0);
+  EXPECT_LT(mean(s, "sigma_xz"), 0.0);
+}
+
 // Rods of aspect ratio 4 (Mahajan et al.'s dry case, frictionless, e = 0.7, phi = 0.2, 427 rods,
 // 6 x 4 x 4 L box between walls, 100 1/s apparent), strain 15: the paper's robust findings.
 // Rods attain a far lower temperature and pressure than volume-equivalent spheres at the same
@@ -152,14 +184,19 @@ TEST(RheologyValidation, DiluteSpheresBagnoldScalingAndLun) {
 // statistics (~5-10 % standard errors) and still fails if the rods behaved like spheres. They
 // align with the flow: the order tensor's alignment angle lies between 0 and 35 degrees (the
 // paper: 10-25 degrees; measured 18.9) with a clear nematic order (measured 0.31; isotropic 0).
+// The layer's stresses balance the walls' tractions (momentum balance; samples every strain
+// 0.01: measured sigma_xz -8.2 +- 0.8 against -6.4 +- 0.7 Pa, sigma_zz 14.5 +- 1.2 against
+// 16.4 +- 2.0 Pa).
 TEST(RheologyValidation, RodsBelowSpheresAndAlignedWithTheFlow) {
   test::TempDir dir;
   const auto s = run_case("shear_box_rods/case.yaml",
                           {{"time.step", "1.0e-6"},
                            {"shear.strain", "15"},
                            {"particles[0].fill.volume_fraction", "0.2"},
+                           {"analysis.rheology.every_strain", "0.01"},
                            {"output.vtk.every", "0"}},
                           dir, "rods");
+  expect_momentum_balance(s);
   EXPECT_NEAR(mean(s, "volume_fraction"), 0.2, 0.03);
   EXPECT_LT(mean(s, "granular_temperature"), 0.5 * kt(s, "granular_temperature"));
   EXPECT_LT(mean(s, "pressure"), 0.5 * kt(s, "pressure"));

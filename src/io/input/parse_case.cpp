@@ -1364,9 +1364,9 @@ void Reader::read_output(const YamlMap& root) {
       for (const auto& item : q->as_list()) {
         const std::string name = item.as_string();
         if (!is_series_quantity(name, walls)) {
-          for (const char* prefix : {"wall_force.", "wall_torque.", "wall_position."}) {
-            if (name.rfind(prefix, 0) == 0) {
-              std::string wall = name.substr(std::string_view(prefix).size());
+          for (std::string_view prefix : wall_series_prefixes()) {
+            if (name.starts_with(prefix)) {
+              std::string wall = name.substr(prefix.size());
               for (const char* comp : {".x", ".y", ".z"})
                 if (wall.size() > 2 && wall.substr(wall.size() - 2) == comp)
                   wall.resize(wall.size() - 2);
@@ -1381,7 +1381,8 @@ void Reader::read_output(const YamlMap& root) {
             hint = fmt::format(" (did you mean '{}'?)", *near);
           item.fail(fmt::format(
               "unknown series quantity '{}'{}; accepted: {}, wall_force.WALL, wall_torque.WALL, "
-              "wall_position.WALL (optionally with .x, .y or .z)",
+              "wall_force_mean.WALL, wall_torque_mean.WALL, wall_position.WALL (optionally with "
+              ".x, .y or .z)",
               name, hint, join(series_quantity_names())));
         }
         if (!c.fluid && (name.rfind("fluid_", 0) == 0 || name == "superficial_velocity" ||
@@ -1484,10 +1485,16 @@ const std::vector<std::string>& series_quantity_names() {
   return names;
 }
 
+std::span<const std::string_view> wall_series_prefixes() {
+  static constexpr std::string_view prefixes[] = {"wall_force.", "wall_torque.", "wall_force_mean.",
+                                                  "wall_torque_mean.", "wall_position."};
+  return prefixes;
+}
+
 bool is_series_quantity(std::string_view quantity, const std::vector<std::string>& wall_names) {
   const auto& names = series_quantity_names();
   if (std::find(names.begin(), names.end(), quantity) != names.end()) return true;
-  for (std::string_view prefix : {"wall_force.", "wall_torque.", "wall_position."}) {
+  for (std::string_view prefix : wall_series_prefixes()) {
     if (quantity.substr(0, prefix.size()) != prefix) continue;
     std::string_view wall = quantity.substr(prefix.size());
     if (std::find(wall_names.begin(), wall_names.end(), wall) != wall_names.end()) return true;

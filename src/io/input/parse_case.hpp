@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -43,9 +44,13 @@ config::Case load_case(const std::filesystem::path& file, const std::vector<Over
 /// Same as load_case, from text; `file` names the text in messages and locates relative paths.
 config::Case load_case_text(const std::string& yaml_text, const std::filesystem::path& file);
 
-/// Names accepted in `output.series.quantities` besides wall_force.WALL and wall_torque.WALL
-/// (each also with a .x, .y or .z component suffix).
+/// Names accepted in `output.series.quantities` besides the per-wall ones PREFIX.WALL (each also
+/// with a .x, .y or .z component suffix), PREFIX one of wall_series_prefixes().
 const std::vector<std::string>& series_quantity_names();
+
+/// The per-wall series quantities, with their dot: "wall_force.", "wall_torque.",
+/// "wall_force_mean.", "wall_torque_mean.", "wall_position.".
+std::span<const std::string_view> wall_series_prefixes();
 
 /// Whether `quantity` is an accepted series quantity for a case with walls named `wall_names`.
 bool is_series_quantity(std::string_view quantity, const std::vector<std::string>& wall_names);
