@@ -2,6 +2,7 @@
 // The run: output folder policy, scheduled outputs (VTK, CSV, series, checkpoints), progress,
 // and the end-of-run timing summary.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <sys/resource.h>
 
 #include <cmath>
@@ -16,6 +17,7 @@
 #include "core/version.hpp"
 #include "io/csv/csv.hpp"
 #include "io/input/echo.hpp"
+#include "io/input/parse_case.hpp"
 #include "io/vtk/vtk.hpp"
 #include "simulation/rheology_output.hpp"
 #include "simulation/simulation.hpp"
@@ -61,6 +63,49 @@ void prepare_output_dir(const fs::path& dir, bool overwrite) {
   fs::create_directories(dir);
 }
 
+namespace {
+
+/// --append continues series.csv, whose columns must stay, and rheology.csv, whose samples the
+/// steady-state averages and their block errors take as evenly spaced and alike: the series
+/// quantities and the rheology sampling of `cfg` must be those of the run being continued (its
+/// resolved case in the folder), checked before anything is written. Other intervals may change
+/// (the time columns and file names say when each output was written). A resolved case this
+/// build cannot read (a much older build's) is not compared.
+void check_append_schedule(const fs::path& dir, const config::Case& cfg) {
+  const fs::path earlier = dir / "resolved_case.yaml";
+  if (!fs::exists(earlier)) return;
+  config::Case old;
+  try {
+    old = input::load_case(earlier);
+  } catch (const Error& e) {
+    log::warn("--append: cannot read '{}' ({}); the rheology sampling is not compared",
+              earlier.string(), e.what());
+    return;
+  }
+  auto refuse = [&](const std::string& key, const std::string& now, const std::string& then) {
+    throw InputError(
+        fmt::format("--append: {} is {} in this case but {} in the run being continued ('{}'): "
+                    "its file would mix the two; continue with the same {}, or without "
+                    "--append in a new folder (--output)",
+                    key, now, then, earlier.string(), key));
+  };
+  if (cfg.output.series.every > 0 && old.output.series.every > 0 &&
+      cfg.output.quantities != old.output.quantities)
+    refuse("output.series.quantities", fmt::format("[{}]", fmt::join(cfg.output.quantities, ", ")),
+           fmt::format("[{}]", fmt::join(old.output.quantities, ", ")));
+  if (!cfg.analysis.rheology) return;
+  const auto& r = *cfg.analysis.rheology;
+  const auto& ro = old.analysis.rheology;
+  if (!ro) refuse("analysis.rheology", fmt::format("every {} s", r.every), "off");
+  if (std::abs(r.every - ro->every) > 1e-9 * std::max(r.every, ro->every))
+    refuse("analysis.rheology", fmt::format("every {} s", r.every),
+           fmt::format("every {} s", ro->every));
+  if (r.bins != ro->bins)
+    refuse("analysis.rheology.bins", std::to_string(r.bins), std::to_string(ro->bins));
+}
+
+}  // namespace
+
 void check_append(const fs::path& dir, const RunOptions& opts) {
   if (!opts.append) return;
   if (!opts.restart)
@@ -73,6 +118,7 @@ void check_append(const fs::path& dir, const RunOptions& opts) {
 RunSummary Simulation::run(const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? cfg_.output.directory : opts.output;
   check_append(dir, opts);
+  if (opts.append) check_append_schedule(dir, cfg_);
   if (opts.restart) load_checkpoint(*opts.restart);
   if (!opts.append) prepare_output_dir(dir, opts.overwrite);
   // --append: the outputs continue from the checkpoint's time; what the earlier run wrote after

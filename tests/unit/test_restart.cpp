@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <tuple>
 
 #include "case_builder.hpp"
 #include "core/files.hpp"
@@ -212,6 +213,50 @@ TEST(Restart, AppendContinuesTheOutputsOfTheRunInPlace) {
   bad.restart = tmp / "cut" / "checkpoint_final.h5";
   bad.output = tmp / "nowhere";
   EXPECT_THROW(Simulation(cfg).run(bad), InputError);
+}
+
+// --append with another rheology sampling than the run it continues (its resolved_case.yaml)
+// is refused before anything is written (the steady averages would mix two samplings), as are
+// other series columns; another interval of a file-per-step output or of the series is taken.
+TEST(Restart, AppendRefusesAnotherRheologySampling) {
+  test::TempDir tmp;
+  const std::vector<input::Override> sets{{"shear.rate", "400"},
+                                          {"shear.strain", "2"},
+                                          {"time.step", "1.0e-6"},
+                                          {"output.series.every", "1.0e-4"},
+                                          {"output.vtk.every", "0"}};
+  const std::string file =
+      std::string(GF_SOURCE_DIR) + "/cases/rheology/lees_edwards_spheres/case.yaml";
+  RunOptions cut;
+  cut.output = tmp / "cut";
+  cut.quiet = true;
+  cut.steps = 2345;
+  Simulation(input::load_case(file, sets)).run(cut);
+  const std::string series = read_text_file(cut.output / "series.csv");
+  const std::string resolved = read_text_file(cut.output / "resolved_case.yaml");
+  RunOptions rest = cut;
+  rest.steps.reset();
+  rest.restart = cut.output / "checkpoint_final.h5";
+  rest.append = true;
+  for (const auto& [key, value, message] :
+       {std::tuple{"analysis.rheology.every_strain", "0.1",
+                   "analysis.rheology is every 0.00025 s in this case but every 0.000125 s"},
+        std::tuple{"analysis.rheology.bins", "8", "analysis.rheology.bins is 8"},
+        std::tuple{"output.series.quantities", "[kinetic_energy]", "series"}}) {
+    auto changed = sets;
+    changed.push_back({key, value});
+    try {
+      Simulation(input::load_case(file, changed)).run(rest);
+      ADD_FAILURE() << key << ": no error";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(read_text_file(cut.output / "series.csv"), series) << key;
+    EXPECT_EQ(read_text_file(cut.output / "resolved_case.yaml"), resolved) << key;
+  }
+  auto sparser = sets;  // the same sampling, another series interval
+  sparser.push_back({"output.series.every", "2.0e-4"});
+  EXPECT_NO_THROW(Simulation(input::load_case(file, sparser)).run(rest));
 }
 
 TEST(Restart, AppendContinuesTheRheologyOfAnEarlierBuild) {
