@@ -23,7 +23,8 @@ Checks:
   committed windows table and on the windows of the run above;
 - where BUILD_DIR/tests/gf_validation_tests exists (BUILD_DIR: the folder of GRAINFLOW_BINARY),
   the modes that run it: plot_cfd_dem.py BUILD_DIR, plot_drag.py, plot_fluid_fv.py and
-  make_plots.py (seconds each on one core), plot_rheology_spheres.py (45 s).
+  make_plots.py, plot_momentum_balance.py (seconds each on one core), plot_rheology_spheres.py
+  (45 s).
 Every script is given --out (or its output folder) as a folder that does not exist yet, must
 exit 0 and write exactly the expected files, each a non-empty PNG; docs/validation (names, sizes,
 modification times) is the same afterwards. The scripts run at most os.cpu_count() at a time.
@@ -218,6 +219,10 @@ with tempfile.TemporaryDirectory() as TMP:
              script(os.path.join(SCRIPTS, "plot_rheology_spheres.py"), "--out",
                     out("rheology_spheres"), build),
              out("rheology_spheres"), ["rheology_spheres_kinetic_theory.png"]),
+            ("plot_momentum_balance.py BUILD_DIR",
+             script(os.path.join(SCRIPTS, "plot_momentum_balance.py"), "--out",
+                    out("momentum_balance"), build),
+             out("momentum_balance"), ["rheology_momentum_balance.png"]),
             ("plot_fluid_fv.py BUILD_DIR",
              script(os.path.join(SCRIPTS, "plot_fluid_fv.py"), "--out", out("fluid_fv"), build),
              out("fluid_fv"), ["fluid_fv_cavity.png", "fluid_fv_convergence.png"]),
