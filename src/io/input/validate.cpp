@@ -224,6 +224,7 @@ class Validator {
   void check_time_step();
   void check_output();
   void check_fluid();
+  void check_shear_walls();
 
   const config::Case& c_;
   int dim_;
@@ -1095,6 +1096,31 @@ void Validator::check_fluid() {
         courant));
 }
 
+/// Spheres between shear walls that resist sliding only: a sphere can roll along a plate with
+/// no slip at its contact point, so the walls pass on little of the imposed shear and the flow
+/// decays (docs/models/rheology.md, momentum balance: the layer's sigma_xz stayed at twice the
+/// walls' traction over strain 40 in the dilute sphere box with friction 0.5).
+void Validator::check_shear_walls() {
+  if (!c_.shear || c_.shear->boundary != config::Shear::Boundary::Walls) return;
+  for (const auto& g : c_.particles) {
+    if (g.shape != "sphere") continue;
+    for (const auto& ct : c_.contacts) {
+      const bool pair = (ct.between[0] == g.material && ct.between[1] == c_.shear->wall_material) ||
+                        (ct.between[1] == g.material && ct.between[0] == c_.shear->wall_material);
+      if (!pair) continue;
+      const auto rolling = ct.params.find("rolling_friction");
+      if (rolling != ct.params.end() && rolling->second > 0) continue;
+      report_.warnings.push_back(fmt::format(
+          "spheres of '{}' against the shear walls ('{}') have no rolling resistance: they can "
+          "roll along the walls, which may then not sustain the imposed shear (the flow decays; "
+          "the rheology summary's momentum balance tells); rough walls: set rolling_friction "
+          "(e.g. 0.5) and friction ~1 for [{}, {}]",
+          g.material, c_.shear->wall_material, g.material, c_.shear->wall_material));
+      return;
+    }
+  }
+}
+
 CheckReport Validator::run() {
   check_basics();
   check_materials();
@@ -1106,6 +1132,7 @@ CheckReport Validator::run() {
   check_time_step();
   check_output();
   check_fluid();
+  check_shear_walls();
   return std::move(report_);
 }
 
