@@ -64,12 +64,15 @@ double enskog_coordination(const Summary& s, double e) {
 /// steady run exceeds in well under 1 % of cases. It fails for a stress estimator with the
 /// wrong volume or a missing part (a factor 2 in sigma_zz is ~10 errors here) and for a flow
 /// that is still decaying (the smooth-wall sphere box: 6-12 errors).
-void expect_momentum_balance(const Summary& s) {
+/// With `relative` > 0 the bound is that fraction of the walls' value instead (see the rods
+/// test: their slow orientational dynamics outlast the block errors).
+void expect_momentum_balance(const Summary& s, double relative = 0) {
   for (const auto& [q, w] :
        {std::pair{"sigma_xz", "wall_sigma_xz"}, std::pair{"sigma_zz", "wall_sigma_zz"}}) {
     const double err = std::hypot(s.at(q)[1], s.at(w)[1]);
     ASSERT_GT(err, 0.0) << q;
-    EXPECT_LT(std::abs(mean(s, q) - mean(s, w)), 3.5 * err)
+    const double bound = relative > 0 ? relative * std::abs(mean(s, w)) : 3.5 * err;
+    EXPECT_LT(std::abs(mean(s, q) - mean(s, w)), bound)
         << q << " " << mean(s, q) << " walls " << mean(s, w) << " +- " << err;
   }
 }
@@ -210,7 +213,11 @@ TEST(RheologyValidation, SphereWallShearBalancesMomentum) {
 // paper: 10-25 degrees; measured 18.9) with a clear nematic order (measured 0.31; isotropic 0).
 // The layer's stresses balance the walls' tractions (momentum balance; samples every strain
 // 0.01: measured sigma_xz -8.2 +- 0.8 against -6.4 +- 0.7 Pa, sigma_zz 14.5 +- 1.2 against
-// 16.4 +- 2.0 Pa).
+// 16.4 +- 2.0 Pa). Within 40 % of the walls' value, not in standard errors: the rods' order and
+// density evolve over strains of tens, longer than the blocks of the error estimate, and the
+// difference wanders with either sign (phi = 0.4: -13.7 against -16.3 Pa at strain 15, -22.2 +-
+// 0.8 against -17.1 +- 0.4 Pa at strain 40, where the summary warns); 40 % still fails a
+// stress estimator off by a factor of 2 or missing its collisional part.
 TEST(RheologyValidation, RodsBelowSpheresAndAlignedWithTheFlow) {
   test::TempDir dir;
   const auto s = run_case("shear_box_rods/case.yaml",
@@ -220,7 +227,7 @@ TEST(RheologyValidation, RodsBelowSpheresAndAlignedWithTheFlow) {
                            {"analysis.rheology.every_strain", "0.01"},
                            {"output.vtk.every", "0"}},
                           dir, "rods");
-  expect_momentum_balance(s);
+  expect_momentum_balance(s, 0.4);
   EXPECT_NEAR(mean(s, "volume_fraction"), 0.2, 0.03);
   EXPECT_LT(mean(s, "granular_temperature"), 0.5 * kt(s, "granular_temperature"));
   EXPECT_LT(mean(s, "pressure"), 0.5 * kt(s, "pressure"));
