@@ -378,4 +378,8 @@ TEST(WallMeans, AreTheMeansOfTheStepsSinceTheReset) {
     EXPECT_LE(norm(sim.wall_mean_force(M::Rheology, w) - (1.0 / 400) * f_late[w]),
               1e-13 * norm(f_late[w]));
   }
+  // The series reads the same means (by wall name, per component), and counts wall contacts.
+  EXPECT_EQ(sim.quantity("wall_force_mean.shear_bottom.z"), sim.wall_mean_force(M::Series, 0).z);
+  EXPECT_EQ(sim.quantity("wall_torque_mean.shear_top.y"), sim.wall_mean_torque(M::Series, 1).y);
+  EXPECT_EQ(sim.quantity("wall_contact_count"), static_cast<double>(sim.n_wall_contacts()));
 }

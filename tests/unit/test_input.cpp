@@ -418,6 +418,10 @@ TEST(InputReader, SeriesQuantityNames) {
   EXPECT_TRUE(input::is_series_quantity("kinetic_energy", walls));
   EXPECT_TRUE(input::is_series_quantity("wall_force.floor", walls));
   EXPECT_TRUE(input::is_series_quantity("wall_torque.drum.y", walls));
+  EXPECT_TRUE(input::is_series_quantity("wall_force_mean.floor", walls));
+  EXPECT_TRUE(input::is_series_quantity("wall_torque_mean.drum.x", walls));
+  EXPECT_TRUE(input::is_series_quantity("wall_contact_count", walls));
+  EXPECT_FALSE(input::is_series_quantity("wall_force_mean.roof", walls));
   EXPECT_FALSE(input::is_series_quantity("wall_force.roof", walls));
   EXPECT_FALSE(input::is_series_quantity("wall_force.floor.w", walls));
   EXPECT_FALSE(input::is_series_quantity("wall_force.", walls));

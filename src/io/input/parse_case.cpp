@@ -1477,6 +1477,7 @@ const std::vector<std::string>& series_quantity_names() {
                                               "max_z",
                                               "mean_z",
                                               "contact_count",
+                                              "wall_contact_count",
                                               "coordination_number",
                                               "fluid_pressure_drop",
                                               "superficial_velocity",
