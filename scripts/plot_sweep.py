@@ -4,15 +4,18 @@
 Mahajan et al. (2019): log-log granular temperature, pressure and shear stress against the
 measured shear rate for each volume fraction (kinetic theory of volume-equivalent spheres dashed),
 apparent friction and viscosity, -N2/N1, and the alignment angle against shear rate and volume
-fraction, and (for tables that have them) the coordination number and the contact fabric.
+fraction, and (for tables that have them) the coordination number and the contact fabric, and
+for runs between shear walls the momentum balance (the layer's stresses over the walls'
+tractions: 1 in a steady flow).
 
 Usage: plot_sweep.py sweep.csv OUTPUT_FOLDER [PREFIX] [--only FIGURE[,FIGURE...]]
 writes OUTPUT_FOLDER/PREFIX_stresses.png, PREFIX_friction_normal_stress.png and (when the grains
 have an orientation order) PREFIX_alignment.png and (when the table has the contact columns)
-PREFIX_contacts.png; PREFIX defaults to "rheology", a trailing "_"
+PREFIX_contacts.png and (when the table has finite wall tractions: shear walls)
+PREFIX_momentum_balance.png; PREFIX defaults to "rheology", a trailing "_"
 is dropped (PREFIX rheology_rods_ gives rheology_rods_stresses.png), and OUTPUT_FOLDER is
 created if missing. --only draws the named figures (stresses, friction_normal_stress, alignment,
-contacts) and no others. `grainflow sweep` calls it on its own table."""
+contacts, momentum_balance) and no others. `grainflow sweep` calls it on its own table."""
 import os
 import sys
 
@@ -24,7 +27,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-FIGURES = ["stresses", "friction_normal_stress", "alignment", "contacts"]
+FIGURES = ["stresses", "friction_normal_stress", "alignment", "contacts", "momentum_balance"]
 
 
 def load(path):
@@ -178,6 +181,27 @@ def main():
         axes[2].set_ylabel("fabric anisotropy: $F_{xx}-F_{zz}$ (o), $F_{zz}-F_{yy}$ (s)")
         axes[2].axhline(0, color="k", lw=0.8, ls=":")
         save_against_rate(fig, axes, f"{out}/{prefix}_contacts.png")
+
+    # 5. Momentum balance between shear walls (tables with the walls' tractions): the layer's
+    # sigma_xz and sigma_zz over the walls' tractions, 1 in a steady flow; a point off 1 by
+    # more than its errors is a run that was not steady (or decaying: walls that slip).
+    if (want("momentum_balance") and "wall_sigma_xz" in d.dtype.names
+            and np.any(np.isfinite(d["wall_sigma_xz"]))):
+        fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+        for (phi, g), c in zip(groups(d), colors):
+            lab = "measured" if phi is None else f"phi = {phi:g}"
+            rate = np.abs(g["shear_rate"])
+            for ax, q in zip(axes, ["sigma_xz", "sigma_zz"]):
+                w = "wall_" + q
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    ratio = g[q] / g[w]
+                    err = np.abs(ratio) * np.hypot(g[q + "_err"] / g[q], g[w + "_err"] / g[w])
+                errorbars(ax, rate, ratio, err, fmt="o-", color=c, label=lab)
+        axes[0].set_ylabel("$\\sigma_{xz}$ of the layer / walls' traction")
+        axes[1].set_ylabel("$\\sigma_{zz}$ of the layer / walls' traction")
+        for ax in axes:
+            ax.axhline(1.0, color="k", lw=0.8, ls=":")
+        save_against_rate(fig, axes, f"{out}/{prefix}_momentum_balance.png")
 
 
 if __name__ == "__main__":

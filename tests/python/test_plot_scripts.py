@@ -18,7 +18,9 @@ Checks:
 - scripts/plot_sweep.py on the committed dry rod table (prefix "rheology_rods_" gives
   rheology_rods_*.png, alignment included), with --only contacts on the committed rod table
   that has the contact columns (that figure alone), and on the sweep.csv of a short `grainflow sweep` of
-  spheres (no alignment plot; the contacts plot from its coordination and fabric columns);
+  spheres (no alignment plot; the contacts plot from its coordination and fabric columns; between
+  Lees-Edwards images no momentum-balance plot), with --only momentum_balance on that of a
+  short sweep between walls;
 - scripts/plot_cfd_dem.py --shear on the committed dry / air / water tables, --slip on the
   committed windows table and on the windows of the run above;
 - where BUILD_DIR/tests/gf_validation_tests exists (BUILD_DIR: the folder of GRAINFLOW_BINARY),
@@ -109,6 +111,7 @@ SCRIPTS = os.path.join(SRC, "scripts")
 VALIDATION = os.path.join(SRC, "docs", "validation")
 VALIDATION_TESTS = os.path.join(os.path.dirname(GF), "tests", "gf_validation_tests")
 LEES_EDWARDS = os.path.join(SRC, "cases", "rheology", "lees_edwards_spheres", "case.yaml")
+WALL_BOX = os.path.join(SRC, "cases", "rheology", "shear_box_spheres", "case.yaml")
 # Samples every 20 steps (strain 0.001 at 100 1/s, dt = 5e-7 s).
 SAMPLES = ["--set", "analysis.rheology.every_strain=0.001"]
 QUANTITIES = ["granular_temperature", "pressure", "sigma_xz", "order_parameter",
@@ -170,6 +173,11 @@ with tempfile.TemporaryDirectory() as TMP:
              "--steps", "100", *SAMPLES, "--set", "sweep.volume_fraction=[0.1, 0.2]",
              "--set", "sweep.shear_rate=[50, 100]"], TMP)
     check(r.returncode == 0, f"grainflow sweep of four short runs: {r.stderr}")
+    # ... and between walls (the walls' tractions: the momentum-balance figure).
+    r = run([GF, "sweep", WALL_BOX, "--output", "sweep_walls", "--no-plots", "-j", "1",
+             "--steps", "200", *SAMPLES, "--set", "sweep.volume_fraction=[0.1, 0.2]",
+             "--set", "sweep.shear_rate=[100]"], TMP)
+    check(r.returncode == 0, f"grainflow sweep of two short runs between walls: {r.stderr}")
 
     # --- the plots: (name, command, output folder, expected files) ---
     def out(name):
@@ -188,6 +196,10 @@ with tempfile.TemporaryDirectory() as TMP:
          script(os.path.join(SCRIPTS, "plot_sweep.py"), table("rheology_rods_contacts.csv"),
                 out("sweep_contacts"), "rheology_rods_", "--only", "contacts"),
          out("sweep_contacts"), ["rheology_rods_contacts.png"]),
+        ("plot_sweep.py --only momentum_balance (fresh sweep between walls)",
+         script(os.path.join(SCRIPTS, "plot_sweep.py"),
+                os.path.join(TMP, "sweep_walls", "sweep.csv"), out("sweep_walls"), "--only",
+                "momentum_balance"), out("sweep_walls"), ["rheology_momentum_balance.png"]),
         ("plot_sweep.py (fresh sweep of spheres)",
          script(os.path.join(SCRIPTS, "plot_sweep.py"), os.path.join(TMP, "sweep", "sweep.csv"),
                 out("sweep_spheres")), out("sweep_spheres"),
@@ -246,7 +258,8 @@ with tempfile.TemporaryDirectory() as TMP:
         check(r.returncode == 0, f"{name} exits 0, got {r.returncode}:\n{r.stderr[-3000:]}")
         check_pngs(name, folder, expected)
     check(sorted(os.listdir(TMP)) == sorted(["a", "b", "windows.csv", "first.csv", "second.csv",
-                                             "synthetic.csv", "empty.csv", "sweep", "plots"]),
+                                             "synthetic.csv", "empty.csv", "sweep", "sweep_walls",
+                                             "plots"]),
           f"nothing else is written into the working folder: {sorted(os.listdir(TMP))}")
 
 after = snapshot(VALIDATION)
