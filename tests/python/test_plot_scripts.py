@@ -21,6 +21,8 @@ Checks:
   spheres (no alignment plot; the contacts plot from its coordination and fabric columns; between
   Lees-Edwards images no momentum-balance plot), with --only momentum_balance on that of a
   short sweep between walls;
+- scripts/plot_force_chains.py on the contacts_*.vtp of a short run between walls
+  (output.contacts_vtk);
 - scripts/plot_cfd_dem.py --shear on the committed dry / air / water tables, --slip on the
   committed windows table and on the windows of the run above;
 - where BUILD_DIR/tests/gf_validation_tests exists (BUILD_DIR: the folder of GRAINFLOW_BINARY),
@@ -178,6 +180,11 @@ with tempfile.TemporaryDirectory() as TMP:
              "--steps", "200", *SAMPLES, "--set", "sweep.volume_fraction=[0.1, 0.2]",
              "--set", "sweep.shear_rate=[100]"], TMP)
     check(r.returncode == 0, f"grainflow sweep of two short runs between walls: {r.stderr}")
+    # ... and a short run between walls that writes its contact network as VTK lines.
+    r = run([GF, "run", WALL_BOX, "--output", "chains", "--quiet", "--threads", "1",
+             "--steps", "200", "--set", "particles[0].fill.volume_fraction=0.3",
+             "--set", "output.contacts_vtk.every=1.0e-4"], TMP)
+    check(r.returncode == 0, f"shear_box_spheres with contacts_vtk, 200 steps: {r.stderr}")
 
     # --- the plots: (name, command, output folder, expected files) ---
     def out(name):
@@ -200,6 +207,11 @@ with tempfile.TemporaryDirectory() as TMP:
          script(os.path.join(SCRIPTS, "plot_sweep.py"),
                 os.path.join(TMP, "sweep_walls", "sweep.csv"), out("sweep_walls"), "--only",
                 "momentum_balance"), out("sweep_walls"), ["rheology_momentum_balance.png"]),
+        ("plot_force_chains.py (the network of the run above)",
+         script(os.path.join(SCRIPTS, "plot_force_chains.py"),
+                os.path.join(TMP, "chains", "contacts_000000200.vtp"), "--strongest", "0.5",
+                "--out", os.path.join(out("chains"), "force_chains.png")), out("chains"),
+         ["force_chains.png"]),
         ("plot_sweep.py (fresh sweep of spheres)",
          script(os.path.join(SCRIPTS, "plot_sweep.py"), os.path.join(TMP, "sweep", "sweep.csv"),
                 out("sweep_spheres")), out("sweep_spheres"),
@@ -259,7 +271,7 @@ with tempfile.TemporaryDirectory() as TMP:
         check_pngs(name, folder, expected)
     check(sorted(os.listdir(TMP)) == sorted(["a", "b", "windows.csv", "first.csv", "second.csv",
                                              "synthetic.csv", "empty.csv", "sweep", "sweep_walls",
-                                             "plots"]),
+                                             "chains", "plots"]),
           f"nothing else is written into the working folder: {sorted(os.listdir(TMP))}")
 
 after = snapshot(VALIDATION)
