@@ -43,9 +43,11 @@ GF_HOST_DEVICE inline void rotation_kick(Vec3& angular_momentum, const Vec3& tor
 
 namespace detail {
 /// 1 / inertia, per component: the steps below multiply (a division's latency is that of four
-/// multiplications, and they stand in one dependent chain).
+/// multiplications, and they stand in one dependent chain). A symmetric top (I1 = I2) takes
+/// two divisions, not three.
 GF_HOST_DEVICE inline Vec3 inverse_inertia(const Vec3& inertia) {
-  return {1.0 / inertia.x, 1.0 / inertia.y, 1.0 / inertia.z};
+  const double ix = 1.0 / inertia.x;
+  return {ix, inertia.y == inertia.x ? ix : 1.0 / inertia.y, 1.0 / inertia.z};
 }
 /// omega (world) = R I^-1 R^T L from the inverse principal moments; for a symmetric top
 /// (I1 = I2) the same as L / I1 + (1/I3 - 1/I1) (L . a) a with a its axis.
