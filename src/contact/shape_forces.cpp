@@ -14,7 +14,7 @@ namespace {
 /// entries that are apart; row(i) returns the number of touching pairs of row i.
 template <class Visit, class Miss>
 std::int64_t touching_rows(const ParticleStore& p, const Domain& domain, const VerletList& list,
-                           Visit&& visit, Miss&& miss) {
+                           Visit&& visit, Miss&& miss, const PairSkip* skip = nullptr) {
   const ShapeView s(p);
   const Vec3* x = p.x();
   const auto off = list.offsets();
@@ -27,6 +27,10 @@ std::int64_t touching_rows(const ParticleStore& p, const Domain& domain, const V
     std::int64_t touching = 0;
     for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
       const std::int32_t j = nb[k];
+      if (skip && skip->gap[k] - skip->moved[i] - skip->moved[j] > 0) {
+        miss(k);
+        continue;
+      }
       const Vec3 xj = xi - domain.delta(xi, x[j]);  // the image of j nearest to i
       ShapeGeometry g;
       if (!shape_pair_geometry(s, i, j, xi, xj, &poly_i, g, &cap_i)) {
@@ -45,7 +49,7 @@ std::int64_t touching_rows(const ParticleStore& p, const Domain& domain, const V
 
 std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
                                        const PairTable<PairCoeffs>& pairs, double dt,
-                                       const ContactSink* report) {
+                                       const ContactSink* report, const PairSkip* skip) {
   const Vec3* x = p.x();
   const Vec3* v = p.v();
   const Vec3* om = p.omega();
@@ -81,7 +85,7 @@ std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, V
           report->add(k, static_cast<std::int32_t>(i), j, x[i], x[i] - xj, g.normal, g.point,
                       res.force, g.overlap);
       },
-      [&](std::int64_t k) { hist[k] = {}; });
+      [&](std::int64_t k) { hist[k] = {}; }, skip);
 }
 
 double shape_pair_elastic_energy(const ParticleStore& p, const Domain& domain,

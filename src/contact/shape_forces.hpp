@@ -129,11 +129,25 @@ GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t 
   return true;
 }
 
+/// What lets the force loop skip list entries that cannot touch without testing them:
+/// `gap[k]`, the distance of entry k's two axes (segments) at the list's build less the sum of
+/// their radii (m), and `moved[i]`, the largest displacement since that build of either end of
+/// grain i's axis (m). Every point of an axis moves by a convex combination of its ends' moves,
+/// so the axes of entry k are now at least gap[k] - moved[i] - moved[j] farther apart than the
+/// radii allow: apart when that is > 0. Exact (the same forces as testing every entry) as long
+/// as the images of a pair do not change between builds (no Lees-Edwards offset).
+struct PairSkip {
+  const double* gap = nullptr;
+  const double* moved = nullptr;
+};
+
 /// Force loop over the half Verlet list for a store with shapes (forces, torques at the
-/// contact point; histories of separated pairs cleared). Returns the touching pairs.
+/// contact point; histories of separated pairs cleared). Returns the touching pairs. With
+/// `skip`, entries that cannot touch (PairSkip) are treated as apart without a narrow phase.
 std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, VerletList& list,
                                        const PairTable<PairCoeffs>& pairs, double dt,
-                                       const ContactSink* report = nullptr);
+                                       const ContactSink* report = nullptr,
+                                       const PairSkip* skip = nullptr);
 
 /// Elastic energy stored in all contacts of a store with shapes, J.
 double shape_pair_elastic_energy(const ParticleStore& p, const Domain& domain,

@@ -138,6 +138,9 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   domain_.set_shear_time(time());
   // Capsule ends at the last build (older checkpoints: none, which forces a rebuild).
   axis_ref_.clear();
+  // The skip's gaps belong to the list of the constructor's build: none until the next build.
+  pair_gap_.clear();
+  end_moved_.clear();
   if (has_capsules_ && h.exists("neighbor/axis_reference"))
     axis_ref_ = h.read_vec3("neighbor/axis_reference");
   if (nlist_.n_particles() != particles_.size())

@@ -415,6 +415,33 @@ void Simulation::update_servos() {
     if (walls_[w].servo) walls_[w].servo_step(time(), dt_, servo_target_force(w));
 }
 
+void Simulation::build_pair_gaps() {
+  // Between Lees-Edwards images the image of a pair slides between builds: no skip there.
+  pair_gap_.clear();
+  end_moved_.clear();
+  if (domain_.sheared()) return;
+  const auto& p = particles_;
+  const auto off = nlist_.offsets();
+  const auto nb = nlist_.neighbors();
+  pair_gap_.resize(nb.size());
+  end_moved_.assign(p.size(), 0.0);
+  exec::parallel_for(static_cast<exec::index_t>(nlist_.n_particles()), [&](exec::index_t i) {
+    const Vec3 xi = p.x()[i];
+    const Vec3 ai = axis_ref_[static_cast<std::size_t>(i)];
+    const double ri = p.radius()[i] - p.half_length()[i];
+    for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
+      const std::int32_t j = nb[k];
+      const Vec3 xj = xi - domain_.delta(xi, p.x()[j]);  // as the force loop's image
+      const Vec3 aj = axis_ref_[static_cast<std::size_t>(j)];
+      const auto sc = contact::closest_points_segments(xi - ai, xi + ai, xj - aj, xj + aj);
+      // Less a margin of round-off (the force loop's own segment test rounds differently).
+      pair_gap_[static_cast<std::size_t>(k)] = std::sqrt(sc.dist2) - ri -
+                                               (p.radius()[j] - p.half_length()[j]) -
+                                               1e-9 * (ri + p.radius()[j]);
+    }
+  });
+}
+
 bool Simulation::capsule_ends_moved() const {
   // A point of a capsule's axis moves by a convex combination of the moves of its two ends, so
   // if both ends moved less than skin/2, no pair left out of the list can have come into
@@ -425,13 +452,28 @@ bool Simulation::capsule_ends_moved() const {
   const double lim = nlist_.displacement_limit(domain_);
   if (lim <= 0) return true;
   const double lim2 = lim * lim;
-  return exec::parallel_any(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
-    if (static_cast<ShapeCode>(p.shape()[i]) != ShapeCode::Spherocylinder) return false;
-    const Vec3 d = domain_.delta(p.x()[i], x_ref[static_cast<std::size_t>(i)]);
-    const Vec3 da = p.half_length()[i] * capsule_axis_of(p.orientation()[i]) -
-                    axis_ref_[static_cast<std::size_t>(i)];
-    return norm2(d + da) > lim2 || norm2(d - da) > lim2;
-  });
+  if (pair_gap_.empty())
+    return exec::parallel_any(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
+      if (static_cast<ShapeCode>(p.shape()[i]) != ShapeCode::Spherocylinder) return false;
+      const Vec3 d = domain_.delta(p.x()[i], x_ref[static_cast<std::size_t>(i)]);
+      const Vec3 da = p.half_length()[i] * capsule_axis_of(p.orientation()[i]) -
+                      axis_ref_[static_cast<std::size_t>(i)];
+      return norm2(d + da) > lim2 || norm2(d - da) > lim2;
+    });
+  // The same test over every grain, keeping each grain's largest end move for the force loop's
+  // skip (contact::PairSkip; spheres: the centre's move).
+  end_moved_.resize(p.size());
+  return exec::parallel_sum(static_cast<exec::index_t>(p.size()), std::int64_t{0},
+                            [&](exec::index_t i) -> std::int64_t {
+                              const auto k = static_cast<std::size_t>(i);
+                              const Vec3 d = domain_.delta(p.x()[i], x_ref[k]);
+                              const Vec3 da =
+                                  p.half_length()[i] * capsule_axis_of(p.orientation()[i]) -
+                                  axis_ref_[k];
+                              const double m2 = std::max(norm2(d + da), norm2(d - da));
+                              end_moved_[k] = std::sqrt(m2);
+                              return m2 > lim2 ? 1 : 0;
+                            }) > 0;
 }
 
 void Simulation::update_neighbors(bool force) {
@@ -489,6 +531,7 @@ void Simulation::update_neighbors(bool force) {
     axis_ref_.resize(n);
     for (std::size_t i = 0; i < n; ++i)
       axis_ref_[i] = particles_.half_length()[i] * capsule_axis_of(particles_.orientation()[i]);
+    build_pair_gaps();
   }
   wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_, perm);
   wall_point_at_build_.resize(walls_.size());
@@ -525,9 +568,14 @@ void Simulation::compute_forces() {
       contacts_step_ = step_;
       report = &sink;
     }
+    // (Entries of a list restored from a checkpoint have no gaps until the next build.)
+    const contact::PairSkip skip{pair_gap_.data(), end_moved_.data()};
+    const bool can_skip = pair_skip_active() && pair_gap_.size() == nlist_.neighbors().size() &&
+                          end_moved_.size() == particles_.size();
     n_contacts_ =
         particles_.has_shapes()
-            ? contact::compute_shape_pair_forces(particles_, domain_, nlist_, pairs_, dt_, report)
+            ? contact::compute_shape_pair_forces(particles_, domain_, nlist_, pairs_, dt_, report,
+                                                 can_skip ? &skip : nullptr)
             : contact::compute_pair_forces(particles_, domain_, nlist_, pairs_, dt_, report);
     if (collect_virial_) {
       contact_sums_ = {};

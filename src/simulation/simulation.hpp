@@ -121,6 +121,11 @@ class Simulation {
   void collect_virial(bool on) { collect_virial_ = on; }
   /// A sample of the current state; the last force stage must have collected the virial.
   analysis::RheologySample rheology_sample() const;
+  /// For tests: whether the capsules' force loop may skip list entries that cannot touch
+  /// (contact::PairSkip; on by default; the forces are the same either way), and whether it does
+  /// now (a list built by this run, no Lees-Edwards images).
+  void use_pair_skip(bool on) { pair_skip_on_ = on; }
+  bool pair_skip_active() const { return pair_skip_on_ && !pair_gap_.empty(); }
   /// Whether the next force stages record every touching grain pair and grain-wall contact
   /// (output.contacts_csv, output.contacts_vtk).
   void collect_contacts(bool on) { collect_contacts_ = on; }
@@ -145,6 +150,8 @@ class Simulation {
   void update_neighbors(bool force);
   /// Whether an end of some spherocylinder moved more than skin/2 since the last build.
   bool capsule_ends_moved() const;
+  /// pair_gap_ of the list just built (capsules; cleared between Lees-Edwards images).
+  void build_pair_gaps();
   /// Target force of servo wall w: pressure x the current area between its span walls, N.
   double servo_target_force(std::size_t w) const;
   /// Moves the servo walls after a force evaluation (Wall::servo_step).
@@ -170,7 +177,12 @@ class Simulation {
   bool two_d_ = false;  ///< dimension: 2 (grains in z = 0, rotation about z)
   bool has_capsules_ = false;
   std::vector<Vec3> axis_ref_;  ///< h * axis of each grain at the last build (capsules)
-  bool gear_ = false;           ///< integrator: gear5
+  /// Capsules (no Lees-Edwards): per list entry, the axes' distance at the last build less the
+  /// radii; per grain, the largest move of an axis end since (contact::PairSkip). Empty: no skip.
+  std::vector<double> pair_gap_;
+  bool pair_skip_on_ = true;
+  mutable std::vector<double> end_moved_;
+  bool gear_ = false;  ///< integrator: gear5
   analysis::RheologyRegion rheo_region_;
   bool collect_virial_ = false;
   bool collect_contacts_ = false;
