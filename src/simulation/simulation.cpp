@@ -452,16 +452,8 @@ bool Simulation::capsule_ends_moved() const {
   const double lim = nlist_.displacement_limit(domain_);
   if (lim <= 0) return true;
   const double lim2 = lim * lim;
-  if (pair_gap_.empty())
-    return exec::parallel_any(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
-      if (static_cast<ShapeCode>(p.shape()[i]) != ShapeCode::Spherocylinder) return false;
-      const Vec3 d = domain_.delta(p.x()[i], x_ref[static_cast<std::size_t>(i)]);
-      const Vec3 da = p.half_length()[i] * capsule_axis_of(p.orientation()[i]) -
-                      axis_ref_[static_cast<std::size_t>(i)];
-      return norm2(d + da) > lim2 || norm2(d - da) > lim2;
-    });
-  // The same test over every grain, keeping each grain's largest end move for the force loop's
-  // skip (contact::PairSkip; spheres: the centre's move).
+  // Every grain's largest end move (spheres: the centre's) is kept for the force loop's skip
+  // (contact::PairSkip), so the pass does not stop at the first grain beyond the limit.
   end_moved_.resize(p.size());
   return exec::parallel_sum(static_cast<exec::index_t>(p.size()), std::int64_t{0},
                             [&](exec::index_t i) -> std::int64_t {

@@ -107,6 +107,19 @@ inline void add_box(config::Case& c, const std::string& name, Vec3 lo, Vec3 hi,
   c.walls.push_back(w);
 }
 
+/// A box fill of spherocylinders of cap radius r and aspect ratio (tip-to-tip length over
+/// diameter) `aspect`.
+inline config::Fill& add_capsule_fill(config::Case& c, const std::string& material, double radius,
+                                      double aspect, Vec3 lo, Vec3 hi,
+                                      config::Fill::Lattice lattice) {
+  config::Fill& f = add_box_fill(c, material, radius, radius, lo, hi, lattice);
+  config::ParticleGroup& g = c.particles.back();
+  g.kind = config::Shape::Spherocylinder;
+  g.shape = "spherocylinder";
+  g.aspect_ratio = aspect;
+  return f;
+}
+
 /// Explicit spherocylinders of cap radius r and cylinder length L; `q` one orientation each
 /// (body axis e_z), empty = identity.
 inline config::ParticleGroup& add_capsules(config::Case& c, const std::string& material,

@@ -29,14 +29,10 @@ config::Case rods_case(std::int64_t count, double size = 0.06,
   test::add_material(c, "pom", 1400, 1e7, 0.3);
   test::add_contact(c, "pom", "pom", "hertz_mindlin",
                     {{"restitution", 0.5}, {"friction", 0.4}, {"rolling_friction", 0.01}});
-  auto& f = test::add_box_fill(c, "pom", 0.0015, 0.0015, {0, 0, 0}, hi, lattice);
+  auto& f = test::add_capsule_fill(c, "pom", 0.0015, 3.0, {0, 0, 0}, hi, lattice);
   f.count = count;
   f.seed = 5;
   f.velocity_jitter = 0.3;
-  auto& g = c.particles.back();
-  g.kind = config::Shape::Spherocylinder;
-  g.shape = "spherocylinder";
-  g.aspect_ratio = 3.0;
   test::add_box(c, "box", {0, 0, 0}, hi, {"zmax"}, "pom");
   config::Wall post;
   post.name = "post";
@@ -240,15 +236,11 @@ TEST(CapsulePairSkip, SameStateAsTestingEveryEntry) {
   test::add_material(le, "pom", 1400, 1e7, 0.3);
   test::add_contact(le, "pom", "pom", "hooke",
                     {{"stiffness", 6e5}, {"restitution", 0.7}, {"friction", 0.0}});
-  auto& f = test::add_box_fill(le, "pom", 0.0015, 0.0015, {0, 0, 0}, {0.072, 0.072, 0.072},
-                               config::Fill::Lattice::Cubic);
+  auto& f = test::add_capsule_fill(le, "pom", 0.0015, 4.0, {0, 0, 0}, {0.072, 0.072, 0.072},
+                                   config::Fill::Lattice::Cubic);
   f.count = 200;
   f.seed = 3;
   f.velocity_jitter = 1.0;
-  auto& g = le.particles.back();
-  g.kind = config::Shape::Spherocylinder;
-  g.shape = "spherocylinder";
-  g.aspect_ratio = 4.0;
   le.shear = config::Shear{};
   le.shear->rate = 200;
   le.shear->boundary = config::Shear::Boundary::LeesEdwards;
