@@ -103,7 +103,16 @@ int check(const std::string& file, const std::vector<std::string>& sets) {
     fmt::print("  {:<40} {} (each one's case checked)\n", "sweep runs (grainflow sweep)",
                gf::sweep_points(cfg).size());
   fmt::print("  {:<40} {}\n", "particles", sim.particles().size());
-  fmt::print("  {:<40} {}\n", "walls (planes / cylinders)", sim.walls().size());
+  fmt::print("  {:<40} {}\n", "walls (planes / cylinders / meshes)", sim.walls().size());
+  for (const auto& w : sim.walls())
+    if (w.kind == gf::WallKind::Mesh)
+      fmt::print("  {:<40} {} triangles, {} vertices, {} open / {} non-manifold edges\n",
+                 fmt::format("mesh wall '{}'", w.name), w.mesh.size(), w.mesh.points().size(),
+                 w.mesh.boundary_edges(), w.mesh.nonmanifold_edges());
+  for (const auto& wc : cfg.walls)
+    if (wc.mesh_dropped > 0)
+      fmt::print("warning: mesh wall '{}': {} degenerate (zero-area) triangles of {} left out\n",
+                 wc.name, wc.mesh_dropped, wc.mesh_file.string());
   fmt::print("  {:<40} {}\n", "steps", std::llround(cfg.time.end / cfg.time.step));
   for (const auto& [k, v] : report.derived) fmt::print("  {:<40} {}\n", k, v);
   for (const auto& w : report.warnings) fmt::print("warning: {}\n", w);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <optional>
+#include <tuple>
 
 #include "contact/batch_columns.hpp"
 #include "contact/pair_forces.hpp"
@@ -32,6 +33,11 @@ SurfaceMesh Wall::surface(const Domain& domain) const {
   m.name = name;
   const Vec3 c = 0.5 * (domain.lo + domain.hi);
   const double diag = norm(domain.hi - domain.lo);
+  if (kind == WallKind::Mesh) {
+    m.points = mesh.points();
+    m.triangles = mesh.triangles();
+    return m;
+  }
   Vec3 a, b;
   tangent_basis(dir, a, b);
   if (kind == WallKind::Plane) {
@@ -83,11 +89,23 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
   old_entries_.swap(entries_);
   old_history_.swap(history_);
   entries_.clear();
+  // Mesh walls: their triangles on a grid that reaches the largest sphere plus the skin.
+  double r_max = 0;
+  for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, r[i]);
+  for (const auto& w : walls)
+    if (w.kind == WallKind::Mesh) w.mesh.index(r_max + skin);
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t w = 0; w < walls.size(); ++w) {
+      const auto ii = static_cast<std::int32_t>(i), ww = static_cast<std::int32_t>(w);
+      if (walls[w].kind == WallKind::Mesh) {
+        const TriangleMesh& mesh = walls[w].mesh;
+        const auto [lo, hi] = mesh.candidates(x[i]);
+        for (const std::int32_t* t = lo; t != hi; ++t)
+          if (mesh.distance(*t, x[i]) - r[i] < skin) entries_.push_back({ii, ww, *t});
+        continue;
+      }
       Vec3 nrm;
-      if (walls[w].gap(x[i], r[i], nrm) < skin)
-        entries_.push_back({static_cast<std::int32_t>(i), static_cast<std::int32_t>(w)});
+      if (walls[w].gap(x[i], r[i], nrm) < skin) entries_.push_back({ii, ww, 0});
     }
   }
   groups_.clear();
@@ -97,18 +115,19 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
   groups_.push_back(static_cast<std::int64_t>(entries_.size()));
   reactions_.assign(2 * entries_.size(), Vec3{});
   stiffness_.assign(entries_.size(), 0.0);
-  // Carry the history: the old list is sorted by (old particle index, wall).
+  // Carry the history: the old list is sorted by (old particle index, wall, element).
   const auto slots = static_cast<std::size_t>(slots_);
   history_.assign(slots * entries_.size(), Vec3{});
-  const auto key = [](std::int64_t particle, std::int32_t wall) { return (particle << 32) | wall; };
+  using Key = std::tuple<std::int64_t, std::int32_t, std::int32_t>;
   for (std::size_t k = 0; k < entries_.size(); ++k) {
     const std::int64_t old_i =
         perm.empty() ? entries_[k].particle : perm[static_cast<std::size_t>(entries_[k].particle)];
-    const std::int64_t want = key(old_i, entries_[k].wall);
-    const auto it = std::lower_bound(
-        old_entries_.begin(), old_entries_.end(), want,
-        [&](const Entry& e, std::int64_t v) { return key(e.particle, e.wall) < v; });
-    if (it != old_entries_.end() && key(it->particle, it->wall) == want)
+    const Key want{old_i, entries_[k].wall, entries_[k].element};
+    const auto it = std::lower_bound(old_entries_.begin(), old_entries_.end(), want,
+                                     [&](const Entry& e, const Key& v) {
+                                       return Key{e.particle, e.wall, e.element} < v;
+                                     });
+    if (it != old_entries_.end() && Key{it->particle, it->wall, it->element} == want)
       for (std::size_t s = 0; s < slots; ++s)
         history_[slots * k + s] =
             old_history_[slots * static_cast<std::size_t>(it - old_entries_.begin()) + s];
@@ -148,9 +167,18 @@ bool sphere_wall(const Wall& w, const Vec3& x, double r, WallGeometry& g) {
 /// disks use slot 0; spherocylinders one slot per end sphere (plane, inside of a cylinder: the
 /// gap is smallest at the ends) or slot 0 at the closest point (outside of a cylinder); polygons
 /// slot 0, the overlap with the wall's half-plane with l_c = R (equal-area radius: the
-/// characteristic length against a rigid wall), see contact/shape_forces.hpp.
-bool wall_slot_geometry(const Wall& w, const contact::ShapeView* s, std::int64_t i, const Vec3& x,
-                        double r, int slot, WallGeometry& g) {
+/// characteristic length against a rigid wall), see contact/shape_forces.hpp. Mesh walls: slot 0,
+/// the contact of triangle `element` if the surface's contact is there (boundaries/triangle_mesh).
+bool wall_slot_geometry(const Wall& w, std::int32_t element, const contact::ShapeView* s,
+                        std::int64_t i, const Vec3& x, double r, int slot, WallGeometry& g) {
+  if (w.kind == WallKind::Mesh) {  // spheres only (other shapes refused when the case is read)
+    double gap = 0;
+    if (slot != 0 || !w.mesh.sphere_contact(element, x, r, g.normal, gap) || gap >= 0) return false;
+    g.overlap = -gap;
+    g.point = x - (r - 0.5 * g.overlap) * g.normal;
+    g.r_eff = r;
+    return true;
+  }
   if (s == nullptr || s->code(i) == ShapeCode::Sphere || s->code(i) == ShapeCode::Disk)
     return slot == 0 && sphere_wall(w, x, r, g);
   if (s->code(i) == ShapeCode::Polygon) {
@@ -362,10 +390,18 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   // Entries are sorted by particle: one group per particle, so threads never share a particle.
   const auto groups = list.particle_groups();
   const std::int64_t n_groups = static_cast<std::int64_t>(groups.size()) - 1;
+  const auto su = static_cast<std::size_t>(slots);
   return exec::parallel_sum(n_groups, std::int64_t{0}, [&](exec::index_t gr) {
     std::int64_t touching = 0;
-    for (std::int64_t k = groups[static_cast<std::size_t>(gr)];
-         k < groups[static_cast<std::size_t>(gr) + 1]; ++k) {
+    const std::int64_t k_lo = groups[static_cast<std::size_t>(gr)];
+    const std::int64_t k_hi = groups[static_cast<std::size_t>(gr) + 1];
+    // Mesh entries that are apart keep their history until the end of the particle's group: a
+    // contact that moves to the next triangle (a sphere rolling over an edge of a meshed floor)
+    // takes the history of the one it leaves, as it would on a plane.
+    thread_local std::vector<char> mesh_apart;
+    mesh_apart.assign(static_cast<std::size_t>(k_hi - k_lo), 0);
+    bool any_mesh = false;
+    for (std::int64_t k = k_lo; k < k_hi; ++k) {
       const auto ku = static_cast<std::size_t>(k);
       const int i = entries[ku].particle;
       const Wall& w = walls[static_cast<std::size_t>(entries[ku].wall)];
@@ -378,15 +414,37 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
       WallGeometry geo[2];
       bool on[2] = {false, false};
       int n_on = 0;
+      const bool is_mesh = w.kind == WallKind::Mesh;
+      any_mesh = any_mesh || is_mesh;
       for (int slot = 0; slot < slots; ++slot) {
-        on[slot] = wall_slot_geometry(w, sv, i, x[i], r[i], slot, geo[slot]);
+        on[slot] = wall_slot_geometry(w, entries[ku].element, sv, i, x[i], r[i], slot, geo[slot]);
         n_on += on[slot];
-        if (!on[slot])
-          history[static_cast<std::size_t>(slots) * ku + static_cast<std::size_t>(slot)] = {};
+        if (!on[slot]) {
+          if (is_mesh)
+            mesh_apart[static_cast<std::size_t>(k - k_lo)] = 1;
+          else
+            history[su * ku + static_cast<std::size_t>(slot)] = {};
+        }
+      }
+      if (is_mesh && on[0] && history[su * ku] == Vec3{}) {
+        // A new contact: the history of a triangle of the same mesh that has just lost its contact.
+        for (std::int64_t j = k_lo; j < k_hi; ++j) {
+          const auto ju = static_cast<std::size_t>(j);
+          if (j == k || entries[ju].wall != entries[ku].wall || history[su * ju] == Vec3{})
+            continue;
+          WallGeometry gj;
+          const bool apart =
+              j < k ? mesh_apart[static_cast<std::size_t>(j - k_lo)] != 0
+                    : !wall_slot_geometry(w, entries[ju].element, sv, i, x[i], r[i], 0, gj);
+          if (!apart) continue;
+          history[su * ku] = history[su * ju];
+          history[su * ju] = {};
+          break;
+        }
       }
       for (int slot = 0; slot < slots; ++slot) {
         if (!on[slot]) continue;
-        Vec3& hist = history[static_cast<std::size_t>(slots) * ku + static_cast<std::size_t>(slot)];
+        Vec3& hist = history[su * ku + static_cast<std::size_t>(slot)];
         const WallGeometry& g = geo[slot];
         const Vec3 arm = g.point - x[i];
         contact::ContactKinematics kin;
@@ -416,6 +474,10 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
       reaction[2 * ku + 1] = reaction_torque;
       stiffness[ku] = k_sum;
     }
+    if (any_mesh)
+      for (std::int64_t k = k_lo; k < k_hi; ++k)
+        if (mesh_apart[static_cast<std::size_t>(k - k_lo)] != 0)
+          history[su * static_cast<std::size_t>(k)] = {};
     return touching;
   });
 }
@@ -432,9 +494,12 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   if (p.has_shapes()) shapes.emplace(p);
   const contact::ShapeView* sv = shapes ? &*shapes : nullptr;
   const int slots = list.slots();
-  // Spheres whose wall pairs all use one law: the batched, vectorised loop.
+  // Spheres whose wall pairs all use one law, with no mesh walls: the batched, vectorised loop.
   int model = -1;
-  const bool uniform = sv == nullptr && slots == 1 && contact::uniform_model(pairs, model);
+  const bool meshes = std::any_of(walls.begin(), walls.end(),
+                                  [](const Wall& w) { return w.kind == WallKind::Mesh; });
+  const bool uniform =
+      sv == nullptr && slots == 1 && !meshes && contact::uniform_model(pairs, model);
   const std::int64_t active =
       uniform ? dispatch_index(contact::ContactModels{}, model,
                                [&]<class M>() {
@@ -471,7 +536,7 @@ double wall_elastic_energy(const ParticleStore& p, std::span<const Wall> walls,
     const contact::PairCoeffs& c = pairs(mat[i], w.material);
     for (int slot = 0; slot < list.slots(); ++slot) {
       WallGeometry g;
-      if (!wall_slot_geometry(w, sv, i, p.x()[i], p.radius()[i], slot, g)) continue;
+      if (!wall_slot_geometry(w, entry.element, sv, i, p.x()[i], p.radius()[i], slot, g)) continue;
       e += g.force_scale * dispatch_index(contact::ContactModels{}, c.model, [&]<class M>() {
              return M::Law::elastic_energy(c, g.overlap, g.r_eff);
            });

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Walls (infinite plane, cylinder) with prescribed motion, their contact lists and reactions.
+// Walls (infinite plane, cylinder, triangle mesh) with prescribed motion, their contact lists and
+// reactions.
 #pragma once
 
 #include <array>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "boundaries/motion.hpp"
+#include "boundaries/triangle_mesh.hpp"
 #include "contact/laws/contact_io.hpp"
 #include "contact/pair_forces.hpp"
 #include "core/domain.hpp"
@@ -19,7 +21,7 @@
 
 namespace gf {
 
-enum class WallKind : std::int32_t { Plane, Cylinder };
+enum class WallKind : std::int32_t { Plane, Cylinder, Mesh };
 
 /// One wall surface. A `box` of the case file becomes several planes sharing a group.
 struct Wall {
@@ -28,10 +30,12 @@ struct Wall {
   WallKind kind = WallKind::Plane;
   int material = 0;
   // Geometry at t = 0.
-  Vec3 point0;         ///< plane: a point; cylinder: a point on the axis (m)
-  Vec3 dir0{0, 0, 1};  ///< plane: unit normal towards the particles; cylinder: unit axis
-  double radius = 0;   ///< cylinder radius, m
+  Vec3 point0;         ///< plane: a point; cylinder: a point on the axis; mesh: its reference (m)
+  Vec3 dir0{0, 0, 1};  ///< plane: unit normal towards the particles; cylinder: unit axis; mesh: a
+                       ///< unit vector normal to the rotation axis (tracks the rotation)
+  double radius = 0;   ///< cylinder radius; mesh: largest distance of a vertex from point0 (m)
   bool inside = true;  ///< cylinder: particles inside
+  TriangleMesh mesh;   ///< mesh walls: the surface (vertices follow the motion)
   RigidMotion motion;
   /// Servo (stress control, plane walls): target force servo_pressure x area along -dir, the
   /// area the product of the distances between the walls of each span pair (indices into the
@@ -56,6 +60,7 @@ struct Wall {
   void update_geometry(double t) {
     point = motion.point_at(point0, t) + servo_offset;
     dir = motion.rotate(dir0, t);
+    if (kind == WallKind::Mesh) mesh.place(motion, t);
   }
   /// Velocity of the wall surface at p (prescribed motion plus servo).
   GF_HOST_DEVICE Vec3 velocity_at(const Vec3& p, double t) const {
@@ -86,16 +91,20 @@ struct Wall {
 
   /// How far the surface moved since it had `point_b`, `dir_b` (a bound for any point within
   /// `diag` of it): a plane sliding in its own plane (a shear wall) has not moved, nor a
-  /// cylinder along its axis.
+  /// cylinder along its axis. A mesh: its reference point's displacement plus its radius times
+  /// |dir - dir_b| = 2 sin(angle / 2), the norm of the change of rotation (dir is normal to the
+  /// axis), which bounds the displacement of every vertex.
   double moved_since(const Vec3& point_b, const Vec3& dir_b, double diag) const {
     const Vec3 d = point - point_b;
+    if (kind == WallKind::Mesh) return norm(d) + radius * norm(dir - dir_b);
     const double along = dot(d, dir);
     const double shift = kind == WallKind::Plane ? std::abs(along) : norm(d - along * dir);
     return shift + diag * norm(dir - dir_b);
   }
 
   /// Gap between a sphere surface and the wall (negative = overlap) and the unit normal that
-  /// points from the wall to the sphere centre.
+  /// points from the wall to the sphere centre. Planes and cylinders (a mesh: its triangles'
+  /// TriangleMesh::sphere_contact).
   GF_HOST_DEVICE double gap(const Vec3& x, double r, Vec3& n) const {
     if (kind == WallKind::Plane) {
       n = dir;
@@ -128,8 +137,10 @@ class WallContactList {
   struct Entry {
     std::int32_t particle;
     std::int32_t wall;
+    std::int32_t element = 0;  ///< mesh walls: the triangle; 0 otherwise
   };
-  /// Pairs with a gap below the skin. `perm` maps new particle indices to those of the previous
+  /// Pairs with a gap below the skin (a mesh wall: one entry per triangle within the skin, in
+  /// increasing order). `perm` maps new particle indices to those of the previous
   /// build (empty: unchanged order), so that histories follow re-ordered particles. `r` is the
   /// bounding radius.
   void build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n,

@@ -49,13 +49,15 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
 
     h.create_group("walls");
     const auto entries = wlist_.entries();
-    std::vector<std::int32_t> ep(entries.size()), ew(entries.size());
+    std::vector<std::int32_t> ep(entries.size()), ew(entries.size()), ee(entries.size());
     for (std::size_t k = 0; k < entries.size(); ++k) {
       ep[k] = entries[k].particle;
       ew[k] = entries[k].wall;
+      ee[k] = entries[k].element;
     }
     h.write("walls/contact_particle", std::span<const std::int32_t>(ep));
     h.write("walls/contact_wall", std::span<const std::int32_t>(ew));
+    h.write("walls/contact_element", std::span<const std::int32_t>(ee));
     h.write("walls/contact_history", wlist_.history());
     h.write("walls/point_at_build", std::span<const Vec3>(wall_point_at_build_));
     h.write("walls/dir_at_build", std::span<const Vec3>(wall_dir_at_build_));
@@ -149,8 +151,27 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
 
   const auto ep = h.read_int32("walls/contact_particle");
   const auto ew = h.read_int32("walls/contact_wall");
+  // (checkpoints from before mesh walls have no elements: all 0)
+  const auto ee = h.exists("walls/contact_element") ? h.read_int32("walls/contact_element")
+                                                    : std::vector<std::int32_t>(ep.size(), 0);
+  if (ew.size() != ep.size() || ee.size() != ep.size())
+    throw InputError(fmt::format("{}: inconsistent wall contact list", file.string()));
   std::vector<WallContactList::Entry> entries(ep.size());
-  for (std::size_t k = 0; k < ep.size(); ++k) entries[k] = {ep[k], ew[k]};
+  for (std::size_t k = 0; k < ep.size(); ++k) {
+    entries[k] = {ep[k], ew[k], ee[k]};
+    const bool bad_wall = ew[k] < 0 || static_cast<std::size_t>(ew[k]) >= walls_.size();
+    const bool bad_element =
+        !bad_wall && (ee[k] < 0 || (walls_[static_cast<std::size_t>(ew[k])].kind == WallKind::Mesh
+                                        ? static_cast<std::size_t>(ee[k]) >=
+                                              walls_[static_cast<std::size_t>(ew[k])].mesh.size()
+                                        : ee[k] != 0));
+    if (ep[k] < 0 || static_cast<std::size_t>(ep[k]) >= particles_.size() || bad_wall ||
+        bad_element)
+      throw InputError(fmt::format(
+          "{}: wall contact {} (particle {}, wall {}, element {}) does not fit this case's {} "
+          "particles and walls (was the checkpoint written by another case or mesh file?)",
+          file.string(), k, ep[k], ew[k], ee[k], particles_.size(), walls_.size()));
+  }
   wlist_.restore(std::move(entries), h.read_vec3("walls/contact_history"));
   wall_point_at_build_ = h.read_vec3("walls/point_at_build");
   wall_dir_at_build_ = h.read_vec3("walls/dir_at_build");

@@ -347,6 +347,14 @@ void Simulation::build_walls() {
       w.motion.axis = wc.motion.axis;
       w.motion.center = wc.motion.center;
       w.motion.rate = wc.motion.rate;
+    } else if (wc.kind == config::Wall::Kind::Mesh) {  // torques about the box centre of the mesh
+      Vec3 lo = wc.mesh_points[0], hi = wc.mesh_points[0];
+      for (const auto& q : wc.mesh_points)
+        for (int k = 0; k < 3; ++k) {
+          lo[k] = std::min(lo[k], q[k]);
+          hi[k] = std::max(hi[k], q[k]);
+        }
+      w.motion.center = 0.5 * (lo + hi);
     } else {
       w.motion.center = wc.kind == config::Wall::Kind::Cylinder ? wc.center : wc.point;
     }
@@ -365,6 +373,19 @@ void Simulation::build_walls() {
         w.inside = wc.inside;
         walls_.push_back(w);
         break;
+      case config::Wall::Kind::Mesh: {
+        w.kind = WallKind::Mesh;
+        w.mesh = TriangleMesh(wc.mesh_points, wc.mesh_triangles);
+        // The reference point is the motion centre (torques are about it); dir0 normal to the
+        // rotation axis, so that |dir - dir_b| measures the rotation (Wall::moved_since).
+        w.point0 = w.motion.center;
+        const Vec3 ax = w.motion.axis;
+        w.dir0 = std::abs(ax.x) < 0.9 ? normalized(cross(ax, Vec3{1, 0, 0}))
+                                      : normalized(cross(ax, Vec3{0, 1, 0}));
+        w.radius = w.mesh.radius_about(w.point0);
+        walls_.push_back(std::move(w));
+        break;
+      }
       case config::Wall::Kind::Box: {
         static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
         for (int f = 0; f < 6; ++f) {

@@ -72,6 +72,18 @@ inline void add_plane(config::Case& c, const std::string& name, Vec3 point, Vec3
   c.walls.push_back(w);
 }
 
+/// A triangle-mesh wall given in code (the case file reads it from STL: mesh: {file: ...}).
+inline void add_mesh(config::Case& c, const std::string& name, std::vector<Vec3> points,
+                     std::vector<std::array<int, 3>> triangles, const std::string& material) {
+  config::Wall w;
+  w.name = name;
+  w.kind = config::Wall::Kind::Mesh;
+  w.mesh_points = std::move(points);
+  w.mesh_triangles = std::move(triangles);
+  w.material = material;
+  c.walls.push_back(w);
+}
+
 /// A fill of a box region, uniform radii in [r_min, r_max] (equal: monodisperse); returns the
 /// fill for further settings (spacing, count, seed, ...), valid until the next push_back.
 inline config::Fill& add_box_fill(config::Case& c, const std::string& material, double r_min,

@@ -176,7 +176,7 @@ struct Servo {
 
 struct Wall {
   std::string name;
-  enum class Kind { Plane, Box, Cylinder };
+  enum class Kind { Plane, Box, Cylinder, Mesh };
   Kind kind = Kind::Plane;
   // Plane
   Vec3 point, normal{0, 0, 1};  ///< normal points to the side where particles are
@@ -188,6 +188,14 @@ struct Wall {
   Vec3 axis{0, 0, 1};  ///< unit axis
   double radius = 0;
   bool inside = true;  ///< particles inside the cylinder (drum) or outside (post)
+  // Mesh: an STL file (ASCII or binary), its vertices scaled then offset (x_case = scale x_file
+  // + offset); the triangles read with the case (degenerate ones dropped and counted).
+  std::filesystem::path mesh_file;  ///< absolute
+  double mesh_scale = 1;
+  Vec3 mesh_offset;
+  std::vector<Vec3> mesh_points;                   ///< m, in the case's frame
+  std::vector<std::array<int, 3>> mesh_triangles;  ///< indices into mesh_points
+  std::size_t mesh_dropped = 0;                    ///< degenerate triangles left out
   std::string material;
   Motion motion;
   std::optional<Servo> servo;  ///< plane walls only

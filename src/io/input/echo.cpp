@@ -256,6 +256,17 @@ void emit_wall(YAML::Emitter& out, const config::Wall& w, int dim) {
       out << YAML::EndMap;
       break;
     }
+    case config::Wall::Kind::Mesh:
+      out << YAML::Key << "mesh" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      out << YAML::Key << "file" << YAML::Value << w.mesh_file.string();
+      out << YAML::Key << "scale" << YAML::Value << w.mesh_scale;
+      key_vec(out, "offset", w.mesh_offset, dim);
+      out << YAML::EndMap;
+      out << YAML::Comment(
+          fmt::format("{} triangles, {} vertices{}", w.mesh_triangles.size(), w.mesh_points.size(),
+                      w.mesh_dropped ? fmt::format(", {} degenerate left out", w.mesh_dropped)
+                                     : std::string()));
+      break;
     case config::Wall::Kind::Cylinder:
       out << YAML::Key << "cylinder" << YAML::Value << YAML::Flow << YAML::BeginMap;
       key_vec(out, "center", w.center, dim);

@@ -16,6 +16,7 @@
 #include "contact/registry.hpp"
 #include "core/error.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
+#include "io/input/stl.hpp"
 #include "io/input/validate.hpp"
 #include "io/input/yaml_reader.hpp"
 #include "particles/shapes.hpp"
@@ -114,6 +115,7 @@ struct Reader {
   std::vector<double> read_csv(const YamlNode& file_node, const config::ParticleGroup& g,
                                config::Explicit& ex);
   void read_walls(const YamlMap& root);
+  void read_mesh_wall(const YamlNode& node, config::Wall& w) const;
   config::Motion read_motion(const YamlNode& node);
   void read_output(const YamlMap& root);
   std::optional<config::OutputEvery> read_interval(const YamlMap& m, bool off_allowed) const;
@@ -1177,6 +1179,36 @@ config::Motion Reader::read_motion(const YamlNode& node) {
   return m;
 }
 
+// `mesh: {file, scale, offset}`: an STL surface, read now so that `check` reports a bad file.
+void Reader::read_mesh_wall(const YamlNode& node, config::Wall& w) const {
+  if (two_d())
+    node.fail("mesh walls are 3D surfaces, not available in 2D (dimension: 2); use plane or box");
+  for (const auto& g : c.particles)
+    if (g.kind != config::Shape::Sphere)
+      node.fail(
+          "mesh walls work with spheres only so far (this case has spherocylinders); use plane, "
+          "box or cylinder walls");
+  YamlMap mm(node, {"file", "scale", "offset"});
+  const YamlNode file = mm.at("file");
+  const std::string given = file.as_string();
+  if (given.empty()) file.fail_expected("an STL file name");
+  w.kind = config::Wall::Kind::Mesh;
+  w.mesh_file =
+      fs::path(given).is_absolute() ? fs::path(given) : (case_dir / given).lexically_normal();
+  w.mesh_scale = mm.number_or("scale", 1.0, Range::positive());
+  w.mesh_offset = vec_or(mm, "offset", Vec3{});
+  io::StlSurface stl;
+  try {
+    stl = io::read_stl(w.mesh_file);
+  } catch (const std::exception& e) {
+    file.fail(fmt::format("cannot read the STL file '{}': {}", w.mesh_file.string(), e.what()));
+  }
+  w.mesh_points.reserve(stl.points.size());
+  for (const auto& p : stl.points) w.mesh_points.push_back(w.mesh_scale * p + w.mesh_offset);
+  w.mesh_triangles = std::move(stl.triangles);
+  w.mesh_dropped = stl.dropped;
+}
+
 void Reader::read_walls(const YamlMap& root) {
   auto wn = root.find("walls");
   if (!wn) return;
@@ -1201,9 +1233,9 @@ void Reader::read_walls(const YamlMap& root) {
     names.emplace(w.name, name.line());
 
     const std::string kind = wm.exactly_one_of({"plane", "box", "cylinder", "mesh"});
-    if (kind == "mesh")
-      wm.at("mesh").fail("mesh walls (STL) are not available yet; use plane, box or cylinder");
-    if (kind == "plane") {
+    if (kind == "mesh") {
+      read_mesh_wall(wm.at("mesh"), w);
+    } else if (kind == "plane") {
       YamlMap pm(wm.at("plane"), {"point", "normal"});
       w.kind = config::Wall::Kind::Plane;
       w.point = vec(pm, "point");

@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// A rigid triangle surface (an STL wall): its topology, its vertices at the current time, a grid
+// of its triangles for the contact list, and the contact of a sphere with one of its triangles.
+//
+// Contacts with a triangulated surface. A sphere near a surface made of triangles is within reach
+// of several of them: of the two triangles on either side of an edge it rolls over, of the fan
+// around a vertex. Taking every triangle the sphere overlaps as a contact counts the same touch
+// two or six times (a sphere resting on the shared edge of a flat square made of two triangles
+// would feel twice its weight). The surface, not each triangle, is what the sphere touches: its
+// contacts are the local minima of the distance from the centre to the union of the triangles.
+// The closest point of one triangle lies in its face, on one of its edges or at one of its
+// vertices:
+// - in the face: a local minimum of the whole surface, always a contact;
+// - on an edge: a local minimum unless a triangle across that edge has points closer to the
+//   centre, i.e. unless the direction into that triangle, normal to the edge, has a positive
+//   component along (centre - closest point);
+// - at a vertex: likewise for every triangle around the vertex, with the two edge directions
+//   that span it at the vertex.
+// When the minimum is shared (the centre exactly above an edge of a flat surface, or beyond a
+// convex edge or corner, where every triangle at the edge or vertex has the same closest point),
+// the triangle of lowest index takes it. Each contact thus appears once, with the normal from the
+// closest point to the centre: face normals on flat parts, the bisecting direction at convex edges
+// and corners, and several contacts in concave corners (a sphere in the corner of a meshed box
+// has three, as with three planes). The test is exact for surfaces where every edge belongs to
+// one or two triangles or to a fan (non-manifold edges included); it needs no list of contacts of
+// the other triangles, so every entry of the wall list is evaluated on its own.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "boundaries/motion.hpp"
+#include "core/vec3.hpp"
+
+namespace gf {
+
+/// Where on a triangle its closest point to a given point lies.
+enum class TriangleFeature : std::int8_t { Face, Edge0, Edge1, Edge2, Vertex0, Vertex1, Vertex2 };
+
+/// The closest point of triangle (a, b, c) to p and the feature it lies on; edge k joins vertex k
+/// and vertex k + 1 (mod 3). Degenerate triangles are handled (their closest point lies on an
+/// edge or a vertex).
+TriangleFeature closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+                                    Vec3& q);
+
+class TriangleMesh {
+ public:
+  TriangleMesh() = default;
+  /// Vertices (m) and triangles (vertex indices). Vertices closer than 1e-9 of the surface's
+  /// size are merged (points() may hold fewer than given). Throws std::invalid_argument for an
+  /// index out of range or a triangle with a repeated (or merged) vertex.
+  TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int, 3>> triangles);
+
+  std::size_t size() const { return tris_.size(); }
+  bool empty() const { return tris_.empty(); }
+  const std::vector<Vec3>& points() const { return points_; }
+  const std::vector<Vec3>& points0() const { return points0_; }
+  const std::vector<std::array<int, 3>>& triangles() const { return tris_; }
+  /// Lower and upper corners of the vertices at t = 0.
+  Vec3 lo0() const { return lo0_; }
+  Vec3 hi0() const { return hi0_; }
+  /// Largest distance of a vertex (t = 0) from c, m.
+  double radius_about(const Vec3& c) const;
+  /// Edges shared by more than two triangles, and edges of one triangle only (the rim of an open
+  /// surface).
+  std::size_t nonmanifold_edges() const { return nonmanifold_edges_; }
+  std::size_t boundary_edges() const { return boundary_edges_; }
+
+  /// Vertices at time t under the motion (unchanged, bit for bit, for a wall at rest).
+  void place(const RigidMotion& motion, double t);
+
+  /// Contact of a sphere (centre x, radius r) with triangle `tri`, false when the triangle's
+  /// closest point is not a contact of the surface (see the file comment) or is farther than r.
+  /// `normal`: unit, from the surface to the centre; `gap`: distance - r (< 0: overlap).
+  bool sphere_contact(std::int32_t tri, const Vec3& x, double r, Vec3& normal, double& gap) const;
+  /// Distance from x to triangle `tri` (current vertices).
+  double distance(std::int32_t tri, const Vec3& x) const;
+
+  /// Indexes the current triangles on a grid so that `candidates` returns, in increasing order,
+  /// every triangle within `reach` of a point (and some farther ones). Kept while the vertices
+  /// and the reach do not change (a cache, hence const).
+  void index(double reach) const;
+  /// Triangles possibly within the reach given to index() of x; empty outside the grid.
+  std::pair<const std::int32_t*, const std::int32_t*> candidates(const Vec3& x) const;
+
+ private:
+  /// Feature of the closest point, shared: false when another triangle takes it (file comment).
+  bool owns(std::int32_t tri, TriangleFeature f, const Vec3& d) const;
+  std::uint64_t cell_key(const Vec3& x) const;
+
+  std::vector<Vec3> points0_, points_;
+  std::vector<std::array<int, 3>> tris_;
+  // Triangles across each edge (3 per triangle, CSR, the triangle itself left out) and around
+  // each vertex (CSR).
+  std::vector<std::int32_t> edge_start_, edge_tris_, vertex_start_, vertex_tris_;
+  std::size_t nonmanifold_edges_ = 0, boundary_edges_ = 0;
+  Vec3 lo0_, hi0_;
+  // Grid (a cache of index()): cells of size h_ from origin_; sorted keys of the occupied cells,
+  // with their triangles.
+  mutable double indexed_reach_ = -1, h_ = 0;
+  mutable Vec3 origin_;
+  mutable std::array<std::int64_t, 3> cells_{};
+  mutable std::vector<std::uint64_t> keys_;
+  mutable std::vector<std::int64_t> cell_start_;
+  mutable std::vector<std::int32_t> cell_tris_;
+};
+
+}  // namespace gf
