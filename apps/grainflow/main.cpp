@@ -106,9 +106,12 @@ int check(const std::string& file, const std::vector<std::string>& sets) {
   fmt::print("  {:<40} {}\n", "walls (planes / cylinders / meshes)", sim.walls().size());
   for (const auto& w : sim.walls())
     if (w.kind == gf::WallKind::Mesh)
-      fmt::print("  {:<40} {} triangles, {} vertices, {} open / {} non-manifold edges\n",
-                 fmt::format("mesh wall '{}'", w.name), w.mesh.size(), w.mesh.points().size(),
-                 w.mesh.boundary_edges(), w.mesh.nonmanifold_edges());
+      fmt::print(
+          "  {:<40} {} triangles, {} vertices, {} open / {} non-manifold edges, {} T-junctions, "
+          "{} repeated triangles left out\n",
+          fmt::format("mesh wall '{}'", w.name), w.mesh.size(), w.mesh.points().size(),
+          w.mesh.boundary_edges(), w.mesh.nonmanifold_edges(), w.mesh.t_junctions(),
+          w.mesh.duplicate_triangles());
   for (const auto& wc : cfg.walls)
     if (wc.mesh_dropped > 0)
       fmt::print("warning: mesh wall '{}': {} degenerate (zero-area) triangles of {} left out\n",

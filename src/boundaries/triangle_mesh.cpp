@@ -11,55 +11,74 @@
 
 namespace gf {
 
+namespace {
+
+/// The parameter t in [0, 1] of the closest point a + t (b - a) of segment [a, b] to p.
+double segment_parameter(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 ab = b - a;
+  const double l2 = dot(ab, ab);
+  if (!(l2 > 0)) return 0.0;
+  const double t = dot(p - a, ab) / l2;
+  return t < 0 ? 0.0 : (t > 1 ? 1.0 : t);
+}
+
+/// a b - c d to within about one rounding of the result, cancellation or not (Kahan's method:
+/// the rounding error of c d recovered with a fused multiply-add).
+double kahan_det(double a, double b, double c, double d) {
+  const double w = c * d;
+  const double e = std::fma(-c, d, w);
+  const double f = std::fma(a, b, -w);
+  return f + e;
+}
+
+/// u x v with every component accurate to rounding: the normal of a thin triangle keeps its
+/// direction (a plain cross product loses a factor length / height of it).
+Vec3 accurate_cross(const Vec3& u, const Vec3& v) {
+  return {kahan_det(u.y, v.z, u.z, v.y), kahan_det(u.z, v.x, u.x, v.z),
+          kahan_det(u.x, v.y, u.y, v.x)};
+}
+
+}  // namespace
+
 TriangleFeature closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
                                     Vec3& q) {
-  // Regions of the plane of the triangle, tested in turn with the projections of p - (a, b, c)
-  // on the edge vectors ab and ac (the barycentric coordinates of the projection of p, unscaled).
-  const Vec3 ab = b - a, ac = c - a;
-  const Vec3 ap = p - a;
-  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0 && d2 <= 0) {
-    q = a;
-    return TriangleFeature::Vertex0;
+  // The projection of p on the plane, if it lies strictly inside (left of the three edges seen
+  // along the normal; a projection on an edge belongs to the edge). Projecting along the
+  // cross-product normal keeps full accuracy for thin triangles, which area coordinates lose.
+  const Vec3 n = accurate_cross(b - a, c - a);
+  const double n2 = dot(n, n);
+  Vec3 pp = p;
+  if (n2 > 0) {
+    pp = p - (dot(p - a, n) / n2) * n;
+    if (dot(cross(b - a, pp - a), n) > 0 && dot(cross(c - b, pp - b), n) > 0 &&
+        dot(cross(a - c, pp - c), n) > 0) {
+      q = pp;
+      return TriangleFeature::Face;
+    }
   }
-  const Vec3 bp = p - b;
-  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0 && d4 <= d3) {
-    q = b;
-    return TriangleFeature::Vertex1;
+  // Otherwise the closest point of the three edges (also for degenerate triangles), chosen by
+  // the in-plane distance from the projection (equal to the distance from p in exact arithmetic;
+  // in doubles not swamped by the height of p when p is near an edge seen from afar).
+  const Vec3* v[3] = {&a, &b, &c};
+  double best = std::numeric_limits<double>::infinity();
+  TriangleFeature f = TriangleFeature::Vertex0;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3& u = *v[k];
+    const Vec3& w = *v[(k + 1) % 3];
+    const double t = segment_parameter(p, u, w);
+    const Vec3 s = t <= 0 ? u : (t >= 1 ? w : u + t * (w - u));
+    const Vec3 d = pp - s;
+    const double d2 = dot(d, d);
+    if (d2 < best) {
+      best = d2;
+      q = s;
+      f = t <= 0   ? static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) + k)
+          : t >= 1 ? static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) +
+                                                  (k + 1) % 3)
+                   : static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Edge0) + k);
+    }
   }
-  const double vc = d1 * d4 - d3 * d2;  // area coordinate of c, scaled
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    const double s = d1 - d3 > 0 ? d1 / (d1 - d3) : 0.0;
-    q = a + s * ab;
-    return TriangleFeature::Edge0;
-  }
-  const Vec3 cp = p - c;
-  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0 && d5 <= d6) {
-    q = c;
-    return TriangleFeature::Vertex2;
-  }
-  const double vb = d5 * d2 - d1 * d6;  // area coordinate of b, scaled
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    const double s = d2 - d6 > 0 ? d2 / (d2 - d6) : 0.0;
-    q = a + s * ac;
-    return TriangleFeature::Edge2;
-  }
-  const double va = d3 * d6 - d5 * d4;  // area coordinate of a, scaled
-  if (va <= 0 && d4 - d3 >= 0 && d5 - d6 >= 0) {
-    const double den = (d4 - d3) + (d5 - d6);
-    const double s = den > 0 ? (d4 - d3) / den : 0.0;
-    q = b + s * (c - b);
-    return TriangleFeature::Edge1;
-  }
-  const double sum = va + vb + vc;
-  if (!(sum > 0)) {  // degenerate (collinear) triangle that escaped the edge tests
-    q = a;
-    return TriangleFeature::Vertex0;
-  }
-  q = a + (vb / sum) * ab + (vc / sum) * ac;
-  return TriangleFeature::Face;
+  return f;
 }
 
 namespace {
@@ -123,8 +142,8 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int,
         lo[k] = std::min(lo[k], p[k]);
         hi[k] = std::max(hi[k], p[k]);
       }
-    const double tol = 1e-9 * std::max(norm(hi - lo), 1e-300);
-    const std::vector<int> map = merge_close_points(points0_, tol);
+    eps_ = 1e-9 * std::max(norm(hi - lo), 1e-300);
+    const std::vector<int> map = merge_close_points(points0_, eps_);
     for (std::size_t t = 0; t < tris_.size(); ++t) {
       auto& tr = tris_[t];
       for (int k = 0; k < 3; ++k) tr[k] = map[static_cast<std::size_t>(tr[k])];
@@ -132,6 +151,25 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int,
         throw std::invalid_argument("triangle " + std::to_string(t) +
                                     " has two vertices closer than 1e-9 of the surface's size");
     }
+  }
+  // The same triangle twice (STL files have them) would count its contacts twice: kept once.
+  {
+    std::vector<std::pair<std::array<int, 3>, std::size_t>> keys;
+    keys.reserve(tris_.size());
+    for (std::size_t t = 0; t < tris_.size(); ++t) {
+      auto k = tris_[t];
+      std::sort(k.begin(), k.end());
+      keys.emplace_back(k, t);
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<char> keep(tris_.size(), 1);
+    for (std::size_t k = 1; k < keys.size(); ++k)
+      if (keys[k].first == keys[k - 1].first) keep[keys[k].second] = 0;
+    std::vector<std::array<int, 3>> kept;
+    for (std::size_t t = 0; t < tris_.size(); ++t)
+      if (keep[t]) kept.push_back(tris_[t]);
+    duplicate_triangles_ = tris_.size() - kept.size();
+    tris_ = std::move(kept);
   }
   points_ = points0_;
   lo0_ = hi0_ = points0_.empty() ? Vec3{} : points0_[0];
@@ -157,36 +195,70 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int,
   std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
     return x.u != y.u ? x.u < y.u : (x.v != y.v ? x.v < y.v : x.tri < y.tri);
   });
-  std::vector<std::vector<std::int32_t>> across(3 * tris_.size());
   for (std::size_t s = 0; s < uses.size();) {
     std::size_t e = s;
     while (e < uses.size() && uses[e].u == uses[s].u && uses[e].v == uses[s].v) ++e;
     if (e - s == 1) ++boundary_edges_;
     if (e - s > 2) ++nonmanifold_edges_;
-    for (std::size_t a = s; a < e; ++a)
-      for (std::size_t b = s; b < e; ++b)
-        if (a != b)
-          across[3 * static_cast<std::size_t>(uses[a].tri) + static_cast<std::size_t>(uses[a].k)]
-              .push_back(uses[b].tri);
     s = e;
   }
-  edge_start_.assign(1, 0);
-  for (const auto& list : across) {
-    edge_tris_.insert(edge_tris_.end(), list.begin(), list.end());
-    edge_start_.push_back(static_cast<std::int32_t>(edge_tris_.size()));
-  }
+  // Triangles around each vertex.
   std::vector<std::int32_t> count(points0_.size() + 1, 0);
   for (const auto& tr : tris_)
     for (int k = 0; k < 3; ++k) ++count[static_cast<std::size_t>(tr[k]) + 1];
-  vertex_start_.assign(points0_.size() + 1, 0);
+  std::vector<std::int32_t> vertex_start(points0_.size() + 1, 0);
   for (std::size_t v = 0; v < points0_.size(); ++v)
-    vertex_start_[v + 1] = vertex_start_[v] + count[v + 1];
-  vertex_tris_.assign(static_cast<std::size_t>(vertex_start_.back()), 0);
-  std::vector<std::int32_t> fill(vertex_start_.begin(), vertex_start_.end() - 1);
+    vertex_start[v + 1] = vertex_start[v] + count[v + 1];
+  std::vector<std::int32_t> vertex_tris(static_cast<std::size_t>(vertex_start.back()), 0);
+  std::vector<std::int32_t> fill(vertex_start.begin(), vertex_start.end() - 1);
   for (std::size_t t = 0; t < tris_.size(); ++t)
     for (int k = 0; k < 3; ++k)
-      vertex_tris_[static_cast<std::size_t>(fill[static_cast<std::size_t>(tris_[t][k])]++)] =
+      vertex_tris[static_cast<std::size_t>(fill[static_cast<std::size_t>(tris_[t][k])]++)] =
           static_cast<std::int32_t>(t);
+  // Vertices lying on another triangle without being one of its vertices (T-junctions, where
+  // a finer part of the mesh meets a coarser one): the triangles around such a vertex touch
+  // that triangle although they share no vertex with it.
+  std::vector<std::pair<std::int32_t, std::int32_t>> junctions;  // (vertex, triangle)
+  if (!tris_.empty()) {
+    index(eps_);
+    for (std::size_t v = 0; v < points0_.size(); ++v) {
+      const auto [lo, hi] = candidates(points0_[v]);
+      for (const std::int32_t* t = lo; t != hi; ++t) {
+        const auto& tr = tris_[static_cast<std::size_t>(*t)];
+        if (tr[0] == static_cast<int>(v) || tr[1] == static_cast<int>(v) ||
+            tr[2] == static_cast<int>(v))
+          continue;
+        if (distance(*t, points0_[v]) <= eps_)
+          junctions.emplace_back(static_cast<std::int32_t>(v), *t);
+      }
+    }
+    indexed_reach_ = -1;
+  }
+  // Touching sets: the triangles sharing a vertex with each triangle, and the junction pairs.
+  std::vector<std::vector<std::int32_t>> touch(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const auto v = static_cast<std::size_t>(tris_[t][k]);
+      touch[t].insert(touch[t].end(), vertex_tris.begin() + vertex_start[v],
+                      vertex_tris.begin() + vertex_start[v + 1]);
+    }
+  for (const auto& [v, t] : junctions)
+    for (std::int32_t s = vertex_start[static_cast<std::size_t>(v)];
+         s < vertex_start[static_cast<std::size_t>(v) + 1]; ++s) {
+      const std::int32_t around = vertex_tris[static_cast<std::size_t>(s)];
+      touch[static_cast<std::size_t>(around)].push_back(t);
+      touch[static_cast<std::size_t>(t)].push_back(around);
+    }
+  touch_start_.assign(1, 0);
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    auto& list = touch[t];
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    for (const std::int32_t o : list)
+      if (o != static_cast<std::int32_t>(t)) touch_tris_.push_back(o);
+    touch_start_.push_back(static_cast<std::int32_t>(touch_tris_.size()));
+  }
+  t_junctions_ = junctions.size();
 }
 
 double TriangleMesh::radius_about(const Vec3& c) const {
@@ -211,66 +283,82 @@ double TriangleMesh::distance(std::int32_t tri, const Vec3& x) const {
   return norm(x - q);
 }
 
-bool TriangleMesh::owns(std::int32_t tri, TriangleFeature f, const Vec3& d) const {
-  if (f == TriangleFeature::Face) return true;
-  // A neighbour "ties" when it has no point closer than q (its own closest point is q, up to
-  // rounding); the lowest index among the tied triangles takes the contact.
-  const double tol = 1e-9 * norm(d);
+bool TriangleMesh::interior(std::int32_t tri, const Vec3& q) const {
   const auto& tr = tris_[static_cast<std::size_t>(tri)];
-  const auto P = [&](int v) -> const Vec3& { return points_[static_cast<std::size_t>(v)]; };
-  if (f <= TriangleFeature::Edge2) {
-    const int k = static_cast<int>(f) - static_cast<int>(TriangleFeature::Edge0);
-    const int u = tr[k], v = tr[(k + 1) % 3];
-    const Vec3 e = normalized(P(v) - P(u));
-    const auto slot = static_cast<std::size_t>(3 * tri + k);
-    for (std::int32_t s = edge_start_[slot]; s < edge_start_[slot + 1]; ++s) {
-      const std::int32_t other = edge_tris_[static_cast<std::size_t>(s)];
-      const auto& to = tris_[static_cast<std::size_t>(other)];
-      const int w = to[0] != u && to[0] != v ? to[0] : (to[1] != u && to[1] != v ? to[1] : to[2]);
-      Vec3 in = P(w) - P(u);
-      in = in - dot(in, e) * e;  // into the other triangle, normal to the edge
-      const double len = norm(in);
-      if (!(len > 0)) continue;  // a degenerate neighbour has no interior
-      const double s_in = dot(in, d) / len;
-      if (s_in > tol || other < tri) return false;
-    }
-    return true;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3& u = points_[static_cast<std::size_t>(tr[k])];
+    const Vec3& w = points_[static_cast<std::size_t>(tr[(k + 1) % 3])];
+    const double t = segment_parameter(q, u, w);
+    if (norm(q - (t <= 0 ? u : (t >= 1 ? w : u + t * (w - u)))) <= eps_) return false;
   }
-  const int vtx = tr[static_cast<int>(f) - static_cast<int>(TriangleFeature::Vertex0)];
-  const Vec3& pv = P(vtx);
-  for (std::int32_t s = vertex_start_[static_cast<std::size_t>(vtx)];
-       s < vertex_start_[static_cast<std::size_t>(vtx) + 1]; ++s) {
-    const std::int32_t other = vertex_tris_[static_cast<std::size_t>(s)];
-    if (other == tri) continue;
-    const auto& to = tris_[static_cast<std::size_t>(other)];
-    double s_in = -1e300;
-    for (int k = 0; k < 3; ++k) {
-      if (to[k] == vtx) continue;
-      const Vec3 e = P(to[k]) - pv;
-      const double len = norm(e);
-      if (len > 0) s_in = std::max(s_in, dot(e, d) / len);
+  return true;
+}
+
+TriangleFeature TriangleMesh::closest(std::int32_t tri, const Vec3& x, Vec3& q) const {
+  const auto& tr = tris_[static_cast<std::size_t>(tri)];
+  return closest_on_triangle(x, points_[static_cast<std::size_t>(tr[0])],
+                             points_[static_cast<std::size_t>(tr[1])],
+                             points_[static_cast<std::size_t>(tr[2])], q);
+}
+
+namespace {
+
+/// 2 for a face point, 1 for an edge point, 0 for a vertex.
+int dimension(TriangleFeature f) {
+  return f == TriangleFeature::Face ? 2 : (f <= TriangleFeature::Edge2 ? 1 : 0);
+}
+
+}  // namespace
+
+bool TriangleMesh::owns(std::int32_t tri, TriangleFeature f, const Vec3& x, const Vec3& q) const {
+  if (f == TriangleFeature::Face && interior(tri, q)) return true;
+  // q on the boundary of tri (within eps_). Each touching triangle whose closest point q2 could
+  // be the same contact (it contains q, or tri contains q2: a symmetric test, so that both see
+  // the pair alike) competes: a face-interior q2 takes the contact; otherwise the nearer point
+  // (the sign of |x - q|^2 - |x - q2|^2), then a face point before an edge point before a vertex,
+  // then the lower index. Every quantity is computed alike from both sides (the difference of
+  // squares is evaluated as (q2 - q) . ((x - q) + (x - q2)), exactly antisymmetric and not
+  // swamped by the distance), so of two competitors exactly one keeps the contact.
+  const int dim = dimension(f);
+  for (std::int32_t s = touch_start_[static_cast<std::size_t>(tri)];
+       s < touch_start_[static_cast<std::size_t>(tri) + 1]; ++s) {
+    const std::int32_t other = touch_tris_[static_cast<std::size_t>(s)];
+    Vec3 q2, tmp;
+    const TriangleFeature f2 = closest(other, x, q2);
+    closest(other, q, tmp);
+    bool competing = norm(q - tmp) <= eps_;
+    if (!competing) {
+      closest(tri, q2, tmp);
+      competing = norm(q2 - tmp) <= eps_;
     }
-    if (s_in > tol || other < tri) return false;
+    if (!competing) continue;
+    if (f2 == TriangleFeature::Face && interior(other, q2)) return false;
+    const double closer = dot(q2 - q, (x - q) + (x - q2));
+    if (closer != 0) {
+      if (closer > 0) return false;
+      continue;
+    }
+    const int dim2 = dimension(f2);
+    if (dim2 != dim ? dim2 > dim : other < tri) return false;
   }
   return true;
 }
 
 bool TriangleMesh::sphere_contact(std::int32_t tri, const Vec3& x, double r, Vec3& normal,
                                   double& gap) const {
-  const auto& tr = tris_[static_cast<std::size_t>(tri)];
-  const Vec3& a = points_[static_cast<std::size_t>(tr[0])];
-  const Vec3& b = points_[static_cast<std::size_t>(tr[1])];
-  const Vec3& c = points_[static_cast<std::size_t>(tr[2])];
   Vec3 q;
-  const TriangleFeature f = closest_on_triangle(x, a, b, c, q);
+  const TriangleFeature f = closest(tri, x, q);
   const Vec3 d = x - q;
   const double dist = norm(d);
   if (dist >= r) return false;
-  if (!owns(tri, f, d)) return false;
+  if (!owns(tri, f, x, q)) return false;
   if (dist > 0) {
     normal = (1.0 / dist) * d;
   } else {  // the centre on the surface: either side of the face
-    const Vec3 n = cross(b - a, c - a);
+    const auto& tr = tris_[static_cast<std::size_t>(tri)];
+    const Vec3& a = points_[static_cast<std::size_t>(tr[0])];
+    const Vec3 n = cross(points_[static_cast<std::size_t>(tr[1])] - a,
+                         points_[static_cast<std::size_t>(tr[2])] - a);
     const double len = norm(n);
     normal = len > 0 ? (1.0 / len) * n : Vec3{0, 0, 1};
   }

@@ -7,23 +7,26 @@
 // around a vertex. Taking every triangle the sphere overlaps as a contact counts the same touch
 // two or six times (a sphere resting on the shared edge of a flat square made of two triangles
 // would feel twice its weight). The surface, not each triangle, is what the sphere touches: its
-// contacts are the local minima of the distance from the centre to the union of the triangles.
-// The closest point of one triangle lies in its face, on one of its edges or at one of its
-// vertices:
-// - in the face: a local minimum of the whole surface, always a contact;
-// - on an edge: a local minimum unless a triangle across that edge has points closer to the
-//   centre, i.e. unless the direction into that triangle, normal to the edge, has a positive
-//   component along (centre - closest point);
-// - at a vertex: likewise for every triangle around the vertex, with the two edge directions
-//   that span it at the vertex.
-// When the minimum is shared (the centre exactly above an edge of a flat surface, or beyond a
-// convex edge or corner, where every triangle at the edge or vertex has the same closest point),
-// the triangle of lowest index takes it. Each contact thus appears once, with the normal from the
-// closest point to the centre: face normals on flat parts, the bisecting direction at convex edges
-// and corners, and several contacts in concave corners (a sphere in the corner of a meshed box
-// has three, as with three planes). The test is exact for surfaces where every edge belongs to
-// one or two triangles or to a fan (non-manifold edges included); it needs no list of contacts of
-// the other triangles, so every entry of the wall list is evaluated on its own.
+// contacts are the local minima of the distance from the centre x to the union of the
+// triangles, each taken once. The closest point q of one triangle is
+// - inside its face (farther than eps, 1e-9 of the surface's size, from its edges): a local
+//   minimum of the whole surface, always a contact;
+// - on (or within eps of) its boundary: then every triangle that contains q (those sharing a
+//   vertex with it, or meeting it at a T-junction) is asked for its own closest point q' to x,
+//   and the first in the order (|x - q'|, then a face point before an edge point before a
+//   vertex, then the lower index) takes the contact. If another triangle containing q has a
+//   closer point, q is no local minimum and nobody takes it there; if the minimum is shared
+//   (the centre above an edge of a flat part, beyond a convex edge or corner, where all these
+//   triangles have q' = q), one of them takes it. The distances are computed alike from every
+//   triangle, so the order is one strict total order, whoever asks.
+// Each contact thus appears once, with the normal (x - q)/|x - q|: face normals on flat parts, the
+// bisecting direction at convex edges and corners, and one contact per face in concave corners
+// (a sphere in the corner of a meshed box has three, as with three planes). The decision needs
+// only the geometry of the touching triangles, not the other contacts, so every entry of the wall
+// list is evaluated on its own; ties are decided by the same computation in every triangle, so
+// centres within rounding of an edge still get one contact. Surfaces with edges of three or more
+// triangles, open rims, T-junctions and sliver triangles are handled; vertices within eps are
+// merged and repeated triangles kept once. Overlapping coplanar triangles are not detected.
 #pragma once
 
 #include <array>
@@ -39,8 +42,8 @@ namespace gf {
 enum class TriangleFeature : std::int8_t { Face, Edge0, Edge1, Edge2, Vertex0, Vertex1, Vertex2 };
 
 /// The closest point of triangle (a, b, c) to p and the feature it lies on; edge k joins vertex k
-/// and vertex k + 1 (mod 3). Degenerate triangles are handled (their closest point lies on an
-/// edge or a vertex).
+/// and vertex k + 1 (mod 3). Face only when the projection of p lies strictly inside; degenerate
+/// (zero-area) triangles give the closest point of their three edges.
 TriangleFeature closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
                                     Vec3& q);
 
@@ -48,8 +51,9 @@ class TriangleMesh {
  public:
   TriangleMesh() = default;
   /// Vertices (m) and triangles (vertex indices). Vertices closer than 1e-9 of the surface's
-  /// size are merged (points() may hold fewer than given). Throws std::invalid_argument for an
-  /// index out of range or a triangle with a repeated (or merged) vertex.
+  /// size are merged (points() may hold fewer than given) and repeated triangles kept once
+  /// (triangles() may hold fewer). Throws std::invalid_argument for an index out of range or a
+  /// triangle with a repeated (or merged) vertex.
   TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int, 3>> triangles);
 
   std::size_t size() const { return tris_.size(); }
@@ -66,6 +70,10 @@ class TriangleMesh {
   /// surface).
   std::size_t nonmanifold_edges() const { return nonmanifold_edges_; }
   std::size_t boundary_edges() const { return boundary_edges_; }
+  /// Triangles given twice (same three vertices), kept once.
+  std::size_t duplicate_triangles() const { return duplicate_triangles_; }
+  /// Vertices lying inside an edge or face of another triangle (T-junctions).
+  std::size_t t_junctions() const { return t_junctions_; }
 
   /// Vertices at time t under the motion (unchanged, bit for bit, for a wall at rest).
   void place(const RigidMotion& motion, double t);
@@ -85,16 +93,22 @@ class TriangleMesh {
   std::pair<const std::int32_t*, const std::int32_t*> candidates(const Vec3& x) const;
 
  private:
-  /// Feature of the closest point, shared: false when another triangle takes it (file comment).
-  bool owns(std::int32_t tri, TriangleFeature f, const Vec3& d) const;
+  /// Whether the contact of the centre x at q (feature f) on `tri` is this triangle's (see the
+  /// file comment).
+  bool owns(std::int32_t tri, TriangleFeature f, const Vec3& x, const Vec3& q) const;
+  /// q farther than eps_ from every edge of `tri`.
+  bool interior(std::int32_t tri, const Vec3& q) const;
+  TriangleFeature closest(std::int32_t tri, const Vec3& x, Vec3& q) const;
   std::uint64_t cell_key(const Vec3& x) const;
 
   std::vector<Vec3> points0_, points_;
   std::vector<std::array<int, 3>> tris_;
-  // Triangles across each edge (3 per triangle, CSR, the triangle itself left out) and around
-  // each vertex (CSR).
-  std::vector<std::int32_t> edge_start_, edge_tris_, vertex_start_, vertex_tris_;
-  std::size_t nonmanifold_edges_ = 0, boundary_edges_ = 0;
+  // The triangles touching each triangle (sharing a vertex, or meeting it at a T-junction), CSR,
+  // the triangle itself left out; fixed for a rigid surface.
+  std::vector<std::int32_t> touch_start_, touch_tris_;
+  std::size_t nonmanifold_edges_ = 0, boundary_edges_ = 0, duplicate_triangles_ = 0,
+              t_junctions_ = 0;
+  double eps_ = 0;  ///< 1e-9 of the surface's size: merging, containment and edge tolerance
   Vec3 lo0_, hi0_;
   // Grid (a cache of index()): cells of size h_ from origin_; sorted keys of the occupied cells,
   // with their triangles.

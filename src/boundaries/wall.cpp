@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <tuple>
@@ -427,7 +428,12 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
         }
       }
       if (is_mesh && on[0] && history[su * ku] == Vec3{}) {
-        // A new contact: the history of a triangle of the same mesh that has just lost its contact.
+        // A new contact: the history of the triangle of the same mesh, among those that have
+        // just lost their contact, nearest to the new contact point (two contacts changing
+        // triangles at once, in a valley, keep their own histories).
+        const Vec3 q = x[i] - (r[i] - geo[0].overlap) * geo[0].normal;
+        std::int64_t donor = -1;
+        double nearest = std::numeric_limits<double>::infinity();
         for (std::int64_t j = k_lo; j < k_hi; ++j) {
           const auto ju = static_cast<std::size_t>(j);
           if (j == k || entries[ju].wall != entries[ku].wall || history[su * ju] == Vec3{})
@@ -437,9 +443,16 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
               j < k ? mesh_apart[static_cast<std::size_t>(j - k_lo)] != 0
                     : !wall_slot_geometry(w, entries[ju].element, sv, i, x[i], r[i], 0, gj);
           if (!apart) continue;
-          history[su * ku] = history[su * ju];
-          history[su * ju] = {};
-          break;
+          const double d = w.mesh.distance(entries[ju].element, q);
+          if (d < nearest) {
+            nearest = d;
+            donor = j;
+          }
+        }
+        if (donor >= 0) {
+          const auto du = static_cast<std::size_t>(donor);
+          history[su * ku] = history[su * du];
+          history[su * du] = {};
         }
       }
       for (int slot = 0; slot < slots; ++slot) {
