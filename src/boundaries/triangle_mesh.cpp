@@ -220,7 +220,8 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int,
   // that triangle although they share no vertex with it.
   std::vector<std::pair<std::int32_t, std::int32_t>> junctions;  // (vertex, triangle)
   if (!tris_.empty()) {
-    index(eps_);
+    // (cells of 1/64 of the extent: the reach eps alone would make far too many)
+    index(eps_, std::max({hi0_.x - lo0_.x, hi0_.y - lo0_.y, hi0_.z - lo0_.z}) / 64);
     for (std::size_t v = 0; v < points0_.size(); ++v) {
       const auto [lo, hi] = candidates(points0_[v]);
       for (const std::int32_t* t = lo; t != hi; ++t) {
@@ -234,31 +235,65 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int,
     }
     indexed_reach_ = -1;
   }
-  // Touching sets: the triangles sharing a vertex with each triangle, and the junction pairs.
-  std::vector<std::vector<std::int32_t>> touch(tris_.size());
+  // Touching sets: the triangles sharing a vertex with each triangle, and the junction pairs
+  // (flagged: they meet geometrically, whatever vertices they share). Entries 2 o + flag.
+  std::vector<std::vector<std::int64_t>> touch(tris_.size());
   for (std::size_t t = 0; t < tris_.size(); ++t)
     for (int k = 0; k < 3; ++k) {
       const auto v = static_cast<std::size_t>(tris_[t][k]);
-      touch[t].insert(touch[t].end(), vertex_tris.begin() + vertex_start[v],
-                      vertex_tris.begin() + vertex_start[v + 1]);
+      for (std::int32_t s = vertex_start[v]; s < vertex_start[v + 1]; ++s)
+        touch[t].push_back(2 * std::int64_t{vertex_tris[static_cast<std::size_t>(s)]});
     }
   for (const auto& [v, t] : junctions)
     for (std::int32_t s = vertex_start[static_cast<std::size_t>(v)];
          s < vertex_start[static_cast<std::size_t>(v) + 1]; ++s) {
       const std::int32_t around = vertex_tris[static_cast<std::size_t>(s)];
-      touch[static_cast<std::size_t>(around)].push_back(t);
-      touch[static_cast<std::size_t>(t)].push_back(around);
+      touch[static_cast<std::size_t>(around)].push_back(2 * std::int64_t{t} + 1);
+      touch[static_cast<std::size_t>(t)].push_back(2 * std::int64_t{around} + 1);
     }
   touch_start_.assign(1, 0);
   for (std::size_t t = 0; t < tris_.size(); ++t) {
     auto& list = touch[t];
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
-    for (const std::int32_t o : list)
-      if (o != static_cast<std::int32_t>(t)) touch_tris_.push_back(o);
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const auto o = static_cast<std::int32_t>(list[k] / 2);
+      if (o == static_cast<std::int32_t>(t)) continue;
+      if (k + 1 < list.size() && list[k + 1] / 2 == o) continue;  // the flagged one follows
+      touch_tris_.push_back(o);
+      touch_junction_.push_back(static_cast<char>(list[k] % 2));
+    }
     touch_start_.push_back(static_cast<std::int32_t>(touch_tris_.size()));
   }
   t_junctions_ = junctions.size();
+  normals0_.resize(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    const auto& tr = tris_[t];
+    const Vec3& a = points0_[static_cast<std::size_t>(tr[0])];
+    const Vec3 n = accurate_cross(points0_[static_cast<std::size_t>(tr[1])] - a,
+                                  points0_[static_cast<std::size_t>(tr[2])] - a);
+    const double len = norm(n);
+    normals0_[t] = len > 0 ? (1.0 / len) * n : Vec3{};  // degenerate: no plane test
+  }
+  normals_ = normals0_;
+  inverse_edge_.resize(3 * tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const double len = norm(points0_[static_cast<std::size_t>(tris_[t][(k + 1) % 3])] -
+                              points0_[static_cast<std::size_t>(tris_[t][k])]);
+      inverse_edge_[3 * t + static_cast<std::size_t>(k)] = len > 0 ? 1.0 / len : 0.0;
+    }
+  bound_radius_.resize(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    const auto& tr = tris_[t];
+    const Vec3 c = (1.0 / 3.0) * (points0_[static_cast<std::size_t>(tr[0])] +
+                                  points0_[static_cast<std::size_t>(tr[1])] +
+                                  points0_[static_cast<std::size_t>(tr[2])]);
+    double r = 0;
+    for (int k = 0; k < 3; ++k)
+      r = std::max(r, norm(points0_[static_cast<std::size_t>(tr[k])] - c));
+    bound_radius_[t] = r * (1 + 1e-12) + eps_;  // (rounding of the centroid after motion)
+  }
 }
 
 double TriangleMesh::radius_about(const Vec3& c) const {
@@ -271,7 +306,12 @@ void TriangleMesh::place(const RigidMotion& motion, double t) {
   const bool at_rest = motion.rate == 0 && motion.velocity == Vec3{};
   if (at_rest) return;
   for (std::size_t k = 0; k < points0_.size(); ++k) points_[k] = motion.point_at(points0_[k], t);
-  indexed_reach_ = -1;  // the grid follows the vertices
+  for (std::size_t k = 0; k < normals0_.size(); ++k) normals_[k] = motion.rotate(normals0_[k], t);
+  motion_ = motion;  // (the grid stays: it is in the body frame, see body_point)
+  t_ = t;
+  moving_ = true;
+  back_cos_ = std::cos(motion.rate * t);
+  back_sin_ = -std::sin(motion.rate * t);
 }
 
 double TriangleMesh::distance(std::int32_t tri, const Vec3& x) const {
@@ -283,22 +323,51 @@ double TriangleMesh::distance(std::int32_t tri, const Vec3& x) const {
   return norm(x - q);
 }
 
-bool TriangleMesh::interior(std::int32_t tri, const Vec3& q) const {
-  const auto& tr = tris_[static_cast<std::size_t>(tri)];
-  for (int k = 0; k < 3; ++k) {
-    const Vec3& u = points_[static_cast<std::size_t>(tr[k])];
-    const Vec3& w = points_[static_cast<std::size_t>(tr[(k + 1) % 3])];
-    const double t = segment_parameter(q, u, w);
-    if (norm(q - (t <= 0 ? u : (t >= 1 ? w : u + t * (w - u)))) <= eps_) return false;
+TriangleFeature TriangleMesh::closest(std::int32_t tri, const Vec3& x, Vec3& q,
+                                      double* margin) const {
+  const auto tu = static_cast<std::size_t>(tri);
+  const auto& tr = tris_[tu];
+  const Vec3& a = points_[static_cast<std::size_t>(tr[0])];
+  const Vec3& b = points_[static_cast<std::size_t>(tr[1])];
+  const Vec3& c = points_[static_cast<std::size_t>(tr[2])];
+  const Vec3& n = normals_[tu];
+  if (margin != nullptr) *margin = 0;
+  if (n == Vec3{}) return closest_on_triangle(x, a, b, c, q);  // degenerate
+  // As closest_on_triangle, with the unit normal computed once: the projection, inside when
+  // strictly left of the three edges; then the distance to the nearest edge (the margin: how
+  // far inside the face, for the ownership test) from the same signed areas.
+  const Vec3 pp = x - dot(x - a, n) * n;
+  const double s0 = dot(cross(b - a, pp - a), n);
+  const double s1 = dot(cross(c - b, pp - b), n);
+  const double s2 = dot(cross(a - c, pp - c), n);
+  if (s0 > 0 && s1 > 0 && s2 > 0) {
+    q = pp;
+    if (margin != nullptr) {
+      const double* il = &inverse_edge_[3 * tu];
+      *margin = std::min({s0 * il[0], s1 * il[1], s2 * il[2]});
+    }
+    return TriangleFeature::Face;
   }
-  return true;
-}
-
-TriangleFeature TriangleMesh::closest(std::int32_t tri, const Vec3& x, Vec3& q) const {
-  const auto& tr = tris_[static_cast<std::size_t>(tri)];
-  return closest_on_triangle(x, points_[static_cast<std::size_t>(tr[0])],
-                             points_[static_cast<std::size_t>(tr[1])],
-                             points_[static_cast<std::size_t>(tr[2])], q);
+  const Vec3* v[3] = {&a, &b, &c};
+  double best = std::numeric_limits<double>::infinity();
+  TriangleFeature f = TriangleFeature::Vertex0;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3& u = *v[k];
+    const Vec3& w = *v[(k + 1) % 3];
+    const double t = segment_parameter(x, u, w);
+    const Vec3 sp = t <= 0 ? u : (t >= 1 ? w : u + t * (w - u));
+    const Vec3 d = pp - sp;
+    const double d2 = dot(d, d);
+    if (d2 < best) {
+      best = d2;
+      q = sp;
+      f = t <= 0   ? static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) + k)
+          : t >= 1 ? static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) +
+                                                  (k + 1) % 3)
+                   : static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Edge0) + k);
+    }
+  }
+  return f;
 }
 
 namespace {
@@ -310,8 +379,9 @@ int dimension(TriangleFeature f) {
 
 }  // namespace
 
-bool TriangleMesh::owns(std::int32_t tri, TriangleFeature f, const Vec3& x, const Vec3& q) const {
-  if (f == TriangleFeature::Face && interior(tri, q)) return true;
+bool TriangleMesh::owns(std::int32_t tri, TriangleFeature f, double margin, const Vec3& x,
+                        const Vec3& q) const {
+  if (f == TriangleFeature::Face && margin > eps_) return true;
   // q on the boundary of tri (within eps_). Each touching triangle whose closest point q2 could
   // be the same contact (it contains q, or tri contains q2: a symmetric test, so that both see
   // the pair alike) competes: a face-interior q2 takes the contact; otherwise the nearer point
@@ -320,11 +390,40 @@ bool TriangleMesh::owns(std::int32_t tri, TriangleFeature f, const Vec3& x, cons
   // squares is evaluated as (q2 - q) . ((x - q) + (x - q2)), exactly antisymmetric and not
   // swamped by the distance), so of two competitors exactly one keeps the contact.
   const int dim = dimension(f);
+  const double dist = norm(x - q);
   for (std::int32_t s = touch_start_[static_cast<std::size_t>(tri)];
        s < touch_start_[static_cast<std::size_t>(tri) + 1]; ++s) {
     const std::int32_t other = touch_tris_[static_cast<std::size_t>(s)];
+    // Only a triangle that contains q, or whose closest point lies in tri, competes; both lie
+    // then in what the two share. A neighbour sharing an edge competes only if q is on that edge
+    // (were its closest point on the edge and q elsewhere, q would be nearer: tri contains the
+    // edge), one sharing a vertex only if q is that vertex: cheap tests that leave out most of a
+    // fan around a vertex. Triangles meeting tri at a T-junction (no shared vertex) are tested
+    // in full, after a bounding-sphere check.
+    const auto& to = tris_[static_cast<std::size_t>(other)];
+    const auto& tt = tris_[static_cast<std::size_t>(tri)];
+    int shared[3], n_shared = 0;
+    if (touch_junction_[static_cast<std::size_t>(s)] == 0)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (tt[i] == to[j]) shared[n_shared++] = tt[i];
+    if (n_shared == 1) {
+      if (norm(q - points_[static_cast<std::size_t>(shared[0])]) > eps_) continue;
+    } else if (n_shared == 2) {
+      const Vec3& u = points_[static_cast<std::size_t>(shared[0])];
+      const Vec3& w = points_[static_cast<std::size_t>(shared[1])];
+      const double t = segment_parameter(q, u, w);
+      if (norm(q - (u + t * (w - u))) > eps_) continue;
+    } else {
+      const Vec3 centroid = (1.0 / 3.0) * (points_[static_cast<std::size_t>(to[0])] +
+                                           points_[static_cast<std::size_t>(to[1])] +
+                                           points_[static_cast<std::size_t>(to[2])]);
+      if (norm(x - centroid) - bound_radius_[static_cast<std::size_t>(other)] > dist + eps_)
+        continue;
+    }
     Vec3 q2, tmp;
-    const TriangleFeature f2 = closest(other, x, q2);
+    double margin2 = 0;
+    const TriangleFeature f2 = closest(other, x, q2, &margin2);
     closest(other, q, tmp);
     bool competing = norm(q - tmp) <= eps_;
     if (!competing) {
@@ -332,7 +431,7 @@ bool TriangleMesh::owns(std::int32_t tri, TriangleFeature f, const Vec3& x, cons
       competing = norm(q2 - tmp) <= eps_;
     }
     if (!competing) continue;
-    if (f2 == TriangleFeature::Face && interior(other, q2)) return false;
+    if (f2 == TriangleFeature::Face && margin2 > eps_) return false;
     const double closer = dot(q2 - q, (x - q) + (x - q2));
     if (closer != 0) {
       if (closer > 0) return false;
@@ -346,12 +445,18 @@ bool TriangleMesh::owns(std::int32_t tri, TriangleFeature f, const Vec3& x, cons
 
 bool TriangleMesh::sphere_contact(std::int32_t tri, const Vec3& x, double r, Vec3& normal,
                                   double& gap) const {
+  // Farther than r from the triangle's plane: apart (most entries of a wall list are).
+  const auto tu = static_cast<std::size_t>(tri);
+  if (std::abs(dot(x - points_[static_cast<std::size_t>(tris_[tu][0])], normals_[tu])) >=
+      r * (1 + 1e-12))
+    return false;
   Vec3 q;
-  const TriangleFeature f = closest(tri, x, q);
+  double margin = 0;
+  const TriangleFeature f = closest(tri, x, q, &margin);
   const Vec3 d = x - q;
   const double dist = norm(d);
   if (dist >= r) return false;
-  if (!owns(tri, f, x, q)) return false;
+  if (!owns(tri, f, margin, x, q)) return false;
   if (dist > 0) {
     normal = (1.0 / dist) * d;
   } else {  // the centre on the surface: either side of the face
@@ -378,62 +483,94 @@ std::uint64_t TriangleMesh::cell_key(const Vec3& x) const {
   return key;
 }
 
-void TriangleMesh::index(double reach) const {
-  if (reach == indexed_reach_) return;
+void TriangleMesh::index(double reach, double min_cell) const {
+  // A grid for a larger reach serves (its candidates are a superset): the wall list asks with
+  // the skin and, when only the walls moved, 1.5 x the skin.
+  if (reach <= indexed_reach_ && 2 * reach >= indexed_reach_) return;
   indexed_reach_ = reach;
   keys_.clear();
   cell_start_.assign(1, 0);
   cell_tris_.clear();
   if (tris_.empty()) return;
-  Vec3 lo = points_[0], hi = points_[0];
-  for (const auto& p : points_)
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::min(lo[k], p[k]);
-      hi[k] = std::max(hi[k], p[k]);
-    }
-  // Cells at least twice the reach and at least the mean triangle extent, so that a triangle
-  // spans a few cells; at most 2^20 per direction.
-  double extent = 0;
-  for (const auto& tr : tris_) {
-    double e = 0;
-    for (int k = 0; k < 3; ++k) {
-      const Vec3& p0 = points_[static_cast<std::size_t>(tr[0])];
-      e = std::max(e, norm(points_[static_cast<std::size_t>(tr[k])] - p0));
-    }
-    extent += e;
-  }
-  extent /= static_cast<double>(tris_.size());
-  const double span = norm(hi - lo) + 2 * reach;
-  h_ = std::max({2 * reach, extent, span * 1e-6, 1e-12});
+  // In the body frame (points at t = 0): the grid stays valid however the surface moves, and a
+  // query point is taken back to that frame (body_point). Cells of twice the reach (at least
+  // min_cell, and at most 256 along the largest extent); a triangle is listed in the cells whose
+  // centre is within reach + half a cell diagonal of it, found column by column along the axis
+  // closest to its normal, so that a large or slanted triangle fills a slab of cells, not its
+  // bounding box.
+  const Vec3 span = hi0_ - lo0_;
+  const double extent = std::max({span.x, span.y, span.z, 1e-300});
+  h_ = std::max({2 * reach, min_cell, extent / 256});
   for (int k = 0; k < 3; ++k) {
-    origin_[k] = lo[k] - reach - 1e-3 * h_;
-    const double n = std::floor((hi[k] + reach + 1e-3 * h_ - origin_[k]) / h_) + 1;
-    h_ = std::max(h_, (hi[k] - lo[k] + 2 * reach) / double(1 << 20));
-    cells_[static_cast<std::size_t>(k)] = static_cast<std::int64_t>(n);
-  }
-  for (int k = 0; k < 3; ++k)  // again with the final h
+    origin_[k] = lo0_[k] - reach - 1e-3 * h_;
     cells_[static_cast<std::size_t>(k)] =
-        static_cast<std::int64_t>(std::floor((hi[k] + reach + 1e-3 * h_ - origin_[k]) / h_)) + 1;
+        static_cast<std::int64_t>(std::floor((hi0_[k] + reach + 1e-3 * h_ - origin_[k]) / h_)) + 1;
+  }
+  const double near = reach + 0.5 * std::sqrt(3.0) * h_;
   std::vector<std::pair<std::uint64_t, std::int32_t>> uses;
   for (std::size_t t = 0; t < tris_.size(); ++t) {
+    const Vec3& a = points0_[static_cast<std::size_t>(tris_[t][0])];
+    const Vec3& b = points0_[static_cast<std::size_t>(tris_[t][1])];
+    const Vec3& c = points0_[static_cast<std::size_t>(tris_[t][2])];
     std::array<std::int64_t, 3> c0{}, c1{};
     for (int k = 0; k < 3; ++k) {
-      double a = 1e300, b = -1e300;
-      for (int v = 0; v < 3; ++v) {
-        a = std::min(a, points_[static_cast<std::size_t>(tris_[t][v])][k]);
-        b = std::max(b, points_[static_cast<std::size_t>(tris_[t][v])][k]);
-      }
       const auto n = cells_[static_cast<std::size_t>(k)];
       c0[static_cast<std::size_t>(k)] = std::clamp<std::int64_t>(
-          static_cast<std::int64_t>(std::floor((a - reach - origin_[k]) / h_)), 0, n - 1);
+          static_cast<std::int64_t>(
+              std::floor((std::min({a[k], b[k], c[k]}) - near - origin_[k]) / h_)),
+          0, n - 1);
       c1[static_cast<std::size_t>(k)] = std::clamp<std::int64_t>(
-          static_cast<std::int64_t>(std::floor((b + reach - origin_[k]) / h_)), 0, n - 1);
+          static_cast<std::int64_t>(
+              std::floor((std::max({a[k], b[k], c[k]}) + near - origin_[k]) / h_)),
+          0, n - 1);
     }
-    for (std::int64_t iz = c0[2]; iz <= c1[2]; ++iz)
-      for (std::int64_t iy = c0[1]; iy <= c1[1]; ++iy)
-        for (std::int64_t ix = c0[0]; ix <= c1[0]; ++ix)
-          uses.emplace_back(static_cast<std::uint64_t>(ix + cells_[0] * (iy + cells_[1] * iz)),
-                            static_cast<std::int32_t>(t));
+    // The axis w closest to the normal; columns over the other two (u, v).
+    const Vec3 nrm = cross(b - a, c - a);
+    const double len = norm(nrm);
+    int w = 2;
+    if (std::abs(nrm.x) >= std::abs(nrm.y) && std::abs(nrm.x) >= std::abs(nrm.z))
+      w = 0;
+    else if (std::abs(nrm.y) >= std::abs(nrm.z))
+      w = 1;
+    const int u = (w + 1) % 3, v = (w + 2) % 3;
+    const auto uu = static_cast<std::size_t>(u), vv = static_cast<std::size_t>(v),
+               ww = static_cast<std::size_t>(w);
+    const bool flat = len > 0 && std::abs(nrm[w]) > 1e-6 * len;
+    for (std::int64_t iu = c0[uu]; iu <= c1[uu]; ++iu)
+      for (std::int64_t iv = c0[vv]; iv <= c1[vv]; ++iv) {
+        std::int64_t k0 = c0[ww], k1 = c1[ww];
+        if (flat) {
+          // The plane's w over the column (a linear function: extremes at the corners), widened
+          // by the reach along w (near / |cos| of the normal's angle to w).
+          double lo = 1e300, hi = -1e300;
+          for (int cu = 0; cu < 2; ++cu)
+            for (int cv = 0; cv < 2; ++cv) {
+              const double pu = origin_[u] + static_cast<double>(iu + cu) * h_;
+              const double pv = origin_[v] + static_cast<double>(iv + cv) * h_;
+              const double pw = a[w] - (nrm[u] * (pu - a[u]) + nrm[v] * (pv - a[v])) / nrm[w];
+              lo = std::min(lo, pw);
+              hi = std::max(hi, pw);
+            }
+          const double widen = near * len / std::abs(nrm[w]);
+          k0 = std::max(k0, static_cast<std::int64_t>(std::floor((lo - widen - origin_[w]) / h_)));
+          k1 = std::min(k1, static_cast<std::int64_t>(std::floor((hi + widen - origin_[w]) / h_)));
+        }
+        for (std::int64_t iw = k0; iw <= k1; ++iw) {
+          std::array<std::int64_t, 3> cell{};
+          cell[uu] = iu;
+          cell[vv] = iv;
+          cell[ww] = iw;
+          const Vec3 centre{origin_.x + (static_cast<double>(cell[0]) + 0.5) * h_,
+                            origin_.y + (static_cast<double>(cell[1]) + 0.5) * h_,
+                            origin_.z + (static_cast<double>(cell[2]) + 0.5) * h_};
+          Vec3 q;
+          closest_on_triangle(centre, a, b, c, q);
+          if (norm(centre - q) > near) continue;
+          uses.emplace_back(
+              static_cast<std::uint64_t>(cell[0] + cells_[0] * (cell[1] + cells_[1] * cell[2])),
+              static_cast<std::int32_t>(t));
+        }
+      }
   }
   std::sort(uses.begin(), uses.end());
   for (std::size_t s = 0; s < uses.size(); ++s) {
@@ -446,8 +583,16 @@ void TriangleMesh::index(double reach) const {
   cell_start_.push_back(static_cast<std::int64_t>(cell_tris_.size()));
 }
 
+Vec3 TriangleMesh::body_point(const Vec3& x) const {
+  if (!moving_) return x;
+  // The inverse rotation (angle -rate t, cosine and sine kept by place()), Rodrigues' formula.
+  const Vec3 d = x - motion_.center_at(t_);
+  const Vec3& k = motion_.axis;
+  return motion_.center + back_cos_ * d + back_sin_ * cross(k, d) + (1 - back_cos_) * dot(k, d) * k;
+}
+
 std::pair<const std::int32_t*, const std::int32_t*> TriangleMesh::candidates(const Vec3& x) const {
-  const std::uint64_t key = cell_key(x);
+  const std::uint64_t key = cell_key(body_point(x));
   const auto it = std::lower_bound(keys_.begin(), keys_.end(), key);
   if (it == keys_.end() || *it != key) return {nullptr, nullptr};
   const auto c = static_cast<std::size_t>(it - keys_.begin());

@@ -75,7 +75,8 @@ class TriangleMesh {
   /// Vertices lying inside an edge or face of another triangle (T-junctions).
   std::size_t t_junctions() const { return t_junctions_; }
 
-  /// Vertices at time t under the motion (unchanged, bit for bit, for a wall at rest).
+  /// Vertices at time t under the motion (unchanged, bit for bit, for a wall at rest); the
+  /// grid of index() follows without being rebuilt.
   void place(const RigidMotion& motion, double t);
 
   /// Contact of a sphere (centre x, radius r) with triangle `tri`, false when the triangle's
@@ -85,29 +86,41 @@ class TriangleMesh {
   /// Distance from x to triangle `tri` (current vertices).
   double distance(std::int32_t tri, const Vec3& x) const;
 
-  /// Indexes the current triangles on a grid so that `candidates` returns, in increasing order,
-  /// every triangle within `reach` of a point (and some farther ones). Kept while the vertices
-  /// and the reach do not change (a cache, hence const).
-  void index(double reach) const;
+  /// Indexes the triangles on a grid (in the body frame, so valid for any placement) so that
+  /// `candidates` returns, in increasing order, every triangle within `reach` of a point (and
+  /// some farther ones); cells of 2 x reach, at least `min_cell`. Kept while the reach does not
+  /// change (a cache, hence const).
+  void index(double reach, double min_cell = 0) const;
   /// Triangles possibly within the reach given to index() of x; empty outside the grid.
   std::pair<const std::int32_t*, const std::int32_t*> candidates(const Vec3& x) const;
 
  private:
-  /// Whether the contact of the centre x at q (feature f) on `tri` is this triangle's (see the
-  /// file comment).
-  bool owns(std::int32_t tri, TriangleFeature f, const Vec3& x, const Vec3& q) const;
-  /// q farther than eps_ from every edge of `tri`.
-  bool interior(std::int32_t tri, const Vec3& q) const;
-  TriangleFeature closest(std::int32_t tri, const Vec3& x, Vec3& q) const;
+  /// Whether the contact of the centre x at q (feature f; a face point `margin` from the
+  /// nearest edge) on `tri` is this triangle's (see the file comment).
+  bool owns(std::int32_t tri, TriangleFeature f, double margin, const Vec3& x, const Vec3& q) const;
+  /// closest_on_triangle with the stored unit normal; `margin`: for a face point, its distance
+  /// to the nearest edge (0 otherwise).
+  TriangleFeature closest(std::int32_t tri, const Vec3& x, Vec3& q, double* margin = nullptr) const;
   std::uint64_t cell_key(const Vec3& x) const;
+  /// x taken back to the body frame of the vertices at t = 0 (the inverse of the last place()).
+  Vec3 body_point(const Vec3& x) const;
 
   std::vector<Vec3> points0_, points_;
   std::vector<std::array<int, 3>> tris_;
   // The triangles touching each triangle (sharing a vertex, or meeting it at a T-junction), CSR,
   // the triangle itself left out; fixed for a rigid surface.
   std::vector<std::int32_t> touch_start_, touch_tris_;
+  std::vector<char> touch_junction_;  ///< per touch_tris_ entry: the pair meets at a T-junction
   std::size_t nonmanifold_edges_ = 0, boundary_edges_ = 0, duplicate_triangles_ = 0,
               t_junctions_ = 0;
+  RigidMotion motion_;  ///< of the last place() (moving_: not at rest), at time t_
+  double t_ = 0;
+  double back_cos_ = 1, back_sin_ = 0;  ///< cos and sin of -rate t_ (body_point)
+  bool moving_ = false;
+  std::vector<Vec3> normals0_, normals_;  ///< unit normals (zero if degenerate), t = 0 and now
+  std::vector<double> bound_radius_;
+  std::vector<double> inverse_edge_;  ///< 3 per triangle: 1 / length of edge k (0: degenerate) ///<
+                                      ///< per triangle: largest vertex distance from the centroid
   double eps_ = 0;  ///< 1e-9 of the surface's size: merging, containment and edge tolerance
   Vec3 lo0_, hi0_;
   // Grid (a cache of index()): cells of size h_ from origin_; sorted keys of the occupied cells,

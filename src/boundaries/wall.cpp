@@ -94,7 +94,7 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
   double r_max = 0;
   for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, r[i]);
   for (const auto& w : walls)
-    if (w.kind == WallKind::Mesh) w.mesh.index(r_max + skin);
+    if (w.kind == WallKind::Mesh) w.mesh.index(r_max + 1.5 * skin);
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t w = 0; w < walls.size(); ++w) {
       const auto ii = static_cast<std::int32_t>(i), ww = static_cast<std::int32_t>(w);
