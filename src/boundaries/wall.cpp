@@ -449,7 +449,11 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
             donor = j;
           }
         }
-        if (donor >= 0) {
+        // Only a contact that moved on: the donor triangle reaches the new contact point (it
+        // shares the edge or vertex the contact crossed, up to a step's travel); a contact that
+        // ends elsewhere while this one starts (a grain leaving a lifter as it lands on the
+        // barrel) keeps its history to itself.
+        if (donor >= 0 && nearest <= 0.05 * r[i]) {
           const auto du = static_cast<std::size_t>(donor);
           history[su * ku] = history[su * du];
           history[su * du] = {};
