@@ -539,19 +539,14 @@ def parse_args(argv=None):
     return ap.parse_args(argv)
 
 
-def _exe(path):
-    p = Path(path)
-    return str(p) if p.is_file() and os.access(p, os.X_OK) else shutil.which(path)
-
-
 def main(argv=None) -> int:
     a = parse_args(argv)
     codes = {c.strip().lower() for c in a.codes.split(",")}
     ts.QUIET.update(load=a.wait_quiet, max_wait=a.wait_max)
     if not Path("/usr/bin/time").exists():
         sys.exit("/usr/bin/time missing: apt-get install -y time")
-    gf = _exe(a.grainflow) if "grainflow" in codes else None
-    lig = _exe(a.liggghts) if "liggghts" in codes else None
+    gf = ts.resolve_exe(a.grainflow) if "grainflow" in codes else None
+    lig = ts.resolve_exe(a.liggghts) if "liggghts" in codes else None
     beads = lattice_beads(a.n, a.seed)
     tris = drum_triangles()
     mass, weight = bed_weight(beads)

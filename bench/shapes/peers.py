@@ -506,15 +506,11 @@ def parse_args(argv=None):
     return ap.parse_args(argv)
 
 
-def _exe(path):
-    p = Path(path)
-    return str(p) if p.is_file() and os.access(p, os.X_OK) else shutil.which(path)
-
-
 def main(argv=None) -> int:
     a = parse_args(argv)
     cases = {c.strip() for c in a.cases.split(",")}
-    gf, lmp, lig = _exe(a.grainflow), _exe(a.lammps), _exe(a.liggghts)
+    gf = ts.resolve_exe(a.grainflow)
+    lmp, lig = ts.resolve_exe(a.lammps), ts.resolve_exe(a.liggghts)
     stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
     root = (BENCH / "runs" / f"shapes-peers-{stamp}") if a.keep else Path(
         tempfile.mkdtemp(prefix="gf-shapes-"))

@@ -548,6 +548,12 @@ def fmt_rate(x) -> str:
     return "n/a" if x is None or x != x else f"{x:.3g}"
 
 
+def resolve_exe(path: str) -> str | None:
+    """An executable file given by path, or else a program name looked up on the PATH."""
+    p = Path(path)
+    return str(p) if p.is_file() and os.access(p, os.X_OK) else shutil.which(path)
+
+
 def lscpu_model() -> str:
     try:
         out = subprocess.run(["lscpu"], capture_output=True, text=True).stdout

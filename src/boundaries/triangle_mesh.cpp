@@ -38,6 +38,32 @@ Vec3 accurate_cross(const Vec3& u, const Vec3& v) {
           kahan_det(u.x, v.y, u.y, v.x)};
 }
 
+/// The closest point q of the three edges of (a, b, c) to p, chosen by the distance from pp (the
+/// projection of p on the plane, or p itself): the feature it lies on.
+TriangleFeature closest_on_edges(const Vec3& p, const Vec3& pp, const Vec3& a, const Vec3& b,
+                                 const Vec3& c, Vec3& q) {
+  const Vec3* v[3] = {&a, &b, &c};
+  double best = std::numeric_limits<double>::infinity();
+  TriangleFeature f = TriangleFeature::Vertex0;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3& u = *v[k];
+    const Vec3& w = *v[(k + 1) % 3];
+    const double t = segment_parameter(p, u, w);
+    const Vec3 s = t <= 0 ? u : (t >= 1 ? w : u + t * (w - u));
+    const Vec3 d = pp - s;
+    const double d2 = dot(d, d);
+    if (d2 < best) {
+      best = d2;
+      q = s;
+      f = t <= 0   ? static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) + k)
+          : t >= 1 ? static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) +
+                                                  (k + 1) % 3)
+                   : static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Edge0) + k);
+    }
+  }
+  return f;
+}
+
 }  // namespace
 
 TriangleFeature closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
@@ -59,26 +85,7 @@ TriangleFeature closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b,
   // Otherwise the closest point of the three edges (also for degenerate triangles), chosen by
   // the in-plane distance from the projection (equal to the distance from p in exact arithmetic;
   // in doubles not swamped by the height of p when p is near an edge seen from afar).
-  const Vec3* v[3] = {&a, &b, &c};
-  double best = std::numeric_limits<double>::infinity();
-  TriangleFeature f = TriangleFeature::Vertex0;
-  for (int k = 0; k < 3; ++k) {
-    const Vec3& u = *v[k];
-    const Vec3& w = *v[(k + 1) % 3];
-    const double t = segment_parameter(p, u, w);
-    const Vec3 s = t <= 0 ? u : (t >= 1 ? w : u + t * (w - u));
-    const Vec3 d = pp - s;
-    const double d2 = dot(d, d);
-    if (d2 < best) {
-      best = d2;
-      q = s;
-      f = t <= 0   ? static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) + k)
-          : t >= 1 ? static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) +
-                                                  (k + 1) % 3)
-                   : static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Edge0) + k);
-    }
-  }
-  return f;
+  return closest_on_edges(p, pp, a, b, c, q);
 }
 
 namespace {
@@ -348,26 +355,7 @@ TriangleFeature TriangleMesh::closest(std::int32_t tri, const Vec3& x, Vec3& q,
     }
     return TriangleFeature::Face;
   }
-  const Vec3* v[3] = {&a, &b, &c};
-  double best = std::numeric_limits<double>::infinity();
-  TriangleFeature f = TriangleFeature::Vertex0;
-  for (int k = 0; k < 3; ++k) {
-    const Vec3& u = *v[k];
-    const Vec3& w = *v[(k + 1) % 3];
-    const double t = segment_parameter(x, u, w);
-    const Vec3 sp = t <= 0 ? u : (t >= 1 ? w : u + t * (w - u));
-    const Vec3 d = pp - sp;
-    const double d2 = dot(d, d);
-    if (d2 < best) {
-      best = d2;
-      q = sp;
-      f = t <= 0   ? static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) + k)
-          : t >= 1 ? static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Vertex0) +
-                                                  (k + 1) % 3)
-                   : static_cast<TriangleFeature>(static_cast<int>(TriangleFeature::Edge0) + k);
-    }
-  }
-  return f;
+  return closest_on_edges(x, pp, a, b, c, q);
 }
 
 namespace {
