@@ -374,6 +374,12 @@ void Simulation::build_walls() {
         walls_.push_back(w);
         break;
       case config::Wall::Kind::Mesh: {
+        // (the reader refuses these; a case built in code is checked here too)
+        if (two_d_ || particles_.has_shapes())
+          throw InputError(fmt::format(
+              "{}: mesh walls work with spheres in 3D only so far; use plane, box or cylinder "
+              "walls",
+              where(wc.loc)));
         w.kind = WallKind::Mesh;
         w.mesh = TriangleMesh(wc.mesh_points, wc.mesh_triangles);
         // The reference point is the motion centre (torques are about it); dir0 normal to the
