@@ -392,6 +392,8 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   const auto groups = list.particle_groups();
   const std::int64_t n_groups = static_cast<std::int64_t>(groups.size()) - 1;
   const auto su = static_cast<std::size_t>(slots);
+  const bool meshes = std::any_of(walls.begin(), walls.end(),
+                                  [](const Wall& w) { return w.kind == WallKind::Mesh; });
   return exec::parallel_sum(n_groups, std::int64_t{0}, [&](exec::index_t gr) {
     std::int64_t touching = 0;
     const std::int64_t k_lo = groups[static_cast<std::size_t>(gr)];
@@ -400,7 +402,7 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
     // contact that moves to the next triangle (a sphere rolling over an edge of a meshed floor)
     // takes the history of the one it leaves, as it would on a plane.
     thread_local std::vector<char> mesh_apart;
-    mesh_apart.assign(static_cast<std::size_t>(k_hi - k_lo), 0);
+    if (meshes) mesh_apart.assign(static_cast<std::size_t>(k_hi - k_lo), 0);
     bool any_mesh = false;
     for (std::int64_t k = k_lo; k < k_hi; ++k) {
       const auto ku = static_cast<std::size_t>(k);
