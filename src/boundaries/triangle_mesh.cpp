@@ -222,6 +222,24 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int,
     for (int k = 0; k < 3; ++k)
       vertex_tris[static_cast<std::size_t>(fill[static_cast<std::size_t>(tris_[t][k])]++)] =
           static_cast<std::int32_t>(t);
+  // Unit normals (for the plane test and the closest points) and inverse edge lengths.
+  normals0_.resize(tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t) {
+    const auto& tr = tris_[t];
+    const Vec3& a = points0_[static_cast<std::size_t>(tr[0])];
+    const Vec3 n = accurate_cross(points0_[static_cast<std::size_t>(tr[1])] - a,
+                                  points0_[static_cast<std::size_t>(tr[2])] - a);
+    const double len = norm(n);
+    normals0_[t] = len > 0 ? (1.0 / len) * n : Vec3{};  // degenerate: no plane test
+  }
+  normals_ = normals0_;
+  inverse_edge_.resize(3 * tris_.size());
+  for (std::size_t t = 0; t < tris_.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const double len = norm(points0_[static_cast<std::size_t>(tris_[t][(k + 1) % 3])] -
+                              points0_[static_cast<std::size_t>(tris_[t][k])]);
+      inverse_edge_[3 * t + static_cast<std::size_t>(k)] = len > 0 ? 1.0 / len : 0.0;
+    }
   // Vertices lying on another triangle without being one of its vertices (T-junctions, where
   // a finer part of the mesh meets a coarser one): the triangles around such a vertex touch
   // that triangle although they share no vertex with it.
@@ -273,23 +291,6 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int,
     touch_start_.push_back(static_cast<std::int32_t>(touch_tris_.size()));
   }
   t_junctions_ = junctions.size();
-  normals0_.resize(tris_.size());
-  for (std::size_t t = 0; t < tris_.size(); ++t) {
-    const auto& tr = tris_[t];
-    const Vec3& a = points0_[static_cast<std::size_t>(tr[0])];
-    const Vec3 n = accurate_cross(points0_[static_cast<std::size_t>(tr[1])] - a,
-                                  points0_[static_cast<std::size_t>(tr[2])] - a);
-    const double len = norm(n);
-    normals0_[t] = len > 0 ? (1.0 / len) * n : Vec3{};  // degenerate: no plane test
-  }
-  normals_ = normals0_;
-  inverse_edge_.resize(3 * tris_.size());
-  for (std::size_t t = 0; t < tris_.size(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const double len = norm(points0_[static_cast<std::size_t>(tris_[t][(k + 1) % 3])] -
-                              points0_[static_cast<std::size_t>(tris_[t][k])]);
-      inverse_edge_[3 * t + static_cast<std::size_t>(k)] = len > 0 ? 1.0 / len : 0.0;
-    }
   bound_radius_.resize(tris_.size());
   for (std::size_t t = 0; t < tris_.size(); ++t) {
     const auto& tr = tris_[t];
@@ -322,11 +323,8 @@ void TriangleMesh::place(const RigidMotion& motion, double t) {
 }
 
 double TriangleMesh::distance(std::int32_t tri, const Vec3& x) const {
-  const auto& tr = tris_[static_cast<std::size_t>(tri)];
   Vec3 q;
-  closest_on_triangle(x, points_[static_cast<std::size_t>(tr[0])],
-                      points_[static_cast<std::size_t>(tr[1])],
-                      points_[static_cast<std::size_t>(tr[2])], q);
+  closest(tri, x, q);
   return norm(x - q);
 }
 

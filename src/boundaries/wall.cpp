@@ -371,10 +371,11 @@ std::int64_t sphere_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCon
 }
 
 /// Any shape, any number of slots, a law per contact.
+/// `meshes`: some wall is a triangle mesh (its contacts' history moves between triangles).
 std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
                                  const PairTable<contact::PairCoeffs>& pairs,
                                  const contact::ShapeView* sv, double t, double dt,
-                                 contact::ContactRecord* records) {
+                                 contact::ContactRecord* records, bool meshes) {
   const auto entries = list.entries();
   auto history = list.history();
   auto reaction = list.reactions();
@@ -392,8 +393,6 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   const auto groups = list.particle_groups();
   const std::int64_t n_groups = static_cast<std::int64_t>(groups.size()) - 1;
   const auto su = static_cast<std::size_t>(slots);
-  const bool meshes = std::any_of(walls.begin(), walls.end(),
-                                  [](const Wall& w) { return w.kind == WallKind::Mesh; });
   return exec::parallel_sum(n_groups, std::int64_t{0}, [&](exec::index_t gr) {
     std::int64_t touching = 0;
     const std::int64_t k_lo = groups[static_cast<std::size_t>(gr)];
@@ -525,7 +524,7 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
                                  return sphere_wall_forces<typename M::Law>(p, walls, list, pairs,
                                                                             model, t, dt, records);
                                })
-              : generic_wall_forces(p, walls, list, pairs, sv, t, dt, records);
+              : generic_wall_forces(p, walls, list, pairs, sv, t, dt, records, meshes);
   // Reactions summed in entry order: the same bits whatever the thread count.
   for (auto& w : walls) {
     w.force = {};
