@@ -704,9 +704,23 @@ double estimate_fill(const config::Fill& f, double reach, const Vec3& extent, in
     }
   } else {
     region_measure = pi * f.region.radius * f.region.radius * f.region.height;
-    const double rr = f.region.radius - r, hh = f.region.height - 2 * r;
-    est = (rr < 0 || hh < 0) ? 0 : pi * rr * rr * hh / (s * s * s) * (hcp ? std::sqrt(2.0) : 1.0);
-    est = std::floor(est);
+    const Vec3& ax = f.region.axis;
+    if (!hcp && !f.spacing) {
+      // A cubic lattice with the grain's own pitch (aligned spherocylinders): the grain's extent
+      // along the cylinder's axis and across it.
+      double along = 0, across = 0;
+      for (int k = 0; k < 3; ++k) {
+        along += std::abs(ax[k]) * extent[k];
+        across = std::max(across, extent[k] * std::sqrt(std::max(0.0, 1 - ax[k] * ax[k])));
+      }
+      const double rr = f.region.radius - across, hh = f.region.height - 2 * along;
+      const double cell = 8 * extent.x * extent.y * extent.z * 1.01 * 1.01 * 1.01;
+      est = (rr < 0 || hh < 0) ? 0 : std::floor(pi * rr * rr * hh / cell);
+    } else {
+      const double rr = f.region.radius - r, hh = f.region.height - 2 * r;
+      est = (rr < 0 || hh < 0) ? 0 : pi * rr * rr * hh / (s * s * s) * (hcp ? std::sqrt(2.0) : 1.0);
+      est = std::floor(est);
+    }
   }
   if (f.lattice == config::Fill::Lattice::Random)
     est = f.count ? static_cast<double>(*f.count) : 0.0;
