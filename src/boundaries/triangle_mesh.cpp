@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "contact/geometry/capsule.hpp"
+
 namespace gf {
 
 namespace {
@@ -233,6 +235,35 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int,
     normals0_[t] = len > 0 ? (1.0 / len) * n : Vec3{};  // degenerate: no plane test
   }
   normals_ = normals0_;
+  // Flat edges and vertices (for spherocylinders, see the header): an edge of exactly two
+  // triangles whose planes agree to 1e-3 rad and that lie on either side of it; a vertex whose
+  // edges are all flat.
+  edge_flat_.assign(3 * tris_.size(), 0);
+  for (std::size_t s = 0; s + 1 < uses.size(); ++s) {
+    const EdgeUse& e0 = uses[s];
+    const EdgeUse& e1 = uses[s + 1];
+    if (e0.u != e1.u || e0.v != e1.v) continue;
+    if (s + 2 < uses.size() && uses[s + 2].u == e0.u && uses[s + 2].v == e0.v) continue;
+    if (s > 0 && uses[s - 1].u == e0.u && uses[s - 1].v == e0.v) continue;
+    const Vec3& na = normals0_[static_cast<std::size_t>(e0.tri)];
+    const Vec3& nb = normals0_[static_cast<std::size_t>(e1.tri)];
+    if (na == Vec3{} || nb == Vec3{} || norm(cross(na, nb)) > 1e-3) continue;
+    const Vec3& u = points0_[static_cast<std::size_t>(e0.u)];
+    const Vec3 along = points0_[static_cast<std::size_t>(e0.v)] - u;
+    const auto opposite = [&](const EdgeUse& e) {
+      return points0_[static_cast<std::size_t>(
+          tris_[static_cast<std::size_t>(e.tri)][static_cast<std::size_t>((e.k + 2) % 3)])];
+    };
+    if (dot(cross(along, opposite(e0) - u), cross(along, opposite(e1) - u)) < 0)
+      edge_flat_[3 * static_cast<std::size_t>(e0.tri) + static_cast<std::size_t>(e0.k)] =
+          edge_flat_[3 * static_cast<std::size_t>(e1.tri) + static_cast<std::size_t>(e1.k)] = 1;
+  }
+  vertex_flat_.assign(points0_.size(), 1);
+  for (std::size_t t = 0; t < tris_.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (edge_flat_[3 * t + static_cast<std::size_t>(k)] == 0)
+        vertex_flat_[static_cast<std::size_t>(tris_[t][k])] =
+            vertex_flat_[static_cast<std::size_t>(tris_[t][(k + 1) % 3])] = 0;
   inverse_edge_.resize(3 * tris_.size());
   for (std::size_t t = 0; t < tris_.size(); ++t)
     for (int k = 0; k < 3; ++k) {
@@ -366,7 +397,7 @@ int dimension(TriangleFeature f) {
 }  // namespace
 
 bool TriangleMesh::owns(std::int32_t tri, TriangleFeature f, double margin, const Vec3& x,
-                        const Vec3& q) const {
+                        const Vec3& q, bool shared_point) const {
   if (f == TriangleFeature::Face && margin > eps_) return true;
   // q on the boundary of tri (within eps_). Each touching triangle whose closest point q2 could
   // be the same contact (it contains q, or tri contains q2: a symmetric test, so that both see
@@ -419,6 +450,10 @@ bool TriangleMesh::owns(std::int32_t tri, TriangleFeature f, double margin, cons
     if (!competing) continue;
     if (f2 == TriangleFeature::Face && margin2 > eps_) return false;
     const double closer = dot(q2 - q, (x - q) + (x - q2));
+    if (!shared_point) {
+      if (closer > 4 * eps_ * dist) return false;
+      continue;
+    }
     if (closer != 0) {
       if (closer > 0) return false;
       continue;
@@ -453,6 +488,161 @@ bool TriangleMesh::sphere_contact(std::int32_t tri, const Vec3& x, double r, Vec
     const double len = norm(n);
     normal = len > 0 ? (1.0 / len) * n : Vec3{0, 0, 1};
   }
+  gap = dist - r;
+  return true;
+}
+
+bool TriangleMesh::flat(std::int32_t tri, TriangleFeature f) const {
+  const auto tu = static_cast<std::size_t>(tri);
+  if (f == TriangleFeature::Face) return true;
+  if (f <= TriangleFeature::Edge2)
+    return edge_flat_[3 * tu + static_cast<std::size_t>(static_cast<int>(f) - 1)] != 0;
+  return vertex_flat_[static_cast<std::size_t>(
+             tris_[tu][static_cast<std::size_t>(static_cast<int>(f) - 4)])] != 0;
+}
+
+bool TriangleMesh::face_like(std::int32_t tri, const Vec3& x, const Vec3& q) const {
+  const Vec3& n = normals_[static_cast<std::size_t>(tri)];
+  return n != Vec3{} && norm(cross(x - q, n)) <= 2 * eps_;
+}
+
+namespace {
+
+/// Whether the distance from the axis end e to its closest point q does not decrease into the
+/// axis (direction `in`), to within a slope of 1e-9 (rounding, and an axis parallel to a ridge).
+bool end_is_minimum(const Vec3& e, const Vec3& q, const Vec3& in) {
+  return dot(e - q, in) >= -1e-9 * norm(e - q) * norm(in);
+}
+
+}  // namespace
+
+bool TriangleMesh::capsule_near(std::int32_t tri, const Vec3& p0, const Vec3& p1, double r) const {
+  const auto tu = static_cast<std::size_t>(tri);
+  const Vec3& n = normals_[tu];
+  if (n == Vec3{}) return true;
+  const Vec3& a = points_[static_cast<std::size_t>(tris_[tu][0])];
+  const double h0 = dot(p0 - a, n), h1 = dot(p1 - a, n), lim = r * (1 + 1e-12);
+  return !((h0 >= lim && h1 >= lim) || (h0 <= -lim && h1 <= -lim));
+}
+
+TriangleMesh::EdgeExit TriangleMesh::edge_exit(std::int32_t tri, int k, const Vec3& p0,
+                                               const Vec3& axis) const {
+  EdgeExit e;
+  const auto tu = static_cast<std::size_t>(tri);
+  const Vec3& n = normals_[tu];
+  if (n == Vec3{}) return e;
+  const auto& tr = tris_[tu];
+  const auto ku = static_cast<std::size_t>(k);
+  const Vec3& u0 = points_[static_cast<std::size_t>(tr[ku])];
+  Vec3 out = cross(points_[static_cast<std::size_t>(tr[(ku + 1) % 3])] - u0, n);
+  if (dot(out, points_[static_cast<std::size_t>(tr[(ku + 2) % 3])] - u0) > 0) out = -1.0 * out;
+  const double den = dot(axis, out);
+  if (den == 0) return e;
+  e.s = dot(u0 - p0, out) / den;
+  const double h = dot(p0 + e.s * axis - u0, n);
+  e.leaves = e.s > 0 && e.s < 1;
+  e.rising = h * den >= 0 ? dot(axis, n) >= 0 : dot(axis, n) <= 0;
+  return e;
+}
+
+bool TriangleMesh::capsule_contact(std::int32_t tri, int slot, const Vec3& p0, const Vec3& p1,
+                                   double r, Vec3& centre, Vec3& normal, double& gap) const {
+  const auto tu = static_cast<std::size_t>(tri);
+  const auto& tr = tris_[tu];
+  const Vec3& n = normals_[tu];
+  if (!capsule_near(tri, p0, p1, r)) return false;
+  const Vec3 axis = p1 - p0;
+  if (slot < 2) {  // an end sphere
+    centre = slot == 0 ? p0 : p1;
+    if (!sphere_contact(tri, centre, r, normal, gap)) return false;
+    Vec3 q;
+    const TriangleFeature f = closest(tri, centre, q);
+    return flat(tri, f) || face_like(tri, centre, q) ||
+           end_is_minimum(centre, q, slot == 0 ? axis : p0 - p1);
+  }
+  // The axis point nearest to edge k or vertex k.
+  const bool edge = slot < 5;
+  const int k = edge ? slot - 2 : slot - 5;
+  const auto feature = static_cast<TriangleFeature>(
+      static_cast<int>(edge ? TriangleFeature::Edge0 : TriangleFeature::Vertex0) + k);
+  if (flat(tri, feature)) return false;
+  const EdgeExit exit = edge ? edge_exit(tri, k, p0, axis) : EdgeExit{};
+  const bool leaves = exit.leaves, rising = exit.rising;
+  const double s_leave = exit.s;
+  // The point where the axis leaves over the edge, at its distance from the plane (the foot on
+  // the edge), this triangle's alone.
+  const auto leave = [&]() {
+    if (!leaves) return false;
+    const auto ku = static_cast<std::size_t>(k);
+    const Vec3& u0 = points_[static_cast<std::size_t>(tr[ku])];
+    const Vec3& u1 = points_[static_cast<std::size_t>(tr[(ku + 1) % 3])];
+    const Vec3 c = p0 + s_leave * axis;
+    const double h = dot(c - u0, n);
+    const Vec3 q = c - h * n;
+    const double t = dot(q - u0, u1 - u0) / norm2(u1 - u0);
+    const double dist = std::abs(h);
+    if (!(t >= 0 && t < 1) || !(dist < r) || !(dist > 0)) return false;
+    if (!owns(tri, feature, 0, c, q, /*shared=*/false)) return false;
+    centre = c;
+    normal = h > 0 ? n : -1.0 * n;
+    gap = dist - r;
+    return true;
+  };
+  if (edge && rising) return leave();
+  double s = 0;
+  if (edge) {
+    int ia = tr[static_cast<std::size_t>(k)], ib = tr[static_cast<std::size_t>((k + 1) % 3)];
+    if (ia > ib) std::swap(ia, ib);
+    const Vec3& va = points_[static_cast<std::size_t>(ia)];
+    const Vec3& vb = points_[static_cast<std::size_t>(ib)];
+    const Vec3 e = vb - va;
+    if (!(norm2(cross(axis, e)) > 1e-18 * norm2(axis) * norm2(e))) return false;  // parallel
+    const contact::SegmentClosest sc = contact::closest_points_segments(p0, p1, va, vb);
+    if (!(sc.s > 0 && sc.s < 1 && sc.t > 0 && sc.t < 1)) return false;
+    s = sc.s;
+  } else {
+    const double a2 = norm2(axis);
+    if (!(a2 > 0)) return false;
+    s = dot(points_[static_cast<std::size_t>(tr[static_cast<std::size_t>(k)])] - p0, axis) / a2;
+    if (!(s > 0 && s < 1)) return false;
+  }
+  centre = p0 + s * axis;
+  Vec3 q;
+  double margin = 0;
+  const TriangleFeature f = closest(tri, centre, q, &margin);
+  // (an axis dipping by a rounding error: the closest point to the edge found over the face)
+  if (f != feature) return edge && f == TriangleFeature::Face && leave();
+  const Vec3 d = centre - q;
+  const double dist = norm(d);
+  if (!(dist < r) || !(dist > 0)) return false;
+  // A neighbour across the edge that the axis leaves level or rising holds the contact (an axis
+  // level to within rounding: its point there and this one coincide).
+  if (edge) {
+    const int va = tr[static_cast<std::size_t>(k)], vb = tr[static_cast<std::size_t>((k + 1) % 3)];
+    for (std::int32_t j = touch_start_[tu]; j < touch_start_[tu + 1]; ++j) {
+      const auto ju = static_cast<std::size_t>(j);
+      if (touch_junction_[ju] != 0) continue;
+      const std::int32_t o = touch_tris_[ju];
+      const auto& to = tris_[static_cast<std::size_t>(o)];
+      for (int ko = 0; ko < 3; ++ko) {
+        const int oa = to[static_cast<std::size_t>(ko)],
+                  ob = to[static_cast<std::size_t>((ko + 1) % 3)];
+        if (!((oa == va && ob == vb) || (oa == vb && ob == va))) continue;
+        const EdgeExit other = edge_exit(o, ko, p0, axis);
+        if (other.leaves && other.rising) return false;
+      }
+    }
+  }
+  // An end whose own minimum is on this feature carries the contact (an axis nearly parallel to
+  // a ridge).
+  for (int end = 0; end < 2; ++end) {
+    const Vec3& pe = end == 0 ? p0 : p1;
+    Vec3 qe;
+    if (closest(tri, pe, qe) == feature && end_is_minimum(pe, qe, end == 0 ? axis : p0 - p1))
+      return false;
+  }
+  if (!owns(tri, feature, margin, centre, q)) return false;
+  normal = (1.0 / dist) * d;
   gap = dist - r;
   return true;
 }

@@ -27,6 +27,34 @@
 // centres within rounding of an edge still get one contact. Surfaces with edges of three or more
 // triangles, open rims, T-junctions and sliver triangles are handled; vertices within eps are
 // merged and repeated triangles kept once. Overlapping coplanar triangles are not detected.
+//
+// Spherocylinders (axis segment p0-p1, radius r). Their contacts with the surface are those of
+// spheres of radius r at chosen points of the axis, at most eight per triangle, each owned as a
+// sphere's (above), so that no touch is counted twice:
+// - the two end spheres (slots 0 and 1), as on a plane wall (capsule.hpp): a grain lying on a
+//   flat part touches it at both ends, whatever the triangles under it. An end whose closest
+//   point is on a face, a flat edge or vertex (two triangles in one plane to 1e-3 rad on either
+//   side of it), or is the foot of the perpendicular on the triangle's plane, always counts; one
+//   whose closest point is on a convex edge or corner counts only if the distance to the surface
+//   does not decrease from it into the axis (otherwise the minimum lies inside);
+// - at an edge k of the triangle that is not flat (slot 2 + k), one of two points of the axis:
+//   where the axis, going out of the triangle's prism across that edge, gets closer to the
+//   triangle's plane (it dips beyond a ridge, a lifter's edge, a box's edge), the point of the
+//   axis closest to the edge: a local minimum of the distance along the axis, which counts if
+//   it lies strictly inside the axis and the edge, the triangle's closest point to it is on that
+//   edge, the triangle owns it (at a concave edge the faces are closer and hold the grain) and no
+//   end has its own minimum there (an axis nearly parallel to a ridge rests on its ends; an axis
+//   parallel to the edge, sine below 1e-9, gets none). Where the axis leaves level or rising, the
+//   point where it crosses the prism's side over the edge: the end of the part of the axis that
+//   lies over the face, which, as an end on a plane, counts whether or not the distance is least
+//   there; so a grain lying across a box's top, or tilted over it, rests on both edges it
+//   crosses, as on a plane it rests on both ends. The two points coincide for an axis parallel
+//   to the face: the contact moves from one to the other continuously as the grain tilts;
+// - at a corner that is not flat (5 + k, vertex k): the point of the axis closest to it, on the
+//   same terms as the closest point to an edge.
+// Edges that meet other triangles at a T-junction count as rims, not as flat.
+// The axis point of an edge contact is computed with the edge in one orientation (lower vertex
+// index first), so that the triangles sharing the edge ask about the same point.
 #pragma once
 
 #include <array>
@@ -83,6 +111,18 @@ class TriangleMesh {
   /// closest point is not a contact of the surface (see the file comment) or is farther than r.
   /// `normal`: unit, from the surface to the centre; `gap`: distance - r (< 0: overlap).
   bool sphere_contact(std::int32_t tri, const Vec3& x, double r, Vec3& normal, double& gap) const;
+  /// Contacts a spherocylinder can have with one triangle (see capsule_contact).
+  static constexpr int capsule_slots = 8;
+  /// Contact `slot` of a spherocylinder (axis p0-p1, radius r) with the surface at triangle
+  /// `tri` (see the file comment): 0 and 1 the end spheres at p0 and p1, 2 + k the axis against
+  /// edge k, 5 + k against vertex k; false when it is not this triangle's or is apart. `centre`:
+  /// the axis point that carries it (the contact of a sphere of radius r there); `normal` and
+  /// `gap` as for sphere_contact.
+  bool capsule_contact(std::int32_t tri, int slot, const Vec3& p0, const Vec3& p1, double r,
+                       Vec3& centre, Vec3& normal, double& gap) const;
+  /// False when the whole axis p0-p1 is farther than r from the plane of `tri` (no slot of
+  /// capsule_contact touches): a cheap test for the entries of a wall list.
+  bool capsule_near(std::int32_t tri, const Vec3& p0, const Vec3& p1, double r) const;
   /// Distance from x to triangle `tri` (current vertices).
   double distance(std::int32_t tri, const Vec3& x) const;
 
@@ -97,10 +137,27 @@ class TriangleMesh {
  private:
   /// Whether the contact of the centre x at q (feature f; a face point `margin` from the
   /// nearest edge) on `tri` is this triangle's (see the file comment).
-  bool owns(std::int32_t tri, TriangleFeature f, double margin, const Vec3& x, const Vec3& q) const;
+  /// `shared_point` false: the contact is this triangle's alone (a spherocylinder's axis leaving
+  /// its face), so it is kept unless a competitor is closer by more than 2 eps (ties kept).
+  bool owns(std::int32_t tri, TriangleFeature f, double margin, const Vec3& x, const Vec3& q,
+            bool shared_point = true) const;
   /// closest_on_triangle with the stored unit normal; `margin`: for a face point, its distance
   /// to the nearest edge (0 otherwise).
   TriangleFeature closest(std::int32_t tri, const Vec3& x, Vec3& q, double* margin = nullptr) const;
+  /// Whether feature f of `tri` is flat: its face, a flat edge or a flat vertex (the surface
+  /// continues in the triangle's plane across it, to 1e-3 rad).
+  bool flat(std::int32_t tri, TriangleFeature f) const;
+  /// Whether q, the closest point of `tri` to x, is the foot of the perpendicular from x (to
+  /// within 2 eps): x faces the plane of the triangle rather than an edge or corner.
+  bool face_like(std::int32_t tri, const Vec3& x, const Vec3& q) const;
+  /// Where the axis p0 + s axis crosses the side of the prism of `tri` over its edge k (the
+  /// plane through the edge along the normal): s, whether 0 < s < 1, and whether it leaves the
+  /// prism there level or rising (away from the plane).
+  struct EdgeExit {
+    double s = 0;
+    bool leaves = false, rising = false;
+  };
+  EdgeExit edge_exit(std::int32_t tri, int k, const Vec3& p0, const Vec3& axis) const;
   std::uint64_t cell_key(const Vec3& x) const;
   /// x taken back to the body frame of the vertices at t = 0 (the inverse of the last place()).
   Vec3 body_point(const Vec3& x) const;
@@ -119,6 +176,8 @@ class TriangleMesh {
   bool moving_ = false;
   std::vector<Vec3> normals0_, normals_;  ///< unit normals (zero if degenerate), t = 0 and now
   std::vector<double> bound_radius_;
+  std::vector<char> edge_flat_;       ///< 3 per triangle: edge k is flat (see flat())
+  std::vector<char> vertex_flat_;     ///< per vertex: all its edges are flat
   std::vector<double> inverse_edge_;  ///< 3 per triangle: 1 / length of edge k (0: degenerate) ///<
                                       ///< per triangle: largest vertex distance from the centroid
   double eps_ = 0;  ///< 1e-9 of the surface's size: merging, containment and edge tolerance

@@ -168,15 +168,27 @@ bool sphere_wall(const Wall& w, const Vec3& x, double r, WallGeometry& g) {
 /// disks use slot 0; spherocylinders one slot per end sphere (plane, inside of a cylinder: the
 /// gap is smallest at the ends) or slot 0 at the closest point (outside of a cylinder); polygons
 /// slot 0, the overlap with the wall's half-plane with l_c = R (equal-area radius: the
-/// characteristic length against a rigid wall), see contact/shape_forces.hpp. Mesh walls: slot 0,
-/// the contact of triangle `element` if the surface's contact is there (boundaries/triangle_mesh).
+/// characteristic length against a rigid wall), see contact/shape_forces.hpp. Mesh walls: the
+/// contact of triangle `element` if the surface's contact is there, slot 0 for a sphere, the
+/// slots of TriangleMesh::capsule_contact for a spherocylinder (boundaries/triangle_mesh).
+/// `cap`: the spherocylinder i, when the caller has it (one per particle, not per slot).
 bool wall_slot_geometry(const Wall& w, std::int32_t element, const contact::ShapeView* s,
-                        std::int64_t i, const Vec3& x, double r, int slot, WallGeometry& g) {
-  if (w.kind == WallKind::Mesh) {  // spheres only (other shapes refused when the case is read)
+                        std::int64_t i, const Vec3& x, double r, int slot, WallGeometry& g,
+                        const contact::Capsule* cap = nullptr) {
+  if (w.kind == WallKind::Mesh) {  // spheres and spherocylinders (polygons are 2D: refused)
     double gap = 0;
-    if (slot != 0 || !w.mesh.sphere_contact(element, x, r, g.normal, gap) || gap >= 0) return false;
+    Vec3 centre = x;
+    if (s == nullptr || s->code(i) == ShapeCode::Sphere) {
+      if (slot != 0 || !w.mesh.sphere_contact(element, x, r, g.normal, gap)) return false;
+    } else {
+      const contact::Capsule c = cap != nullptr ? *cap : s->capsule(i, x);
+      r = c.radius;
+      if (!w.mesh.capsule_contact(element, slot, c.end0(), c.end1(), r, centre, g.normal, gap))
+        return false;
+    }
+    if (gap >= 0) return false;
     g.overlap = -gap;
-    g.point = x - (r - 0.5 * g.overlap) * g.normal;
+    g.point = centre - (r - 0.5 * g.overlap) * g.normal;
     g.r_eff = r;
     return true;
   }
@@ -193,7 +205,7 @@ bool wall_slot_geometry(const Wall& w, std::int32_t element, const contact::Shap
     g.r_eff = req;
     return true;
   }
-  const contact::Capsule c = s->capsule(i, x);
+  const contact::Capsule c = cap != nullptr ? *cap : s->capsule(i, x);
   if (w.kind == WallKind::Cylinder && !w.inside) {
     contact::ShapeContact out[2];
     if (slot != 0 || contact::capsule_cylinder_wall(c, w.point, w.dir, w.radius, false, out) == 0)
@@ -371,11 +383,10 @@ std::int64_t sphere_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCon
 }
 
 /// Any shape, any number of slots, a law per contact.
-/// `meshes`: some wall is a triangle mesh (its contacts' history moves between triangles).
 std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
                                  const PairTable<contact::PairCoeffs>& pairs,
                                  const contact::ShapeView* sv, double t, double dt,
-                                 contact::ContactRecord* records, bool meshes) {
+                                 contact::ContactRecord* records) {
   const auto entries = list.entries();
   auto history = list.history();
   auto reaction = list.reactions();
@@ -397,12 +408,115 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
     std::int64_t touching = 0;
     const std::int64_t k_lo = groups[static_cast<std::size_t>(gr)];
     const std::int64_t k_hi = groups[static_cast<std::size_t>(gr) + 1];
-    // Mesh entries that are apart keep their history until the end of the particle's group: a
-    // contact that moves to the next triangle (a sphere rolling over an edge of a meshed floor)
-    // takes the history of the one it leaves, as it would on a plane.
-    thread_local std::vector<char> mesh_apart;
-    if (meshes) mesh_apart.assign(static_cast<std::size_t>(k_hi - k_lo), 0);
+    // The geometry of every slot of the particle's entries first: its contacts with one wall
+    // share its mass, and a contact that moves to the next triangle of a mesh (a grain rolling
+    // over an edge of a meshed floor) takes the history of the one it leaves, as on a plane.
+    thread_local std::vector<WallGeometry> geo;
+    thread_local std::vector<char> on;
+    const auto n_at = static_cast<std::size_t>(k_hi - k_lo) * su;
+    if (geo.size() < n_at) geo.resize(n_at);
+    on.assign(n_at, 0);
+    const auto at = [&](std::int64_t k, int slot) {
+      return static_cast<std::size_t>(k - k_lo) * su + static_cast<std::size_t>(slot);
+    };
     bool any_mesh = false;
+    // A spherocylinder: its axis once for all its entries and slots.
+    const int i_group = k_hi > k_lo ? entries[static_cast<std::size_t>(k_lo)].particle : 0;
+    std::optional<contact::Capsule> cap;
+    if (sv != nullptr && k_hi > k_lo && sv->code(i_group) == ShapeCode::Spherocylinder)
+      cap = sv->capsule(i_group, x[i_group]);
+    for (std::int64_t k = k_lo; k < k_hi; ++k) {
+      const auto ku = static_cast<std::size_t>(k);
+      const int i = entries[ku].particle;
+      const Wall& w = walls[static_cast<std::size_t>(entries[ku].wall)];
+      const bool is_mesh = w.kind == WallKind::Mesh;
+      any_mesh = any_mesh || is_mesh;
+      // (a triangle whose plane the whole axis is farther from than r: every slot apart)
+      const bool near =
+          !is_mesh || !cap ||
+          w.mesh.capsule_near(entries[ku].element, cap->end0(), cap->end1(), cap->radius);
+      for (int slot = 0; slot < slots; ++slot) {
+        geo[at(k, slot)] = WallGeometry{};  // (force_scale 1 unless a polygon sets it)
+        on[at(k, slot)] = near && wall_slot_geometry(w, entries[ku].element, sv, i, x[i], r[i],
+                                                     slot, geo[at(k, slot)], cap ? &*cap : nullptr);
+        // (apart mesh contacts keep their history until the hand-over below)
+        if (!on[at(k, slot)] && !is_mesh) history[su * ku + static_cast<std::size_t>(slot)] = {};
+      }
+    }
+    if (any_mesh) {
+      // A new mesh contact takes the history of the contact of the same kind (the same end of a
+      // spherocylinder, or its middle) among those of the same mesh that have just ended, the
+      // nearest to it; only one that moved on: its triangle reaches the new contact point (it
+      // shares the edge or vertex the contact crossed, up to a step's travel). A contact that
+      // ends elsewhere while this one starts (a grain leaving a lifter as it lands on the barrel)
+      // keeps its history to itself; two contacts changing triangles at once, in a valley, keep
+      // their own.
+      for (std::int64_t k = k_lo; k < k_hi; ++k) {
+        const auto ku = static_cast<std::size_t>(k);
+        const Wall& w = walls[static_cast<std::size_t>(entries[ku].wall)];
+        if (w.kind != WallKind::Mesh) continue;
+        for (int slot = 0; slot < slots; ++slot) {
+          if (!on[at(k, slot)] || history[su * ku + static_cast<std::size_t>(slot)] != Vec3{})
+            continue;
+          const WallGeometry& g = geo[at(k, slot)];
+          const Vec3 q = g.point - 0.5 * g.overlap * g.normal;
+          std::size_t donor = 0;
+          bool found = false;
+          double nearest = std::numeric_limits<double>::infinity();
+          for (std::int64_t j = k_lo; j < k_hi; ++j) {
+            const auto ju = static_cast<std::size_t>(j);
+            if (entries[ju].wall != entries[ku].wall) continue;
+            double d = -1;
+            for (int sj = 0; sj < slots; ++sj) {
+              const std::size_t hj = su * ju + static_cast<std::size_t>(sj);
+              if ((slot < 2 ? sj != slot : sj < 2) || on[at(j, sj)] || history[hj] == Vec3{})
+                continue;
+              if (d < 0) d = w.mesh.distance(entries[ju].element, q);
+              if (d < nearest) {
+                nearest = d;
+                donor = hj;
+                found = true;
+              }
+            }
+          }
+          if (found && nearest <= 0.05 * g.r_eff) {
+            history[su * ku + static_cast<std::size_t>(slot)] = history[donor];
+            history[donor] = {};
+          }
+        }
+      }
+    }
+    // The mass a contact acts on: the grain's, shared with its other contacts with the same wall
+    // that push the same way, so that a flat impact has the damping, and hence the restitution,
+    // that the law was given for one contact (a spherocylinder lying flat: half at each end).
+    // Plane and cylinder walls: the number of touching slots. Meshes: 1 + the sum of the
+    // positive cosines n . n_j to the grain's other contacts with the mesh, which gives two
+    // contacts at an angle theta the damping ratio of one for a push along their bisector
+    // (stiffness and damping both scale as 1 + cos theta), and leaves contacts at right angles
+    // (a corner) independent.
+    thread_local std::vector<std::size_t> touching_mesh;  // (indices into geo)
+    touching_mesh.clear();
+    if (any_mesh)
+      for (std::size_t a = 0; a < n_at; ++a)
+        if (on[a] != 0 &&
+            walls[static_cast<std::size_t>(entries[static_cast<std::size_t>(k_lo) + a / su].wall)]
+                    .kind == WallKind::Mesh)
+          touching_mesh.push_back(a);
+    const auto share = [&](std::int64_t k, int slot) {
+      const auto ku = static_cast<std::size_t>(k);
+      if (walls[static_cast<std::size_t>(entries[ku].wall)].kind != WallKind::Mesh) {
+        int n_on = 0;
+        for (int sl = 0; sl < slots; ++sl) n_on += on[at(k, sl)];
+        return static_cast<double>(n_on);
+      }
+      const Vec3& n = geo[at(k, slot)].normal;
+      double sum = 1;
+      for (const std::size_t a : touching_mesh)
+        if (a != at(k, slot) &&
+            entries[static_cast<std::size_t>(k_lo) + a / su].wall == entries[ku].wall)
+          sum += std::max(0.0, dot(n, geo[a].normal));
+      return sum;
+    };
     for (std::int64_t k = k_lo; k < k_hi; ++k) {
       const auto ku = static_cast<std::size_t>(k);
       const int i = entries[ku].particle;
@@ -410,60 +524,10 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
       const contact::PairCoeffs& c = pairs(mat[i], w.material);
       Vec3 reaction_force{}, reaction_torque{};
       double k_sum = 0;
-      // Geometry of every slot first: the grain's mass is shared by its simultaneous contacts
-      // with this wall (a capsule lying flat: half at each end), so that a flat impact has the
-      // damping, and hence the restitution, that the law was given for one contact.
-      WallGeometry geo[2];
-      bool on[2] = {false, false};
-      int n_on = 0;
-      const bool is_mesh = w.kind == WallKind::Mesh;
-      any_mesh = any_mesh || is_mesh;
       for (int slot = 0; slot < slots; ++slot) {
-        on[slot] = wall_slot_geometry(w, entries[ku].element, sv, i, x[i], r[i], slot, geo[slot]);
-        n_on += on[slot];
-        if (!on[slot]) {
-          if (is_mesh)
-            mesh_apart[static_cast<std::size_t>(k - k_lo)] = 1;
-          else
-            history[su * ku + static_cast<std::size_t>(slot)] = {};
-        }
-      }
-      if (is_mesh && on[0] && history[su * ku] == Vec3{}) {
-        // A new contact: the history of the triangle of the same mesh, among those that have
-        // just lost their contact, nearest to the new contact point (two contacts changing
-        // triangles at once, in a valley, keep their own histories).
-        const Vec3 q = x[i] - (r[i] - geo[0].overlap) * geo[0].normal;
-        std::int64_t donor = -1;
-        double nearest = std::numeric_limits<double>::infinity();
-        for (std::int64_t j = k_lo; j < k_hi; ++j) {
-          const auto ju = static_cast<std::size_t>(j);
-          if (j == k || entries[ju].wall != entries[ku].wall || history[su * ju] == Vec3{})
-            continue;
-          WallGeometry gj;
-          const bool apart =
-              j < k ? mesh_apart[static_cast<std::size_t>(j - k_lo)] != 0
-                    : !wall_slot_geometry(w, entries[ju].element, sv, i, x[i], r[i], 0, gj);
-          if (!apart) continue;
-          const double d = w.mesh.distance(entries[ju].element, q);
-          if (d < nearest) {
-            nearest = d;
-            donor = j;
-          }
-        }
-        // Only a contact that moved on: the donor triangle reaches the new contact point (it
-        // shares the edge or vertex the contact crossed, up to a step's travel); a contact that
-        // ends elsewhere while this one starts (a grain leaving a lifter as it lands on the
-        // barrel) keeps its history to itself.
-        if (donor >= 0 && nearest <= 0.05 * r[i]) {
-          const auto du = static_cast<std::size_t>(donor);
-          history[su * ku] = history[su * du];
-          history[su * du] = {};
-        }
-      }
-      for (int slot = 0; slot < slots; ++slot) {
-        if (!on[slot]) continue;
+        if (!on[at(k, slot)]) continue;
         Vec3& hist = history[su * ku + static_cast<std::size_t>(slot)];
-        const WallGeometry& g = geo[slot];
+        const WallGeometry& g = geo[at(k, slot)];
         const Vec3 arm = g.point - x[i];
         contact::ContactKinematics kin;
         kin.overlap = g.overlap;
@@ -471,7 +535,7 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
         kin.v_rel = v[i] + cross(om[i], arm) - w.velocity_at(g.point, t);
         kin.omega_rel = om[i] - w.motion.omega();
         kin.r_eff = g.r_eff;
-        kin.m_eff = m[i] / (n_on * g.force_scale);
+        kin.m_eff = m[i] / (share(k, slot) * g.force_scale);
         contact::ContactResult res =
             dispatch_index(contact::ContactModels{}, c.model,
                            [&]<class M>() { return M::Law::evaluate(c, kin, dt, hist); });
@@ -494,8 +558,11 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
     }
     if (any_mesh)
       for (std::int64_t k = k_lo; k < k_hi; ++k)
-        if (mesh_apart[static_cast<std::size_t>(k - k_lo)] != 0)
-          history[su * static_cast<std::size_t>(k)] = {};
+        if (walls[static_cast<std::size_t>(entries[static_cast<std::size_t>(k)].wall)].kind ==
+            WallKind::Mesh)
+          for (int slot = 0; slot < slots; ++slot)
+            if (!on[at(k, slot)])
+              history[su * static_cast<std::size_t>(k) + static_cast<std::size_t>(slot)] = {};
     return touching;
   });
 }
@@ -524,7 +591,7 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
                                  return sphere_wall_forces<typename M::Law>(p, walls, list, pairs,
                                                                             model, t, dt, records);
                                })
-              : generic_wall_forces(p, walls, list, pairs, sv, t, dt, records, meshes);
+              : generic_wall_forces(p, walls, list, pairs, sv, t, dt, records);
   // Reactions summed in entry order: the same bits whatever the thread count.
   for (auto& w : walls) {
     w.force = {};

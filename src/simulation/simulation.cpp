@@ -190,7 +190,12 @@ void Simulation::build_particles() {
         "rigid-body step of velocity_verlet); use integrator: velocity_verlet",
         cfg_.file.string()));
   if (polygons || capsules) particles_.enable_shapes();
-  if (capsules) wlist_.set_slots(2);
+  // Spherocylinders: one contact per end with planes and cylinders, up to eight per triangle of
+  // a mesh wall (boundaries/triangle_mesh.hpp).
+  const bool mesh_walls = std::any_of(cfg_.walls.begin(), cfg_.walls.end(), [](const auto& w) {
+    return w.kind == config::Wall::Kind::Mesh;
+  });
+  if (capsules) wlist_.set_slots(mesh_walls ? TriangleMesh::capsule_slots : 2);
   has_capsules_ = capsules;
 
   std::vector<FilledSphere> placed;
@@ -375,10 +380,9 @@ void Simulation::build_walls() {
         break;
       case config::Wall::Kind::Mesh: {
         // (the reader refuses these; a case built in code is checked here too)
-        if (two_d_ || particles_.has_shapes())
+        if (two_d_)
           throw InputError(fmt::format(
-              "{}: mesh walls work with spheres in 3D only so far; use plane, box or cylinder "
-              "walls",
+              "{}: mesh walls are 3D surfaces, not available in 2D; use plane or box walls",
               where(wc.loc)));
         w.kind = WallKind::Mesh;
         w.mesh = TriangleMesh(wc.mesh_points, wc.mesh_triangles);

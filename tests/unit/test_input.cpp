@@ -280,7 +280,6 @@ const BadCase bad_cases[] = {
     {"cylinder_wall_2d.yaml", 13, "walls[0].cylinder", "not available in 2D"},
     {"mesh_missing_file.yaml", 13, "walls[0].mesh.file", "no such file"},
     {"mesh_not_stl.yaml", 11, "walls[0].mesh.file", "not a readable STL file"},
-    {"mesh_with_spherocylinders.yaml", 14, "walls[1].mesh", "spheres only"},
     {"mesh_wall_2d.yaml", 12, "walls[0].mesh", "not available in 2D"},
     {"cylinder_fill_2d.yaml", 13, "particles[0].fill.cylinder", "not available in 2D"},
     {"spherocylinder_no_length.yaml", 9, "particles[0].length", "'length' (m"},

@@ -122,6 +122,37 @@ TEST(Restart, MeshWallContinuesBitIdentically) {
   test::expect_same_state(*r->a, *r->b);
 }
 
+// The same with spherocylinders: their contacts with the blade's triangles (up to eight per
+// triangle: the ends, and the axis at edges and corners) keep their histories across the restart.
+TEST(Restart, MeshWallWithRodsContinuesBitIdentically) {
+  auto c = settling_case();
+  c.walls.pop_back();  // no paddle
+  c.particles.clear();
+  auto& f = test::add_capsule_fill(c, "glass", 0.0015, 3, {0, 0, 0.02}, {0.05, 0.05, 0.08},
+                                   config::Fill::Lattice::Random);
+  f.count = 60;
+  f.seed = 12;
+  f.velocity_jitter = 0.2;
+  std::vector<Vec3> pts;
+  std::vector<std::array<int, 3>> tris;
+  for (int j = 0; j <= 3; ++j)
+    for (int i = 0; i <= 4; ++i) pts.push_back({0.008 + 0.0085 * i, 0.025, 0.01 * j});
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const int a = j * 5 + i;
+      tris.push_back({a, a + 1, a + 6});
+      tris.push_back({a, a + 6, a + 5});
+    }
+  test::add_mesh(c, "blade", pts, tris, "steel");
+  c.walls.back().motion.rotates = true;
+  c.walls.back().motion.axis = {0, 0, 1};
+  c.walls.back().motion.center = {0.025, 0.025, 0};
+  c.walls.back().motion.rate = 10;
+  const auto r = run_restarted(c, "mesh_rods", 6000, 3000);
+  EXPECT_GT(norm(r->a->walls().back().force), 0.0);  // the rods reached the blade
+  test::expect_same_state(*r->a, *r->b);
+}
+
 TEST(Restart, StoppedRunContinuesBitIdentically) {
   // A SIGTERM arrives while run() is in its time loop (deferred half kicks and all): the run
   // ends its step, writes checkpoint_<step>.h5 and says so; continuing from that checkpoint must

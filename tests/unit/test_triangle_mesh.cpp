@@ -1501,3 +1501,293 @@ TEST(TriangleMeshWall, SlidingInAValleyKeepsEachSideItsHistory) {
     EXPECT_EQ(failures, 0) << "first: " << first;
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Spherocylinders: TriangleMesh::capsule_contact against the plane it triangulates, against
+// configurations with known contacts (a rod across a ridge, over the edges and a corner of a
+// cube, along a ridge) and against a brute force: the local minima of the distance from the axis
+// to the union of the triangles, sampled along the axis.
+
+namespace {
+
+struct AxisContact {
+  int tri, slot;
+  Vec3 centre, normal;
+  double gap;
+};
+
+std::vector<AxisContact> axis_contacts(const TriangleMesh& m, const Vec3& p0, const Vec3& p1,
+                                       double r) {
+  std::vector<AxisContact> out;
+  for (std::size_t t = 0; t < m.size(); ++t)
+    for (int slot = 0; slot < TriangleMesh::capsule_slots; ++slot) {
+      AxisContact c{static_cast<int>(t), slot, {}, {}, 0};
+      if (m.capsule_contact(static_cast<std::int32_t>(t), slot, p0, p1, r, c.centre, c.normal,
+                            c.gap))
+        out.push_back(c);
+    }
+  return out;
+}
+
+/// Distance from x to the union of the triangles (long double).
+LD union_distance(const TriangleMesh& m, const Vec3& x) {
+  const P3<LD> xl = wide<LD>(x);
+  LD best = std::numeric_limits<LD>::infinity();
+  for (std::size_t t = 0; t < m.size(); ++t)
+    best = std::min(
+        best, dist2(xl, triangle_closest(xl, corner(m, t, 0), corner(m, t, 1), corner(m, t, 2))));
+  return std::sqrt(best);
+}
+
+std::string describe(const std::vector<AxisContact>& cs) {
+  std::ostringstream s;
+  s.precision(12);
+  s << cs.size() << " contact(s):";
+  for (const auto& c : cs)
+    s << " [tri " << c.tri << " slot " << c.slot << " centre (" << c.centre.x << ", " << c.centre.y
+      << ", " << c.centre.z << ") n (" << c.normal.x << ", " << c.normal.y << ", " << c.normal.z
+      << ") gap " << c.gap << "]";
+  return s.str();
+}
+
+Vec3 horizontal(double phi) {
+  return {std::cos(phi), std::sin(phi), 0};
+}
+
+}  // namespace
+
+// Rods lying on a flat meshed square (alternating diagonals, vertices of 4 and 8 triangles), level
+// or tilted, ends anywhere including exactly above shared vertices and edges: their two end
+// spheres only, each once, with the plane's gap and normal, as on a plane wall.
+TEST(TriangleMeshCapsule, RodsOnAFlatMeshTouchAtBothEndsAsOnAPlane) {
+  const TriangleMesh m = square_grid(8, true);
+  std::mt19937_64 g(21);
+  std::uniform_real_distribution<double> u(0, 1);
+  const double r = 0.03;
+  int failures = 0;
+  std::string first;
+  for (int k = 0; k < 600; ++k) {
+    const double half = 0.02 + 0.13 * u(g), d0 = 0.01 * u(g), d1 = 0.01 * u(g);
+    Vec3 c{0.25 + 0.5 * u(g), 0.25 + 0.5 * u(g), 0};
+    const Vec3 a = horizontal(2 * M_PI * u(g));
+    if (k % 3 == 1) c = Vec3{4.0 / 8, 3.0 / 8, 0} + half * a;           // the first end on a vertex
+    if (k % 3 == 2) c = Vec3{5.0 / 8, 0.4 + 0.2 * u(g), 0} + half * a;  // on an edge x = 5/8
+    const Vec3 p0 = c - half * a + Vec3{0, 0, r - d0}, p1 = c + half * a + Vec3{0, 0, r - d1};
+    const auto got = axis_contacts(m, p0, p1, r);
+    bool ok = got.size() == 2;
+    for (const auto& x : got) {
+      const double want = x.slot == 0 ? -d0 : (x.slot == 1 ? -d1 : 1.0);
+      ok = ok && std::abs(x.gap - want) < 1e-12 && norm(x.normal - Vec3{0, 0, 1}) < 1e-12;
+    }
+    ok = ok && got[0].slot + got[1].slot == 1;
+    if (!ok && failures++ == 0) first = describe(got);
+  }
+  EXPECT_EQ(failures, 0) << "first: " << first;
+}
+
+// A level rod across a roof ridge (slopes 0.3) at any angle but near parallel: one contact, in
+// the middle of the axis where it crosses the ridge, straight up; along the ridge: its two ends.
+TEST(TriangleMeshCapsule, RodAcrossARidgeTouchesItOnceAlongItOnItsEnds) {
+  const TriangleMesh m = two_strips(-0.3);
+  std::mt19937_64 g(22);
+  std::uniform_real_distribution<double> u(0, 1);
+  const double r = 0.03, half = 0.2;
+  int failures = 0;
+  std::string first;
+  for (int k = 0; k < 400; ++k) {
+    const double delta = 0.01 * u(g), beta = (0.05 + 1.15 * u(g)) * (k % 2 ? 1 : -1);
+    const Vec3 c{0.3 + 0.4 * u(g), 0.1 * u(g) - 0.05, r - delta};
+    const Vec3 a{std::sin(beta), std::cos(beta), 0};
+    const auto got = axis_contacts(m, c - half * a, c + half * a, r);
+    const bool ok = got.size() == 1 && got[0].slot >= 2 && std::abs(got[0].gap + delta) < 1e-12 &&
+                    norm(got[0].normal - Vec3{0, 0, 1}) < 1e-12 &&
+                    std::abs(got[0].centre.y) < 1e-12;
+    if (!ok && failures++ == 0) first = describe(got);
+  }
+  EXPECT_EQ(failures, 0) << "first: " << first;
+  // Along the ridge (exactly, and skewed by 1e-13 rad: within the ends' tolerance).
+  for (const double skew : {0.0, 1e-13}) {
+    const Vec3 a{std::cos(skew), std::sin(skew), 0}, c{0.5, 0, r - 0.004};
+    const auto got = axis_contacts(m, c - half * a, c + half * a, r);
+    ASSERT_EQ(got.size(), 2u) << describe(got);
+    EXPECT_EQ(got[0].slot + got[1].slot, 1) << describe(got);
+    for (const auto& x : got) EXPECT_NEAR(x.gap, -0.004, 1e-12);
+  }
+}
+
+// The cube [0, 1]^3: a level rod lying across its top (longer than the cube) rests on the two
+// edges it crosses; tilted, each edge gives its own distance; a level rod passing over a corner
+// touches the vertex, at the point of the axis nearest to it; one lying on the top face and over
+// an edge touches with its inner end and the edge.
+TEST(TriangleMeshCapsule, RodsOverTheEdgesAndCornersOfACube) {
+  const TriangleMesh m = unit_cube();
+  const double r = 0.05, delta = 0.01;
+  std::mt19937_64 g(23);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int k = 0; k < 50; ++k) {
+    const double y = 0.2 + 0.6 * u(g), tilt = k % 2 ? 0.0 : 0.004 * (u(g) - 0.5);
+    const Vec3 p0{-0.2, y, 1 + r - delta - 0.2 * tilt}, p1{1.2, y, 1 + r - delta + 1.2 * tilt};
+    const auto got = axis_contacts(m, p0, p1, r);
+    ASSERT_EQ(got.size(), 2u) << describe(got);
+    for (const auto& x : got) {
+      EXPECT_GE(x.slot, 2);
+      EXPECT_NEAR(x.gap, static_cast<double>(union_distance(m, x.centre)) - r, 1e-12);
+      EXPECT_TRUE(std::abs(x.centre.x) < 2e-3 || std::abs(x.centre.x - 1) < 2e-3) << describe(got);
+    }
+    EXPECT_NEAR(std::abs(got[0].centre.x - got[1].centre.x), 1.0, 4e-3);
+    if (tilt == 0.0) {
+      for (const auto& x : got) EXPECT_NEAR(x.gap, -delta, 1e-12);
+    }
+  }
+  {  // over the corner (1, 1, 1), level, the axis passing at (a, a, h) from it
+    const double a = 0.01, h = 0.03, half = 0.3;
+    const Vec3 d = (1 / std::sqrt(2.0)) * Vec3{1, -1, 0}, c{1 + a, 1 + a, 1 + h};
+    const auto got = axis_contacts(m, c - half * d, c + half * d, r);
+    ASSERT_EQ(got.size(), 1u) << describe(got);
+    EXPECT_GE(got[0].slot, 5);
+    EXPECT_NEAR(norm(got[0].centre - c), 0.0, 1e-12);
+    EXPECT_NEAR(got[0].gap, std::sqrt(2 * a * a + h * h) - r, 1e-12);
+  }
+  {  // on the top face, over the edge x = 1
+    const Vec3 p0{0.7, 0.5, 1 + r - delta}, p1{1.2, 0.5, 1 + r - delta};
+    const auto got = axis_contacts(m, p0, p1, r);
+    ASSERT_EQ(got.size(), 2u) << describe(got);
+    int ends = 0, middles = 0;
+    for (const auto& x : got) {
+      EXPECT_NEAR(x.gap, -delta, 1e-12);
+      ends += x.slot < 2;
+      middles += x.slot >= 2 && std::abs(x.centre.x - 1) < 1e-12;
+    }
+    EXPECT_EQ(ends, 1);
+    EXPECT_EQ(middles, 1);
+  }
+}
+
+// Random rods near a bumpy height field and near a cube against the brute force: every contact
+// in the middle of the axis is a local minimum of the distance from the axis to the surface
+// (sampled at +-1e-4 of the axis), at the surface's distance, and every clear minimum inside the
+// axis (found by sampling 1000 points and refining, deeper than 1e-6 and not within 1 % of an end)
+// is one contact, once; every end sphere's contact is one of the surface's contacts with that
+// sphere, present exactly when it lies on a flat part or the distance does not decrease into the
+// axis.
+TEST(TriangleMeshCapsule, RandomRodsAgainstBruteForce) {
+  struct Surface {
+    TriangleMesh mesh;
+    Vec3 lo, hi;
+  };
+  const std::vector<Surface> surfaces{{bumpy(6, 0.15, 31), {-0.1, -0.1, -0.05}, {1.1, 1.1, 0.25}},
+                                      {unit_cube(), {-0.15, -0.15, -0.15}, {1.15, 1.15, 1.15}}};
+  std::mt19937_64 g(24);
+  std::uniform_real_distribution<double> u(0, 1);
+  int failures = 0, n_middle = 0, n_end = 0;
+  std::string first;
+  const auto fail = [&](const std::string& what) {
+    if (failures++ == 0) first = what;
+  };
+  for (const auto& s : surfaces) {
+    const TriangleMesh& m = s.mesh;
+    for (int k = 0; k < 400; ++k) {
+      const Vec3 c{s.lo.x + (s.hi.x - s.lo.x) * u(g), s.lo.y + (s.hi.y - s.lo.y) * u(g),
+                   s.lo.z + (s.hi.z - s.lo.z) * u(g)};
+      const double phi = 2 * M_PI * u(g), ct = 2 * u(g) - 1, st = std::sqrt(1 - ct * ct);
+      const Vec3 a{st * std::cos(phi), st * std::sin(phi), ct};
+      const double half = 0.1 + 0.2 * u(g), r = 0.04 + 0.06 * u(g);
+      const Vec3 p0 = c - half * a, p1 = c + half * a;
+      const auto d_at = [&](double t) {
+        return static_cast<double>(union_distance(m, p0 + t * (p1 - p0)));
+      };
+      constexpr int n_s = 1000;
+      std::vector<double> d(n_s + 1);
+      for (int j = 0; j <= n_s; ++j) d[static_cast<std::size_t>(j)] = d_at(double(j) / n_s);
+      // (an axis through the surface is no configuration of a simulation)
+      if (*std::min_element(d.begin(), d.end()) < 2e-3) continue;
+      const auto got = axis_contacts(m, p0, p1, r);
+      // Middle contacts: local minima, at the surface's distance; one per point.
+      std::vector<double> middles;
+      for (const auto& x : got) {
+        if (x.slot < 2) continue;
+        ++n_middle;
+        const double t = dot(x.centre - p0, p1 - p0) / norm2(p1 - p0), dx = d_at(t);
+        const double before = d_at(t - 1e-4), after = d_at(t + 1e-4);
+        // Where the axis leaves a face level or rising (the normal is the face's), the distance
+        // does not decrease on the way out; elsewhere the point is a local minimum.
+        const auto& tr = m.triangles()[static_cast<std::size_t>(x.tri)];
+        const Vec3 nt = normalized(cross(m.points()[static_cast<std::size_t>(tr[1])] -
+                                             m.points()[static_cast<std::size_t>(tr[0])],
+                                         m.points()[static_cast<std::size_t>(tr[2])] -
+                                             m.points()[static_cast<std::size_t>(tr[0])]));
+        const bool exit = norm(cross(x.normal, nt)) < 1e-12;
+        // The contact is one of the local minima of the distance from its centre to the surface;
+        // where it is the only one, the distance along the axis is that to the surface.
+        const auto minima = oracle_minima(m, x.centre, r);
+        bool listed = false;
+        for (const auto& mn : minima)
+          listed = listed || std::abs(static_cast<double>(std::sqrt(mn.d2)) - r - x.gap) < 1e-10;
+        if (!listed || (minima.size() == 1 && (std::abs(x.gap - (dx - r)) > 1e-10 ||
+                                               (exit ? std::max(before, after) < dx - 1e-12
+                                                     : std::min(before, after) < dx - 1e-12))))
+          fail(std::string(exit ? "not an exit: " : "not a local minimum: ") + describe(got) +
+               " (t " + std::to_string(t) + ", distance " + std::to_string(dx) + ", before " +
+               std::to_string(before) + ", after " + std::to_string(after) + ", r " +
+               std::to_string(r) + ")");
+        for (const double t2 : middles)
+          if (std::abs(t2 - t) < 1e-9) fail("counted twice: " + describe(got));
+        middles.push_back(t);
+      }
+      // The brute force's clear minima inside the axis.
+      for (int j = 1; j < n_s; ++j) {
+        const auto ju = static_cast<std::size_t>(j);
+        if (!(d[ju] < d[ju - 1] && d[ju] <= d[ju + 1]) || d[ju] > r) continue;
+        double lo = double(j - 1) / n_s, hi = double(j + 1) / n_s;  // golden-section refinement
+        for (int it = 0; it < 80; ++it) {
+          const double m1 = lo + (hi - lo) * 0.382, m2 = lo + (hi - lo) * 0.618;
+          (d_at(m1) < d_at(m2) ? hi : lo) = d_at(m1) < d_at(m2) ? m2 : m1;
+        }
+        const double t = 0.5 * (lo + hi), dt = d_at(t);
+        if (t < 0.01 || t > 0.99 || dt > r - 1e-6 || d_at(t - 2e-3) < dt + 1e-9 ||
+            d_at(t + 2e-3) < dt + 1e-9)
+          continue;  // near an end, barely touching, or flat
+        int matches = 0;
+        for (const double tm : middles) matches += std::abs(tm - t) < 2e-3;
+        if (matches != 1)
+          fail("minimum at t = " + std::to_string(t) + " found " + std::to_string(matches) +
+               " times: " + describe(got));
+      }
+      // End spheres.
+      for (int end = 0; end < 2; ++end) {
+        const Vec3& e = end == 0 ? p0 : p1;
+        const Vec3 in = normalized(end == 0 ? p1 - p0 : p0 - p1);
+        int want = 0;
+        for (const auto& mn : oracle_minima(m, e, r)) {
+          const Vec3 q{double(mn.q.x), double(mn.q.y), double(mn.q.z)};
+          bool flat = false;  // the foot of a perpendicular on a triangle containing q
+          for (std::size_t t = 0; t < m.size() && !flat; ++t) {
+            Vec3 qt;
+            closest_on_triangle(q, m.points()[static_cast<std::size_t>(m.triangles()[t][0])],
+                                m.points()[static_cast<std::size_t>(m.triangles()[t][1])],
+                                m.points()[static_cast<std::size_t>(m.triangles()[t][2])], qt);
+            const auto& tr = m.triangles()[t];
+            const Vec3 nt = normalized(cross(m.points()[static_cast<std::size_t>(tr[1])] -
+                                                 m.points()[static_cast<std::size_t>(tr[0])],
+                                             m.points()[static_cast<std::size_t>(tr[2])] -
+                                                 m.points()[static_cast<std::size_t>(tr[0])]));
+            flat = norm(qt - q) < 1e-12 && norm(cross(e - q, nt)) < 1e-9;
+          }
+          const double slope = dot(e - q, in);
+          if (!flat && std::abs(slope) < 1e-6 * norm(e - q)) continue;  // too close to call
+          want += flat || slope >= 0;
+        }
+        int have = 0;
+        for (const auto& x : got) have += x.slot == end;
+        n_end += have;
+        if (have != want)
+          fail("end " + std::to_string(end) + ": " + std::to_string(have) + " contacts, want " +
+               std::to_string(want) + ": " + describe(got));
+      }
+    }
+  }
+  std::printf("random rods: %d middle and %d end contacts checked\n", n_middle, n_end);
+  EXPECT_GT(n_middle, 100);
+  EXPECT_GT(n_end, 100);
+  EXPECT_EQ(failures, 0) << "first: " << first;
+}

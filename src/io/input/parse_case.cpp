@@ -1183,11 +1183,6 @@ config::Motion Reader::read_motion(const YamlNode& node) {
 void Reader::read_mesh_wall(const YamlNode& node, config::Wall& w) const {
   if (two_d())
     node.fail("mesh walls are 3D surfaces, not available in 2D (dimension: 2); use plane or box");
-  for (const auto& g : c.particles)
-    if (g.kind != config::Shape::Sphere)
-      node.fail(
-          "mesh walls work with spheres only so far (this case has spherocylinders); use plane, "
-          "box or cylinder walls");
   YamlMap mm(node, {"file", "scale", "offset"});
   const YamlNode file = mm.at("file");
   const std::string given = file.as_string();
