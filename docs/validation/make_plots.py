@@ -159,6 +159,38 @@ with validation_run.validation_run(args.build, "Validation*:AllLaws*:Laws*") as 
     fig.tight_layout()
     fig.savefig(os.path.join(PLOT_DIR, "dem_mesh_walls.png"), dpi=120)
 
+    # Spherocylinders on mesh walls (the same test file).
+    fm = load(os.path.join(out, "mesh_rod_floor_mesh.csv"))
+    fp = load(os.path.join(out, "mesh_rod_floor_plane.csv"))
+    ti = load(os.path.join(out, "mesh_rod_table_in.csv"))
+    to = load(os.path.join(out, "mesh_rod_table_out.csv"))
+    bar = load(os.path.join(out, "mesh_rod_bar.csv"))
+    r_rod = 0.0015
+    fig, ax = plt.subplots(1, 3, figsize=(14, 4))
+    ax[0].plot(fm["x"] * 1e3, fm["y"] * 1e3, "o", ms=3, mfc="none", label="meshed floor (200 triangles)")
+    ax[0].plot(fp["x"] * 1e3, fp["y"] * 1e3, ".", ms=3, label="plane wall")
+    n = min(len(fm), len(fp))
+    dev = np.max(np.hypot(fm["x"][:n] - fp["x"][:n], fm["y"][:n] - fp["y"][:n]))
+    ax[0].set_xlabel("x (mm)")
+    ax[0].set_ylabel("y (mm)")
+    ax[0].set_title("Rod dropped spinning: centre path\n(largest distance mesh-plane %.1e m)" % dev,
+                    fontsize=10)
+    ax[0].legend(fontsize=8)
+    ax[1].plot(ti["t"], ti["z"] * 1e3, "-", label="centre of mass over the table: stays")
+    ax[1].plot(to["t"], to["z"] * 1e3, "-", label="centre of mass beyond the edge: tips off")
+    ax[1].axhline(r_rod * 1e3, color="k", lw=0.8, ls="--", label="resting height r")
+    ax[1].set_ylim(-30, 5)
+    ax[1].set_xlabel("t (s)")
+    ax[1].set_ylabel("centre height (mm)")
+    ax[1].set_title("Rod let go across a table's edge (meshed box)", fontsize=10)
+    ax[1].legend(fontsize=8)
+    ax[2].plot(bar["t"], np.degrees(bar["tilt"]), "-")
+    ax[2].set_xlabel("t (s)")
+    ax[2].set_ylabel("tilt of the axis (degrees)")
+    ax[2].set_title("Rod dropped across a 6 mm bar, 1 mm off centre:\nrests on both edges", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(os.path.join(PLOT_DIR, "dem_mesh_rods.png"), dpi=120)
+
     # Non-spherical grains and Gear (tests/validation/test_shape_validation.cpp).
     fig, ax = plt.subplots(2, 2, figsize=(11, 8))
     a = ax[0, 0]

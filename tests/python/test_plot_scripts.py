@@ -254,7 +254,8 @@ with tempfile.TemporaryDirectory() as TMP:
              script(os.path.join(VALIDATION, "make_plots.py"), "--out", out("dem"), build),
              out("dem"), ["dem_chung_ooi_test1.png", "dem_restitution.png",
                           "dem_energy_conservation.png", "dem_floor_force.png",
-                          "dem_sliding_rolling.png", "dem_shapes.png", "dem_mesh_walls.png"]),
+                          "dem_sliding_rolling.png", "dem_shapes.png", "dem_mesh_walls.png",
+                          "dem_mesh_rods.png"]),
         ]
     else:
         print(f"note: {VALIDATION_TESTS} not built; the BUILD_DIR modes are not run")
