@@ -95,13 +95,10 @@ TEST(Restart, ContinuesBitIdentically) {
   test::expect_same_state(*r->a, *r->b);
 }
 
-// A rotating mesh wall (a vertical blade of 24 triangles turning about z in the box): the
-// triangles' contact histories (moved between triangles as grains slide across them) and the
-// re-placed vertices continue bit-identically.
-TEST(Restart, MeshWallContinuesBitIdentically) {
-  auto c = settling_case();
-  c.walls.pop_back();  // no paddle
-  c.particles[0].fill->region.min.z = 0.032;
+namespace {
+
+/// A mesh wall: a vertical blade of 24 triangles turning about z in the box at 10 rad/s.
+void add_turning_blade(config::Case& c) {
   std::vector<Vec3> pts;
   std::vector<std::array<int, 3>> tris;
   for (int j = 0; j <= 3; ++j)
@@ -117,6 +114,18 @@ TEST(Restart, MeshWallContinuesBitIdentically) {
   c.walls.back().motion.axis = {0, 0, 1};
   c.walls.back().motion.center = {0.025, 0.025, 0};
   c.walls.back().motion.rate = 10;
+}
+
+}  // namespace
+
+// A rotating mesh wall (a vertical blade of 24 triangles turning about z in the box): the
+// triangles' contact histories (moved between triangles as grains slide across them) and the
+// re-placed vertices continue bit-identically.
+TEST(Restart, MeshWallContinuesBitIdentically) {
+  auto c = settling_case();
+  c.walls.pop_back();  // no paddle
+  c.particles[0].fill->region.min.z = 0.032;
+  add_turning_blade(c);
   const auto r = run_restarted(c, "mesh", 3000, 2000);
   EXPECT_GT(norm(r->a->walls().back().force), 0.0);  // the grains reached the blade
   test::expect_same_state(*r->a, *r->b);
@@ -133,21 +142,7 @@ TEST(Restart, MeshWallWithRodsContinuesBitIdentically) {
   f.count = 60;
   f.seed = 12;
   f.velocity_jitter = 0.2;
-  std::vector<Vec3> pts;
-  std::vector<std::array<int, 3>> tris;
-  for (int j = 0; j <= 3; ++j)
-    for (int i = 0; i <= 4; ++i) pts.push_back({0.008 + 0.0085 * i, 0.025, 0.01 * j});
-  for (int j = 0; j < 3; ++j)
-    for (int i = 0; i < 4; ++i) {
-      const int a = j * 5 + i;
-      tris.push_back({a, a + 1, a + 6});
-      tris.push_back({a, a + 6, a + 5});
-    }
-  test::add_mesh(c, "blade", pts, tris, "steel");
-  c.walls.back().motion.rotates = true;
-  c.walls.back().motion.axis = {0, 0, 1};
-  c.walls.back().motion.center = {0.025, 0.025, 0};
-  c.walls.back().motion.rate = 10;
+  add_turning_blade(c);
   const auto r = run_restarted(c, "mesh_rods", 6000, 3000);
   EXPECT_GT(norm(r->a->walls().back().force), 0.0);  // the rods reached the blade
   test::expect_same_state(*r->a, *r->b);
