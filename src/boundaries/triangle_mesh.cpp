@@ -239,6 +239,7 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int,
   // triangles whose planes agree to 1e-3 rad and that lie on either side of it; a vertex whose
   // edges are all flat.
   edge_flat_.assign(3 * tris_.size(), 0);
+  flat_partner_.assign(3 * tris_.size(), -1);
   for (std::size_t s = 0; s + 1 < uses.size(); ++s) {
     const EdgeUse& e0 = uses[s];
     const EdgeUse& e1 = uses[s + 1];
@@ -254,9 +255,13 @@ TriangleMesh::TriangleMesh(std::vector<Vec3> points, std::vector<std::array<int,
       return points0_[static_cast<std::size_t>(
           tris_[static_cast<std::size_t>(e.tri)][static_cast<std::size_t>((e.k + 2) % 3)])];
     };
-    if (dot(cross(along, opposite(e0) - u), cross(along, opposite(e1) - u)) < 0)
-      edge_flat_[3 * static_cast<std::size_t>(e0.tri) + static_cast<std::size_t>(e0.k)] =
-          edge_flat_[3 * static_cast<std::size_t>(e1.tri) + static_cast<std::size_t>(e1.k)] = 1;
+    if (dot(cross(along, opposite(e0) - u), cross(along, opposite(e1) - u)) < 0) {
+      const std::size_t a = 3 * static_cast<std::size_t>(e0.tri) + static_cast<std::size_t>(e0.k);
+      const std::size_t b = 3 * static_cast<std::size_t>(e1.tri) + static_cast<std::size_t>(e1.k);
+      edge_flat_[a] = edge_flat_[b] = 1;
+      flat_partner_[a] = e1.tri;
+      flat_partner_[b] = e0.tri;
+    }
   }
   vertex_flat_.assign(points0_.size(), 1);
   for (std::size_t t = 0; t < tris_.size(); ++t)
@@ -525,6 +530,46 @@ bool TriangleMesh::capsule_near(std::int32_t tri, const Vec3& p0, const Vec3& p1
   return !((h0 >= lim && h1 >= lim) || (h0 <= -lim && h1 <= -lim));
 }
 
+Vec3 TriangleMesh::edge_out(std::int32_t tri, int k) const {
+  const auto tu = static_cast<std::size_t>(tri);
+  const auto& tr = tris_[tu];
+  const auto ku = static_cast<std::size_t>(k);
+  const Vec3& u0 = points_[static_cast<std::size_t>(tr[ku])];
+  Vec3 out = cross(points_[static_cast<std::size_t>(tr[(ku + 1) % 3])] - u0, normals_[tu]);
+  if (dot(out, points_[static_cast<std::size_t>(tr[(ku + 2) % 3])] - u0) > 0) out = -1.0 * out;
+  return out;
+}
+
+double TriangleMesh::flat_run(std::int32_t tri, const Vec3& p0, const Vec3& axis, double s, int dir,
+                              double cap) const {
+  const double len = norm(axis);
+  const double end = dir > 0 ? 1.0 : 0.0;
+  double run = 0;
+  for (int walk = 0; walk < 64 && tri >= 0; ++walk) {
+    const auto tu = static_cast<std::size_t>(tri);
+    if (normals_[tu] == Vec3{}) return run;
+    // The first side of the prism the axis crosses going on (a convex prism: the nearest).
+    int k_exit = -1;
+    double s_exit = end;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 out = edge_out(tri, k);
+      const double den = dot(axis, out);
+      if (!(dir * den > 0)) continue;
+      const Vec3& u0 = points_[static_cast<std::size_t>(tris_[tu][static_cast<std::size_t>(k)])];
+      const double sk = dot(u0 - p0, out) / den;
+      if (dir * sk < dir * s_exit) {
+        s_exit = sk;
+        k_exit = k;
+      }
+    }
+    run += std::max(0.0, dir * (s_exit - s)) * len;
+    if (run >= cap || k_exit < 0) return std::min(run, cap);  // (k_exit < 0: the axis ends here)
+    s = s_exit;
+    tri = flat_partner_[3 * tu + static_cast<std::size_t>(k_exit)];  // -1: not flat, stop
+  }
+  return std::min(run, cap);
+}
+
 TriangleMesh::EdgeExit TriangleMesh::edge_exit(std::int32_t tri, int k, const Vec3& p0,
                                                const Vec3& axis) const {
   EdgeExit e;
@@ -534,31 +579,50 @@ TriangleMesh::EdgeExit TriangleMesh::edge_exit(std::int32_t tri, int k, const Ve
   const auto& tr = tris_[tu];
   const auto ku = static_cast<std::size_t>(k);
   const Vec3& u0 = points_[static_cast<std::size_t>(tr[ku])];
-  Vec3 out = cross(points_[static_cast<std::size_t>(tr[(ku + 1) % 3])] - u0, n);
-  if (dot(out, points_[static_cast<std::size_t>(tr[(ku + 2) % 3])] - u0) > 0) out = -1.0 * out;
+  const Vec3 out = edge_out(tri, k);
   const double den = dot(axis, out);
   if (den == 0) return e;
   e.s = dot(u0 - p0, out) / den;
   const double h = dot(p0 + e.s * axis - u0, n);
   e.leaves = e.s > 0 && e.s < 1;
   e.rising = h * den >= 0 ? dot(axis, n) >= 0 : dot(axis, n) <= 0;
+  e.inward = den > 0 ? -1 : 1;
   return e;
 }
 
 bool TriangleMesh::capsule_contact(std::int32_t tri, int slot, const Vec3& p0, const Vec3& p1,
-                                   double r, Vec3& centre, Vec3& normal, double& gap) const {
+                                   double r, Vec3& centre, Vec3& normal, double& gap,
+                                   double& weight) const {
   const auto tu = static_cast<std::size_t>(tri);
   const auto& tr = tris_[tu];
   const Vec3& n = normals_[tu];
+  weight = 1;
   if (!capsule_near(tri, p0, p1, r)) return false;
   const Vec3 axis = p1 - p0;
+  if (!(norm2(axis) > 0)) {  // a sphere: its one end
+    if (slot != 0) return false;
+    centre = p0;
+    return sphere_contact(tri, centre, r, normal, gap);
+  }
   if (slot < 2) {  // an end sphere
     centre = slot == 0 ? p0 : p1;
     if (!sphere_contact(tri, centre, r, normal, gap)) return false;
     Vec3 q;
     const TriangleFeature f = closest(tri, centre, q);
-    return flat(tri, f) || face_like(tri, centre, q) ||
-           end_is_minimum(centre, q, slot == 0 ? axis : p0 - p1);
+    if (end_is_minimum(centre, q, slot == 0 ? axis : p0 - p1)) return true;
+    // Over a face (of this triangle, or of one that shares the point: the end exactly above an
+    // edge that a side face owns), the distance decreasing into the axis: counted as on a
+    // plane, by the length of the axis over the flat part that holds it (up to r).
+    std::int32_t face = flat(tri, f) || face_like(tri, centre, q) ? tri : -1;
+    for (std::int32_t j = touch_start_[tu]; face < 0 && j < touch_start_[tu + 1]; ++j) {
+      const std::int32_t o = touch_tris_[static_cast<std::size_t>(j)];
+      Vec3 qo;
+      closest(o, centre, qo);
+      if (norm(qo - q) <= eps_ && face_like(o, centre, qo)) face = o;
+    }
+    if (face < 0) return false;
+    weight = flat_run(face, p0, axis, slot == 0 ? 0.0 : 1.0, slot == 0 ? 1 : -1, r) / r;
+    return weight > 0;
   }
   // The axis point nearest to edge k or vertex k.
   const bool edge = slot < 5;
@@ -583,6 +647,10 @@ bool TriangleMesh::capsule_contact(std::int32_t tri, int slot, const Vec3& p0, c
     const double dist = std::abs(h);
     if (!(t >= 0 && t < 1) || !(dist < r) || !(dist > 0)) return false;
     if (!owns(tri, feature, 0, c, q, /*shared=*/false)) return false;
+    // By the length of the axis over the flat part it leaves (up to r), so that the contact
+    // grows from nothing as an end moves onto a face (where the end's own contact already is).
+    weight = flat_run(tri, p0, axis, s_leave, exit.inward, r) / r;
+    if (!(weight > 0)) return false;
     centre = c;
     normal = h > 0 ? n : -1.0 * n;
     gap = dist - r;
@@ -601,10 +669,24 @@ bool TriangleMesh::capsule_contact(std::int32_t tri, int slot, const Vec3& p0, c
     if (!(sc.s > 0 && sc.s < 1 && sc.t > 0 && sc.t < 1)) return false;
     s = sc.s;
   } else {
-    const double a2 = norm2(axis);
-    if (!(a2 > 0)) return false;
-    s = dot(points_[static_cast<std::size_t>(tr[static_cast<std::size_t>(k)])] - p0, axis) / a2;
+    const int v = tr[static_cast<std::size_t>(k)];
+    const Vec3& pv = points_[static_cast<std::size_t>(v)];
+    s = dot(pv - p0, axis) / norm2(axis);
     if (!(s > 0 && s < 1)) return false;
+    // An axis along an edge of the corner (a rod lying along a ridge over one of its vertices)
+    // rests on its ends, not on the vertex.
+    for (std::int32_t j = touch_start_[tu] - 1; j < touch_start_[tu + 1]; ++j) {
+      const std::int32_t o = j < touch_start_[tu] ? tri : touch_tris_[static_cast<std::size_t>(j)];
+      const auto& to = tris_[static_cast<std::size_t>(o)];
+      for (int ko = 0; ko < 3; ++ko) {
+        const auto kou = static_cast<std::size_t>(ko);
+        if (to[kou] != v && to[(kou + 1) % 3] != v) continue;
+        if (edge_flat_[3 * static_cast<std::size_t>(o) + kou] != 0) continue;
+        const Vec3 e = points_[static_cast<std::size_t>(to[(kou + 1) % 3])] -
+                       points_[static_cast<std::size_t>(to[kou])];
+        if (!(norm2(cross(axis, e)) > 1e-18 * norm2(axis) * norm2(e))) return false;
+      }
+    }
   }
   centre = p0 + s * axis;
   Vec3 q;
@@ -629,7 +711,10 @@ bool TriangleMesh::capsule_contact(std::int32_t tri, int slot, const Vec3& p0, c
                   ob = to[static_cast<std::size_t>((ko + 1) % 3)];
         if (!((oa == va && ob == vb) || (oa == vb && ob == va))) continue;
         const EdgeExit other = edge_exit(o, ko, p0, axis);
-        if (other.leaves && other.rising) return false;
+        Vec3 c2, n2;
+        double g2 = 0, w2 = 0;
+        if (other.leaves && other.rising && capsule_contact(o, 2 + ko, p0, p1, r, c2, n2, g2, w2))
+          return false;
       }
     }
   }

@@ -32,27 +32,38 @@
 // spheres of radius r at chosen points of the axis, at most eight per triangle, each owned as a
 // sphere's (above), so that no touch is counted twice:
 // - the two end spheres (slots 0 and 1), as on a plane wall (capsule.hpp): a grain lying on a
-//   flat part touches it at both ends, whatever the triangles under it. An end whose closest
-//   point is on a face, a flat edge or vertex (two triangles in one plane to 1e-3 rad on either
-//   side of it), or is the foot of the perpendicular on the triangle's plane, always counts; one
-//   whose closest point is on a convex edge or corner counts only if the distance to the surface
-//   does not decrease from it into the axis (otherwise the minimum lies inside);
+//   flat part touches it at both ends, whatever the triangles under it. An end counts fully
+//   where the distance to the surface does not decrease from it into the axis (the lower end of
+//   a tilted rod, the ends of a level one); an end over a face (its closest point on a face, a
+//   flat edge or vertex: two triangles in one plane to 1e-3 rad on either side, or the foot of
+//   the perpendicular on a neighbour's plane) where the distance decreases into the axis (the
+//   higher end of a tilted rod) counts with the weight l / r, l the length of the axis over the
+//   flat part it lies over (up to r); an end beyond a convex edge or corner where the distance
+//   decreases into the axis does not count (the minimum lies inside);
 // - at an edge k of the triangle that is not flat (slot 2 + k), one of two points of the axis:
 //   where the axis, going out of the triangle's prism across that edge, gets closer to the
 //   triangle's plane (it dips beyond a ridge, a lifter's edge, a box's edge), the point of the
 //   axis closest to the edge: a local minimum of the distance along the axis, which counts if
 //   it lies strictly inside the axis and the edge, the triangle's closest point to it is on that
-//   edge, the triangle owns it (at a concave edge the faces are closer and hold the grain) and no
-//   end has its own minimum there (an axis nearly parallel to a ridge rests on its ends; an axis
-//   parallel to the edge, sine below 1e-9, gets none). Where the axis leaves level or rising, the
-//   point where it crosses the prism's side over the edge: the end of the part of the axis that
-//   lies over the face, which, as an end on a plane, counts whether or not the distance is least
-//   there; so a grain lying across a box's top, or tilted over it, rests on both edges it
-//   crosses, as on a plane it rests on both ends. The two points coincide for an axis parallel
-//   to the face: the contact moves from one to the other continuously as the grain tilts;
+//   edge, the triangle owns it (at a concave edge the faces are closer and hold the grain), no
+//   neighbour across the edge takes the crossing below, and no end has its own minimum there (an
+//   axis nearly parallel to a ridge rests on its ends; an axis parallel to the edge, sine below
+//   1e-9, gets none). Where the axis leaves level or rising, the point where it crosses the
+//   prism's side over the edge: the end of the part of the axis that lies over the face, which,
+//   as an end on a plane, counts whether or not the distance is least there, with the weight
+//   l / r of that part's length (up to r); so a grain lying across a box's top, or tilted over
+//   it, rests on both edges it crosses, as on a plane it rests on both ends. The two points
+//   coincide for an axis parallel to the face: the contact moves from one to the other
+//   continuously as the grain tilts;
 // - at a corner that is not flat (5 + k, vertex k): the point of the axis closest to it, on the
-//   same terms as the closest point to an edge.
-// Edges that meet other triangles at a T-junction count as rims, not as flat.
+//   same terms as the closest point to an edge (none for an axis along one of its edges).
+// The weights make the contacts change continuously as a grain moves: an end sliding onto a
+// face over an edge, or the free end of a rod across a ridge reaching the far face, brings its
+// contact in from nothing. A weight w scales the contact's force (and its mass share, so that
+// its damping ratio is that of a full contact). Limits: edges at T-junctions, edges of three or
+// more triangles and edges next to zero-area triangles count as rims, not as flat, so a rod
+// lying across such an edge of a flat part can get contacts there as at a convex edge; flat
+// means within 1e-3 rad, so convex edges flatter than that hold no middle contact (the ends do).
 // The axis point of an edge contact is computed with the edge in one orientation (lower vertex
 // index first), so that the triangles sharing the edge ask about the same point.
 #pragma once
@@ -118,8 +129,11 @@ class TriangleMesh {
   /// edge k, 5 + k against vertex k; false when it is not this triangle's or is apart. `centre`:
   /// the axis point that carries it (the contact of a sphere of radius r there); `normal` and
   /// `gap` as for sphere_contact.
+  /// `weight` in (0, 1]: the share of a full contact (1 but for a face's contact where the
+  /// distance is not least, which grows with the length of the axis over the face, see the
+  /// file comment).
   bool capsule_contact(std::int32_t tri, int slot, const Vec3& p0, const Vec3& p1, double r,
-                       Vec3& centre, Vec3& normal, double& gap) const;
+                       Vec3& centre, Vec3& normal, double& gap, double& weight) const;
   /// False when the whole axis p0-p1 is farther than r from the plane of `tri` (no slot of
   /// capsule_contact touches): a cheap test for the entries of a wall list.
   bool capsule_near(std::int32_t tri, const Vec3& p0, const Vec3& p1, double r) const;
@@ -156,7 +170,14 @@ class TriangleMesh {
   struct EdgeExit {
     double s = 0;
     bool leaves = false, rising = false;
+    int inward = 1;  ///< the sense of s going back into the prism
   };
+  /// The in-plane normal of edge k of `tri`, away from the triangle (not unit).
+  Vec3 edge_out(std::int32_t tri, int k) const;
+  /// Length of the axis p0 + s axis from s in the sense `dir` (+1, -1) that lies over the prism
+  /// of `tri` and of the triangles continuing it across flat edges, up to `cap` (m).
+  double flat_run(std::int32_t tri, const Vec3& p0, const Vec3& axis, double s, int dir,
+                  double cap) const;
   EdgeExit edge_exit(std::int32_t tri, int k, const Vec3& p0, const Vec3& axis) const;
   std::uint64_t cell_key(const Vec3& x) const;
   /// x taken back to the body frame of the vertices at t = 0 (the inverse of the last place()).
@@ -176,8 +197,9 @@ class TriangleMesh {
   bool moving_ = false;
   std::vector<Vec3> normals0_, normals_;  ///< unit normals (zero if degenerate), t = 0 and now
   std::vector<double> bound_radius_;
-  std::vector<char> edge_flat_;       ///< 3 per triangle: edge k is flat (see flat())
-  std::vector<char> vertex_flat_;     ///< per vertex: all its edges are flat
+  std::vector<char> edge_flat_;             ///< 3 per triangle: edge k is flat (see flat())
+  std::vector<std::int32_t> flat_partner_;  ///< 3 per triangle: across a flat edge k, else -1
+  std::vector<char> vertex_flat_;           ///< per vertex: all its edges are flat
   std::vector<double> inverse_edge_;  ///< 3 per triangle: 1 / length of edge k (0: degenerate) ///<
                                       ///< per triangle: largest vertex distance from the centroid
   double eps_ = 0;  ///< 1e-9 of the surface's size: merging, containment and edge tolerance

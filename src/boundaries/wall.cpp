@@ -183,7 +183,8 @@ bool wall_slot_geometry(const Wall& w, std::int32_t element, const contact::Shap
     } else {
       const contact::Capsule c = cap != nullptr ? *cap : s->capsule(i, x);
       r = c.radius;
-      if (!w.mesh.capsule_contact(element, slot, c.end0(), c.end1(), r, centre, g.normal, gap))
+      if (!w.mesh.capsule_contact(element, slot, c.end0(), c.end1(), r, centre, g.normal, gap,
+                                  g.force_scale))
         return false;
     }
     if (gap >= 0) return false;
@@ -205,7 +206,10 @@ bool wall_slot_geometry(const Wall& w, std::int32_t element, const contact::Shap
     g.r_eff = req;
     return true;
   }
+  // (slots beyond the two ends exist for mesh walls only; a capsule of no length has one end)
+  if (slot > 1) return false;
   const contact::Capsule c = cap != nullptr ? *cap : s->capsule(i, x);
+  if (slot == 1 && !(c.half_length > 0)) return false;
   if (w.kind == WallKind::Cylinder && !w.inside) {
     contact::ShapeContact out[2];
     if (slot != 0 || contact::capsule_cylinder_wall(c, w.point, w.dir, w.radius, false, out) == 0)
@@ -459,7 +463,7 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
           if (!on[at(k, slot)] || history[su * ku + static_cast<std::size_t>(slot)] != Vec3{})
             continue;
           const WallGeometry& g = geo[at(k, slot)];
-          const Vec3 q = g.point - 0.5 * g.overlap * g.normal;
+          const Vec3 q = g.point + 0.5 * g.overlap * g.normal;  // on the wall's surface
           std::size_t donor = 0;
           bool found = false;
           double nearest = std::numeric_limits<double>::infinity();
@@ -469,7 +473,9 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
             double d = -1;
             for (int sj = 0; sj < slots; ++sj) {
               const std::size_t hj = su * ju + static_cast<std::size_t>(sj);
-              if ((slot < 2 ? sj != slot : sj < 2) || on[at(j, sj)] || history[hj] == Vec3{})
+              // (one end's contact never passes to the other end; a contact moves between an
+              // end and the middle of the axis where an end slides over an edge)
+              if ((slot < 2 && sj < 2 && sj != slot) || on[at(j, sj)] || history[hj] == Vec3{})
                 continue;
               if (d < 0) d = w.mesh.distance(entries[ju].element, q);
               if (d < nearest) {
@@ -490,10 +496,10 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
     // that push the same way, so that a flat impact has the damping, and hence the restitution,
     // that the law was given for one contact (a spherocylinder lying flat: half at each end).
     // Plane and cylinder walls: the number of touching slots. Meshes: 1 + the sum of the
-    // positive cosines n . n_j to the grain's other contacts with the mesh, which gives two
-    // contacts at an angle theta the damping ratio of one for a push along their bisector
-    // (stiffness and damping both scale as 1 + cos theta), and leaves contacts at right angles
-    // (a corner) independent.
+    // positive cosines n . n_j to the grain's other contacts with the mesh (each times its
+    // weight, see TriangleMesh::capsule_contact), which gives two contacts at an angle theta the
+    // damping ratio of one for a push along their bisector (stiffness and damping both scale as
+    // 1 + cos theta), and leaves contacts at right angles (a corner) independent.
     thread_local std::vector<std::size_t> touching_mesh;  // (indices into geo)
     touching_mesh.clear();
     if (any_mesh)
@@ -514,7 +520,7 @@ std::int64_t generic_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
       for (const std::size_t a : touching_mesh)
         if (a != at(k, slot) &&
             entries[static_cast<std::size_t>(k_lo) + a / su].wall == entries[ku].wall)
-          sum += std::max(0.0, dot(n, geo[a].normal));
+          sum += geo[a].force_scale * std::max(0.0, dot(n, geo[a].normal));
       return sum;
     };
     for (std::int64_t k = k_lo; k < k_hi; ++k) {

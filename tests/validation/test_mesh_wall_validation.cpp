@@ -213,10 +213,11 @@ constexpr double rod_r = 0.0015, rod_l = 0.009;
 
 // A spherocylinder dropped nearly flat, spinning, onto a meshed floor (1 cm squares of two
 // triangles, the rod 12 mm long: its ends cross triangle edges while it slides and turns) and
-// onto the plane: the same motion. On both its contacts are its end spheres; each end's contact
-// moves from triangle to triangle with its history, and the two ends share the grain's mass on
-// the mesh as on the plane (normals parallel), so the runs differ by the order in which the two
-// end forces are added (rounding) only: 1e-9 of the distances moved allows 1e5 ulps.
+// onto the plane (with a mesh wall elsewhere): the same motion. On both its contacts are its end
+// spheres; each end's contact moves from triangle to triangle with its history, and the two ends
+// share the grain's mass on the mesh as on the plane (normals parallel), so the runs differ by the
+// order in which the two end forces are added (rounding) only: 1e-9 of the distances moved allows
+// 1e5 ulps.
 TEST(ValidationMeshWall, RodDroppedOnAMeshedFloorMovesAsOnThePlane) {
   const double T = 0.15;
   auto run = [&](bool mesh) {
@@ -233,7 +234,11 @@ TEST(ValidationMeshWall, RodDroppedOnAMeshedFloorMovesAsOnThePlane) {
       add_grid(pts, tris, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, -0.05, 0.05, -0.05, 0.05, 10, 10);
       test::add_mesh(c, "floor", pts, tris, "steel");
     } else {
+      // (and a mesh wall far away: the wall list then has the mesh's eight slots per entry,
+      // of which a plane must use the two ends only)
       test::add_plane(c, "floor", {0, 0, 0}, {0, 0, 1}, "steel");
+      test::add_mesh(c, "far", {{0.05, 0.05, 0.04}, {0.06, 0.05, 0.04}, {0.05, 0.06, 0.04}},
+                     {{0, 1, 2}}, "steel");
     }
     Simulation sim(c);
     test::Dump trace(mesh ? "mesh_rod_floor_mesh" : "mesh_rod_floor_plane", "t,x,y,z,wz");
