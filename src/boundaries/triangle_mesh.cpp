@@ -364,6 +364,29 @@ double TriangleMesh::distance(std::int32_t tri, const Vec3& x) const {
   return norm(x - q);
 }
 
+double TriangleMesh::segment_distance(std::int32_t tri, const Vec3& p0, const Vec3& p1) const {
+  // The least distance is at an end of the segment, between the segment and an edge, or zero
+  // where the segment crosses the triangle.
+  const auto tu = static_cast<std::size_t>(tri);
+  const auto& tr = tris_[tu];
+  double d = std::min(distance(tri, p0), distance(tri, p1));
+  for (int k = 0; k < 3; ++k) {
+    const contact::SegmentClosest sc = contact::closest_points_segments(
+        p0, p1, points_[static_cast<std::size_t>(tr[static_cast<std::size_t>(k)])],
+        points_[static_cast<std::size_t>(tr[static_cast<std::size_t>((k + 1) % 3)])]);
+    d = std::min(d, std::sqrt(sc.dist2));
+  }
+  const Vec3& n = normals_[tu];
+  const Vec3& a = points_[static_cast<std::size_t>(tr[0])];
+  const double h0 = dot(p0 - a, n), h1 = dot(p1 - a, n);
+  if (n != Vec3{} && ((h0 < 0 && h1 > 0) || (h0 > 0 && h1 < 0))) {
+    const Vec3 x = p0 + (h0 / (h0 - h1)) * (p1 - p0);
+    Vec3 q;
+    if (closest(tri, x, q) == TriangleFeature::Face) return 0;
+  }
+  return d;
+}
+
 TriangleFeature TriangleMesh::closest(std::int32_t tri, const Vec3& x, Vec3& q,
                                       double* margin) const {
   const auto tu = static_cast<std::size_t>(tri);

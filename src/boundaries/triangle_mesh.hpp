@@ -137,6 +137,8 @@ class TriangleMesh {
   /// False when the whole axis p0-p1 is farther than r from the plane of `tri` (no slot of
   /// capsule_contact touches): a cheap test for the entries of a wall list.
   bool capsule_near(std::int32_t tri, const Vec3& p0, const Vec3& p1, double r) const;
+  /// Distance from the segment [p0, p1] to triangle `tri` (0 where it pierces it).
+  double segment_distance(std::int32_t tri, const Vec3& p0, const Vec3& p1) const;
   /// Distance from x to triangle `tri` (current vertices).
   double distance(std::int32_t tri, const Vec3& x) const;
 

@@ -86,7 +86,8 @@ SurfaceMesh Wall::surface(const Domain& domain) const {
 }
 
 void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const double* r,
-                            std::size_t n, double skin, std::span<const std::int64_t> perm) {
+                            std::size_t n, double skin, std::span<const std::int64_t> perm,
+                            const Vec3* half_axis) {
   old_entries_.swap(entries_);
   old_history_.swap(history_);
   entries_.clear();
@@ -101,8 +102,16 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
       if (walls[w].kind == WallKind::Mesh) {
         const TriangleMesh& mesh = walls[w].mesh;
         const auto [lo, hi] = mesh.candidates(x[i]);
-        for (const std::int32_t* t = lo; t != hi; ++t)
-          if (mesh.distance(*t, x[i]) - r[i] < skin) entries_.push_back({ii, ww, *t});
+        const Vec3 h = half_axis != nullptr ? half_axis[i] : Vec3{};
+        if (h == Vec3{}) {
+          for (const std::int32_t* t = lo; t != hi; ++t)
+            if (mesh.distance(*t, x[i]) - r[i] < skin) entries_.push_back({ii, ww, *t});
+        } else {
+          const double r_cap = r[i] - norm(h);
+          for (const std::int32_t* t = lo; t != hi; ++t)
+            if (mesh.segment_distance(*t, x[i] - h, x[i] + h) - r_cap < skin)
+              entries_.push_back({ii, ww, *t});
+        }
         continue;
       }
       Vec3 nrm;

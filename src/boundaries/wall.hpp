@@ -142,9 +142,12 @@ class WallContactList {
   /// Pairs with a gap below the skin (a mesh wall: one entry per triangle within the skin, in
   /// increasing order). `perm` maps new particle indices to those of the previous
   /// build (empty: unchanged order), so that histories follow re-ordered particles. `r` is the
-  /// bounding radius.
+  /// bounding radius. `half_axis` (optional): h u of each spherocylinder (zero for round grains),
+  /// so that a mesh's triangles are listed by their distance from the axis (r - h the cap
+  /// radius) rather than from the bounding sphere: the skin then bounds the move of any point of
+  /// the axis, which the rebuild criterion for spherocylinders (their ends' moves) guarantees.
   void build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n,
-             double skin, std::span<const std::int64_t> perm = {});
+             double skin, std::span<const std::int64_t> perm = {}, const Vec3* half_axis = nullptr);
   /// Contacts per entry (1 for spheres and disks; 2 when spherocylinders are present: one per end,
   /// see contact/geometry/capsule.hpp), each with its own tangential history. Set before build().
   void set_slots(int slots) { slots_ = slots; }

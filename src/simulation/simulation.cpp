@@ -196,6 +196,7 @@ void Simulation::build_particles() {
     return w.kind == config::Wall::Kind::Mesh;
   });
   if (capsules) wlist_.set_slots(mesh_walls ? TriangleMesh::capsule_slots : 2);
+  has_mesh_walls_ = mesh_walls;
   has_capsules_ = capsules;
 
   std::vector<FilledSphere> placed;
@@ -473,6 +474,15 @@ void Simulation::build_pair_gaps() {
   });
 }
 
+const Vec3* Simulation::wall_half_axes() {
+  if (!has_capsules_ || !has_mesh_walls_) return nullptr;
+  const auto& p = particles_;
+  half_axes_.resize(p.size());
+  for (std::size_t i = 0; i < p.size(); ++i)
+    half_axes_[i] = p.half_length()[i] * capsule_axis_of(p.orientation()[i]);
+  return half_axes_.data();
+}
+
 bool Simulation::capsule_ends_moved() const {
   // A point of a capsule's axis moves by a convex combination of the moves of its two ends, so
   // if both ends moved less than skin/2, no pair left out of the list can have come into
@@ -521,7 +531,7 @@ void Simulation::update_neighbors(bool force) {
     // Since the last full build every particle moved less than skin/2, so until the next one it
     // moves less than skin relative to now; with the walls' skin/2, a pair further apart than
     // 1.5 skin now cannot touch before the next rebuild.
-    wlist_.build(walls_, particles_.x(), particles_.radius(), n, 1.5 * skin_);
+    wlist_.build(walls_, particles_.x(), particles_.radius(), n, 1.5 * skin_, {}, wall_half_axes());
     for (std::size_t w = 0; w < walls_.size(); ++w) {
       wall_point_at_build_[w] = walls_[w].point;
       wall_dir_at_build_[w] = walls_[w].dir;
@@ -556,7 +566,7 @@ void Simulation::update_neighbors(bool force) {
       axis_ref_[i] = particles_.half_length()[i] * capsule_axis_of(particles_.orientation()[i]);
     build_pair_gaps();
   }
-  wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_, perm);
+  wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_, perm, wall_half_axes());
   wall_point_at_build_.resize(walls_.size());
   wall_dir_at_build_.resize(walls_.size());
   for (std::size_t w = 0; w < walls_.size(); ++w) {

@@ -150,6 +150,9 @@ class Simulation {
   void update_neighbors(bool force);
   /// Whether an end of some spherocylinder moved more than skin/2 since the last build.
   bool capsule_ends_moved() const;
+  /// h u of every grain now when spherocylinders meet mesh walls (the wall list then lists
+  /// triangles by their distance from the axes), else null.
+  const Vec3* wall_half_axes();
   /// pair_gap_ of the list just built (capsules; cleared between Lees-Edwards images).
   void build_pair_gaps();
   /// Target force of servo wall w: pressure x the current area between its span walls, N.
@@ -176,7 +179,9 @@ class Simulation {
   std::int64_t n_contacts_ = 0, n_wall_contacts_ = 0;
   bool two_d_ = false;  ///< dimension: 2 (grains in z = 0, rotation about z)
   bool has_capsules_ = false;
-  std::vector<Vec3> axis_ref_;  ///< h * axis of each grain at the last build (capsules)
+  std::vector<Vec3> axis_ref_;   ///< h * axis of each grain at the last build (capsules)
+  std::vector<Vec3> half_axes_;  ///< h * axis now, for the wall list (capsules with mesh walls)
+  bool has_mesh_walls_ = false;
   /// Capsules (no Lees-Edwards): per list entry, the axes' distance at the last build less the
   /// radii; per grain, the largest move of an axis end since (contact::PairSkip). Empty: no skip.
   std::vector<double> pair_gap_;

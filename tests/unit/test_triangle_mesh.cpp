@@ -1853,3 +1853,33 @@ TEST(TriangleMeshCapsule, ContactsChangeContinuouslyAsARodSlides) {
     EXPECT_LT(worst, 2e-4) << path.name;
   }
 }
+
+// segment_distance (the wall list's test for spherocylinders) against the distance sampled along
+// the segment: never above the sampled minimum, and below it by no more than the sampling step
+// (the distance is 1-Lipschitz along the segment); zero for a segment piercing a triangle.
+TEST(TriangleMeshCapsule, SegmentDistanceMatchesSampling) {
+  const TriangleMesh m = bumpy(4, 0.3, 41);
+  std::mt19937_64 g(42);
+  std::uniform_real_distribution<double> u(0, 1);
+  int failures = 0;
+  std::string first;
+  constexpr int n_s = 2000;
+  for (int k = 0; k < 300; ++k) {
+    const auto t = static_cast<std::int32_t>(k % static_cast<int>(m.size()));
+    const Vec3 p0{-0.2 + 1.4 * u(g), -0.2 + 1.4 * u(g), -0.3 + 0.9 * u(g)};
+    const Vec3 p1 = p0 + 0.4 * Vec3{u(g) - 0.5, u(g) - 0.5, u(g) - 0.5};
+    const double d = m.segment_distance(t, p0, p1);
+    double sampled = 1e300;
+    for (int j = 0; j <= n_s; ++j)
+      sampled = std::min(sampled, m.distance(t, p0 + (double(j) / n_s) * (p1 - p0)));
+    const double step = norm(p1 - p0) / n_s;
+    if ((d > sampled + 1e-12 || d < sampled - step) && failures++ == 0)
+      first = "triangle " + std::to_string(t) + ": " + std::to_string(d) + " against sampled " +
+              std::to_string(sampled);
+  }
+  EXPECT_EQ(failures, 0) << first;
+  // Through the middle of the flat unit square's first triangle.
+  const TriangleMesh sq = square_grid(1, false);
+  EXPECT_EQ(sq.segment_distance(0, {0.7, 0.2, -0.5}, {0.7, 0.2, 0.5}), 0.0);
+  EXPECT_NEAR(sq.segment_distance(0, {0.7, 0.2, 0.1}, {0.7, 0.2, 0.5}), 0.1, 1e-15);
+}
