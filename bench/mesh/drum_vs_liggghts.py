@@ -178,13 +178,7 @@ def liggghts_input(n: int, fill_steps: int, run_steps: int, curvature: float | N
                                                if curvature >= 360.0 / SEGMENTS else "")
     return f"""\
 # grainflow bench/mesh/drum_vs_liggghts.py: {n} beads in a drum with lifters (STL mesh), 20 rpm
-atom_style granular
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
-units si
-
+{ts.LIGGGHTS_PREAMBLE}
 read_data data.drum
 
 neighbor {F(SKIN)} bin
@@ -629,16 +623,11 @@ def main(argv=None) -> int:
             lines.append("- grainflow stages (summary.json; share of the stages' sum): "
                          + fmt_stages(stages))
         lines += [f"- {t}" for t in notes]
-        if a.note:
-            lines.append(f"- Note: {a.note}")
-        lines += ["", table, "",
-                  f"Cross-check, means over t in [{t_end - a.avg_window:g}, {t_end:g}] s "
-                  f"(samples every {SERIES_EVERY:g} s; grainflow x_cm from particle snapshots "
-                  f"every {SNAPSHOT_EVERY:g} s); the bed's weight is {weight:.3f} N:", "",
-                  cross, ""]
-        with open(a.results, "a") as f:
-            f.write("\n".join(lines))
-        print(f"\nappended to {a.results}")
+        ts.append_section(Path(a.results), lines, a.note, [
+            "", table, "",
+            f"Cross-check, means over t in [{t_end - a.avg_window:g}, {t_end:g}] s "
+            f"(samples every {SERIES_EVERY:g} s; grainflow x_cm from particle snapshots "
+            f"every {SNAPSHOT_EVERY:g} s); the bed's weight is {weight:.3f} N:", "", cross, ""])
     if not a.keep:
         shutil.rmtree(root, ignore_errors=True)
     return 0

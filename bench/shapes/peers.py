@@ -264,13 +264,7 @@ def liggghts_rod_input(n, n_spheres, settle_steps, dense_steps, seed) -> str:
                                  ("wz0", "zplane", 0.0)])
     return f"""\
 # grainflow bench/shapes/peers.py: {n} rods (aspect ratio {R_ASPECT:g}) as chains of {n_spheres} spheres
-atom_style granular
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
-units si
-region domain block 0.0 {F(R_BOX)} 0.0 {F(R_BOX)} 0.0 {F(R_HEIGHT)} units box
+{ts.LIGGGHTS_PREAMBLE}region domain block 0.0 {F(R_BOX)} 0.0 {F(R_BOX)} 0.0 {F(R_HEIGHT)} units box
 create_box 1 domain
 neighbor {F(R_SKIN)} bin
 neigh_modify delay 0
@@ -623,12 +617,7 @@ def main(argv=None) -> int:
                  "- Rate: grains x steps / loop time, counting polygons and rods (not the spheres "
                  "of a chain); gf/peer > 1: grainflow faster"]
         lines += [f"- {t}" for t in notes]
-        if a.note:
-            lines.append(f"- Note: {a.note}")
-        lines += ["", table, ""]
-        with open(a.results, "a") as f:
-            f.write("\n".join(lines))
-        print(f"\nappended to {a.results}")
+        ts.append_section(Path(a.results), lines, a.note, ["", table, ""])
     if not a.keep:
         shutil.rmtree(root, ignore_errors=True)
     return 0

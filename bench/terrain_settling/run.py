@@ -69,6 +69,30 @@ BASELINE_N = 64           # tiny run for the memory baseline (4 x 4 x 4)
 BASELINE_STEPS = 200
 
 
+# The head of every LIGGGHTS input in bench/ (granular atoms, fixed boundaries, SI units).
+LIGGGHTS_PREAMBLE = """\
+atom_style granular
+atom_modify map array
+boundary f f f
+newton off
+communicate single vel yes
+units si
+"""
+
+
+def append_section(path: Path, head: list[str], note: str | None = None,
+                   body: list[str] = ()) -> None:
+    """Appends a dated section to bench/RESULTS.md: its head lines, a `- Note:` line if a note
+    is given, then its body (tables)."""
+    lines = list(head) + ([f"- Note: {note}"] if note else []) + list(body)
+    new = not path.exists()
+    with path.open("a") as f:
+        if new:
+            f.write("# Benchmark results\n\nAppended by the scripts under bench/; newest last.\n")
+        f.write("\n".join(lines))
+    print(f"\nappended to {path}")
+
+
 def F(x: float) -> str:
     """A float for input files, always with a decimal point: 0.0105, 10000000.0, 2.0e-05, 0.0."""
     text = f"{float(x):.10g}"
@@ -275,13 +299,7 @@ def liggghts_input(geo: Geometry, settle_steps: int, dense_steps: int, jitter: f
                 "velocity all set v_vx v_vy v_vz\n")
     return f"""\
 # terrain settling benchmark, N = {geo.n} ({geo.n_xy} x {geo.n_xy} x {geo.n_z} simple cubic)
-atom_style granular
-atom_modify map array
-boundary f f f
-newton off
-communicate single vel yes
-units si
-
+{LIGGGHTS_PREAMBLE}
 region domain block 0 {F(L)} 0 {F(L)} 0 {F(H)} units box
 create_box 1 domain
 
@@ -731,7 +749,6 @@ def main(argv=None) -> int:
             {"meta": meta, "rows": rows, "args": vars(args)}, indent=2, default=str))
     if not args.no_record:
         append_results(Path(args.results), meta, args, results, table, gf)
-        print(f"\nappended to {args.results}")
     if not args.keep:
         shutil.rmtree(root, ignore_errors=True)
     return 0
@@ -793,14 +810,7 @@ def append_results(path: Path, meta: dict, args, results: list, table: str, gf) 
                              f"{e.get('coordination_number', float('nan')):.3f}; neighbour builds "
                              f"(settle, dense as reported) {x.get('neighbor_builds')}; "
                              f"summary peak RSS {x.get('summary_peak_rss')}")
-    if args.note:
-        lines.append(f"- Note: {args.note}")
-    lines += ["", table, ""]
-    new = not path.exists()
-    with path.open("a") as f:
-        if new:
-            f.write("# Benchmark results\n\nAppended by the scripts under bench/; newest last.\n")
-        f.write("\n".join(lines))
+    append_section(path, lines, args.note, ["", table, ""])
 
 
 if __name__ == "__main__":
