@@ -245,10 +245,7 @@ def run_liggghts(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) -
         res["why"] = (f"exit {proc.rc}, {len(loops)} loop(s) in log; "
                       + (" | ".join(err[:2]) if err else _tail(proc.stdout + proc.stderr + log)))
         return res
-    frac = (loops[0]["seconds"] + loops[1]["seconds"]) / max(proc.wall, 1e-9)
-    res["phases"] = {ph: {"steps": lp["steps"], "seconds": lp["seconds"], "load": proc.load,
-                          "cpu_share": proc.cpu_share, "loop_fraction": frac}
-                     for ph, lp in zip(("fill", "run"), loops)}
+    res["phases"] = ts.peer_phases(proc, loops, ("fill", "run"))
     res["n_end"] = loops[1]["atoms"]
     rows = {}
     for m in THERMO_RE.finditer(log):
@@ -351,13 +348,10 @@ def run_grainflow(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) 
     for tag in ("fill", "run"):
         restart = None
         if tag == "run":
-            restart = workdir / "fill" / "checkpoint_final.h5"
-            if not restart.exists():
-                c = sorted((workdir / "fill").glob("checkpoint_*.h5"))
-                if not c:
-                    res["why"] = "fill run wrote no checkpoint"
-                    return res
-                restart = c[-1]
+            restart = ts.last_checkpoint(workdir / "fill")
+            if restart is None:
+                res["why"] = "fill run wrote no checkpoint"
+                return res
         proc, s, why = ts._grainflow_one(exe, workdir / f"{tag}.yaml", workdir / tag, 1,
                                          restart, tag, args)
         if why:

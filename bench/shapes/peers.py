@@ -354,10 +354,7 @@ def run_peer(exe, cmd_args, workdir: Path, files: dict, settle_steps, timeout, p
         res["why"] = (f"exit {proc.rc}, {len(loops)} loop(s) in log; "
                       + (" | ".join(err[:2]) if err else _tail(proc.stdout + proc.stderr)))
         return res
-    frac = (loops[0]["seconds"] + loops[1]["seconds"]) / max(proc.wall, 1e-9)
-    res["phases"] = {ph: {"steps": lp["steps"], "seconds": lp["seconds"], "load": proc.load,
-                          "cpu_share": proc.cpu_share, "loop_fraction": frac}
-                     for ph, lp in zip(("settle", "dense"), loops)}
+    res["phases"] = ts.peer_phases(proc, loops, ("settle", "dense"))
     res["atoms"] = loops[1]["atoms"]
     res["neighs"] = [float(x) for x in NEIGH_RE.findall(log)]
     rows = thermo_rows(log)
@@ -390,13 +387,10 @@ def run_gf(exe, workdir: Path, n_settle: int, n_dense: int, dt: float, make_case
     for tag in ("settle", "dense"):
         cmd = [exe, "run", f"{tag}.yaml", "--output", tag, "--overwrite", "--threads", "1"]
         if tag == "dense":
-            ck = workdir / "settle" / "checkpoint_final.h5"
-            if not ck.exists():
-                c = sorted((workdir / "settle").glob("checkpoint_*.h5"))
-                if not c:
-                    res["why"] = "settle run wrote no checkpoint"
-                    return res
-                ck = c[-1]
+            ck = ts.last_checkpoint(workdir / "settle")
+            if ck is None:
+                res["why"] = "settle run wrote no checkpoint"
+                return res
             cmd += ["--restart", str(ck)]
         proc = run_timed(cmd, workdir, f"grainflow_{tag}", timeout)
         sj = workdir / tag / "summary.json"

@@ -93,6 +93,25 @@ def append_section(path: Path, head: list[str], note: str | None = None,
     print(f"\nappended to {path}")
 
 
+def last_checkpoint(folder: Path) -> Path | None:
+    """The checkpoint a later phase restarts from: checkpoint_final.h5, else the last periodic
+    one, else None (the run wrote none)."""
+    final = folder / "checkpoint_final.h5"
+    if final.exists():
+        return final
+    c = sorted(folder.glob("checkpoint_*.h5"))
+    return c[-1] if c else None
+
+
+def peer_phases(proc, loops: list[dict], names: tuple[str, str]) -> dict:
+    """The two timed phases of a peer run (its first two `Loop time` records), with the process's
+    load and CPU share and the share of its wall time spent in the two loops."""
+    frac = (loops[0]["seconds"] + loops[1]["seconds"]) / max(proc.wall, 1e-9)
+    return {ph: {"steps": lp["steps"], "seconds": lp["seconds"], "load": proc.load,
+                 "cpu_share": proc.cpu_share, "loop_fraction": frac}
+            for ph, lp in zip(names, loops)}
+
+
 def F(x: float) -> str:
     """A float for input files, always with a decimal point: 0.0105, 10000000.0, 2.0e-05, 0.0."""
     text = f"{float(x):.10g}"
@@ -497,13 +516,10 @@ def run_grainflow(exe: str | None, geo: Geometry, settle_steps: int, dense_steps
     if why:
         res["why"] = "settle run: " + why
         return res
-    ckpt = workdir / "settle" / "checkpoint_final.h5"
-    if not ckpt.exists():
-        cands = sorted((workdir / "settle").glob("checkpoint_*.h5"))
-        if not cands:
-            res["why"] = "settle run wrote no checkpoint"
-            return res
-        ckpt = cands[-1]
+    ckpt = last_checkpoint(workdir / "settle")
+    if ckpt is None:
+        res["why"] = "settle run wrote no checkpoint"
+        return res
     p2, s2, why = _grainflow_one(exe, workdir / "dense.yaml", workdir / "dense", threads,
                                  ckpt, "dense", args)
     if why:
