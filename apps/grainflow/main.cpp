@@ -11,9 +11,11 @@
 #endif
 #include <filesystem>
 #include <iostream>
+#include <span>
 #include <string>
 
 #include "contact/registry.hpp"
+#include "continuum/rheology_registry.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/log.hpp"
@@ -21,6 +23,7 @@
 #include "core/version.hpp"
 #include "io/input/parse_case.hpp"
 #include "io/input/validate.hpp"
+#include "simulation/continuum_case.hpp"
 #include "simulation/fem_case.hpp"
 #include "simulation/simulation.hpp"
 #include "simulation/sweep.hpp"
@@ -41,15 +44,34 @@ int list_models() {
   for (const auto& m : gf::contact::model_infos()) fmt::print("  {:<16} {}\n", m.key, m.summary);
   fmt::print("integrators (integrator):\n  {:<16} {}\n", "velocity_verlet",
              "velocity Verlet for translation and rotation (second order, symplectic)");
+  fmt::print("continuum rheologies (continuum.rheology.model):\n");
+  for (const auto& m : gf::continuum::rheology_infos())
+    fmt::print("  {:<16} {}\n", m.key, m.summary);
   fmt::print("\n`grainflow describe <key>` prints a model's equation, reference and parameters.\n");
   return 0;
 }
 
+void print_params(std::span<const gf::ParamSpec> params) {
+  fmt::print("  {:<28} {:<6} {:<10} {:<16} {}\n", "name", "unit", "default", "range", "meaning");
+  for (const auto& p : params)
+    fmt::print("  {:<28} {:<6} {:<10} {:<16} {}\n", p.name, p.unit,
+               p.default_value ? fmt::format("{:.6g}", *p.default_value) : std::string("required"),
+               param_range(p), p.description);
+}
+
 int describe(const std::string& key) {
+  if (const auto* r = gf::continuum::find_rheology(key)) {
+    fmt::print(
+        "{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters (in continuum.rheology):\n",
+        r->key, r->summary, r->equation, r->reference);
+    print_params(r->params);
+    return 0;
+  }
   const auto* m = gf::contact::find_model(key);
   if (!m) {
     std::string keys;
     for (const auto& i : gf::contact::model_infos()) keys += fmt::format(" {}", i.key);
+    for (const auto& i : gf::continuum::rheology_infos()) keys += fmt::format(" {}", i.key);
     fmt::print(stderr, "error: unknown model key '{}'; known keys:{}\n", key, keys);
     return kExitInput;
   }
@@ -57,11 +79,7 @@ int describe(const std::string& key) {
       "{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters (per material pair, in "
       "contacts[]):\n",
       m->key, m->summary, m->equation, m->reference);
-  fmt::print("  {:<28} {:<6} {:<10} {:<16} {}\n", "name", "unit", "default", "range", "meaning");
-  for (const auto& p : m->params)
-    fmt::print("  {:<28} {:<6} {:<10} {:<16} {}\n", p.name, p.unit,
-               p.default_value ? fmt::format("{:.6g}", *p.default_value) : std::string("required"),
-               param_range(p), p.description);
+  print_params(m->params);
   // The restitution -> damping mapping actually used (numerical inversion, restitution_map.hpp).
   const auto kind =
       key == "hooke" ? gf::contact::NormalKind::Linear : gf::contact::NormalKind::Hertz;
@@ -90,6 +108,12 @@ int check(const std::string& file, const std::vector<std::string>& sets) {
   if (const auto fem_cfg = gf::load_fem_case(file, fem_dir, overrides(sets))) {
     fmt::print("{}: OK (fluid_fem case)\n", file);
     for (const auto& [k, v] : gf::fem::describe_case(*fem_cfg)) fmt::print("  {:<40} {}\n", k, v);
+    return 0;
+  }
+  if (const auto cc = gf::load_continuum_case(file, fem_dir, overrides(sets))) {
+    const auto rows = gf::describe_continuum_case(*cc);  // builds the particles: may throw
+    fmt::print("{}: OK (continuum case)\n", file);
+    for (const auto& [k, v] : rows) fmt::print("  {:<52} {}\n", k, v);
     return 0;
   }
   const auto cfg = gf::input::load_case(file, overrides(sets));
@@ -241,6 +265,11 @@ int main(int argc, char** argv) {
       if (const auto fem_cfg = gf::load_fem_case(run_file, fem_dir, overrides(sets))) {
         gf::stop::install_handlers();
         const int sig = gf::run_fem_case(*fem_cfg, fem_dir, opts);
+        return sig ? gf::stop::exit_status(sig) : 0;
+      }
+      if (const auto cc = gf::load_continuum_case(run_file, fem_dir, overrides(sets))) {
+        gf::stop::install_handlers();
+        const int sig = gf::run_continuum_case(*cc, fem_dir, opts);
         return sig ? gf::stop::exit_status(sig) : 0;
       }
       const auto cfg = gf::input::load_case(run_file, overrides(sets));

@@ -1,0 +1,71 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Plots of the continuum (SPH) validation (tests/validation/test_sph_validation.cpp).
+
+Usage: /usr/bin/python3 scripts/plot_continuum.py [--out DIR] [BUILD_DIR]   (default build/release)
+
+Runs gf_validation_tests --gtest_filter='ValidationSph*' (about 25 s) with GF_VALIDATION_OUT set
+and writes docs/validation/continuum_sph.png (into DIR, created if missing, with --out DIR):
+transient plane Poiseuille flow against its series solution, the pressure of a liquid at rest
+against rho g depth, and the Bagnold profile of a mu(I) layer on an incline. Uses Debian's
+python3-numpy and python3-matplotlib."""
+import os
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+import validation_run  # noqa: E402
+
+
+def load(folder, name):
+    return np.genfromtxt(os.path.join(folder, name + ".csv"), delimiter=",", names=True)
+
+
+def main():
+    args = validation_run.parser(__doc__).parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    with validation_run.validation_run(args.build, "ValidationSph*", OMP_NUM_THREADS="2") as f:
+        pois = load(f, "sph_poiseuille")
+        hyd = load(f, "sph_hydrostatic")
+        bag = load(f, "sph_bagnold")
+    fig, ax = plt.subplots(1, 3, figsize=(14, 4.3))
+    a = ax[0]
+    for t in np.unique(pois["t"]):
+        d = pois[pois["t"] == t]
+        o = np.argsort(d["y"])
+        a.plot(d["u"][o] * 1e5, d["y"][o] * 1e3, "o", ms=3, label=f"t = {t:g} s")
+        a.plot(d["u_exact"][o] * 1e5, d["y"][o] * 1e3, "k-", lw=0.7)
+    a.set_xlabel("u (1e-5 m/s)")
+    a.set_ylabel("y (mm)")
+    a.set_title("Poiseuille flow from rest (Morris et al. 1997)\nlines: series solution", fontsize=9)
+    a.legend(fontsize=7)
+    a = ax[1]
+    a.plot(hyd["p"], hyd["y"], ".", ms=3, label="grainflow SPH, t = 1 s")
+    y = np.linspace(0, hyd["y"].max(), 50)
+    a.plot(hyd["p_exact"][np.argsort(hyd["y"])], np.sort(hyd["y"]), "k-", lw=0.8,
+           label="rho g depth")
+    a.set_xlabel("p (Pa)")
+    a.set_ylabel("y (m)")
+    a.set_title("Water at rest in a tank (20 particles deep)", fontsize=9)
+    a.legend(fontsize=7)
+    a = ax[2]
+    a.plot(bag["u"], bag["y"] * 1e3, "o", ms=4, label="grainflow SPH, mu(I), t = 4 s")
+    a.plot(bag["u_exact"], bag["y"] * 1e3, "k-", lw=0.8, label="Bagnold profile")
+    a.set_xlabel("u (m/s)")
+    a.set_ylabel("y (mm)")
+    err = np.max(np.abs(bag["u"] - bag["u_exact"])) / bag["u_exact"].max()
+    a.set_title(f"mu(I) layer on a 25 deg incline (max error {100 * err:.1f} % of u_s)",
+                fontsize=9)
+    a.legend(fontsize=7)
+    fig.tight_layout()
+    path = os.path.join(args.out, "continuum_sph.png")
+    fig.savefig(path, dpi=110)
+    print(path)
+
+
+if __name__ == "__main__":
+    main()

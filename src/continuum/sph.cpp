@@ -1,0 +1,474 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Weakly compressible SPH: particle set-up, neighbour lists and the three passes of a step.
+#include "continuum/sph.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "continuum/rheology_registry.hpp"
+#include "core/error.hpp"
+#include "core/exec.hpp"
+#include "core/mat3.hpp"
+
+namespace gf::continuum {
+
+namespace {
+
+/// Lattice points p0 + (i + 1/2) dx e0 + (j + 1/2) dx e1 [+ (k + 1/2) dx e2] for the counts n.
+template <class F>
+void lattice(int dimension, const Vec3& p0, const Vec3 e[3], const long n[3], double dx, F&& f) {
+  for (long k = 0; k < (dimension == 3 ? n[2] : 1); ++k)
+    for (long j = 0; j < n[1]; ++j)
+      for (long i = 0; i < n[0]; ++i) {
+        Vec3 x = p0 + ((i + 0.5) * dx) * e[0] + ((j + 0.5) * dx) * e[1];
+        if (dimension == 3) x += ((k + 0.5) * dx) * e[2];
+        f(x);
+      }
+}
+
+/// Lattice points of spacing dx filling the box [lo, hi] (counts rounded to whole spacings).
+template <class F>
+void box_lattice(int dimension, const Vec3& lo, const Vec3& hi, double dx, F&& f) {
+  const Vec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  long n[3] = {1, 1, 1};
+  for (int k = 0; k < dimension; ++k)
+    n[k] = std::max(1L, std::lround(std::floor((hi[k] - lo[k]) / dx + 1e-6)));
+  lattice(dimension, lo, e, n, dx, f);
+}
+
+}  // namespace
+
+SphSolver::SphSolver(const SphConfig& cfg) : cfg_(cfg) {
+  REQUIRE(cfg_.dimension == 2 || cfg_.dimension == 3, "SPH: dimension must be 2 or 3");
+  REQUIRE(cfg_.spacing > 0 && cfg_.smoothing_ratio > 0 && cfg_.density > 0 &&
+              cfg_.sound_speed > 0 && cfg_.eos_exponent >= 1,
+          "SPH: spacing, smoothing ratio, density and sound speed must be positive");
+  w_ = WendlandC2(cfg_.dimension, cfg_.smoothing_ratio * cfg_.spacing);
+  volume0_ = std::pow(cfg_.spacing, cfg_.dimension);
+  b_eos_ = cfg_.density * cfg_.sound_speed * cfg_.sound_speed / cfg_.eos_exponent;
+  cell_domain_ = cfg_.domain;
+  if (cfg_.dimension == 2) {
+    cell_domain_.lo.z = -w_.support();
+    cell_domain_.hi.z = w_.support();
+    cell_domain_.periodic[2] = false;
+  }
+  for (int k = 0; k < cfg_.dimension; ++k) {
+    const double len = cfg_.domain.hi[k] - cfg_.domain.lo[k];
+    REQUIRE(len > 0, "SPH: the domain is empty along axis {}", k);
+    REQUIRE(!cfg_.domain.periodic[k] || len >= 2.0 * w_.support(),
+            "SPH: the periodic length {} m along axis {} is below twice the kernel support {} m "
+            "(2 x 2h, h = smoothing_ratio x spacing)",
+            len, k, 2.0 * w_.support());
+  }
+  {
+    // The Brookshaw / Morris Laplacian of |x|^2 (exactly 2d) on the ideal lattice.
+    const double dx = cfg_.spacing;
+    const long m = std::lround(std::ceil(w_.support() / dx)) + 1;
+    double sum = 0.0, moment = 0.0;
+    for (long k = (cfg_.dimension == 3 ? -m : 0); k <= (cfg_.dimension == 3 ? m : 0); ++k)
+      for (long j = -m; j <= m; ++j)
+        for (long i = -m; i <= m; ++i) {
+          const double r = dx * std::sqrt(static_cast<double>(i * i + j * j + k * k));
+          if (r > 0 && r < w_.support()) {
+            sum += -2.0 * volume0_ * r * r * r * w_.derivative(r) / (r * r + 0.01 * w_.h * w_.h);
+            moment += -volume0_ * r * w_.derivative(r);  // (x_j - x_i) . grad_i W_ij
+          }
+        }
+    laplacian_scale_ = 2.0 * cfg_.dimension / sum;
+    gradient_scale_ = cfg_.dimension / moment;
+  }
+  build_particles();
+  build_neighbours();
+  // No two particles closer than dx/2: overlapping blocks or fluid inside a wall.
+  for (std::size_t i = 0; i < p_.size(); ++i)
+    for (auto k = nbr_start_[i]; k < nbr_start_[i + 1]; ++k) {
+      const auto j = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
+      if (j < i) continue;
+      const double r = norm(cfg_.domain.delta(p_.x[i], p_.x[j]));
+      if (r < 0.5 * cfg_.spacing) {
+        const auto what = [&](std::size_t q) {
+          return p_.wall_index[q] >= 0
+                     ? fmt::format("wall '{}'",
+                                   cfg_.walls[static_cast<std::size_t>(p_.wall_index[q])].name)
+                     : std::string("a fluid block");
+        };
+        throw InputError(fmt::format(
+            "SPH: particles of {} and {} overlap at ({:.6g}, {:.6g}, {:.6g}) m (closer than half "
+            "the spacing): blocks must not overlap each other or a wall",
+            what(i), what(j), p_.x[i].x, p_.x[i].y, p_.x[i].z));
+      }
+    }
+  // First accelerations (dt = 0: nothing moves).
+  extrapolate_walls();
+  continuity_and_strain(0.0);
+  extrapolate_walls();
+  momentum();
+}
+
+double SphSolver::pressure_of(double rho) const {
+  return b_eos_ * (std::pow(rho / cfg_.density, cfg_.eos_exponent) - 1.0) +
+         cfg_.background_pressure;
+}
+
+double SphSolver::density_of(double pressure) const {
+  const double base = std::max(1e-3, 1.0 + (pressure - cfg_.background_pressure) / b_eos_);
+  return cfg_.density * std::pow(base, 1.0 / cfg_.eos_exponent);
+}
+
+void SphSolver::build_particles() {
+  const int dim = cfg_.dimension;
+  const double dx = cfg_.spacing;
+  // Hydrostatic start: along the axis k closest to gravity, p = rho0 |g_k| (depth below the
+  // block's top along that axis) (an incline in its own frame: p = rho0 g cos(theta) depth).
+  int ka = 0;
+  for (int k = 1; k < dim; ++k)
+    if (std::fabs(cfg_.gravity[k]) > std::fabs(cfg_.gravity[ka])) ka = k;
+  const double g = std::fabs(cfg_.gravity[ka]);
+  Vec3 up{};
+  up[ka] = cfg_.gravity[ka] > 0 ? -1.0 : 1.0;
+  auto add = [&](const Vec3& x, const Vec3& v, double rho, int wall) {
+    p_.id.push_back(static_cast<std::int64_t>(p_.id.size()));
+    p_.x.push_back(x);
+    p_.v.push_back(v);
+    p_.a.push_back({});
+    p_.rho.push_back(rho);
+    p_.drho.push_back(0.0);
+    p_.p.push_back(pressure_of(rho));
+    p_.mass.push_back(rho * volume0_);
+    p_.eta.push_back(0.0);
+    p_.gamma_dot.push_back(0.0);
+    p_.u_wall.push_back(wall >= 0 ? v : Vec3{});
+    p_.v_ghost.push_back(wall >= 0 ? v : Vec3{});
+    p_.wall_index.push_back(wall);
+  };
+  for (const auto& b : cfg_.blocks) {
+    std::vector<Vec3> pts;
+    box_lattice(dim, b.lo, b.hi, dx, [&](const Vec3& x) { pts.push_back(x); });
+    double top = -std::numeric_limits<double>::infinity();
+    for (const auto& x : pts) top = std::max(top, dot(up, x));
+    top += 0.5 * dx;
+    for (const auto& x : pts) {
+      const double p = b.hydrostatic ? cfg_.density * g * (top - dot(up, x)) : 0.0;
+      add(x, b.velocity, b.hydrostatic ? density_of(p + cfg_.background_pressure) : cfg_.density,
+          -1);
+    }
+  }
+  n_fluid_ = p_.size();
+  REQUIRE(n_fluid_ > 0, "SPH: the blocks hold no particle (spacing {} m)", dx);
+  for (std::size_t w = 0; w < cfg_.walls.size(); ++w) {
+    const auto& wall = cfg_.walls[w];
+    const auto before = p_.size();
+    auto put = [&](const Vec3& x) {
+      for (int k = 0; k < dim; ++k)
+        if (!cfg_.domain.periodic[k] && (x[k] < cfg_.domain.lo[k] || x[k] > cfg_.domain.hi[k]))
+          throw InputError(fmt::format(
+              "SPH: wall '{}' reaches outside the domain (a particle at ({:.6g}, {:.6g}, {:.6g}) "
+              "m); a wall must lie inside domain.min .. domain.max",
+              wall.name, x.x, x.y, x.z));
+      add(x, wall.velocity, cfg_.density, static_cast<int>(w));
+    };
+    if (wall.shape == SphWall::Shape::Box) {
+      box_lattice(dim, wall.lo, wall.hi, dx, put);
+    } else {
+      // Lattice of the cylinder's frame (e0, e1 across, e2 along the axis), centred on it.
+      const Vec3 ax = dim == 2 ? Vec3{0, 0, 1} : normalized(wall.axis);
+      Vec3 e0 = std::fabs(ax.x) < 0.9 ? cross(ax, Vec3{1, 0, 0}) : cross(ax, Vec3{0, 1, 0});
+      if (dim == 2) e0 = {1, 0, 0};
+      e0 = normalized(e0);
+      const Vec3 e[3] = {e0, cross(ax, e0), ax};
+      const long m = std::lround(std::ceil(wall.radius / dx));
+      long n[3] = {2 * m, 2 * m, 1};
+      if (dim == 3) n[2] = std::max(1L, std::lround(std::floor(wall.length / dx + 1e-6)));
+      const Vec3 p0 = wall.center - (m * dx) * e[0] - (m * dx) * e[1] -
+                      (dim == 3 ? (0.5 * n[2] * dx) * e[2] : Vec3{});
+      lattice(dim, p0, e, n, dx, [&](const Vec3& x) {
+        const Vec3 d = x - wall.center;
+        const Vec3 radial = d - dot(d, ax) * ax;
+        const double r = norm(radial);
+        if (r <= wall.radius && (wall.thickness <= 0 || r >= wall.radius - wall.thickness)) put(x);
+      });
+    }
+    REQUIRE(p_.size() > before, "SPH: wall '{}' holds no particle at spacing {} m", wall.name, dx);
+  }
+}
+
+void SphSolver::build_neighbours() {
+  const std::size_t n = p_.size();
+  // Verlet list: pairs within the support plus a skin, kept until a particle has moved by half
+  // the skin (the kernel is zero beyond the support, so listed pairs beyond it add nothing).
+  const double rc = w_.support() + skin();
+  cells_.build(cell_domain_, p_.x.data(), n, rc);
+  const double rc2 = rc * rc;
+  nbr_start_.assign(n + 1, 0);
+  // Pass 1 counts, pass 2 fills: each particle lists its own neighbours (no shared writes).
+  auto visit = [&](std::size_t i, auto&& take) {
+    int stencil[36];
+    const int ns = cells_.stencil(cells_.cell_of_particle(i), stencil);
+    const bool wall_i = i >= n_fluid_;
+    for (int s = 0; s < ns; ++s)
+      for (auto k = cells_.begin(stencil[s]); k < cells_.begin(stencil[s] + 1); ++k) {
+        const auto j = static_cast<std::size_t>(cells_.order()[static_cast<std::size_t>(k)]);
+        if (j == i || (wall_i && j >= n_fluid_)) continue;
+        if (norm2(cfg_.domain.delta(p_.x[i], p_.x[j])) < rc2) take(j);
+      }
+  };
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    std::int64_t c = 0;
+    visit(i, [&](std::size_t) { ++c; });
+    nbr_start_[i + 1] = c;
+  });
+  for (std::size_t i = 0; i < n; ++i) nbr_start_[i + 1] += nbr_start_[i];
+  nbr_.resize(static_cast<std::size_t>(nbr_start_[n]));
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    auto k = static_cast<std::size_t>(nbr_start_[i]);
+    // (in the cell list's stable order: the sums below run in one order whatever the thread
+    // count)
+    visit(i, [&](std::size_t j) { nbr_[k++] = static_cast<std::int32_t>(j); });
+  });
+  x_built_ = p_.x;
+}
+
+void SphSolver::continuity_and_strain(double dt) {
+  const Domain& dom = cfg_.domain;
+  const double delta_hc = cfg_.density_diffusion * w_.h * cfg_.sound_speed;
+  const double inv_c2 = 1.0 / (cfg_.sound_speed * cfg_.sound_speed);
+  const double gs = gradient_scale_;
+  const int dim = cfg_.dimension;
+  exec::parallel_for(static_cast<exec::index_t>(n_fluid_), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const Vec3 vi = p_.v[i];
+    const double rho_i = p_.rho[i];
+    double drho = 0.0;
+    Mat3 grad{}, m{};
+    for (auto k = nbr_start_[i]; k < nbr_start_[i + 1]; ++k) {
+      const auto j = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
+      const Vec3 d = dom.delta(p_.x[i], p_.x[j]);  // r_ij = x_i - x_j
+      const double r = norm(d);
+      if (r <= 0.0) continue;
+      const Vec3 gw = (w_.derivative(r) / r) * d;  // grad_i W_ij
+      const bool wall = j >= n_fluid_;
+      const double vol_j = wall ? volume0_ : p_.mass[j] / p_.rho[j];
+      drho += gs * p_.mass[j] * dot(vi - (wall ? p_.u_wall[j] : p_.v[j]), gw);
+      if (!wall && delta_hc > 0.0) {
+        const double hydro = cfg_.density * dot(cfg_.gravity, -d) * inv_c2;
+        drho += delta_hc * vol_j * 2.0 * (p_.rho[j] - rho_i - hydro) / (r * r) * dot(-d, gw);
+      }
+      grad = grad + outer(vol_j * ((wall ? p_.v_ghost[j] : p_.v[j]) - vi), gw);
+      m = m + outer(-vol_j * d, gw);
+    }
+    // Kernel-gradient correction where the support is populated enough to invert it.
+    if (dim == 2) m.a[2][2] = 1.0;
+    if (determinant(m) > 0.1) grad = grad * inverse_symmetric(m);
+    double dd = 0.0;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        const double s = 0.5 * (grad.a[a][b] + grad.a[b][a]);
+        dd += s * s;
+      }
+    p_.drho[i] = drho;
+    p_.gamma_dot[i] = std::sqrt(2.0 * dd);
+  });
+  exec::parallel_for(static_cast<exec::index_t>(n_fluid_), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    p_.rho[i] += dt * p_.drho[i];
+    p_.p[i] = pressure_of(p_.rho[i]);
+    p_.eta[i] = apparent_viscosity(p_.gamma_dot[i], p_.p[i], cfg_.rheology);
+  });
+}
+
+void SphSolver::extrapolate_walls() {
+  const Domain& dom = cfg_.domain;
+  const std::size_t n = p_.size();
+  exec::parallel_for(static_cast<exec::index_t>(n - n_fluid_), [&](exec::index_t ww) {
+    const auto w = n_fluid_ + static_cast<std::size_t>(ww);
+    double sum_w = 0.0, sum_p = 0.0, sum_eta = 0.0;
+    Vec3 sum_rho_r{}, sum_v{};
+    for (auto k = nbr_start_[w]; k < nbr_start_[w + 1]; ++k) {
+      const auto f = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
+      const Vec3 d = dom.delta(p_.x[w], p_.x[f]);
+      const double wk = w_.value(norm(d));
+      sum_w += wk;
+      sum_p += p_.p[f] * wk;
+      sum_eta += p_.eta[f] * wk;
+      sum_rho_r += (p_.rho[f] * wk) * d;
+      sum_v += wk * p_.v[f];
+    }
+    double pw = cfg_.background_pressure;
+    if (sum_w > 0.0) {
+      // (a constant-velocity wall does not accelerate: a_w = 0)
+      pw = (sum_p + dot(cfg_.gravity, sum_rho_r)) / sum_w;
+      p_.v_ghost[w] = 2.0 * p_.u_wall[w] - sum_v / sum_w;
+      p_.eta[w] = sum_eta / sum_w;
+    } else {
+      p_.v_ghost[w] = p_.u_wall[w];
+      p_.eta[w] = 0.0;
+    }
+    p_.p[w] = pw;
+    p_.rho[w] = density_of(pw);
+    p_.mass[w] = p_.rho[w] * volume0_;
+  });
+}
+
+Vec3 SphSolver::pair_acceleration(std::size_t i, std::size_t j) const {
+  const Vec3 d = cfg_.domain.delta(p_.x[i], p_.x[j]);
+  const double r = norm(d);
+  if (r <= 0.0) return {};
+  const double h2 = w_.h * w_.h;
+  const double dw = w_.derivative(r);
+  const Vec3 gw = (dw / r) * d;
+  const bool wall = j >= n_fluid_;
+  const double rho_i = p_.rho[i];
+  const double mj_rr = p_.mass[j] / (rho_i * p_.rho[j]);
+  Vec3 acc = (-gradient_scale_ * mj_rr * (p_.p[i] + p_.p[j])) * gw;
+  const Vec3 vij = p_.v[i] - (wall ? p_.v_ghost[j] : p_.v[j]);
+  acc += (laplacian_scale_ * mj_rr * (p_.eta[i] + p_.eta[j]) * dw * r / (r * r + 0.01 * h2)) * vij;
+  const double vr = dot(vij, d);
+  if (vr < 0.0 && cfg_.artificial_viscosity > 0.0) {
+    const double pi_ij = -cfg_.artificial_viscosity * w_.h * cfg_.sound_speed * vr /
+                         (0.5 * (rho_i + p_.rho[j]) * (r * r + 0.01 * h2));
+    acc -= (p_.mass[j] * pi_ij) * gw;
+  }
+  return acc;
+}
+
+void SphSolver::momentum() {
+  exec::parallel_for(static_cast<exec::index_t>(n_fluid_), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    Vec3 acc = cfg_.gravity;
+    for (auto k = nbr_start_[i]; k < nbr_start_[i + 1]; ++k)
+      acc += pair_acceleration(i, static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]));
+    p_.a[i] = acc;
+  });
+  const auto nf = static_cast<exec::index_t>(n_fluid_);
+  a_max_ = exec::parallel_max(
+      nf, 0.0, [&](exec::index_t i) { return norm(p_.a[static_cast<std::size_t>(i)]); });
+  eta_max_ = exec::parallel_max(
+      nf, 0.0, [&](exec::index_t i) { return p_.eta[static_cast<std::size_t>(i)]; });
+}
+
+std::vector<Vec3> SphSolver::wall_forces() const {
+  // Force on wall particle w: minus what it exerts on its fluid neighbours (actio = reactio).
+  const std::size_t nw = p_.size() - n_fluid_;
+  std::vector<Vec3> per_particle(nw);
+  exec::parallel_for(static_cast<exec::index_t>(nw), [&](exec::index_t ww) {
+    const auto w = n_fluid_ + static_cast<std::size_t>(ww);
+    Vec3 f{};
+    for (auto k = nbr_start_[w]; k < nbr_start_[w + 1]; ++k) {
+      const auto i = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
+      f -= p_.mass[i] * pair_acceleration(i, w);
+    }
+    per_particle[static_cast<std::size_t>(ww)] = f;
+  });
+  std::vector<Vec3> out(cfg_.walls.size());
+  for (std::size_t k = 0; k < nw; ++k)
+    out[static_cast<std::size_t>(p_.wall_index[n_fluid_ + k])] += per_particle[k];
+  return out;
+}
+
+double SphSolver::stable_step() const {
+  const double h = w_.h;
+  double dt = cfg_.cfl * h / (cfg_.sound_speed + v_max_);
+  if (a_max_ > 0) dt = std::min(dt, 0.25 * std::sqrt(h / a_max_));
+  if (eta_max_ > 0) dt = std::min(dt, 0.125 * h * h * cfg_.density / eta_max_);
+  return std::min(dt, cfg_.max_step);
+}
+
+bool SphSolver::moved_beyond_skin() const {
+  const double half2 = 0.25 * skin() * skin();
+  return exec::parallel_any(static_cast<exec::index_t>(p_.size()), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    return norm2(cfg_.domain.min_image(p_.x[i] - x_built_[i])) > half2;
+  });
+}
+
+bool SphSolver::remove_escaped() {
+  const Domain& dom = cfg_.domain;
+  auto outside = [&](const Vec3& x) {
+    for (int k = 0; k < cfg_.dimension; ++k)
+      if (!dom.periodic[k] && (x[k] < dom.lo[k] || x[k] > dom.hi[k])) return true;
+    return false;
+  };
+  std::size_t keep = 0;
+  const std::size_t n = p_.size();
+  std::vector<char> drop(n, 0);
+  bool any = false;
+  for (std::size_t i = 0; i < n_fluid_; ++i) any = any || (drop[i] = outside(p_.x[i]));
+  if (!any) return false;
+  auto compact = [&](auto& field) {
+    std::size_t o = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!drop[i]) field[o++] = field[i];
+    field.resize(o);
+  };
+  compact(p_.id);
+  compact(p_.x);
+  compact(p_.v);
+  compact(p_.a);
+  compact(p_.rho);
+  compact(p_.drho);
+  compact(p_.p);
+  compact(p_.mass);
+  compact(p_.eta);
+  compact(p_.gamma_dot);
+  compact(p_.u_wall);
+  compact(p_.v_ghost);
+  compact(p_.wall_index);
+  for (std::size_t i = 0; i < n_fluid_; ++i) keep += drop[i] ? 0 : 1;
+  n_removed_ += n_fluid_ - keep;
+  n_fluid_ = keep;
+  return true;
+}
+
+void SphSolver::step(double until) {
+  double dt = stable_step();
+  if (until > t_) dt = std::min(dt, until - t_);
+  const Domain& dom = cfg_.domain;
+  exec::parallel_for(static_cast<exec::index_t>(p_.size()), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    if (i < n_fluid_) {
+      p_.v[i] += (0.5 * dt) * p_.a[i];
+      p_.x[i] += dt * p_.v[i];
+    } else {
+      p_.x[i] += dt * p_.u_wall[i];
+    }
+    dom.wrap(p_.x[i]);
+  });
+  if (remove_escaped() || moved_beyond_skin()) build_neighbours();
+  continuity_and_strain(dt);
+  extrapolate_walls();
+  momentum();
+  exec::parallel_for(static_cast<exec::index_t>(n_fluid_), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    p_.v[i] += (0.5 * dt) * p_.a[i];
+  });
+  v_max_ = exec::parallel_max(static_cast<exec::index_t>(n_fluid_), 0.0, [&](exec::index_t i) {
+    return norm(p_.v[static_cast<std::size_t>(i)]);
+  });
+  t_ += dt;
+  dt_last_ = dt;
+  ++steps_;
+}
+
+SphSummary SphSolver::summary() const {
+  SphSummary s;
+  s.n_fluid = n_fluid_;
+  const double inf = std::numeric_limits<double>::infinity();
+  s.min_position = {inf, inf, inf};
+  s.max_position = {-inf, -inf, -inf};
+  for (std::size_t i = 0; i < n_fluid_; ++i) {
+    s.kinetic_energy += 0.5 * p_.mass[i] * norm2(p_.v[i]);
+    s.max_speed = std::max(s.max_speed, norm(p_.v[i]));
+    for (int k = 0; k < 3; ++k) {
+      s.min_position[k] = std::min(s.min_position[k], p_.x[i][k]);
+      s.max_position[k] = std::max(s.max_position[k], p_.x[i][k]);
+    }
+    s.max_density_error = std::max(s.max_density_error, std::fabs(p_.rho[i] / cfg_.density - 1));
+    s.max_viscosity = std::max(s.max_viscosity, p_.eta[i]);
+  }
+  return s;
+}
+
+}  // namespace gf::continuum

@@ -1,0 +1,177 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Reading the `continuum:` block into the SPH solver's configuration.
+#include "io/input/parse_continuum.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <map>
+
+#include "continuum/rheology_registry.hpp"
+#include "core/error.hpp"
+
+namespace gf::input {
+
+namespace {
+
+struct BoxRead {
+  Vec3 lo, hi;
+};
+
+BoxRead read_box(const YamlNode& n, int dim) {
+  YamlMap m(n, {"min", "max"});
+  BoxRead b{m.at("min").as_vec(dim), m.at("max").as_vec(dim)};
+  for (int k = 0; k < dim; ++k)
+    if (!(b.hi[k] > b.lo[k]))
+      n.fail(fmt::format("expected max > min along every axis (axis {})", k));
+  return b;
+}
+
+}  // namespace
+
+ContinuumCase parse_continuum(const YamlNode& block) {
+  ContinuumCase c;
+  YamlMap m(block,
+            {"method", "dimension", "domain", "gravity", "spacing", "smoothing_ratio", "density",
+             "sound_speed", "eos_exponent", "background_pressure", "density_diffusion",
+             "artificial_viscosity", "rheology", "time", "blocks", "walls", "output"});
+  m.at("method").as_choice({"sph"});
+  auto& s = c.sph;
+  const int dim = static_cast<int>(m.at("dimension").as_integer({2, 3}));
+  s.dimension = dim;
+  {
+    const auto dn = m.at("domain");
+    YamlMap d(dn, {"min", "max", "periodic"});
+    s.domain.lo = d.at("min").as_vec(dim);
+    s.domain.hi = d.at("max").as_vec(dim);
+    for (int k = 0; k < dim; ++k)
+      if (!(s.domain.hi[k] > s.domain.lo[k]))
+        dn.fail(fmt::format("expected max > min along every axis (axis {})", k));
+    if (auto p = d.find("periodic")) {
+      const auto items = p->as_list();
+      if (static_cast<int>(items.size()) != dim)
+        p->fail_expected(fmt::format("a list of {} booleans (one per axis)", dim));
+      for (int k = 0; k < dim; ++k)
+        s.domain.periodic[static_cast<std::size_t>(k)] =
+            items[static_cast<std::size_t>(k)].as_bool();
+    }
+  }
+  s.gravity = m.find("gravity") ? m.at("gravity").as_vec(dim) : Vec3{};
+  s.spacing = m.number("spacing", Range::positive());
+  s.smoothing_ratio = m.number_or("smoothing_ratio", 1.3, {1.0, 3.0});
+  s.density = m.number("density", Range::positive());
+  if (auto cs = m.optional_number("sound_speed", Range::positive())) {
+    s.sound_speed = *cs;
+    c.sound_speed_given = true;
+  }
+  s.eos_exponent = m.number_or("eos_exponent", 7.0, {1.0, 10.0});
+  s.background_pressure = m.number_or("background_pressure", 0.0, Range::non_negative());
+  s.density_diffusion = m.number_or("density_diffusion", 0.1, {0.0, 1.0});
+  s.artificial_viscosity = m.number_or("artificial_viscosity", 0.0, {0.0, 1.0});
+  {
+    const auto rn = m.at("rheology");
+    std::vector<std::string> keys{"model"};
+    std::vector<std::string> models;
+    for (const auto& info : continuum::rheology_infos()) {
+      models.emplace_back(info.key);
+      for (const auto& p : info.params) keys.emplace_back(p.name);
+    }
+    YamlMap r(rn);
+    const auto model_node = r.at("model");
+    c.rheology = model_node.as_string();
+    const auto* info = continuum::find_rheology(c.rheology);
+    if (!info) model_node.fail_expected("a rheology: " + join(models));
+    std::vector<std::string> accepted{"model"};
+    for (const auto& p : info->params) accepted.emplace_back(p.name);
+    r.check_keys(accepted, fmt::format("parameters of rheology '{}'", c.rheology));
+    std::map<std::string, double> params;
+    for (const auto& p : info->params) {
+      Range range{p.min, p.max, p.min_exclusive, false};
+      if (auto v = r.optional_number(p.name, range))
+        params[std::string(p.name)] = *v;
+      else if (!p.default_value)
+        rn.fail(fmt::format("[missing key] rheology '{}' needs '{}' [{}]: {}", c.rheology, p.name,
+                            p.unit, p.description));
+    }
+    try {
+      s.rheology = continuum::prepare_rheology(c.rheology, params);
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      rn.fail(e.what());
+    }
+  }
+  {
+    YamlMap t(m.at("time"), {"end", "cfl", "max_step"});
+    c.end_time = t.number("end", Range::positive());
+    s.cfl = t.number_or("cfl", 0.2, {0.01, 0.5});
+    s.max_step = t.number_or("max_step", 1e30, Range::positive());
+  }
+  for (const auto& bn : m.at("blocks").as_list(1)) {
+    YamlMap b(bn, {"box", "velocity", "hydrostatic"});
+    continuum::SphBlock blk;
+    const auto box = read_box(b.at("box"), dim);
+    blk.lo = box.lo;
+    blk.hi = box.hi;
+    if (b.find("velocity")) blk.velocity = b.at("velocity").as_vec(dim);
+    blk.hydrostatic = b.boolean_or("hydrostatic", false);
+    s.blocks.push_back(blk);
+  }
+  if (auto wl = m.find("walls")) {
+    for (const auto& wn : wl->as_list()) {
+      YamlMap w(wn, {"name", "box", "cylinder", "velocity"});
+      continuum::SphWall wall;
+      wall.name = w.string("name");
+      for (const auto& other : s.walls)
+        if (other.name == wall.name) w.at("name").fail("duplicate wall name");
+      const auto kind = w.exactly_one_of({"box", "cylinder"});
+      if (kind == "box") {
+        const auto box = read_box(w.at("box"), dim);
+        wall.lo = box.lo;
+        wall.hi = box.hi;
+      } else {
+        wall.shape = continuum::SphWall::Shape::Cylinder;
+        const auto cn = w.at("cylinder");
+        YamlMap cy(cn, dim == 2 ? std::vector<std::string>{"center", "radius", "thickness"}
+                                : std::vector<std::string>{"center", "radius", "thickness", "axis",
+                                                           "length"});
+        wall.center = cy.at("center").as_vec(dim);
+        wall.radius = cy.number("radius", Range::positive());
+        wall.thickness = cy.number_or("thickness", 0.0, Range::non_negative());
+        if (dim == 3) {
+          wall.axis = cy.at("axis").as_direction(3);
+          wall.length = cy.number("length", Range::positive());
+        }
+      }
+      if (w.find("velocity")) wall.velocity = w.at("velocity").as_vec(dim);
+      s.walls.push_back(wall);
+    }
+  }
+  if (auto on = m.find("output")) {
+    YamlMap o(*on, {"vtk_every", "series_every"});
+    c.vtk_every = o.number_or("vtk_every", 0.0, Range::non_negative());
+    c.series_every = o.number_or("series_every", 0.0, Range::non_negative());
+  }
+  if (!c.sound_speed_given) {
+    // c0 = 10 sqrt(2 |g| H): ten times the speed of a free fall over the fluid's height H (its
+    // extent along gravity), so that density varies by about 1 % (Monaghan 1994).
+    const double g = norm(s.gravity);
+    if (!(g > 0))
+      block.fail(
+          "[missing key] sound_speed: without gravity it has no default; give about ten "
+          "times the largest expected speed");
+    double lo = 1e300, hi = -1e300;
+    const Vec3 down = s.gravity / g;
+    for (const auto& b : s.blocks)
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vec3 x{corner & 1 ? b.hi.x : b.lo.x, corner & 2 ? b.hi.y : b.lo.y,
+                     corner & 4 ? b.hi.z : b.lo.z};
+        lo = std::min(lo, dot(down, x));
+        hi = std::max(hi, dot(down, x));
+      }
+    s.sound_speed = 10.0 * std::sqrt(2.0 * g * std::max(hi - lo, s.spacing));
+  }
+  return c;
+}
+
+}  // namespace gf::input

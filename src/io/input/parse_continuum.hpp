@@ -1,0 +1,30 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The `continuum:` block of a case file (the granular phase or a liquid as a continuum, solved
+// with SPH): parsed into continuum::SphConfig with located errors.
+#pragma once
+
+#include <string>
+
+#include "continuum/sph.hpp"
+#include "io/input/yaml_reader.hpp"
+
+namespace gf::input {
+
+/// What a `continuum:` case defines besides the solver's own configuration.
+struct ContinuumCase {
+  std::string name;
+  std::string file;  ///< the case file, for messages
+  continuum::SphConfig sph;
+  std::string rheology;            ///< registry key of the rheology
+  double end_time = 0.0;           ///< [s]
+  double vtk_every = 0.0;          ///< [s]; 0: the first and last states only
+  double series_every = 0.0;       ///< [s]; 0: every step
+  bool sound_speed_given = false;  ///< false: c0 = 10 sqrt(2 |g| H), H the fluid's height
+};
+
+/// Parses the `continuum` block `block` (the value under the key). Any error (unknown key, wrong
+/// type, value out of range, missing key, unknown rheology or parameter) throws gf::InputError
+/// with file:line:column, the key path, what was expected and what was found.
+ContinuumCase parse_continuum(const YamlNode& block);
+
+}  // namespace gf::input

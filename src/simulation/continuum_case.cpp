@@ -1,0 +1,244 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Continuum (SPH) cases: loading, `grainflow check` figures, the run loop and its outputs.
+#include "simulation/continuum_case.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "continuum/rheology_registry.hpp"
+#include "core/error.hpp"
+#include "core/files.hpp"
+#include "core/log.hpp"
+#include "core/stop.hpp"
+#include "core/version.hpp"
+#include "core/vtk_xml.hpp"
+
+namespace gf {
+
+namespace fs = std::filesystem;
+
+std::optional<input::ContinuumCase> load_continuum_case(
+    const fs::path& file, fs::path& output_dir, const std::vector<input::Override>& overrides) {
+  const auto root = input::YamlNode::parse_file(file);
+  if (!root.is_map() || !root.raw()["continuum"]) return std::nullopt;
+  input::apply_overrides(root.raw(), overrides, file);
+  input::YamlMap top(root, {"name", "continuum", "output"});
+  output_dir = fs::path("out") / file.parent_path().filename();
+  if (auto out = top.find("output")) {
+    input::YamlMap o(*out, {"directory"});
+    output_dir = o.string("directory");
+  }
+  auto c = input::parse_continuum(top.at("continuum"));
+  c.file = file.string();
+  c.name = top.has("name") ? top.string("name") : file.parent_path().filename().string();
+  return c;
+}
+
+namespace {
+
+/// The solver of a case; its set-up errors (overlaps, walls outside the domain) name the file.
+continuum::SphSolver build_solver(const input::ContinuumCase& c) {
+  try {
+    return continuum::SphSolver(c.sph);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: continuum: {}", c.file, e.what()));
+  }
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> describe_continuum_case(
+    const input::ContinuumCase& c) {
+  const continuum::SphSolver s = build_solver(c);
+  const auto& cfg = s.config();
+  std::vector<std::pair<std::string, std::string>> out;
+  out.emplace_back("method", fmt::format("SPH ({}D, weakly compressible), rheology {}",
+                                         cfg.dimension, c.rheology));
+  out.emplace_back("fluid particles / wall particles",
+                   fmt::format("{} / {}", s.n_fluid(), s.particles().size() - s.n_fluid()));
+  out.emplace_back("smoothing length h, support 2h [m]",
+                   fmt::format("{:.4g}, {:.4g}", s.kernel().h, s.kernel().support()));
+  out.emplace_back("sound speed c0 [m/s]",
+                   fmt::format("{:.4g}{}", cfg.sound_speed,
+                               c.sound_speed_given ? "" : " (default: 10 sqrt(2 g H))"));
+  const double g = norm(cfg.gravity);
+  if (g > 0) {
+    const auto sm = s.summary();
+    const double height = dot(sm.max_position - sm.min_position, cfg.gravity / g);
+    out.emplace_back("Mach number of a free fall over the fluid's height",
+                     fmt::format("{:.3f} (keep below ~0.1)",
+                                 std::sqrt(2 * g * std::fabs(height)) / cfg.sound_speed));
+  }
+  const double dt_acoustic = cfg.cfl * s.kernel().h / cfg.sound_speed;
+  out.emplace_back("acoustic time step cfl h / c0 [s]", fmt::format("{:.3g}", dt_acoustic));
+  if (cfg.rheology.model == index_of_key(continuum::Rheologies{}, continuum::MuI::key)) {
+    const double dt_visc =
+        0.125 * s.kernel().h * s.kernel().h * cfg.density / cfg.rheology.max_viscosity;
+    out.emplace_back("viscous time step at max_viscosity [s]", fmt::format("{:.3g}", dt_visc));
+  }
+  out.emplace_back("first time step [s]", fmt::format("{:.3g}", s.stable_step()));
+  out.emplace_back("steps to the end (at the first step)",
+                   fmt::format("{:.0f}", std::ceil(c.end_time / s.stable_step())));
+  return out;
+}
+
+namespace {
+
+void write_particles_vtp(const fs::path& path, const continuum::SphSolver& s) {
+  const auto& p = s.particles();
+  const std::size_t n = p.size();
+  std::vector<double> pos(3 * n), vel(3 * n), rho(n), pr(n), eta(n), gd(n);
+  std::vector<std::int32_t> wall(n);
+  std::vector<std::int64_t> id(n), conn(n), off(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      pos[3 * i + static_cast<std::size_t>(k)] = p.x[i][k];
+      vel[3 * i + static_cast<std::size_t>(k)] = i < s.n_fluid() ? p.v[i][k] : p.u_wall[i][k];
+    }
+    rho[i] = p.rho[i];
+    pr[i] = p.p[i];
+    eta[i] = p.eta[i];
+    gd[i] = p.gamma_dot[i];
+    wall[i] = p.wall_index[i];
+    id[i] = p.id[i];
+    conn[i] = static_cast<std::int64_t>(i);
+    off[i] = static_cast<std::int64_t>(i + 1);
+  }
+  vtk::AppendedArrays arrays;
+  auto add = [&arrays](const char* name, int nc, auto values) {
+    return vtk::AppendedArrays::tag(arrays.add_owned(name, nc, std::move(values)));
+  };
+  const std::string data =
+      "        " + add("velocity", 3, std::move(vel)) + "\n        " +
+      add("pressure", 1, std::move(pr)) + "\n        " + add("density", 1, std::move(rho)) +
+      "\n        " + add("viscosity", 1, std::move(eta)) + "\n        " +
+      add("shear_rate", 1, std::move(gd)) + "\n        " + add("wall", 1, std::move(wall)) +
+      "\n        " + add("id", 1, std::move(id)) + "\n";
+  const std::string points = add("position", 3, std::move(pos));
+  const std::string c_tag = add("connectivity", 1, std::move(conn));
+  const std::string o_tag = add("offsets", 1, std::move(off));
+  std::string xml = vtk::file_open("PolyData");
+  xml += "  <PolyData>\n";
+  xml += fmt::format(
+      "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"0\" "
+      "NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n",
+      n, n);
+  xml += "      <PointData Vectors=\"velocity\" Scalars=\"pressure\">\n" + data +
+         "      </PointData>\n";
+  xml += "      <Points>\n        " + points + "\n      </Points>\n";
+  xml += "      <Verts>\n        " + c_tag + "\n        " + o_tag + "\n      </Verts>\n";
+  xml += "    </Piece>\n  </PolyData>\n";
+  write_atomically(path, [&](std::ostream& os) {
+    os << xml;
+    arrays.write_appended(os);
+    os << "</VTKFile>\n";
+  });
+}
+
+}  // namespace
+
+int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_dir,
+                       const RunOptions& opts) {
+  if (opts.restart)
+    throw InputError(
+        "continuum (SPH) runs write no checkpoints yet, so they cannot be continued with "
+        "--restart; run the case from its start");
+  const fs::path dir = opts.output.empty() ? default_dir : opts.output;
+  auto s = build_solver(c);  // every input check happens here, before the folder is touched
+  prepare_output_dir(dir, opts.overwrite);
+  log::info("continuum (SPH) run: {} fluid and {} wall particles, output in '{}'", s.n_fluid(),
+            s.particles().size() - s.n_fluid(), dir.string());
+  const int dim = c.sph.dimension;
+  const char* axes = "xyz";
+  std::string header =
+      "time,steps,dt,n_fluid,kinetic_energy,max_speed,max_density_error,max_viscosity";
+  for (int k = 0; k < dim; ++k) header += fmt::format(",min_{0},max_{0}", axes[k]);
+  for (const auto& w : c.sph.walls)
+    for (int k = 0; k < dim; ++k) header += fmt::format(",force_{}.{}", axes[k], w.name);
+  std::ostringstream series;
+  series << header << '\n';
+  auto sample = [&] {
+    const auto sm = s.summary();
+    series << fmt::format("{:.9g},{},{:.6g},{},{:.9g},{:.9g},{:.6g},{:.6g}", s.time(), s.steps(),
+                          s.last_step(), sm.n_fluid, sm.kinetic_energy, sm.max_speed,
+                          sm.max_density_error, sm.max_viscosity);
+    for (int k = 0; k < dim; ++k)
+      series << fmt::format(",{:.9g},{:.9g}", sm.min_position[k], sm.max_position[k]);
+    for (const auto& f : s.wall_forces())
+      for (int k = 0; k < dim; ++k) series << fmt::format(",{:.9g}", f[k]);
+    series << '\n';
+  };
+  auto flush_series = [&] {
+    write_atomically(dir / "sph_series.csv", [&](std::ostream& os) { os << series.str(); });
+  };
+  vtk::PvdSeries pvd(dir / "sph_particles.pvd");
+  int n_vtk = 0;
+  auto write_vtk = [&] {
+    const auto name = fmt::format("sph_particles_{:05d}.vtp", n_vtk++);
+    write_particles_vtp(dir / name, s);
+    pvd.add(s.time(), name);
+  };
+  const auto start = std::chrono::steady_clock::now();
+  write_vtk();
+  sample();
+  flush_series();
+  const double eps = 1e-12 * c.end_time;
+  double next_vtk = c.vtk_every > 0 ? c.vtk_every : c.end_time;
+  double next_series = c.series_every;
+  const std::int64_t max_steps = opts.steps ? *opts.steps : -1;
+  int sig = 0;
+  double last_vtk_time = 0.0;
+  while (s.time() < c.end_time - eps) {
+    if (max_steps >= 0 && s.steps() >= max_steps) break;
+    // land exactly on output times so that series are evenly spaced
+    double until = std::min(c.end_time, next_vtk);
+    if (c.series_every > 0) until = std::min(until, next_series);
+    s.step(until);
+    if (s.n_fluid() == 0) throw Error("SPH: every fluid particle has left the domain");
+    if (!std::isfinite(s.summary().kinetic_energy))
+      throw Error(
+          fmt::format("SPH: the run diverged at t = {} s (step {}); lower time.cfl or "
+                      "raise sound_speed",
+                      s.time(), s.steps()));
+    if (c.series_every <= 0 || s.time() >= next_series - eps) {
+      sample();
+      if (c.series_every > 0)
+        while (next_series <= s.time() + eps) next_series += c.series_every;
+    }
+    if (s.time() >= next_vtk - eps) {
+      write_vtk();
+      last_vtk_time = s.time();
+      flush_series();
+      while (next_vtk <= s.time() + eps) next_vtk += c.vtk_every > 0 ? c.vtk_every : c.end_time;
+    }
+    if ((sig = stop::requested()) != 0) break;
+  }
+  if (last_vtk_time < s.time()) write_vtk();
+  flush_series();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto sm = s.summary();
+  std::ostringstream sum;
+  sum << fmt::format("grainflow {}\ncase {}\nmethod sph, rheology {}\n", version_string, c.name,
+                     c.rheology);
+  sum << fmt::format("time {:.9g} s\nsteps {}\nfluid particles {} ({} left the domain)\n", s.time(),
+                     s.steps(), sm.n_fluid, s.n_removed());
+  sum << fmt::format(
+      "wall particles {}\nwall time {:.3f} s\nparticle-steps per second {:.4g}\n",
+      s.particles().size() - s.n_fluid(), wall,
+      wall > 0 ? static_cast<double>(s.particles().size()) * static_cast<double>(s.steps()) / wall
+               : 0.0);
+  sum << fmt::format("kinetic energy {:.9g} J\nmax density error {:.4g}\n", sm.kinetic_energy,
+                     sm.max_density_error);
+  write_atomically(dir / "sph_summary.txt", [&](std::ostream& os) { os << sum.str(); });
+  log::info("SPH run done: t = {:.6g} s, {} steps, {:.1f} s wall", s.time(), s.steps(), wall);
+  if (sig)
+    log::warn("SPH run stopped by {}: outputs up to the last step written in '{}'",
+              stop::signal_name(sig), dir.string());
+  return sig;
+}
+
+}  // namespace gf
