@@ -31,11 +31,7 @@ PairCoeffs prepare_pair(std::string_view key, const PairContext& ctx,
                         const std::map<std::string, double>& params) {
   const int idx = model_index(key);
   REQUIRE(idx >= 0, "unknown contact model '{}'", key);
-  auto get = [&](std::string_view name) -> std::optional<double> {
-    auto it = params.find(std::string(name));
-    if (it == params.end()) return std::nullopt;
-    return it->second;
-  };
+  auto get = [&](std::string_view name) { return param_value(params, name); };
   PairCoeffs c =
       dispatch_index(ContactModels{}, idx, [&]<class M>() { return M::prepare(ctx, get); });
   c.model = idx;

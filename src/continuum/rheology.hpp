@@ -13,6 +13,7 @@
 #include <cmath>
 #include <string_view>
 
+#include "core/error.hpp"
 #include "core/host_device.hpp"
 #include "core/params.hpp"
 
@@ -91,6 +92,7 @@ struct MuI {
     p.grain_diameter = *get("grain_diameter");
     p.grain_density = *get("grain_density");
     p.max_viscosity = *get("max_viscosity");
+    REQUIRE(p.mu_2 > p.mu_s, "rheology 'mu_i': mu_2 = {} must exceed mu_s = {}", p.mu_2, p.mu_s);
   }
   /// mu(I) [1].
   GF_HOST_DEVICE static double friction(double inertial_number, const RheologyParams& p) {

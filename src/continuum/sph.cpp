@@ -104,6 +104,15 @@ SphSolver::SphSolver(const SphConfig& cfg) : cfg_(cfg) {
   continuity_and_strain(0.0);
   extrapolate_walls();
   momentum();
+  update_max_speed();
+}
+
+void SphSolver::update_max_speed() {
+  // (a NaN speed counts as infinite: max() would drop it)
+  v_max_ = exec::parallel_max(static_cast<exec::index_t>(n_fluid_), 0.0, [&](exec::index_t i) {
+    const double s = norm(p_.v[static_cast<std::size_t>(i)]);
+    return std::isfinite(s) ? s : std::numeric_limits<double>::infinity();
+  });
 }
 
 double SphSolver::pressure_of(double rho) const {
@@ -444,9 +453,7 @@ void SphSolver::step(double until) {
     const auto i = static_cast<std::size_t>(ii);
     p_.v[i] += (0.5 * dt) * p_.a[i];
   });
-  v_max_ = exec::parallel_max(static_cast<exec::index_t>(n_fluid_), 0.0, [&](exec::index_t i) {
-    return norm(p_.v[static_cast<std::size_t>(i)]);
-  });
+  update_max_speed();
   t_ += dt;
   dt_last_ = dt;
   ++steps_;

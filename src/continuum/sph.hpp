@@ -130,6 +130,8 @@ class SphSolver {
   std::int64_t steps() const { return steps_; }
   /// The next step's size [s].
   double stable_step() const;
+  /// Largest fluid speed [m/s] (infinite once the run has diverged).
+  double max_speed() const { return v_max_; }
   std::size_t n_fluid() const { return n_fluid_; }
   std::size_t n_removed() const { return n_removed_; }
   const SphParticles& particles() const { return p_; }
@@ -153,6 +155,7 @@ class SphSolver {
   /// Removes fluid particles outside the domain's non-periodic bounds; true if any was.
   bool remove_escaped();
   bool moved_beyond_skin() const;
+  void update_max_speed();
   double skin() const { return 0.1 * w_.support(); }
 
   SphConfig cfg_;

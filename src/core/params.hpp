@@ -3,7 +3,10 @@
 #pragma once
 
 #include <limits>
+#include <map>
 #include <optional>
+#include <span>
+#include <string>
 #include <string_view>
 
 namespace gf {
@@ -20,5 +23,19 @@ struct ParamSpec {
   ParamScope scope = ParamScope::PerPair;
   std::string_view description;
 };
+
+/// Checks given parameter values against a model's schema: every name must be in `specs` and
+/// every value in its range (gf::Error naming `what`, e.g. "drag law 'wen_yu'", the parameter
+/// and the range), and with `require_all` every parameter without a default must be given.
+void check_params(std::string_view what, std::span<const ParamSpec> specs,
+                  const std::map<std::string, double>& params, bool require_all = false);
+
+/// The value of `name` in `params`, if given (the accessor models' prepare() functions read).
+inline std::optional<double> param_value(const std::map<std::string, double>& params,
+                                         std::string_view name) {
+  const auto it = params.find(std::string(name));
+  if (it == params.end()) return std::nullopt;
+  return it->second;
+}
 
 }  // namespace gf

@@ -15,6 +15,7 @@
 #include "core/stop.hpp"
 #include "core/version.hpp"
 #include "core/vtk_xml.hpp"
+#include "io/vtk/vtk.hpp"
 
 namespace gf {
 
@@ -87,55 +88,27 @@ std::vector<std::pair<std::string, std::string>> describe_continuum_case(
 
 namespace {
 
-void write_particles_vtp(const fs::path& path, const continuum::SphSolver& s) {
+/// Fluid and wall particles with their fields (walls: their prescribed velocity).
+void write_sph_vtp(const fs::path& path, const continuum::SphSolver& s) {
   const auto& p = s.particles();
   const std::size_t n = p.size();
-  std::vector<double> pos(3 * n), vel(3 * n), rho(n), pr(n), eta(n), gd(n);
-  std::vector<std::int32_t> wall(n);
-  std::vector<std::int64_t> id(n), conn(n), off(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) {
-      pos[3 * i + static_cast<std::size_t>(k)] = p.x[i][k];
-      vel[3 * i + static_cast<std::size_t>(k)] = i < s.n_fluid() ? p.v[i][k] : p.u_wall[i][k];
-    }
-    rho[i] = p.rho[i];
-    pr[i] = p.p[i];
-    eta[i] = p.eta[i];
-    gd[i] = p.gamma_dot[i];
-    wall[i] = p.wall_index[i];
-    id[i] = p.id[i];
-    conn[i] = static_cast<std::int64_t>(i);
-    off[i] = static_cast<std::int64_t>(i + 1);
-  }
+  std::vector<Vec3> vel(n);
+  for (std::size_t i = 0; i < n; ++i) vel[i] = i < s.n_fluid() ? p.v[i] : p.u_wall[i];
   vtk::AppendedArrays arrays;
-  auto add = [&arrays](const char* name, int nc, auto values) {
-    return vtk::AppendedArrays::tag(arrays.add_owned(name, nc, std::move(values)));
+  std::string data;
+  auto add = [&](const char* name, auto values) {
+    data += "        " + vtk::AppendedArrays::tag(arrays.add(name, 1, values)) + "\n";
   };
-  const std::string data =
-      "        " + add("velocity", 3, std::move(vel)) + "\n        " +
-      add("pressure", 1, std::move(pr)) + "\n        " + add("density", 1, std::move(rho)) +
-      "\n        " + add("viscosity", 1, std::move(eta)) + "\n        " +
-      add("shear_rate", 1, std::move(gd)) + "\n        " + add("wall", 1, std::move(wall)) +
-      "\n        " + add("id", 1, std::move(id)) + "\n";
-  const std::string points = add("position", 3, std::move(pos));
-  const std::string c_tag = add("connectivity", 1, std::move(conn));
-  const std::string o_tag = add("offsets", 1, std::move(off));
-  std::string xml = vtk::file_open("PolyData");
-  xml += "  <PolyData>\n";
-  xml += fmt::format(
-      "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"0\" "
-      "NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n",
-      n, n);
-  xml += "      <PointData Vectors=\"velocity\" Scalars=\"pressure\">\n" + data +
-         "      </PointData>\n";
-  xml += "      <Points>\n        " + points + "\n      </Points>\n";
-  xml += "      <Verts>\n        " + c_tag + "\n        " + o_tag + "\n      </Verts>\n";
-  xml += "    </Piece>\n  </PolyData>\n";
-  write_atomically(path, [&](std::ostream& os) {
-    os << xml;
-    arrays.write_appended(os);
-    os << "</VTKFile>\n";
-  });
+  data += "        " +
+          vtk::AppendedArrays::tag(arrays.add("velocity", std::span<const Vec3>(vel))) + "\n";
+  add("pressure", std::span<const double>(p.p));
+  add("density", std::span<const double>(p.rho));
+  add("viscosity", std::span<const double>(p.eta));
+  add("shear_rate", std::span<const double>(p.gamma_dot));
+  add("wall", std::span<const std::int32_t>(p.wall_index));
+  add("id", std::span<const std::int64_t>(p.id));
+  io::write_points_vtp(path, arrays, " Vectors=\"velocity\" Scalars=\"pressure\"", data,
+                       std::span<const Vec3>(p.x));
 }
 
 }  // namespace
@@ -178,7 +151,7 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
   int n_vtk = 0;
   auto write_vtk = [&] {
     const auto name = fmt::format("sph_particles_{:05d}.vtp", n_vtk++);
-    write_particles_vtp(dir / name, s);
+    write_sph_vtp(dir / name, s);
     pvd.add(s.time(), name);
   };
   const auto start = std::chrono::steady_clock::now();
@@ -198,7 +171,7 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
     if (c.series_every > 0) until = std::min(until, next_series);
     s.step(until);
     if (s.n_fluid() == 0) throw Error("SPH: every fluid particle has left the domain");
-    if (!std::isfinite(s.summary().kinetic_energy))
+    if (!std::isfinite(s.max_speed()))
       throw Error(
           fmt::format("SPH: the run diverged at t = {} s (step {}); lower time.cfl or "
                       "raise sound_speed",

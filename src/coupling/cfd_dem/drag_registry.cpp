@@ -2,6 +2,8 @@
 // Registry functions generated from the DragLaws list.
 #include "coupling/cfd_dem/drag_registry.hpp"
 
+#include <fmt/format.h>
+
 #include <optional>
 
 #include "core/error.hpp"
@@ -32,20 +34,8 @@ DragParams prepare_drag(std::string_view key, const std::map<std::string, double
   const int idx = drag_index(key);
   REQUIRE(idx >= 0, "unknown drag law '{}'", key);
   const DragInfo& info = *find_drag(key);
-  for (const auto& [name, value] : params) {
-    const ParamSpec* spec = nullptr;
-    for (const auto& s : info.params)
-      if (s.name == name) spec = &s;
-    REQUIRE(spec != nullptr, "drag law '{}' has no parameter '{}'", key, name);
-    const bool low_ok = spec->min_exclusive ? value > spec->min : value >= spec->min;
-    REQUIRE(low_ok && value <= spec->max, "drag law '{}': {} = {} is outside {}{}, {}]", key, name,
-            value, spec->min_exclusive ? "(" : "[", spec->min, spec->max);
-  }
-  auto get = [&](std::string_view name) -> std::optional<double> {
-    auto it = params.find(std::string(name));
-    if (it == params.end()) return std::nullopt;
-    return it->second;
-  };
+  check_params(fmt::format("drag law '{}'", key), info.params, params);
+  auto get = [&](std::string_view name) { return param_value(params, name); };
   DragParams p;
   dispatch_index(DragLaws{}, idx, [&]<class L>() { L::prepare(p, get); });
   p.law = idx;

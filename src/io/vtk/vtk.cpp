@@ -111,22 +111,27 @@ void write_particles_vtp(const std::filesystem::path& path, const ParticleStore&
   point_data += "        " + speed_tag + "\n";
   if (store.has_shapes()) add_glyph_arrays(arrays, store, point_data);
 
+  std::string attrs;
+  if (has_radius) attrs += " Scalars=\"radius\"";
+  if (has_velocity) attrs += " Vectors=\"velocity\"";
+  write_points_vtp(path, arrays, attrs, point_data, std::span<const Vec3>(store.x(), n));
+}
+
+void write_points_vtp(const std::filesystem::path& path, vtk::AppendedArrays& arrays,
+                      const std::string& point_attrs, const std::string& point_data,
+                      std::span<const Vec3> points) {
+  const std::size_t n = points.size();
   std::string xml = vtk::file_open("PolyData");
   xml += "  <PolyData>\n";
   xml += fmt::format(
       "    <Piece NumberOfPoints=\"{0}\" NumberOfVerts=\"{0}\" NumberOfLines=\"0\" "
       "NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n",
       n);
-  xml += "      <PointData";
-  if (has_radius) xml += " Scalars=\"radius\"";
-  if (has_velocity) xml += " Vectors=\"velocity\"";
-  xml += ">\n" + point_data + "      </PointData>\n";
-  const std::string points_tag =
-      AppendedArrays::tag(arrays.add("position", std::span<const Vec3>(store.x(), n)));
+  xml += "      <PointData" + point_attrs + ">\n" + point_data + "      </PointData>\n";
+  const std::string points_tag = AppendedArrays::tag(arrays.add("position", points));
   xml += "      <Points>\n        " + points_tag + "\n      </Points>\n";
   add_vertex_cells(arrays, n, xml);
   xml += "    </Piece>\n  </PolyData>\n";
-
   write_atomically(path, [&](std::ostream& out) {
     out << xml;
     arrays.write_appended(out);

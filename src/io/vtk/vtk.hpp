@@ -46,6 +46,14 @@ inline Vec3 shape_axis(std::int32_t shape, const Quat& q) {
 ///   cap_offset      half_length * axis, m: centre of the +end cap relative to the grain centre
 void write_particles_vtp(const std::filesystem::path& path, const ParticleStore& store);
 
+/// A PolyData file of points, each a vertex cell, written atomically. `point_data` holds the
+/// tags (one per line) of the point arrays already added to `arrays`, `point_attrs` the
+/// PointData attributes (e.g. ` Scalars="radius" Vectors="velocity"`, with a leading space, or
+/// empty); the positions, connectivity and offsets are added after them.
+void write_points_vtp(const std::filesystem::path& path, vtk::AppendedArrays& arrays,
+                      const std::string& point_attrs, const std::string& point_data,
+                      std::span<const Vec3> points);
+
 /// Number of polygon grains (shape Polygon) in `store`; 0 when it has no shapes.
 std::size_t count_polygon_grains(const ParticleStore& store);
 
