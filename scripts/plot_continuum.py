@@ -7,7 +7,8 @@ Usage: /usr/bin/python3 scripts/plot_continuum.py [--out DIR] [BUILD_DIR]   (def
 Runs gf_validation_tests --gtest_filter='ValidationSph*' (about 25 s) with GF_VALIDATION_OUT set
 and writes docs/validation/continuum_sph.png (into DIR, created if missing, with --out DIR):
 transient plane Poiseuille flow against its series solution, the pressure of a liquid at rest
-against rho g depth, and the Bagnold profile of a mu(I) layer on an incline. Uses Debian's
+against rho g depth, the Bagnold profile of a mu(I) layer on an incline, and a mu(I) layer below
+its yield slope against the creeping film of the regularisation. Uses Debian's
 python3-numpy and python3-matplotlib."""
 import os
 
@@ -32,7 +33,8 @@ def main():
         pois = load(f, "sph_poiseuille")
         hyd = load(f, "sph_hydrostatic")
         bag = load(f, "sph_bagnold")
-    fig, ax = plt.subplots(1, 3, figsize=(14, 4.3))
+        creep = load(f, "sph_creep_1000")
+    fig, ax = plt.subplots(1, 4, figsize=(18, 4.3))
     a = ax[0]
     for t in np.unique(pois["t"]):
         d = pois[pois["t"] == t]
@@ -60,6 +62,14 @@ def main():
     err = np.max(np.abs(bag["u"] - bag["u_exact"])) / bag["u_exact"].max()
     a.set_title(f"mu(I) layer on a 25 deg incline (max error {100 * err:.1f} % of u_s)",
                 fontsize=9)
+    a.legend(fontsize=7)
+    a = ax[3]
+    a.plot(creep["u"] * 1e3, creep["y"] * 1e3, "o", ms=4, label="grainflow SPH, implicit viscosity")
+    a.plot(creep["u_exact"] * 1e3, creep["y"] * 1e3, "k-", lw=0.8,
+           label="film of viscosity eta_max")
+    a.set_xlabel("u (mm/s)")
+    a.set_ylabel("y (mm)")
+    a.set_title("mu(I) below yield, 15 deg, eta_max = 1e3 Pa s", fontsize=9)
     a.legend(fontsize=7)
     fig.tight_layout()
     path = os.path.join(args.out, "continuum_sph.png")

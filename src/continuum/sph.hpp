@@ -36,6 +36,7 @@
 // sec. 10; Morris et al. 1997, eq. 11).
 #pragma once
 
+#include <Eigen/SparseCore>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -85,6 +86,10 @@ struct SphConfig {
   /// alpha of Monaghan's artificial viscosity (0: none); damps the acoustic noise of a weakly
   /// compressible liquid whose physical viscosity is too small to do so
   double artificial_viscosity = 0.0;
+  /// Integrate the viscous term implicitly (backward Euler, after the pressure kick-drift-kick):
+  /// no viscous time-step limit, for stiff materials (a mu(I) pile at rest with a large
+  /// max_viscosity). First order in time for the viscous part.
+  bool implicit_viscosity = false;
   RheologyParams rheology;
   double cfl = 0.2;        ///< acoustic Courant number
   double max_step = 1e30;  ///< upper bound of the time step [s]
@@ -130,6 +135,8 @@ class SphSolver {
   std::int64_t steps() const { return steps_; }
   /// The next step's size [s].
   double stable_step() const;
+  /// BiCGSTAB iterations of the last implicit viscous solve (last component).
+  int viscous_iterations() const { return last_viscous_iterations_; }
   /// Largest fluid speed [m/s] (infinite once the run has diverged).
   double max_speed() const { return v_max_; }
   std::size_t n_fluid() const { return n_fluid_; }
@@ -151,7 +158,11 @@ class SphSolver {
   void extrapolate_walls();
   void momentum();
   /// Acceleration of fluid particle i from neighbour j (pressure, viscous, artificial viscous).
-  Vec3 pair_acceleration(std::size_t i, std::size_t j) const;
+  Vec3 pair_acceleration(std::size_t i, std::size_t j, bool viscous) const;
+  /// k_ij >= 0 of the Morris term dv_i/dt = sum_j k_ij (v_j - v_i) [1/s], for r = |r_ij| and
+  /// dw = W'(r).
+  double viscous_coefficient(std::size_t i, std::size_t j, double r, double dw) const;
+  void implicit_viscous_step(double dt);
   /// Removes fluid particles outside the domain's non-periodic bounds; true if any was.
   bool remove_escaped();
   bool moved_beyond_skin() const;
@@ -177,7 +188,11 @@ class SphSolver {
   Domain cell_domain_;
   std::vector<std::int64_t> nbr_start_;
   std::vector<std::int32_t> nbr_;
-  std::vector<Vec3> x_built_;  ///< positions at the last neighbour-list build
+  std::vector<Vec3> x_built_;     ///< positions at the last neighbour-list build
+  std::vector<double> inv_wsum_;  ///< per wall particle: 1 / sum_f W_wf (0: no fluid near)
+  int last_viscous_iterations_ = 0;
+  std::vector<std::vector<Eigen::Triplet<double>>> visc_rows_;  ///< implicit step, per row
+  std::vector<Eigen::Triplet<double>> visc_triplets_;
   double t_ = 0.0, dt_last_ = 0.0;
   std::int64_t steps_ = 0;
   double a_max_ = 0.0, v_max_ = 0.0, eta_max_ = 0.0;

@@ -78,7 +78,10 @@ std::vector<std::pair<std::string, std::string>> describe_continuum_case(
   if (cfg.rheology.model == index_of_key(continuum::Rheologies{}, continuum::MuI::key)) {
     const double dt_visc =
         0.125 * s.kernel().h * s.kernel().h * cfg.density / cfg.rheology.max_viscosity;
-    out.emplace_back("viscous time step at max_viscosity [s]", fmt::format("{:.3g}", dt_visc));
+    out.emplace_back(
+        "viscous time step at max_viscosity [s]",
+        fmt::format("{:.3g}{}", dt_visc,
+                    cfg.implicit_viscosity ? " (implicit viscosity: not a limit)" : ""));
   }
   out.emplace_back("first time step [s]", fmt::format("{:.3g}", s.stable_step()));
   out.emplace_back("steps to the end (at the first step)",

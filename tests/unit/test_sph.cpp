@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Unit tests of the continuum module: the SPH kernel, the rheologies and their registry, the
-// solver's set-up checks.
+// solver's set-up checks, the `continuum:` block's reader.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +10,7 @@
 #include "continuum/rheology_registry.hpp"
 #include "continuum/sph.hpp"
 #include "core/error.hpp"
+#include "io/input/parse_continuum.hpp"
 
 namespace gf::continuum {
 namespace {
@@ -140,3 +142,71 @@ TEST(SphSolver, CylinderShellIsHollowAndParticlesLeavingAreRemoved) {
 
 }  // namespace
 }  // namespace gf::continuum
+
+namespace gf::input {
+namespace {
+
+const char* kContinuumBlock = R"(continuum:
+  method: sph
+  dimension: 2
+  domain: {min: [0, 0], max: [1, 1]}
+  gravity: [0, -9.81]
+  spacing: 0.05
+  density: 1500
+  rheology: {model: mu_i, grain_diameter: 1.0e-3, grain_density: 2500, max_viscosity: 100}
+  time: {end: 0.1, viscous: implicit}
+  blocks:
+    - {box: {min: [0.1, 0.1], max: [0.3, 0.3]}, hydrostatic: true}
+  walls:
+    - {name: floor, box: {min: [0, 0], max: [1, 0.1]}}
+)";
+
+ContinuumCase parse_text(const std::string& text) {
+  const auto root = YamlNode::parse_text(text, "case.yaml");
+  return parse_continuum(YamlMap(root, {"continuum"}).at("continuum"));
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    parse_text(text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(ContinuumInput, ReadsTheBlockWithDefaults) {
+  const auto c = parse_text(kContinuumBlock);
+  EXPECT_EQ(c.rheology, "mu_i");
+  EXPECT_TRUE(c.sph.implicit_viscosity);
+  EXPECT_DOUBLE_EQ(c.sph.smoothing_ratio, 1.3);
+  EXPECT_DOUBLE_EQ(c.sph.rheology.mu_s, 0.382);
+  // c0 = 10 sqrt(2 g H), H = 0.2 m the block's height along gravity
+  EXPECT_NEAR(c.sph.sound_speed, 10 * std::sqrt(2 * 9.81 * 0.2), 1e-12);
+  ASSERT_EQ(c.sph.walls.size(), 1u);
+  EXPECT_EQ(c.sph.walls[0].name, "floor");
+}
+
+TEST(ContinuumInput, ErrorsNameLineKeyAndExpectation) {
+  std::string text = kContinuumBlock;
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  EXPECT_THAT(error_of(with("spacing:", "spacng:")),
+              ::testing::HasSubstr("case.yaml:6:3: error: continuum.spacng: unknown key"));
+  EXPECT_THAT(error_of(with("max_viscosity: 100", "max_viscosity: -1")),
+              ::testing::HasSubstr("continuum.rheology.max_viscosity: expected a number"));
+  EXPECT_THAT(error_of(with(", max_viscosity: 100", "")),
+              ::testing::HasSubstr("rheology 'mu_i' needs 'max_viscosity'"));
+  EXPECT_THAT(error_of(with("model: mu_i", "model: bingham")),
+              ::testing::HasSubstr("expected a rheology: newtonian, mu_i"));
+  EXPECT_THAT(error_of(with("viscous: implicit", "viscous: sometimes")),
+              ::testing::HasSubstr("continuum.time.viscous"));
+  EXPECT_THAT(error_of(with("max: [1, 1]}", "max: [1, 1, 1]}")),
+              ::testing::HasSubstr("expected 2 components in a 2D case"));
+}
+
+}  // namespace
+}  // namespace gf::input

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Continuum (SPH) validation: a liquid at rest, transient plane Poiseuille flow, and the Bagnold
-// profile of a mu(I) granular layer flowing down an incline.
+// Continuum (SPH) validation: a liquid at rest, transient plane Poiseuille flow (explicit and
+// implicit viscosity), the Bagnold profile of a mu(I) layer flowing down an incline, and a mu(I)
+// layer below its yield slope (implicit viscosity).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,7 +39,7 @@ double poiseuille(double y, double t, double f, double nu, double l) {
   return u;
 }
 
-TEST(ValidationSph, PoiseuilleFlowFromRest) {
+void run_poiseuille(bool implicit, double transient_tolerance) {
   // Morris et al.'s case: L = 1 mm, nu = 1e-6 m^2/s, F = 1e-4 m/s^2 (Re = u_max L / nu =
   // 0.0125), 20 particles across, 3 wall layers (> 2h) each side.
   const double l = 1e-3, nu = 1e-6, f = 1e-4, rho = 1000;
@@ -57,8 +59,9 @@ TEST(ValidationSph, PoiseuilleFlowFromRest) {
   c.blocks.push_back({{0, 0, 0}, {width, l, 0}, {}, false});
   c.walls.push_back(box_wall("bottom", {0, -th, 0}, {width, 0, 0}));
   c.walls.push_back(box_wall("top", {0, l, 0}, {width, l + th, 0}));
+  c.implicit_viscosity = implicit;
   SphSolver s(c);
-  test::Dump dump("sph_poiseuille", "t,y,u,u_exact");
+  test::Dump dump(implicit ? "sph_poiseuille_implicit" : "sph_poiseuille", "t,y,u,u_exact");
   for (double t_end : {0.0225, 0.045, 0.1125, 0.225, 1.0}) {
     while (s.time() < t_end - 1e-12) s.step(t_end);
     double err = 0;
@@ -69,12 +72,23 @@ TEST(ValidationSph, PoiseuilleFlowFromRest) {
       if (p.x[i].x < dx) dump.row(s.time(), p.x[i].y, p.v[i].x, ex);
       EXPECT_LT(std::fabs(p.v[i].y), 1e-3 * u_max);
     }
-    // Measured 0.33-0.48 % of u_max at 20 particles across (0.10-0.16 % at 40: the error is the
-    // no-slip extrapolation's, first order in dx near the plates). 1 % bounds it with room for
-    // rounding, and fails for a viscous operator off by 2 % (as it was without the lattice
-    // normalisation of the Laplacian) or for a slipping wall.
-    EXPECT_LT(err, 0.01 * u_max) << "t = " << s.time();
+    EXPECT_LT(err, (t_end < 1.0 ? transient_tolerance : 0.01) * u_max) << "t = " << s.time();
   }
+}
+
+TEST(ValidationSph, PoiseuilleFlowFromRest) {
+  // Measured 0.33-0.48 % of u_max at 20 particles across (0.10-0.16 % at 40: the error is the
+  // no-slip extrapolation's, first order in dx near the plates). 1 % bounds it with room for
+  // rounding, and fails for a viscous operator off by 2 % (as it was without the lattice
+  // normalisation of the Laplacian) or for a slipping wall.
+  run_poiseuille(false, 0.01);
+}
+
+TEST(ValidationSph, PoiseuilleFlowImplicitViscosity) {
+  // Backward Euler at the acoustic step (100 steps to t = 1 s instead of 1896): the transient
+  // carries its first-order time error, measured 0.8-1.7 % of u_max (2.5 % asserted); the steady
+  // state must be the explicit one (0.48 %, 1 % asserted), walls taken implicitly included.
+  run_poiseuille(true, 0.025);
 }
 
 // A liquid at rest in a tank: the pressure is hydrostatic and the walls carry the weight.
@@ -187,6 +201,73 @@ TEST(ValidationSph, BagnoldProfileOnIncline) {
   // lattice normalisation of the pressure gradient the profile was 18 % slow). Measured
   // 0.9-1.5 % of u_s at t = 3.5-4 s, with the acoustic noise of Mach 0.1; 4 % bounds it.
   EXPECT_LT(err, 0.04 * u_s);
+}
+
+// Below the yield slope (tan(theta) < mu_s) a regularised mu(I) layer is a Newtonian film of
+// viscosity max_viscosity: u(y) = rho g sin(theta) / eta_max (H y - y^2 / 2). The explicit
+// viscous step would be 1.3e-6 s (eta_max = 1e3 Pa s) or 1.3e-7 s (1e4); the implicit one runs
+// at the step of the acoustic and force limits.
+struct FilmResult {
+  double max_error = 0, u_surface = 0, max_speed = 0, step = 0;
+};
+
+FilmResult run_creeping_film(double eta_max) {
+  const double d = 1e-3, h = 0.02, rho_s = 2500, phi = 0.6, rho = phi * rho_s, g = 9.81;
+  const double theta = 15.0 * std::numbers::pi / 180.0;
+  const int n = 20;
+  const double dx = h / n, width = 8 * dx, th = 3 * dx;
+  SphConfig c;
+  c.dimension = 2;
+  c.domain.lo = {0, -th, 0};
+  c.domain.hi = {width, 2 * h, 0};
+  c.domain.periodic = {true, false, false};
+  c.gravity = {g * std::sin(theta), -g * std::cos(theta), 0};
+  c.spacing = dx;
+  c.density = rho;
+  c.sound_speed = 6.0;
+  c.implicit_viscosity = true;
+  c.rheology = prepare_rheology(
+      "mu_i", {{"grain_diameter", d}, {"grain_density", rho_s}, {"max_viscosity", eta_max}});
+  c.blocks.push_back({{0, 0, 0}, {width, h, 0}, {}, true});
+  c.walls.push_back(box_wall("bed", {0, -th, 0}, {width, 0, 0}));
+  SphSolver s(c);
+  // the film's viscous time rho H^2 / eta_max is below 1e-3 s: 0.05 s is steady
+  while (s.time() < 0.05 - 1e-12) s.step(0.05);
+  FilmResult out;
+  out.step = s.last_step();
+  out.max_speed = s.summary().max_speed;
+  std::vector<double> u(n, 0.0);
+  std::vector<int> cnt(n, 0);
+  const auto& p = s.particles();
+  for (std::size_t i = 0; i < s.n_fluid(); ++i) {
+    const int layer = static_cast<int>(std::floor(p.x[i].y / dx));
+    if (layer < 0 || layer >= n) continue;
+    u[static_cast<std::size_t>(layer)] += p.v[i].x;
+    ++cnt[static_cast<std::size_t>(layer)];
+  }
+  test::Dump dump(fmt::format("sph_creep_{:g}", eta_max), "y,u,u_exact");
+  for (int j = 0; j < n; ++j) {
+    const double y = (j + 0.5) * dx;
+    const double ex = rho * g * std::sin(theta) / eta_max * (h * y - 0.5 * y * y);
+    const double uj = u[static_cast<std::size_t>(j)] / cnt[static_cast<std::size_t>(j)];
+    dump.row(y, uj, ex);
+    out.max_error = std::max(out.max_error, std::fabs(uj - ex));
+  }
+  out.u_surface = rho * g * std::sin(theta) * h * h / (2 * eta_max);
+  return out;
+}
+
+TEST(ValidationSph, MuIBelowYieldCreepsAsViscousFilm) {
+  const auto film = run_creeping_film(1e3);
+  EXPECT_GT(film.step, 10 * 1.3e-6);  // not held to the explicit viscous limit
+  // Measured 3.4 % of the surface speed 7.6e-4 m/s (0.4 % at eta_max = 100, where the explicit
+  // scheme gives the same): an absolute ~3e-5 m/s of slip and noise-driven shear that is
+  // independent of eta_max. 5 % asserted.
+  EXPECT_LT(film.max_error, 0.05 * film.u_surface);
+  // At eta_max = 1e4 Pa s the creep (7.6e-5 m/s) is below that floor: measured 1.6 u_s. The
+  // layer is at rest to 4e-4 of sqrt(g H); 2.5 u_s asserted.
+  const auto stiff = run_creeping_film(1e4);
+  EXPECT_LT(stiff.max_speed, 2.5 * stiff.u_surface);
 }
 
 }  // namespace

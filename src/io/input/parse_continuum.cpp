@@ -102,10 +102,12 @@ ContinuumCase parse_continuum(const YamlNode& block) {
     }
   }
   {
-    YamlMap t(m.at("time"), {"end", "cfl", "max_step"});
+    YamlMap t(m.at("time"), {"end", "cfl", "max_step", "viscous"});
     c.end_time = t.number("end", Range::positive());
     s.cfl = t.number_or("cfl", 0.2, {0.01, 0.5});
     s.max_step = t.number_or("max_step", 1e30, Range::positive());
+    if (auto v = t.find("viscous"))
+      s.implicit_viscosity = v->as_choice({"explicit", "implicit"}) == "implicit";
   }
   for (const auto& bn : m.at("blocks").as_list(1)) {
     YamlMap b(bn, {"box", "velocity", "hydrostatic"});
