@@ -28,7 +28,7 @@ Checks:
 - where BUILD_DIR/tests/gf_validation_tests exists (BUILD_DIR: the folder of GRAINFLOW_BINARY),
   the modes that run it: plot_cfd_dem.py BUILD_DIR, plot_drag.py, plot_fluid_fv.py and
   make_plots.py, plot_momentum_balance.py (seconds each on one core), plot_rheology_spheres.py
-  (45 s).
+  (45 s), plot_continuum.py (25 s).
 Every script is given --out (or its output folder) as a folder that does not exist yet, must
 exit 0 and write exactly the expected files, each a non-empty PNG; docs/validation (names, sizes,
 modification times) is the same afterwards. The scripts run at most os.cpu_count() at a time.
@@ -250,6 +250,9 @@ with tempfile.TemporaryDirectory() as TMP:
             ("plot_fluid_fv.py BUILD_DIR",
              script(os.path.join(SCRIPTS, "plot_fluid_fv.py"), "--out", out("fluid_fv"), build),
              out("fluid_fv"), ["fluid_fv_cavity.png", "fluid_fv_convergence.png"]),
+            ("plot_continuum.py BUILD_DIR",
+             script(os.path.join(SCRIPTS, "plot_continuum.py"), "--out", out("continuum"), build),
+             out("continuum"), ["continuum_sph.png"]),
             ("make_plots.py BUILD_DIR",
              script(os.path.join(VALIDATION, "make_plots.py"), "--out", out("dem"), build),
              out("dem"), ["dem_chung_ooi_test1.png", "dem_restitution.png",
