@@ -267,8 +267,14 @@ void SphSolver::continuity_and_strain(double dt) {
         const double hydro = cfg_.density * dot(cfg_.gravity, -d) * inv_c2;
         drho += delta_hc * vol_j * 2.0 * (p_.rho[j] - rho_i - hydro) / (r * r) * dot(-d, gw);
       }
-      grad = grad + outer(vol_j * ((wall ? p_.v_ghost[j] : p_.v[j]) - vi), gw);
-      m = m + outer(-vol_j * d, gw);
+      // The rheology's shear rate from the fluid alone (the correction L_i makes the one-sided
+      // sum next to a wall exact for linear fields): with the walls' mirrored velocities it came
+      // out ten times too large next to a bed in a creeping mu(I) layer, whose viscosity then
+      // dropped and whose bed layer slipped.
+      if (!wall) {
+        grad = grad + outer(vol_j * (p_.v[j] - vi), gw);
+        m = m + outer(-vol_j * d, gw);
+      }
     }
     // Kernel-gradient correction where the support is populated enough to invert it.
     if (dim == 2) m.a[2][2] = 1.0;

@@ -21,10 +21,10 @@
 //                rho_ij = (rho_i + rho_j) / 2: Monaghan, Annu. Rev. Astron. Astrophys. 30 (1992)
 //                543, eq. 4.1, without its quadratic term, as in DualSPHysics)
 //   viscosity    eta_i = rheology(gamma_dot_i, p_i), gamma_dot = sqrt(2 D:D), D = sym(grad v),
-//                grad v_i = sum_j V_j (v_j - v_i) (x) grad_i W_ij . L_i, with the kernel-gradient
-//                correction L_i = (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-1 (Bonet & Lok,
-//                Comput. Methods Appl. Mech. Eng. 180 (1999) 97), exact for linear velocity fields
-//                also near walls and free surfaces.
+//                grad v_i = sum_j V_j (v_j - v_i) (x) grad_i W_ij . L_i over fluid j, with the
+//                kernel-gradient correction L_i = (sum_j V_j (x_j - x_i) (x) grad_i W_ij)^-1
+//                (Bonet & Lok, Comput. Methods Appl. Mech. Eng. 180 (1999) 97), exact for linear
+//                velocity fields also next to walls and free surfaces.
 // Walls: layers of boundary particles (at least 2h thick) whose pressure, density and velocity
 // are extrapolated from the fluid each step (Adami, Hu & Adams, J. Comput. Phys. 231 (2012)
 // 7057, eqs. 22-28): p_w = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) /

@@ -260,14 +260,15 @@ FilmResult run_creeping_film(double eta_max) {
 TEST(ValidationSph, MuIBelowYieldCreepsAsViscousFilm) {
   const auto film = run_creeping_film(1e3);
   EXPECT_GT(film.step, 10 * 1.3e-6);  // not held to the explicit viscous limit
-  // Measured 3.4 % of the surface speed 7.6e-4 m/s (0.4 % at eta_max = 100, where the explicit
-  // scheme gives the same): an absolute ~3e-5 m/s of slip and noise-driven shear that is
-  // independent of eta_max. 5 % asserted.
-  EXPECT_LT(film.max_error, 0.05 * film.u_surface);
-  // At eta_max = 1e4 Pa s the creep (7.6e-5 m/s) is below that floor: measured 1.6 u_s. The
-  // layer is at rest to 4e-4 of sqrt(g H); 2.5 u_s asserted.
+  // Measured 0.68 % of the surface speed 7.6e-4 m/s; 2 % asserted. Before the shear rate of the
+  // rheology was taken from the fluid alone (the walls' mirrored velocities made it ten times
+  // too large next to the bed, so the bed layer slipped at a lowered viscosity) it was 3.4 %
+  // here and 60 % at eta_max = 1e4.
+  EXPECT_LT(film.max_error, 0.02 * film.u_surface);
+  // At eta_max = 1e4 Pa s (u_s = 7.6e-5 m/s; explicit step 1.3e-7 s): measured 3.8 %, from
+  // the top layers, where p -> 0 lets mu(I) p / gamma_dot fall below the cap; 6 % asserted.
   const auto stiff = run_creeping_film(1e4);
-  EXPECT_LT(stiff.max_speed, 2.5 * stiff.u_surface);
+  EXPECT_LT(stiff.max_error, 0.06 * stiff.u_surface);
 }
 
 }  // namespace
