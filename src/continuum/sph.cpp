@@ -541,6 +541,51 @@ void SphSolver::step(double until) {
   ++steps_;
 }
 
+SphState SphSolver::state() const {
+  SphState s;
+  s.particles = p_;
+  s.x_built = x_built_;
+  s.n_fluid = n_fluid_;
+  s.n_removed = n_removed_;
+  s.t = t_;
+  s.dt_last = dt_last_;
+  s.a_max = a_max_;
+  s.v_max = v_max_;
+  s.eta_max = eta_max_;
+  s.steps = steps_;
+  return s;
+}
+
+void SphSolver::restore(const SphState& s) {
+  const std::size_t walls = p_.size() - n_fluid_;
+  const auto& q = s.particles;
+  const std::size_t n = q.size();
+  const bool sizes_ok = q.id.size() == n && q.v.size() == n && q.a.size() == n &&
+                        q.rho.size() == n && q.drho.size() == n && q.p.size() == n &&
+                        q.mass.size() == n && q.eta.size() == n && q.gamma_dot.size() == n &&
+                        q.u_wall.size() == n && q.v_ghost.size() == n && q.wall_index.size() == n &&
+                        s.x_built.size() == n && s.n_fluid <= n;
+  if (!sizes_ok || n - s.n_fluid != walls)
+    throw InputError(fmt::format(
+        "SPH: the checkpoint holds {} wall particles, this case builds {}: it belongs to another "
+        "case (or another spacing)",
+        sizes_ok ? n - s.n_fluid : 0, walls));
+  p_ = q;
+  n_fluid_ = s.n_fluid;
+  n_removed_ = s.n_removed;
+  t_ = s.t;
+  dt_last_ = s.dt_last;
+  a_max_ = s.a_max;
+  v_max_ = s.v_max;
+  eta_max_ = s.eta_max;
+  steps_ = s.steps;
+  // The list as the uninterrupted run has it: built at the positions of its last build.
+  std::vector<Vec3> now = std::move(p_.x);
+  p_.x = s.x_built;
+  build_neighbours();
+  p_.x = std::move(now);
+}
+
 SphSummary SphSolver::summary() const {
   SphSummary s;
   s.n_fluid = n_fluid_;

@@ -120,6 +120,15 @@ struct SphSummary {
   double max_viscosity = 0.0;       ///< [Pa s]
 };
 
+/// Everything besides the case that a run's continuation needs to go on bit-identically.
+struct SphState {
+  SphParticles particles;
+  std::vector<Vec3> x_built;  ///< positions at the last neighbour-list build
+  std::size_t n_fluid = 0, n_removed = 0;
+  double t = 0.0, dt_last = 0.0, a_max = 0.0, v_max = 0.0, eta_max = 0.0;
+  std::int64_t steps = 0;
+};
+
 class SphSolver {
  public:
   /// Builds the particles and computes the first accelerations. Throws gf::Error for a
@@ -147,6 +156,12 @@ class SphSolver {
   double pressure_of(double rho) const;
   double density_of(double pressure) const;
   SphSummary summary() const;
+  /// The state a checkpoint holds.
+  SphState state() const;
+  /// Continues from `state` (a checkpoint of a run of the same case): the neighbour list is
+  /// rebuilt from the positions it was built at, so the run goes on bit-identically. A state
+  /// with another number of wall particles (another case) throws gf::InputError.
+  void restore(const SphState& state);
   /// Force of the fluid on each wall (SphConfig::walls order) at the current state [N] (2D: per
   /// metre of depth): the reaction of the pair forces the wall's particles exert on the fluid.
   std::vector<Vec3> wall_forces() const;

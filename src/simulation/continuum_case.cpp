@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "continuum/rheology_registry.hpp"
@@ -15,6 +16,7 @@
 #include "core/stop.hpp"
 #include "core/version.hpp"
 #include "core/vtk_xml.hpp"
+#include "io/restart/h5.hpp"
 #include "io/vtk/vtk.hpp"
 
 namespace gf {
@@ -116,17 +118,117 @@ void write_sph_vtp(const fs::path& path, const continuum::SphSolver& s) {
 
 }  // namespace
 
+namespace {
+
+/// A continuum run's checkpoint: the solver state and the output schedule.
+struct ContinuumCheckpoint {
+  continuum::SphState state;
+  double next_vtk = 0, next_series = 0, next_checkpoint = 0;  ///< [s]
+  std::int64_t n_vtk = 0;  ///< sph_particles_*.vtp the schedule wrote so far
+  /// time of the last data set the schedule wrote, up to which --append keeps the .pvd series (a
+  /// data set written only because the run stopped is dropped)
+  double vtk_until = 0;
+};
+
+void save_continuum_checkpoint(const fs::path& file, const ContinuumCheckpoint& c) {
+  io::write_checkpoint_atomically(file, [&](io::h5::File& h) {
+    const auto& st = c.state;
+    const auto& p = st.particles;
+    h.set_attribute("/", "program", "grainflow");
+    h.set_attribute("/", "version", version_string);
+    h.set_attribute("/", "kind", "continuum_sph");
+    h.set_attribute("/", "time", st.t);
+    h.set_attribute("/", "steps", st.steps);
+    h.set_attribute("/", "dt_last", st.dt_last);
+    h.set_attribute("/", "a_max", st.a_max);
+    h.set_attribute("/", "v_max", st.v_max);
+    h.set_attribute("/", "eta_max", st.eta_max);
+    h.set_attribute("/", "n_fluid", static_cast<std::int64_t>(st.n_fluid));
+    h.set_attribute("/", "n_removed", static_cast<std::int64_t>(st.n_removed));
+    h.set_attribute("/", "next_vtk", c.next_vtk);
+    h.set_attribute("/", "next_series", c.next_series);
+    h.set_attribute("/", "next_checkpoint", c.next_checkpoint);
+    h.set_attribute("/", "n_vtk", c.n_vtk);
+    h.set_attribute("/", "vtk_until", c.vtk_until);
+    h.create_group("particles");
+    h.write("particles/id", std::span<const std::int64_t>(p.id));
+    h.write("particles/x", std::span<const Vec3>(p.x));
+    h.write("particles/v", std::span<const Vec3>(p.v));
+    h.write("particles/a", std::span<const Vec3>(p.a));
+    h.write("particles/rho", std::span<const double>(p.rho));
+    h.write("particles/drho", std::span<const double>(p.drho));
+    h.write("particles/p", std::span<const double>(p.p));
+    h.write("particles/mass", std::span<const double>(p.mass));
+    h.write("particles/eta", std::span<const double>(p.eta));
+    h.write("particles/gamma_dot", std::span<const double>(p.gamma_dot));
+    h.write("particles/u_wall", std::span<const Vec3>(p.u_wall));
+    h.write("particles/v_ghost", std::span<const Vec3>(p.v_ghost));
+    h.write("particles/wall_index", std::span<const std::int32_t>(p.wall_index));
+    h.write("particles/x_built", std::span<const Vec3>(st.x_built));
+  });
+}
+
+ContinuumCheckpoint load_continuum_checkpoint(const fs::path& file) {
+  auto h = io::h5::File::open_read(file);
+  if (!h.has_attribute("/", "program") || h.read_string_attribute("/", "program") != "grainflow")
+    throw InputError(fmt::format("{}: not a grainflow checkpoint", file.string()));
+  if (!h.has_attribute("/", "kind") || h.read_string_attribute("/", "kind") != "continuum_sph")
+    throw InputError(
+        fmt::format("{}: not a continuum (SPH) checkpoint; a continuum case continues only from a "
+                    "sph_checkpoint_*.h5 of a continuum run",
+                    file.string()));
+  ContinuumCheckpoint c;
+  auto& st = c.state;
+  auto& p = st.particles;
+  st.t = h.read_double_attribute("/", "time");
+  st.steps = h.read_int_attribute("/", "steps");
+  st.dt_last = h.read_double_attribute("/", "dt_last");
+  st.a_max = h.read_double_attribute("/", "a_max");
+  st.v_max = h.read_double_attribute("/", "v_max");
+  st.eta_max = h.read_double_attribute("/", "eta_max");
+  st.n_fluid = static_cast<std::size_t>(h.read_int_attribute("/", "n_fluid"));
+  st.n_removed = static_cast<std::size_t>(h.read_int_attribute("/", "n_removed"));
+  c.next_vtk = h.read_double_attribute("/", "next_vtk");
+  c.next_series = h.read_double_attribute("/", "next_series");
+  c.next_checkpoint = h.read_double_attribute("/", "next_checkpoint");
+  c.n_vtk = h.read_int_attribute("/", "n_vtk");
+  c.vtk_until = h.read_double_attribute("/", "vtk_until");
+  p.id = h.read_int64("particles/id");
+  p.x = h.read_vec3("particles/x");
+  p.v = h.read_vec3("particles/v");
+  p.a = h.read_vec3("particles/a");
+  p.rho = h.read_double("particles/rho");
+  p.drho = h.read_double("particles/drho");
+  p.p = h.read_double("particles/p");
+  p.mass = h.read_double("particles/mass");
+  p.eta = h.read_double("particles/eta");
+  p.gamma_dot = h.read_double("particles/gamma_dot");
+  p.u_wall = h.read_vec3("particles/u_wall");
+  p.v_ghost = h.read_vec3("particles/v_ghost");
+  p.wall_index = h.read_int32("particles/wall_index");
+  st.x_built = h.read_vec3("particles/x_built");
+  return c;
+}
+
+}  // namespace
+
 int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_dir,
                        const RunOptions& opts) {
-  if (opts.restart)
-    throw InputError(
-        "continuum (SPH) runs write no checkpoints yet, so they cannot be continued with "
-        "--restart; run the case from its start");
   const fs::path dir = opts.output.empty() ? default_dir : opts.output;
-  auto s = build_solver(c);  // every input check happens here, before the folder is touched
-  prepare_output_dir(dir, opts.overwrite);
-  log::info("continuum (SPH) run: {} fluid and {} wall particles, output in '{}'", s.n_fluid(),
-            s.particles().size() - s.n_fluid(), dir.string());
+  // Every input check happens before the folder is touched: the case, the checkpoint, --append.
+  check_append(dir, opts);
+  auto s = build_solver(c);
+  std::optional<ContinuumCheckpoint> resume;
+  if (opts.restart) {
+    resume = load_continuum_checkpoint(*opts.restart);
+    try {
+      s.restore(resume->state);
+    } catch (const InputError& e) {
+      throw InputError(
+          fmt::format("{}: --restart {}: {}", c.file, opts.restart->string(), e.what()));
+    }
+  }
+  const bool append = resume && opts.append;
   const int dim = c.sph.dimension;
   const char* axes = "xyz";
   std::string header =
@@ -136,6 +238,20 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
     for (int k = 0; k < dim; ++k) header += fmt::format(",force_{}.{}", axes[k], w.name);
   std::ostringstream series;
   series << header << '\n';
+  if (append) {
+    // the earlier run's rows up to the checkpoint (9 significant digits of t)
+    const double until = s.time();
+    for (const auto& line : continued_csv_lines(dir / "sph_series.csv", header, [until](double t) {
+           return t <= until * (1 + 1e-8) + 1e-300;
+         }))
+      series << line << '\n';
+  }
+  if (!append) prepare_output_dir(dir, opts.overwrite);
+  log::info("continuum (SPH) run: {} fluid and {} wall particles, output in '{}'", s.n_fluid(),
+            s.particles().size() - s.n_fluid(), dir.string());
+  if (resume)
+    log::info("continuing from '{}' at t = {} s (step {})", opts.restart->string(), s.time(),
+              s.steps());
   auto sample = [&] {
     const auto sm = s.summary();
     series << fmt::format("{:.9g},{},{:.6g},{},{:.9g},{:.9g},{:.6g},{:.6g}", s.time(), s.steps(),
@@ -150,28 +266,52 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
   auto flush_series = [&] {
     write_atomically(dir / "sph_series.csv", [&](std::ostream& os) { os << series.str(); });
   };
-  vtk::PvdSeries pvd(dir / "sph_particles.pvd");
-  int n_vtk = 0;
+  // (appending: the data sets up to and including the checkpoint's time stay)
+  vtk::PvdSeries pvd =
+      append ? vtk::PvdSeries(dir / "sph_particles.pvd",
+                              std::nextafter(resume->vtk_until, std::numeric_limits<double>::max()))
+             : vtk::PvdSeries(dir / "sph_particles.pvd");
+  std::int64_t n_vtk = resume ? resume->n_vtk : 0;  // file numbers continue over restarts
   auto write_vtk = [&] {
     const auto name = fmt::format("sph_particles_{:05d}.vtp", n_vtk++);
     write_sph_vtp(dir / name, s);
     pvd.add(s.time(), name);
   };
-  const auto start = std::chrono::steady_clock::now();
-  write_vtk();
-  sample();
-  flush_series();
   const double eps = 1e-12 * c.end_time;
   double next_vtk = c.vtk_every > 0 ? c.vtk_every : c.end_time;
   double next_series = c.series_every;
-  const std::int64_t max_steps = opts.steps ? *opts.steps : -1;
+  double next_checkpoint = c.checkpoint_every > 0 ? c.checkpoint_every : c.end_time * 2;
+  if (resume) {
+    next_vtk = resume->next_vtk;
+    next_series = resume->next_series;
+    next_checkpoint = resume->next_checkpoint;
+  }
+  double last_vtk_time = resume ? resume->vtk_until : 0.0;
+  auto checkpoint = [&](const fs::path& file) {
+    ContinuumCheckpoint ck;
+    ck.state = s.state();
+    ck.next_vtk = next_vtk;
+    ck.next_series = next_series;
+    ck.next_checkpoint = next_checkpoint;
+    ck.n_vtk = n_vtk;
+    ck.vtk_until = last_vtk_time;
+    save_continuum_checkpoint(file, ck);
+  };
+  const auto start = std::chrono::steady_clock::now();
+  if (!append) {
+    write_vtk();
+    last_vtk_time = s.time();
+    sample();
+  }
+  flush_series();
+  const std::int64_t first_step = s.steps();
   int sig = 0;
-  double last_vtk_time = 0.0;
   while (s.time() < c.end_time - eps) {
-    if (max_steps >= 0 && s.steps() >= max_steps) break;
+    if (opts.steps && s.steps() - first_step >= *opts.steps) break;
     // land exactly on output times so that series are evenly spaced
     double until = std::min(c.end_time, next_vtk);
     if (c.series_every > 0) until = std::min(until, next_series);
+    if (c.checkpoint_every > 0) until = std::min(until, next_checkpoint);
     s.step(until);
     if (s.n_fluid() == 0) throw Error("SPH: every fluid particle has left the domain");
     if (!std::isfinite(s.max_speed()))
@@ -190,30 +330,41 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
       flush_series();
       while (next_vtk <= s.time() + eps) next_vtk += c.vtk_every > 0 ? c.vtk_every : c.end_time;
     }
+    if (c.checkpoint_every > 0 && s.time() >= next_checkpoint - eps) {
+      while (next_checkpoint <= s.time() + eps) next_checkpoint += c.checkpoint_every;
+      checkpoint(dir / fmt::format("sph_checkpoint_{:09d}.h5", s.steps()));
+    }
     if ((sig = stop::requested()) != 0) break;
   }
+  // (the checkpoint first: it records the schedule's files, not the one of a stop)
+  checkpoint(dir / "sph_checkpoint_final.h5");
   if (last_vtk_time < s.time()) write_vtk();
   flush_series();
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto sm = s.summary();
+  const auto run_steps = s.steps() - first_step;
   std::ostringstream sum;
   sum << fmt::format("grainflow {}\ncase {}\nmethod sph, rheology {}\n", version_string, c.name,
                      c.rheology);
-  sum << fmt::format("time {:.9g} s\nsteps {}\nfluid particles {} ({} left the domain)\n", s.time(),
-                     s.steps(), sm.n_fluid, s.n_removed());
+  sum << fmt::format(
+      "time {:.9g} s\nsteps {} ({} in this run)\nfluid particles {} ({} left the "
+      "domain)\n",
+      s.time(), s.steps(), run_steps, sm.n_fluid, s.n_removed());
   sum << fmt::format(
       "wall particles {}\nwall time {:.3f} s\nparticle-steps per second {:.4g}\n",
       s.particles().size() - s.n_fluid(), wall,
-      wall > 0 ? static_cast<double>(s.particles().size()) * static_cast<double>(s.steps()) / wall
+      wall > 0 ? static_cast<double>(s.particles().size()) * static_cast<double>(run_steps) / wall
                : 0.0);
   sum << fmt::format("kinetic energy {:.9g} J\nmax density error {:.4g}\n", sm.kinetic_energy,
                      sm.max_density_error);
   write_atomically(dir / "sph_summary.txt", [&](std::ostream& os) { os << sum.str(); });
-  log::info("SPH run done: t = {:.6g} s, {} steps, {:.1f} s wall", s.time(), s.steps(), wall);
+  log::info("SPH run done: t = {:.6g} s, {} steps, {:.1f} s wall", s.time(), run_steps, wall);
   if (sig)
-    log::warn("SPH run stopped by {}: outputs up to the last step written in '{}'",
-              stop::signal_name(sig), dir.string());
+    log::warn(
+        "SPH run stopped by {}: outputs up to the last step and sph_checkpoint_final.h5 "
+        "written in '{}'",
+        stop::signal_name(sig), dir.string());
   return sig;
 }
 

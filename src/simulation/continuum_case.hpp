@@ -28,9 +28,13 @@ std::vector<std::pair<std::string, std::string>> describe_continuum_case(
 
 /// Runs the case, writing into `default_dir` (or opts.output): sph_particles_NNNNN.vtp +
 /// sph_particles.pvd (fluid and wall particles, ParaView series), sph_series.csv (time series:
-/// energy, extent of the fluid, force on each wall), sph_summary.txt. Everything is checked and
-/// built before the folder is touched. Returns the SIGINT / SIGTERM that ended it early (outputs
-/// up to the last step written), else 0.
+/// energy, extent of the fluid, force on each wall), sph_summary.txt, and HDF5 checkpoints
+/// sph_checkpoint_NNNNNNNNN.h5 (every output.checkpoint_every, named by step) and
+/// sph_checkpoint_final.h5 (at the end or a stop). opts.restart continues from a checkpoint
+/// bit-identically; with opts.append in the folder of the run it continues (its series kept up
+/// to the checkpoint), else in a new folder. opts.steps: steps of this run. Everything is checked
+/// and built before the folder is touched. Returns the SIGINT / SIGTERM that ended it early
+/// (outputs and a final checkpoint written), else 0.
 int run_continuum_case(const input::ContinuumCase& c, const std::filesystem::path& default_dir,
                        const RunOptions& opts);
 

@@ -6,11 +6,16 @@
 
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 #include "continuum/rheology_registry.hpp"
 #include "continuum/sph.hpp"
 #include "core/error.hpp"
+#include "core/files.hpp"
 #include "io/input/parse_continuum.hpp"
+#include "io/restart/h5.hpp"
+#include "simulation/continuum_case.hpp"
+#include "temp_dir.hpp"
 
 namespace gf::continuum {
 namespace {
@@ -210,3 +215,77 @@ TEST(ContinuumInput, ErrorsNameLineKeyAndExpectation) {
 
 }  // namespace
 }  // namespace gf::input
+
+namespace gf {
+namespace {
+
+// A continuum run continued from a checkpoint ends bit-identically to one that ran straight
+// through, in a new folder and with --append in its own (series and ParaView files as the
+// straight run's), explicit and implicit viscosity.
+TEST(ContinuumRestart, ContinuesBitIdentically) {
+  for (const bool implicit : {false, true}) {
+    test::TempDir tmp;
+    std::string text = R"(continuum:
+  method: sph
+  dimension: 2
+  domain: {min: [-0.02, -0.02], max: [0.3, 0.15]}
+  gravity: [0, -9.81]
+  spacing: 0.005
+  density: 1500
+  rheology: {model: mu_i, grain_diameter: 1.0e-3, grain_density: 2500, max_viscosity: 200}
+  time: {end: 1.0, viscous: VISCOUS}
+  blocks:
+    - {box: {min: [0, 0], max: [0.05, 0.05]}, hydrostatic: true}
+  walls:
+    - {name: floor, box: {min: [-0.02, -0.02], max: [0.3, 0]}}
+    - {name: left, box: {min: [-0.02, 0], max: [0, 0.1]}}
+  output: {vtk_every: 0.002, series_every: 0.0005, checkpoint_every: 0.003}
+)";
+    text.replace(text.find("VISCOUS"), 7, implicit ? "implicit" : "explicit");
+    const auto root = input::YamlNode::parse_text(text, "case.yaml");
+    auto c = input::parse_continuum(input::YamlMap(root, {"continuum"}).at("continuum"));
+    c.name = "restart";
+    c.file = "case.yaml";
+    RunOptions straight;
+    straight.output = tmp.path() / "straight";
+    straight.steps = 120;
+    ASSERT_EQ(run_continuum_case(c, {}, straight), 0);
+    RunOptions first = straight;
+    first.output = tmp.path() / "split";
+    first.steps = 50;
+    ASSERT_EQ(run_continuum_case(c, {}, first), 0);
+    RunOptions fresh;
+    fresh.output = tmp.path() / "fresh";
+    fresh.restart = tmp.path() / "split" / "sph_checkpoint_final.h5";
+    fresh.steps = 70;
+    ASSERT_EQ(run_continuum_case(c, {}, fresh), 0);
+    RunOptions append = fresh;
+    append.output = tmp.path() / "split";
+    append.append = true;
+    ASSERT_EQ(run_continuum_case(c, {}, append), 0);
+    auto state = [](const std::filesystem::path& f) {
+      auto h = io::h5::File::open_read(f);
+      return std::make_tuple(h.read_vec3("particles/x"), h.read_vec3("particles/v"),
+                             h.read_double("particles/rho"), h.read_int_attribute("/", "steps"),
+                             h.read_double_attribute("/", "time"));
+    };
+    const auto ref = state(tmp.path() / "straight" / "sph_checkpoint_final.h5");
+    EXPECT_EQ(std::get<3>(ref), 120);
+    EXPECT_TRUE(state(tmp.path() / "fresh" / "sph_checkpoint_final.h5") == ref) << implicit;
+    EXPECT_TRUE(state(tmp.path() / "split" / "sph_checkpoint_final.h5") == ref) << implicit;
+    EXPECT_EQ(read_text_file(tmp.path() / "split" / "sph_series.csv"),
+              read_text_file(tmp.path() / "straight" / "sph_series.csv"));
+    EXPECT_EQ(read_text_file(tmp.path() / "split" / "sph_particles.pvd"),
+              read_text_file(tmp.path() / "straight" / "sph_particles.pvd"));
+    // a checkpoint of another case is refused with a clear error
+    auto other = c;
+    other.sph.walls.pop_back();
+    auto elsewhere = fresh;
+    elsewhere.output = tmp.path() / "other";
+    EXPECT_THROW(run_continuum_case(other, {}, elsewhere), InputError);
+    EXPECT_FALSE(std::filesystem::exists(tmp.path() / "other"));  // nothing written
+  }
+}
+
+}  // namespace
+}  // namespace gf

@@ -150,9 +150,10 @@ ContinuumCase parse_continuum(const YamlNode& block) {
     }
   }
   if (auto on = m.find("output")) {
-    YamlMap o(*on, {"vtk_every", "series_every"});
+    YamlMap o(*on, {"vtk_every", "series_every", "checkpoint_every"});
     c.vtk_every = o.number_or("vtk_every", 0.0, Range::non_negative());
     c.series_every = o.number_or("series_every", 0.0, Range::non_negative());
+    c.checkpoint_every = o.number_or("checkpoint_every", 0.0, Range::non_negative());
   }
   if (!c.sound_speed_given) {
     // c0 = 10 sqrt(2 |g| H): ten times the speed of a free fall over the fluid's height H (its

@@ -19,6 +19,7 @@ struct ContinuumCase {
   double end_time = 0.0;           ///< [s]
   double vtk_every = 0.0;          ///< [s]; 0: the first and last states only
   double series_every = 0.0;       ///< [s]; 0: every step
+  double checkpoint_every = 0.0;   ///< [s]; 0: only sph_checkpoint_final.h5
   bool sound_speed_given = false;  ///< false: c0 = 10 sqrt(2 |g| H), H the fluid's height
 };
 
