@@ -17,8 +17,7 @@ namespace gf {
 void Simulation::save_checkpoint(const std::filesystem::path& file) const {
   REQUIRE(!kick_pending_, "internal: a checkpoint of a step whose second half kick is deferred");
   io::write_checkpoint_atomically(file, [&](io::h5::File& h) {
-    h.set_attribute("/", "program", "grainflow");
-    h.set_attribute("/", "version", version_string);
+    io::set_checkpoint_identity(h);
     h.set_attribute("/", "case", cfg_.name);
     h.set_attribute("/", "step", static_cast<std::int64_t>(step_));
     h.set_attribute("/", "dt", dt_);
@@ -102,12 +101,9 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
 void Simulation::load_checkpoint(const std::filesystem::path& file) {
   contacts_step_ = -1;  // the records of the constructor's force evaluation are not this state's
   auto h = io::h5::File::open_read(file);
-  if (!h.has_attribute("/", "program") || h.read_string_attribute("/", "program") != "grainflow")
-    throw InputError(fmt::format("{}: not a grainflow checkpoint", file.string()));
-  if (h.has_attribute("/", "kind"))
+  if (const auto kind = io::checkpoint_kind(h, file); !kind.empty())
     throw InputError(fmt::format("{}: a {} checkpoint; continue it with its {} case", file.string(),
-                                 h.read_string_attribute("/", "kind"),
-                                 h.read_string_attribute("/", "kind")));
+                                 kind, kind));
   const double dt = h.read_double_attribute("/", "dt");
   if (dt != dt_)
     throw InputError(

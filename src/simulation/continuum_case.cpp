@@ -134,9 +134,7 @@ void save_continuum_checkpoint(const fs::path& file, const ContinuumCheckpoint& 
   io::write_checkpoint_atomically(file, [&](io::h5::File& h) {
     const auto& st = c.state;
     const auto& p = st.particles;
-    h.set_attribute("/", "program", "grainflow");
-    h.set_attribute("/", "version", version_string);
-    h.set_attribute("/", "kind", "continuum_sph");
+    io::set_checkpoint_identity(h, "continuum_sph");
     h.set_attribute("/", "time", st.t);
     h.set_attribute("/", "steps", st.steps);
     h.set_attribute("/", "dt_last", st.dt_last);
@@ -170,9 +168,7 @@ void save_continuum_checkpoint(const fs::path& file, const ContinuumCheckpoint& 
 
 ContinuumCheckpoint load_continuum_checkpoint(const fs::path& file) {
   auto h = io::h5::File::open_read(file);
-  if (!h.has_attribute("/", "program") || h.read_string_attribute("/", "program") != "grainflow")
-    throw InputError(fmt::format("{}: not a grainflow checkpoint", file.string()));
-  if (!h.has_attribute("/", "kind") || h.read_string_attribute("/", "kind") != "continuum_sph")
+  if (io::checkpoint_kind(h, file) != "continuum_sph")
     throw InputError(
         fmt::format("{}: not a continuum (SPH) checkpoint; a continuum case continues only from a "
                     "sph_checkpoint_*.h5 of a continuum run",

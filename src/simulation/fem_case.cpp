@@ -56,9 +56,7 @@ std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& 
 void save_fem_checkpoint(const fs::path& file, const fem::FemCheckpoint& c) {
   io::write_checkpoint_atomically(file, [&](io::h5::File& h) {
     const auto& f = c.flow;
-    h.set_attribute("/", "program", "grainflow");
-    h.set_attribute("/", "version", version_string);
-    h.set_attribute("/", "kind", "fluid_fem");
+    io::set_checkpoint_identity(h, "fluid_fem");
     h.set_attribute("/", "time", f.t);
     h.set_attribute("/", "steps", c.steps);
     h.set_attribute("/", "n_fields", c.n_fields);
@@ -94,9 +92,7 @@ void save_fem_checkpoint(const fs::path& file, const fem::FemCheckpoint& c) {
 
 fem::FemCheckpoint load_fem_checkpoint(const fs::path& file) {
   auto h = io::h5::File::open_read(file);
-  if (!h.has_attribute("/", "program") || h.read_string_attribute("/", "program") != "grainflow")
-    throw InputError(fmt::format("{}: not a grainflow checkpoint", file.string()));
-  if (!h.has_attribute("/", "kind") || h.read_string_attribute("/", "kind") != "fluid_fem")
+  if (io::checkpoint_kind(h, file) != "fluid_fem")
     throw InputError(fmt::format(
         "{}: a particle (DEM / CFD-DEM) checkpoint; a fluid_fem case continues only from a "
         "fem_checkpoint_*.h5 of a fluid_fem run",

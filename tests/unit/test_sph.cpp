@@ -242,8 +242,7 @@ TEST(ContinuumRestart, ContinuesBitIdentically) {
   output: {vtk_every: 0.002, series_every: 0.0005, checkpoint_every: 0.003}
 )";
     text.replace(text.find("VISCOUS"), 7, implicit ? "implicit" : "explicit");
-    const auto root = input::YamlNode::parse_text(text, "case.yaml");
-    auto c = input::parse_continuum(input::YamlMap(root, {"continuum"}).at("continuum"));
+    auto c = input::parse_text(text);
     c.name = "restart";
     c.file = "case.yaml";
     RunOptions straight;

@@ -11,6 +11,7 @@
 
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/version.hpp"
 
 namespace gf::io {
 
@@ -713,6 +714,19 @@ void load_particles(h5::File& file, ParticleStore& store, const std::string& gro
   store.resize(n);
   for (auto& [f, col] : loaded) store.column(f) = std::move(col);
   store.polygons() = std::move(polygons);
+}
+
+void set_checkpoint_identity(h5::File& file, const std::string& kind) {
+  file.set_attribute("/", "program", "grainflow");
+  file.set_attribute("/", "version", version_string);
+  if (!kind.empty()) file.set_attribute("/", "kind", kind);
+}
+
+std::string checkpoint_kind(const h5::File& file, const std::filesystem::path& path) {
+  if (!file.has_attribute("/", "program") ||
+      file.read_string_attribute("/", "program") != "grainflow")
+    throw InputError(fmt::format("{}: not a grainflow checkpoint", path.string()));
+  return file.has_attribute("/", "kind") ? file.read_string_attribute("/", "kind") : "";
 }
 
 void write_checkpoint_atomically(const std::filesystem::path& path,

@@ -118,6 +118,14 @@ void save_particles(h5::File& file, const ParticleStore& store,
 /// has a field of that name of another type (IoError).
 void load_particles(h5::File& file, ParticleStore& store, const std::string& group = "particles");
 
+/// Marks a file as a grainflow checkpoint: root attributes program = "grainflow", version and,
+/// unless empty, kind (DEM / CFD-DEM checkpoints have none; "fluid_fem", "continuum_sph").
+void set_checkpoint_identity(h5::File& file, const std::string& kind = "");
+
+/// The kind of a grainflow checkpoint ("" for a DEM / CFD-DEM one); a file that is not a
+/// grainflow checkpoint throws gf::InputError "PATH: not a grainflow checkpoint".
+std::string checkpoint_kind(const h5::File& file, const std::filesystem::path& path);
+
 /// Creates a checkpoint at `path` atomically: a temporary file next to it is created, filled by
 /// `fill`, closed, and renamed over `path`. If anything throws, no file is left behind and an
 /// existing `path` is untouched.
