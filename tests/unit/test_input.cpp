@@ -277,7 +277,7 @@ const BadCase bad_cases[] = {
     {"vector_2_in_3d.yaml", 10, "gravity", "expected 3 components in a 3D case"},
     {"thickness_in_3d.yaml", 3, "domain.thickness", "2D cases only"},
     {"sphere_in_2d.yaml", 10, "particles[0].shape", "not available in a 2D case"},
-    {"cylinder_wall_2d.yaml", 13, "walls[0].cylinder", "not available in 2D"},
+    {"cylinder_wall_2d.yaml", 13, "walls[0].cylinder.axis", "unknown key"},
     {"mesh_missing_file.yaml", 13, "walls[0].mesh.file", "no such file"},
     {"mesh_not_stl.yaml", 11, "walls[0].mesh.file", "not a readable STL file"},
     {"mesh_wall_2d.yaml", 12, "walls[0].mesh", "not available in 2D"},

@@ -270,7 +270,7 @@ void emit_wall(YAML::Emitter& out, const config::Wall& w, int dim) {
     case config::Wall::Kind::Cylinder:
       out << YAML::Key << "cylinder" << YAML::Value << YAML::Flow << YAML::BeginMap;
       key_vec(out, "center", w.center, dim);
-      key_vec(out, "axis", w.axis, dim);
+      if (dim == 3) key_vec(out, "axis", w.axis, dim);  // 2D: a circle, axis z
       key_number(out, "radius", w.radius);
       out << YAML::Key << "inside" << YAML::Value << w.inside;
       out << YAML::EndMap;

@@ -1263,12 +1263,13 @@ void Reader::read_walls(const YamlMap& root) {
       // A 2D box has no z faces: they are recorded as open, so that no plane is built there.
       if (two_d()) w.open.insert(w.open.end(), {"zmin", "zmax"});
     } else {
-      if (two_d())
-        wm.at("cylinder")
-            .fail("cylinder walls are not available in 2D (dimension: 2); use plane or box walls");
-      YamlMap cm(wm.at("cylinder"), {"center", "axis", "radius", "inside"});
+      // In 2D a cylinder is a circle in the plane (its axis is z): an obstacle (inside: false)
+      // or a vessel (inside: true) for disks.
+      YamlMap cm(wm.at("cylinder"),
+                 two_d() ? std::vector<std::string>{"center", "radius", "inside"}
+                         : std::vector<std::string>{"center", "axis", "radius", "inside"});
       w.kind = config::Wall::Kind::Cylinder;
-      w.center = cm.vec3("center");
+      w.center = vec(cm, "center");
       if (auto a = cm.find("axis")) w.axis = a->as_direction();
       w.radius = cm.number("radius", Range::positive());
       w.inside = cm.boolean_or("inside", true);
