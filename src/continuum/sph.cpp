@@ -39,6 +39,44 @@ void box_lattice(int dimension, const Vec3& lo, const Vec3& hi, double dx, F&& f
   lattice(dimension, lo, e, n, dx, f);
 }
 
+/// Lattice points of spacing dx of the cylinder's frame (e0, e1 across, e2 along the unit axis
+/// ax; 2D: a disk about z), centred on it, inside the cylinder of radius `radius` (and length
+/// `length` in 3D, centred on `center`) but not deeper than `thickness` (> 0) below its surface.
+template <class F>
+void cylinder_lattice(int dimension, const Vec3& center, const Vec3& axis, double radius,
+                      double length, double thickness, double dx, F&& f) {
+  const Vec3 ax = dimension == 2 ? Vec3{0, 0, 1} : normalized(axis);
+  Vec3 e0 = std::fabs(ax.x) < 0.9 ? cross(ax, Vec3{1, 0, 0}) : cross(ax, Vec3{0, 1, 0});
+  if (dimension == 2) e0 = {1, 0, 0};
+  e0 = normalized(e0);
+  const Vec3 e[3] = {e0, cross(ax, e0), ax};
+  const long m = std::lround(std::ceil(radius / dx));
+  long n[3] = {2 * m, 2 * m, 1};
+  if (dimension == 3) n[2] = std::max(1L, std::lround(std::floor(length / dx + 1e-6)));
+  const Vec3 p0 = center - (m * dx) * e[0] - (m * dx) * e[1] -
+                  (dimension == 3 ? (0.5 * n[2] * dx) * e[2] : Vec3{});
+  lattice(dimension, p0, e, n, dx, [&](const Vec3& x) {
+    const Vec3 d = x - center;
+    const Vec3 radial = d - dot(d, ax) * ax;
+    const double r = norm(radial);
+    if (r <= radius && (thickness <= 0 || r >= radius - thickness)) f(x);
+  });
+}
+
+/// Rotation by `angle` [rad] about the unit vector k (Rodrigues' formula):
+/// R = cos(angle) I + sin(angle) [k]x + (1 - cos(angle)) k k^T.
+Mat3 rotation_about(const Vec3& k, double angle) {
+  const double c = std::cos(angle), s = std::sin(angle);
+  Mat3 r = c * Mat3::identity() + (1.0 - c) * outer(k, k);
+  r.a[0][1] -= s * k.z;
+  r.a[0][2] += s * k.y;
+  r.a[1][0] += s * k.z;
+  r.a[1][2] -= s * k.x;
+  r.a[2][0] -= s * k.y;
+  r.a[2][1] += s * k.x;
+  return r;
+}
+
 }  // namespace
 
 SphSolver::SphSolver(const SphConfig& cfg) : cfg_(cfg) {
@@ -155,7 +193,12 @@ void SphSolver::build_particles() {
   };
   for (const auto& b : cfg_.blocks) {
     std::vector<Vec3> pts;
-    box_lattice(dim, b.lo, b.hi, dx, [&](const Vec3& x) { pts.push_back(x); });
+    auto take = [&](const Vec3& x) { pts.push_back(x); };
+    if (b.shape == SphBlock::Shape::Box)
+      box_lattice(dim, b.lo, b.hi, dx, take);
+    else
+      cylinder_lattice(dim, b.center, b.axis, b.radius, b.length, b.thickness, dx, take);
+    REQUIRE(!pts.empty(), "SPH: a fluid block holds no particle at spacing {} m", dx);
     double top = -std::numeric_limits<double>::infinity();
     for (const auto& x : pts) top = std::max(top, dot(up, x));
     top += 0.5 * dx;
@@ -167,10 +210,34 @@ void SphSolver::build_particles() {
   }
   n_fluid_ = p_.size();
   REQUIRE(n_fluid_ > 0, "SPH: the blocks hold no particle (spacing {} m)", dx);
+  wall_motion_.assign(cfg_.walls.size(), {});
   for (std::size_t w = 0; w < cfg_.walls.size(); ++w) {
     const auto& wall = cfg_.walls[w];
+    auto& motion = wall_motion_[w];
+    motion.c0 = wall.rotation_center.value_or(
+        wall.shape == SphWall::Shape::Box ? 0.5 * (wall.lo + wall.hi) : wall.center);
+    motion.velocity = wall.velocity;
+    motion.omega = wall.angular_velocity;
+    if (dim == 2) {
+      REQUIRE(motion.omega.x == 0 && motion.omega.y == 0,
+              "SPH: wall '{}': a 2D wall rotates about z only (angular velocity ({}, {}, {}) "
+              "rad/s)",
+              wall.name, motion.omega.x, motion.omega.y, motion.omega.z);
+      motion.c0.z = 0.0;
+      motion.velocity.z = 0.0;
+    }
+    motion.rate = norm(motion.omega);
+    motion.rotates = motion.rate > 0.0;
+    motion.translates = norm2(motion.velocity) > 0.0;
+    motion.axis = motion.rotates ? motion.omega / motion.rate : Vec3{0, 0, 1};
+    REQUIRE(wall.initial_angle == 0.0 || dim == 2 || motion.rotates,
+            "SPH: wall '{}': an initial angle in 3D needs a non-zero angular velocity (its axis)",
+            wall.name);
+    const bool turned = wall.initial_angle != 0.0;
+    const Mat3 turn = rotation_about(motion.axis, wall.initial_angle);
     const auto before = p_.size();
-    auto put = [&](const Vec3& x) {
+    auto put = [&](Vec3 x) {
+      if (turned) x = motion.c0 + turn * (x - motion.c0);
       for (int k = 0; k < dim; ++k)
         if (!cfg_.domain.periodic[k] && (x[k] < cfg_.domain.lo[k] || x[k] > cfg_.domain.hi[k]))
           throw InputError(fmt::format(
@@ -179,29 +246,45 @@ void SphSolver::build_particles() {
               wall.name, x.x, x.y, x.z));
       add(x, wall.velocity, cfg_.density, static_cast<int>(w));
     };
-    if (wall.shape == SphWall::Shape::Box) {
+    if (wall.shape == SphWall::Shape::Box)
       box_lattice(dim, wall.lo, wall.hi, dx, put);
-    } else {
-      // Lattice of the cylinder's frame (e0, e1 across, e2 along the axis), centred on it.
-      const Vec3 ax = dim == 2 ? Vec3{0, 0, 1} : normalized(wall.axis);
-      Vec3 e0 = std::fabs(ax.x) < 0.9 ? cross(ax, Vec3{1, 0, 0}) : cross(ax, Vec3{0, 1, 0});
-      if (dim == 2) e0 = {1, 0, 0};
-      e0 = normalized(e0);
-      const Vec3 e[3] = {e0, cross(ax, e0), ax};
-      const long m = std::lround(std::ceil(wall.radius / dx));
-      long n[3] = {2 * m, 2 * m, 1};
-      if (dim == 3) n[2] = std::max(1L, std::lround(std::floor(wall.length / dx + 1e-6)));
-      const Vec3 p0 = wall.center - (m * dx) * e[0] - (m * dx) * e[1] -
-                      (dim == 3 ? (0.5 * n[2] * dx) * e[2] : Vec3{});
-      lattice(dim, p0, e, n, dx, [&](const Vec3& x) {
-        const Vec3 d = x - wall.center;
-        const Vec3 radial = d - dot(d, ax) * ax;
-        const double r = norm(radial);
-        if (r <= wall.radius && (wall.thickness <= 0 || r >= wall.radius - wall.thickness)) put(x);
-      });
-    }
+    else
+      cylinder_lattice(dim, wall.center, wall.axis, wall.radius, wall.length, wall.thickness, dx,
+                       put);
     REQUIRE(p_.size() > before, "SPH: wall '{}' holds no particle at spacing {} m", wall.name, dx);
   }
+  wall_x0_.assign(p_.x.begin() + static_cast<std::ptrdiff_t>(n_fluid_), p_.x.end());
+  move_walls(0.0, false);
+  for (std::size_t i = n_fluid_; i < p_.size(); ++i) p_.v_ghost[i] = p_.u_wall[i];
+}
+
+Vec3 SphSolver::wall_center(std::size_t wall) const {
+  const auto& m = wall_motion_.at(wall);
+  return m.c0 + t_ * m.velocity;
+}
+
+void SphSolver::move_walls(double t, bool positions) {
+  // (one rotation per wall, not per particle)
+  std::vector<Mat3> rot(wall_motion_.size());
+  for (std::size_t w = 0; w < wall_motion_.size(); ++w)
+    if (wall_motion_[w].rotates)
+      rot[w] = rotation_about(wall_motion_[w].axis, wall_motion_[w].rate * t);
+  const Domain& dom = cfg_.domain;
+  exec::parallel_for(static_cast<exec::index_t>(p_.size() - n_fluid_), [&](exec::index_t wi) {
+    const auto ww = static_cast<std::size_t>(wi);
+    const auto i = n_fluid_ + ww;
+    const auto w = static_cast<std::size_t>(p_.wall_index[i]);
+    const auto& m = wall_motion_[w];
+    if (m.rotates) {
+      const Vec3 r = rot[w] * (wall_x0_[ww] - m.c0);
+      p_.u_wall[i] = m.velocity + cross(m.omega, r);
+      if (positions) p_.x[i] = (m.c0 + t * m.velocity) + r;
+    } else {
+      p_.u_wall[i] = m.velocity;
+      if (positions && m.translates) p_.x[i] = wall_x0_[ww] + t * m.velocity;
+    }
+    if (positions) dom.wrap(p_.x[i]);
+  });
 }
 
 void SphSolver::build_neighbours() {
@@ -300,11 +383,13 @@ void SphSolver::extrapolate_walls() {
   const Domain& dom = cfg_.domain;
   const std::size_t n = p_.size();
   inv_wsum_.resize(n - n_fluid_);
+  u_mirror_.resize(n - n_fluid_);
   exec::parallel_for(static_cast<exec::index_t>(n - n_fluid_), [&](exec::index_t wi) {
     const auto ww = static_cast<std::size_t>(wi);
     const auto w = n_fluid_ + ww;
+    const auto& mo = wall_motion_[static_cast<std::size_t>(p_.wall_index[w])];
     double sum_w = 0.0, sum_p = 0.0, sum_eta = 0.0;
-    Vec3 sum_rho_r{}, sum_v{};
+    Vec3 sum_rho_r{}, sum_v{}, sum_d{};
     for (auto k = nbr_start_[w]; k < nbr_start_[w + 1]; ++k) {
       const auto f = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
       const Vec3 d = dom.delta(p_.x[w], p_.x[f]);
@@ -314,13 +399,21 @@ void SphSolver::extrapolate_walls() {
       sum_eta += p_.eta[f] * wk;
       sum_rho_r += (p_.rho[f] * wk) * d;
       sum_v += wk * p_.v[f];
+      if (mo.rotates) sum_d += wk * d;
     }
     double pw = cfg_.background_pressure;
     inv_wsum_[ww] = sum_w > 0.0 ? 1.0 / sum_w : 0.0;
+    u_mirror_[ww] = p_.u_wall[w];
     if (sum_w > 0.0) {
-      // (a constant-velocity wall does not accelerate: a_w = 0)
-      pw = (sum_p + dot(cfg_.gravity, sum_rho_r)) / sum_w;
-      p_.v_ghost[w] = 2.0 * p_.u_wall[w] - sum_v / sum_w;
+      // g - a_w, a_w = Omega x (Omega x (x_w - c)) = Omega x (u_w - V) (a translating wall does
+      // not accelerate)
+      const Vec3 g_rel =
+          mo.rotates ? cfg_.gravity - cross(mo.omega, p_.u_wall[w] - mo.velocity) : cfg_.gravity;
+      pw = (sum_p + dot(g_rel, sum_rho_r)) / sum_w;
+      // A rotating wall's velocity at the midpoint of x_w and the fluid's centroid x~ (where the
+      // mirror assumption puts the surface): u_w + Omega x (x~ - x_w) / 2
+      if (mo.rotates) u_mirror_[ww] -= (0.5 / sum_w) * cross(mo.omega, sum_d);
+      p_.v_ghost[w] = 2.0 * u_mirror_[ww] - sum_v / sum_w;
       p_.eta[w] = sum_eta / sum_w;
     } else {
       p_.v_ghost[w] = p_.u_wall[w];
@@ -375,22 +468,59 @@ void SphSolver::momentum() {
       nf, 0.0, [&](exec::index_t i) { return p_.eta[static_cast<std::size_t>(i)]; });
 }
 
-std::vector<Vec3> SphSolver::wall_forces() const {
-  // Force on wall particle w: minus what it exerts on its fluid neighbours (actio = reactio).
+std::vector<SphSolver::WallLoad> SphSolver::wall_particle_loads() const {
   const std::size_t nw = p_.size() - n_fluid_;
-  std::vector<Vec3> per_particle(nw);
+  std::vector<WallLoad> out(nw);
   exec::parallel_for(static_cast<exec::index_t>(nw), [&](exec::index_t ww) {
     const auto w = n_fluid_ + static_cast<std::size_t>(ww);
-    Vec3 f{};
+    const auto& mo = wall_motion_[static_cast<std::size_t>(p_.wall_index[w])];
+    WallLoad l;
+    Vec3 area{};  // n dS
     for (auto k = nbr_start_[w]; k < nbr_start_[w + 1]; ++k) {
       const auto i = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
-      f -= p_.mass[i] * pair_acceleration(i, w, true);
+      // minus what w exerts on fluid particle i (actio = reactio), applied at their midpoint
+      const Vec3 f = -p_.mass[i] * pair_acceleration(i, w, true);
+      const Vec3 d = cfg_.domain.delta(p_.x[w], p_.x[i]);  // x_w - x_i
+      l.force += f;
+      l.moment += cross(-0.5 * d, f);
+      const double r = norm(d);
+      if (mo.rotates && r > 0.0) area += (p_.mass[i] / p_.rho[i] * w_.derivative(r) / r) * d;
     }
-    per_particle[static_cast<std::size_t>(ww)] = f;
+    if (mo.rotates) {
+      // eta (grad v)^T n = eta n x Omega on the wall's surface, with
+      // n dS = 2 V_w sum_f V_f W'(r) (x_w - x_f) / r (the fluid's kernel sum seen from a wall
+      // particle covers half the kernel at a plane surface), lattice-normalised like the
+      // pressure gradient
+      area = (2.0 * gradient_scale_ * volume0_) * area;
+      l.force += p_.eta[w] * cross(area, mo.omega);
+    }
+    out[static_cast<std::size_t>(ww)] = l;
   });
+  return out;
+}
+
+std::vector<Vec3> SphSolver::wall_forces() const {
+  const auto per_particle = wall_particle_loads();
   std::vector<Vec3> out(cfg_.walls.size());
-  for (std::size_t k = 0; k < nw; ++k)
-    out[static_cast<std::size_t>(p_.wall_index[n_fluid_ + k])] += per_particle[k];
+  for (std::size_t k = 0; k < per_particle.size(); ++k)
+    out[static_cast<std::size_t>(p_.wall_index[n_fluid_ + k])] += per_particle[k].force;
+  return out;
+}
+
+std::vector<Vec3> SphSolver::wall_torques() const {
+  const auto per_particle = wall_particle_loads();
+  std::vector<Mat3> rot(wall_motion_.size());
+  for (std::size_t w = 0; w < wall_motion_.size(); ++w)
+    rot[w] = rotation_about(wall_motion_[w].axis, wall_motion_[w].rate * t_);
+  std::vector<Vec3> out(cfg_.walls.size());
+  for (std::size_t k = 0; k < per_particle.size(); ++k) {
+    // (x_w - c(t) from the rigid motion, not from x_w: unaffected by periodic wrapping)
+    const auto w = static_cast<std::size_t>(p_.wall_index[n_fluid_ + k]);
+    const auto& mo = wall_motion_[w];
+    const Vec3 r0 = wall_x0_[k] - mo.c0;
+    const auto& l = per_particle[k];
+    out[w] += cross(mo.rotates ? rot[w] * r0 : r0, l.force) + l.moment;
+  }
   return out;
 }
 
@@ -421,7 +551,7 @@ void SphSolver::implicit_viscous_step(double dt) {
         row.emplace_back(ii, static_cast<Eigen::Index>(j), -c);
         continue;
       }
-      b += (2.0 * c) * p_.u_wall[j];
+      b += (2.0 * c) * u_mirror_[j - n_fluid_];
       const double inv = inv_wsum_[j - n_fluid_];
       for (auto q = nbr_start_[j]; q < nbr_start_[j + 1]; ++q) {
         const auto f = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(q)]);
@@ -516,16 +646,13 @@ void SphSolver::step(double until) {
   double dt = stable_step();
   if (until > t_) dt = std::min(dt, until - t_);
   const Domain& dom = cfg_.domain;
-  exec::parallel_for(static_cast<exec::index_t>(p_.size()), [&](exec::index_t ii) {
+  exec::parallel_for(static_cast<exec::index_t>(n_fluid_), [&](exec::index_t ii) {
     const auto i = static_cast<std::size_t>(ii);
-    if (i < n_fluid_) {
-      p_.v[i] += (0.5 * dt) * p_.a[i];
-      p_.x[i] += dt * p_.v[i];
-    } else {
-      p_.x[i] += dt * p_.u_wall[i];
-    }
+    p_.v[i] += (0.5 * dt) * p_.a[i];
+    p_.x[i] += dt * p_.v[i];
     dom.wrap(p_.x[i]);
   });
+  move_walls(t_ + dt, true);  // (t_ + dt: the time this step ends at, as below)
   if (remove_escaped() || moved_beyond_skin()) build_neighbours();
   continuity_and_strain(dt);
   extrapolate_walls();

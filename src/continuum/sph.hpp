@@ -28,8 +28,29 @@
 // Walls: layers of boundary particles (at least 2h thick) whose pressure, density and velocity
 // are extrapolated from the fluid each step (Adami, Hu & Adams, J. Comput. Phys. 231 (2012)
 // 7057, eqs. 22-28): p_w = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) /
-// sum_f W_wf, and for no slip the mirrored velocity v_w = 2 u_wall - sum_f v_f W_wf / sum_f W_wf
+// sum_f W_wf, and for no slip the mirrored velocity v_w = 2 u_w - sum_f v_f W_wf / sum_f W_wf
 // in the viscous term and the velocity gradient.
+// Wall motion: rigid, a constant translation V and a constant rotation Omega about the centre
+// c(t) = c0 + V t: x_w(t) = c(t) + R(Omega t) (x_w(0) - c0), with R(Omega t) the rotation by
+// |Omega| t about Omega / |Omega| (Rodrigues' formula), evaluated from t rather than summed step
+// by step (no drift, and a continued run is bit-identical); u_w = V + Omega x (x_w - c),
+// a_w = Omega x (Omega x (x_w - c)) = Omega x (u_w - V). In the mirrored velocity a rotating
+// wall's velocity is taken at the midpoint of x_w and the centroid x~ = sum_f x_f W_wf /
+// sum_f W_wf of the fluid it sees (where Adami's mirroring puts the surface):
+// v_w = 2 (u_w + Omega x (x~ - x_w) / 2) - sum_f v_f W_wf / sum_f W_wf, so that a liquid turning
+// rigidly with the wall feels no viscous force from it (with u_w alone it would, and in
+// Taylor-Couette flow the liquid slipped by 1.6 % of the wall speed at 20 particles across).
+// Wall loads: the force is the reaction of the pair forces the wall's particles exert on the
+// fluid, the torque about c(t) that of these pair forces applied at the pairs' midpoints.
+// The Morris term's pair forces are not central: its stress is eta grad v, not
+// eta (grad v + grad v^T), the same force density in an incompressible liquid of constant eta
+// but another traction. On a rigid no-slip wall (grad v)^T n = n x Omega, so a rotating wall's
+// loads add eta_w n dS x Omega per wall particle, with n dS = 2 V_w sum_f V_f W'(r_wf)
+// (x_w - x_f) / r_wf (the outward normal times the particle's share of the surface: a wall
+// particle sees half the kernel's support filled at a plane surface; times the lattice
+// normalisation of the pressure gradient). Without it the torque on a cylinder turning in a
+// Newtonian liquid lacks -2 eta Omega A (A its cross-section; 37.5 % of the Taylor-Couette torque
+// at R2 = 2 R1).
 // Time integration: kick-drift-kick (velocity Verlet) with the density advanced after the drift;
 // the step is the smallest of the acoustic (cfl h / (c0 + |v|max)), force (0.25 sqrt(h / |a|max))
 // and viscous (0.125 h^2 rho0 / eta_max) limits (Monaghan, Rep. Prog. Phys. 68 (2005) 1703,
@@ -38,6 +59,7 @@
 
 #include <Eigen/SparseCore>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,17 +70,28 @@
 
 namespace gf::continuum {
 
-/// A region of the continuum at t = 0: lattice points of spacing dx in a box.
+/// A region of the continuum at t = 0: lattice points of spacing dx in a box, or in a cylinder
+/// (a disk in 2D) but not deeper than `thickness` below its surface (an annulus: the fluid
+/// between two coaxial cylinder walls, on the same lattice when they share the centre).
 struct SphBlock {
-  Vec3 lo, hi;      ///< box corners [m]
+  enum class Shape { Box, Cylinder };
+  Vec3 lo, hi;      ///< Box: corners [m] (Cylinder: unused by the solver)
   Vec3 velocity{};  ///< initial velocity [m/s]
   /// Start at hydrostatic pressure instead of at p = 0, so that a resting column does not first
   /// oscillate: p = rho0 |g_k| (depth below the block's top), along the axis k closest to -g.
   bool hydrostatic = false;
+  Shape shape = Shape::Box;
+  Vec3 center{};           ///< Cylinder: a point of the axis [m]
+  Vec3 axis{0, 0, 1};      ///< Cylinder: unit axis (2D: z, a disk)
+  double radius = 0.0;     ///< Cylinder [m]
+  double length = 0.0;     ///< Cylinder, 3D: length along the axis, centred on `center` [m]
+  double thickness = 0.0;  ///< Cylinder: annulus thickness [m] (0: solid)
 };
 
 /// A solid wall made of boundary particles: the lattice points of spacing dx inside a box, or
-/// inside a cylinder (a disk in 2D) but not deeper than `thickness` below its surface.
+/// inside a cylinder (a disk in 2D) but not deeper than `thickness` below its surface. It moves
+/// rigidly: a constant translation `velocity` and a constant rotation `angular_velocity` about
+/// its rotation centre, which moves with `velocity` (see the file comment).
 struct SphWall {
   enum class Shape { Box, Cylinder };
   std::string name;
@@ -69,7 +102,16 @@ struct SphWall {
   double radius = 0.0;     ///< Cylinder [m]
   double length = 0.0;     ///< Cylinder, 3D: length along the axis, centred on `center` [m]
   double thickness = 0.0;  ///< Cylinder: shell thickness [m] (0: solid)
-  Vec3 velocity{};         ///< constant velocity of the wall [m/s]
+  Vec3 velocity{};         ///< constant translation velocity of the wall [m/s]
+  /// constant angular velocity of the wall about its rotation centre [rad/s] (2D: z only)
+  Vec3 angular_velocity{};
+  /// the point the wall rotates about, at t = 0 [m]; it moves with `velocity`. Unset: the box's
+  /// centre (lo + hi) / 2 or the cylinder's `center`
+  std::optional<Vec3> rotation_center;
+  /// the wall's lattice is built turned by this angle about the rotation axis through the
+  /// rotation centre [rad] (2D: about z, so that a box can be a blade at any angle; 3D: about
+  /// angular_velocity, which must then be non-zero)
+  double initial_angle = 0.0;
 };
 
 struct SphConfig {
@@ -104,7 +146,7 @@ struct SphParticles {
   std::vector<double> rho, drho, p;      ///< [kg/m^3], [kg/m^3/s], [Pa]
   std::vector<double> mass;              ///< fluid: [kg]; walls: rho V0 (updated each step)
   std::vector<double> eta, gamma_dot;    ///< apparent viscosity [Pa s], shear rate [1/s]
-  std::vector<Vec3> u_wall;              ///< walls: prescribed velocity [m/s]
+  std::vector<Vec3> u_wall;              ///< walls: prescribed (rigid-body) velocity [m/s]
   std::vector<Vec3> v_ghost;             ///< walls: mirrored velocity for no slip [m/s]
   std::vector<std::int32_t> wall_index;  ///< walls: index in SphConfig::walls; fluid: -1
   std::size_t size() const { return x.size(); }
@@ -163,11 +205,29 @@ class SphSolver {
   /// with another number of wall particles (another case) throws gf::InputError.
   void restore(const SphState& state);
   /// Force of the fluid on each wall (SphConfig::walls order) at the current state [N] (2D: per
-  /// metre of depth): the reaction of the pair forces the wall's particles exert on the fluid.
+  /// metre of depth): the reaction of the pair forces the wall's particles exert on the fluid
+  /// (a rotating wall: plus its surface term, see the file comment).
   std::vector<Vec3> wall_forces() const;
+  /// Torque of the fluid on each wall about its rotation centre c(t) (also of a wall that does
+  /// not turn) at the current state [N m] (2D: per metre of depth, along z); see the file
+  /// comment.
+  std::vector<Vec3> wall_torques() const;
+  /// Rotation centre c(t) = c0 + V t of wall `wall` (SphConfig::walls order) at the current
+  /// time [m] (unwrapped: it may lie outside a periodic domain).
+  Vec3 wall_center(std::size_t wall) const;
 
  private:
   void build_particles();
+  /// Wall particles' positions (if `positions`) and velocities at time t [s] from their
+  /// positions at t = 0 (rigid motion).
+  void move_walls(double t, bool positions);
+  /// What the fluid exerts on one wall particle: force [N] and moment about the particle [N m]
+  /// (2D: per metre of depth).
+  struct WallLoad {
+    Vec3 force, moment;
+  };
+  /// Per wall particle (index - n_fluid_).
+  std::vector<WallLoad> wall_particle_loads() const;
   void build_neighbours();
   void continuity_and_strain(double dt);
   void extrapolate_walls();
@@ -199,12 +259,24 @@ class SphSolver {
   double b_eos_ = 0.0;  ///< rho0 c0^2 / gamma
   SphParticles p_;
   std::size_t n_fluid_ = 0, n_removed_ = 0;
+  /// A wall's rigid motion: centre at t = 0 [m], translation [m/s], rotation axis (unit) and
+  /// rate [rad/s].
+  struct WallMotion {
+    Vec3 c0, velocity, omega, axis;
+    double rate = 0.0;
+    bool translates = false, rotates = false;
+  };
+  std::vector<WallMotion> wall_motion_;  ///< per wall (SphConfig::walls order)
+  std::vector<Vec3> wall_x0_;            ///< per wall particle (index - n_fluid_): x at t = 0
   CellList cells_;
   Domain cell_domain_;
   std::vector<std::int64_t> nbr_start_;
   std::vector<std::int32_t> nbr_;
   std::vector<Vec3> x_built_;     ///< positions at the last neighbour-list build
   std::vector<double> inv_wsum_;  ///< per wall particle: 1 / sum_f W_wf (0: no fluid near)
+  /// per wall particle: the wall velocity its mirrored velocity is built on, v_w = 2 u - v~
+  /// [m/s] (u_wall, or a rotating wall's at the midpoint towards the fluid's centroid)
+  std::vector<Vec3> u_mirror_;
   int last_viscous_iterations_ = 0;
   std::vector<std::vector<Eigen::Triplet<double>>> visc_rows_;  ///< implicit step, per row
   std::vector<Eigen::Triplet<double>> visc_triplets_;

@@ -232,6 +232,10 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
   for (int k = 0; k < dim; ++k) header += fmt::format(",min_{0},max_{0}", axes[k]);
   for (const auto& w : c.sph.walls)
     for (int k = 0; k < dim; ++k) header += fmt::format(",force_{}.{}", axes[k], w.name);
+  // torque about each wall's rotation centre (2D: the z component only)
+  for (const auto& w : c.sph.walls)
+    for (int k = (dim == 2 ? 2 : 0); k < 3; ++k)
+      header += fmt::format(",torque_{}.{}", axes[k], w.name);
   std::ostringstream series;
   series << header << '\n';
   if (append) {
@@ -257,6 +261,8 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
       series << fmt::format(",{:.9g},{:.9g}", sm.min_position[k], sm.max_position[k]);
     for (const auto& f : s.wall_forces())
       for (int k = 0; k < dim; ++k) series << fmt::format(",{:.9g}", f[k]);
+    for (const auto& m : s.wall_torques())
+      for (int k = (dim == 2 ? 2 : 0); k < 3; ++k) series << fmt::format(",{:.9g}", m[k]);
     series << '\n';
   };
   auto flush_series = [&] {

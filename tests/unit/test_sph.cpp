@@ -145,6 +145,100 @@ TEST(SphSolver, CylinderShellIsHollowAndParticlesLeavingAreRemoved) {
   for (std::size_t i = 0; i < s.n_fluid(); ++i) EXPECT_LE(s.particles().x[i].x, 0.13);
 }
 
+// A wall that translates and rotates moves rigidly: after time t each particle is at
+// c0 + V t + R(Omega t) (x(0) - c0), distances between its particles are kept, its velocity is
+// V + Omega x (x - c(t)); the lattice was first turned by initial_angle about c0.
+TEST(SphSolver, TranslatingRotatingWallMovesRigidly) {
+  auto c = small_tank();
+  SphWall blade;
+  blade.name = "blade";
+  blade.lo = {0.02, 0.13, 0};
+  blade.hi = {0.08, 0.16, 0};
+  blade.velocity = {0.2, -0.1, 0};
+  blade.angular_velocity = {0, 0, 3.0};
+  blade.rotation_center = Vec3{0.04, 0.15, 0};  // off the box's centre
+  const Vec3 c0{0.04, 0.15, 0}, vel{0.2, -0.1, 0};
+  auto straight = c;
+  straight.walls.push_back(blade);
+  blade.initial_angle = 0.4;
+  c.walls.push_back(blade);
+  const SphSolver s0(straight);
+  SphSolver s(c);
+  auto of_blade = [](const SphSolver& sv) {
+    std::vector<Vec3> x, u;
+    const auto& p = sv.particles();
+    for (std::size_t i = sv.n_fluid(); i < p.size(); ++i)
+      if (p.wall_index[i] == 1) {
+        x.push_back(p.x[i]);
+        u.push_back(p.u_wall[i]);
+      }
+    return std::make_pair(x, u);
+  };
+  const auto [lattice, u_lattice] = of_blade(s0);
+  auto turned = [&](const Vec3& x, double angle) {
+    const Vec3 d = x - c0;
+    return Vec3{std::cos(angle) * d.x - std::sin(angle) * d.y,
+                std::sin(angle) * d.x + std::cos(angle) * d.y, 0.0};
+  };
+  const auto [x0, u0] = of_blade(s);
+  ASSERT_EQ(x0.size(), 18u);  // 6 x 3 lattice points
+  ASSERT_EQ(x0.size(), lattice.size());
+  for (std::size_t k = 0; k < x0.size(); ++k) {
+    EXPECT_LT(norm(x0[k] - (c0 + turned(lattice[k], 0.4))), 1e-15);
+    // u = V + Omega x (x - c0) at t = 0 (Omega along z: Omega x d = Omega (-d_y, d_x))
+    const Vec3 d = x0[k] - c0;
+    EXPECT_LT(norm(u0[k] - (vel + Vec3{-3.0 * d.y, 3.0 * d.x, 0})), 1e-14);
+    EXPECT_LT(
+        norm(u_lattice[k] - (vel + Vec3{-3.0 * (lattice[k] - c0).y, 3.0 * (lattice[k] - c0).x, 0})),
+        1e-14);
+  }
+  while (s.time() < 0.05 - 1e-12) s.step(0.05);
+  EXPECT_GT(s.steps(), 10);
+  const double t = s.time();
+  const Vec3 ct = c0 + t * vel;
+  EXPECT_LT(norm(s.wall_center(1) - ct), 1e-15);
+  EXPECT_EQ(s.wall_center(0), (Vec3{0.05, -0.015, 0}));  // a fixed box: its centre
+  const auto [x, u] = of_blade(s);
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    EXPECT_LT(norm(x[k] - (ct + turned(x0[k], 3.0 * t))), 1e-15) << k;
+    const Vec3 d = x[k] - ct;
+    EXPECT_LT(norm(u[k] - (vel + Vec3{-3.0 * d.y, 3.0 * d.x, 0})), 1e-14) << k;
+    for (std::size_t q = 0; q < k; ++q) EXPECT_NEAR(norm(x[k] - x[q]), norm(x0[k] - x0[q]), 1e-15);
+  }
+  // the fixed floor has not moved
+  for (std::size_t i = s.n_fluid(); i < s.particles().size(); ++i)
+    if (s.particles().wall_index[i] == 0) {
+      EXPECT_EQ(s.particles().x[i], s0.particles().x[i]);
+      EXPECT_EQ(s.particles().u_wall[i], Vec3{});
+    }
+}
+
+TEST(SphSolver, RefusesRotationsItCannotDefine) {
+  auto message = [](const SphConfig& cfg) -> std::string {
+    try {
+      SphSolver s(cfg);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  auto c = small_tank();
+  c.walls[0].angular_velocity = {1.0, 0, 0};  // 2D: about z only
+  EXPECT_THAT(message(c), ::testing::HasSubstr("a 2D wall rotates about z only"));
+  c = small_tank();
+  c.dimension = 3;
+  c.gravity = {0, -9.81, 0};
+  c.domain.hi.z = 0.04;
+  c.blocks[0].hi.z = 0.04;
+  c.walls[0].hi.z = 0.04;
+  EXPECT_EQ(message(c), "no error");
+  c.walls[0].initial_angle = 0.5;  // 3D without an axis
+  EXPECT_THAT(message(c), ::testing::HasSubstr("an initial angle in 3D needs a non-zero"));
+  c.walls[0].angular_velocity = {0, 0.5, 0};
+  c.walls[0].initial_angle = std::numbers::pi;  // about y through its centre: onto itself
+  EXPECT_EQ(message(c), "no error");
+}
+
 }  // namespace
 }  // namespace gf::continuum
 
@@ -192,6 +286,42 @@ TEST(ContinuumInput, ReadsTheBlockWithDefaults) {
   EXPECT_EQ(c.sph.walls[0].name, "floor");
 }
 
+TEST(ContinuumInput, ReadsWallMotionAndCylinderBlocks) {
+  std::string text = kContinuumBlock;
+  text.replace(text.find("  walls:"), std::string::npos,
+               R"(    - {cylinder: {center: [0.6, 0.6], radius: 0.2, thickness: 0.1}}
+  walls:
+    - {name: floor, box: {min: [0, 0], max: [1, 0.1]}}
+    - {name: blade, box: {min: [0.5, 0.2], max: [0.7, 0.25]}, velocity: [0.1, 0],
+       angular_velocity: -2.5, rotation_center: [0.6, 0.3], initial_angle: 0.25}
+    - {name: drum, cylinder: {center: [0.6, 0.6], radius: 0.3, thickness: 0.1},
+       angular_velocity: 1.5}
+)");
+  const auto c = parse_text(text);
+  ASSERT_EQ(c.sph.walls.size(), 3u);
+  const auto& floor = c.sph.walls[0];
+  EXPECT_EQ(floor.angular_velocity, Vec3{});
+  EXPECT_FALSE(floor.rotation_center.has_value());
+  EXPECT_EQ(floor.initial_angle, 0.0);
+  const auto& blade = c.sph.walls[1];
+  EXPECT_EQ(blade.velocity, (Vec3{0.1, 0, 0}));
+  EXPECT_EQ(blade.angular_velocity, (Vec3{0, 0, -2.5}));
+  ASSERT_TRUE(blade.rotation_center.has_value());
+  EXPECT_EQ(*blade.rotation_center, (Vec3{0.6, 0.3, 0}));
+  EXPECT_EQ(blade.initial_angle, 0.25);
+  EXPECT_EQ(c.sph.walls[2].angular_velocity, (Vec3{0, 0, 1.5}));
+  EXPECT_FALSE(c.sph.walls[2].rotation_center.has_value());  // the solver takes the centre
+  ASSERT_EQ(c.sph.blocks.size(), 2u);
+  const auto& ring = c.sph.blocks[1];
+  EXPECT_EQ(ring.shape, continuum::SphBlock::Shape::Cylinder);
+  EXPECT_EQ(ring.center, (Vec3{0.6, 0.6, 0}));
+  EXPECT_EQ(ring.radius, 0.2);
+  EXPECT_EQ(ring.thickness, 0.1);
+  // its bounding box, for the default sound speed
+  EXPECT_LT(norm(ring.lo - Vec3{0.4, 0.4, 0}), 1e-15);
+  EXPECT_LT(norm(ring.hi - Vec3{0.8, 0.8, 0}), 1e-15);
+}
+
 TEST(ContinuumInput, ErrorsNameLineKeyAndExpectation) {
   std::string text = kContinuumBlock;
   auto with = [&](const std::string& from, const std::string& to) {
@@ -211,6 +341,36 @@ TEST(ContinuumInput, ErrorsNameLineKeyAndExpectation) {
               ::testing::HasSubstr("continuum.time.viscous"));
   EXPECT_THAT(error_of(with("max: [1, 1]}", "max: [1, 1, 1]}")),
               ::testing::HasSubstr("expected 2 components in a 2D case"));
+  // wall motion: a 2D rotation is a rate about z, not a vector
+  EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, angular_velocity: [0, 0, 1]}")),
+              ::testing::HasSubstr("case.yaml:13:74: error: continuum.walls[0].angular_velocity: "
+                                   "expected a number in a 2D case"));
+  EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, rotation_center: [0.5]}")),
+              ::testing::HasSubstr("continuum.walls[0].rotation_center"));
+  EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, initial_angle: fast}")),
+              ::testing::HasSubstr("continuum.walls[0].initial_angle: expected a number"));
+  EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, angular_velocty: 1}")),
+              ::testing::HasSubstr("continuum.walls[0].angular_velocty: unknown key"));
+  // 3D: an initial angle needs the rotation's axis
+  std::string three = R"(continuum:
+  method: sph
+  dimension: 3
+  domain: {min: [0, 0, 0], max: [1, 1, 1]}
+  gravity: [0, -9.81, 0]
+  spacing: 0.05
+  density: 1000
+  rheology: {model: newtonian, viscosity: 1.0e-3}
+  time: {end: 0.1}
+  blocks:
+    - {box: {min: [0.1, 0.1, 0.1], max: [0.3, 0.3, 0.3]}}
+  walls:
+    - {name: blade, box: {min: [0.5, 0, 0], max: [0.6, 0.5, 0.5]}, initial_angle: 0.3}
+)";
+  EXPECT_THAT(error_of(three),
+              ::testing::HasSubstr("continuum.walls[0].initial_angle: in 3D an initial_angle "
+                                   "turns the wall about its angular_velocity"));
+  three.replace(three.find("initial_angle"), 0, "angular_velocity: [0, 0, 2], ");
+  EXPECT_EQ(parse_text(three).sph.walls[0].angular_velocity, (Vec3{0, 0, 2}));
 }
 
 }  // namespace
@@ -221,7 +381,7 @@ namespace {
 
 // A continuum run continued from a checkpoint ends bit-identically to one that ran straight
 // through, in a new folder and with --append in its own (series and ParaView files as the
-// straight run's), explicit and implicit viscosity.
+// straight run's), explicit and implicit viscosity, with a translating and rotating wall.
 TEST(ContinuumRestart, ContinuesBitIdentically) {
   for (const bool implicit : {false, true}) {
     test::TempDir tmp;
@@ -239,6 +399,8 @@ TEST(ContinuumRestart, ContinuesBitIdentically) {
   walls:
     - {name: floor, box: {min: [-0.02, -0.02], max: [0.3, 0]}}
     - {name: left, box: {min: [-0.02, 0], max: [0, 0.1]}}
+    - {name: paddle, box: {min: [0.055, 0.005], max: [0.07, 0.045]}, angular_velocity: 5,
+       initial_angle: 0.05, velocity: [0.1, 0]}
   output: {vtk_every: 0.002, series_every: 0.0005, checkpoint_every: 0.003}
 )";
     text.replace(text.find("VISCOUS"), 7, implicit ? "implicit" : "explicit");

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Continuum (SPH) validation: a liquid at rest, transient plane Poiseuille flow (explicit and
-// implicit viscosity), the Bagnold profile of a mu(I) layer flowing down an incline, and a mu(I)
-// layer below its yield slope (implicit viscosity).
+// implicit viscosity), the Bagnold profile of a mu(I) layer flowing down an incline, a mu(I)
+// layer below its yield slope (implicit viscosity), and Taylor-Couette flow (a rotating wall).
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -262,6 +263,120 @@ TEST(ValidationSph, MuIBelowYieldCreepsAsViscousFilm) {
     // lets mu(I) p / gamma_dot fall below the cap; 6 % asserted.
     EXPECT_LT(err, (eta_max < 5e3 ? 0.02 : 0.06) * u_s) << "eta_max = " << eta_max;
   }
+}
+
+// Taylor-Couette flow (2D): a Newtonian liquid between an inner cylinder of radius R1 turning
+// at Omega and a fixed outer cylinder of radius R2, no gravity. Steady state (Landau & Lifshitz,
+// Fluid Mechanics, 2nd ed., sec. 18): u_theta(r) = A r + B / r,
+// A = -Omega R1^2 / (R2^2 - R1^2), B = Omega R1^2 R2^2 / (R2^2 - R1^2); shear stress
+// tau_r_theta = eta r d(u_theta / r)/dr = -2 eta B / r^2, so the torque of the liquid on the inner
+// cylinder, per metre of depth, is 2 pi r^2 tau = -4 pi eta B (against its rotation) and the
+// outer cylinder's is +4 pi eta B.
+struct TaylorCouette {
+  /// time average of a ring's (width dx) mean of u_theta - exact, largest over the rings and
+  /// the ring next to the inner cylinder [/ (Omega R1)]
+  double err_rings = 0, err_wall_ring = 0;
+  double torque_inner = 0, torque_outer = 0;  ///< time averages [/ (4 pi eta B)]
+};
+
+TaylorCouette run_taylor_couette(int n) {
+  // R1 = G = R2 - R1 = 1 mm, nu = 1e-6 m^2/s, Omega = 1 rad/s: Re = Omega R1 G / nu = 1; the
+  // slowest transient decays as exp(-~pi^2 nu t / G^2), below 1e-3 Omega R1 after 0.6 G^2 / nu.
+  // Averages over t = 0.6 .. 1 s: a particle's u_theta is 5-15 % of Omega R1 off at any instant
+  // (particle disorder; the flow turns the lattice by about a radian), a ring's mean drifts by
+  // about 1 % over 0.5 s.
+  const double r1 = 1e-3, r2 = 2e-3, nu = 1e-6, rho = 1000, omega = 1.0;
+  const double t_avg = 0.6, t_end = 1.0;
+  const double eta = nu * rho;
+  const double dx = (r2 - r1) / n, th = 3 * dx;
+  const double u0 = omega * r1;
+  const double a = -omega * r1 * r1 / (r2 * r2 - r1 * r1);
+  const double b = omega * r1 * r1 * r2 * r2 / (r2 * r2 - r1 * r1);
+  SphConfig c;
+  c.dimension = 2;
+  const double ext = r2 + th + dx;
+  c.domain.lo = {-ext, -ext, 0};
+  c.domain.hi = {ext, ext, 0};
+  c.spacing = dx;
+  c.density = rho;
+  // Mach 0.1. The viscous step limits (at 20 across: 5.3e-4 s against 1.2e-3 s acoustic); a
+  // larger c0 or a background pressure makes the particle noise larger, not smaller.
+  c.sound_speed = 10 * u0;
+  c.rheology = prepare_rheology("newtonian", {{"viscosity", eta}});
+  SphBlock liquid;  // the annulus R1 < r <= R2 on the walls' lattice
+  liquid.shape = SphBlock::Shape::Cylinder;
+  liquid.radius = r2;
+  liquid.thickness = r2 - r1;
+  c.blocks.push_back(liquid);
+  SphWall inner;  // a rigid shell 3 dx (> 2h) thick: the same rigid body as a solid disk
+  inner.name = "inner";
+  inner.shape = SphWall::Shape::Cylinder;
+  inner.radius = r1;
+  inner.thickness = th;
+  inner.angular_velocity = {0, 0, omega};
+  c.walls.push_back(inner);
+  SphWall outer;
+  outer.name = "outer";
+  outer.shape = SphWall::Shape::Cylinder;
+  outer.radius = r2 + th;
+  outer.thickness = th;
+  c.walls.push_back(outer);
+  SphSolver s(c);
+  auto exact = [&](double r) { return a * r + b / r; };
+  std::vector<double> ring_err(static_cast<std::size_t>(n), 0.0);  // summed over samples
+  TaylorCouette out;
+  int samples = 0;
+  while (s.time() < t_end - 1e-12) {
+    s.step(s.time() < t_avg ? t_avg : t_end);
+    if (s.time() < t_avg - 1e-12) continue;
+    const auto m = s.wall_torques();
+    out.torque_inner += m[0].z;
+    out.torque_outer += m[1].z;
+    std::vector<double> sum(static_cast<std::size_t>(n), 0.0);
+    std::vector<int> cnt(static_cast<std::size_t>(n), 0);
+    const auto& p = s.particles();
+    for (std::size_t i = 0; i < s.n_fluid(); ++i) {
+      const double r = std::hypot(p.x[i].x, p.x[i].y);
+      const auto k =
+          static_cast<std::size_t>(std::clamp(static_cast<int>((r - r1) / dx), 0, n - 1));
+      sum[k] += (p.x[i].x * p.v[i].y - p.x[i].y * p.v[i].x) / r - exact(r);
+      ++cnt[k];
+    }
+    for (std::size_t k = 0; k < sum.size(); ++k) ring_err[k] += sum[k] / std::max(1, cnt[k]);
+    ++samples;
+  }
+  const double m_exact = 4 * std::numbers::pi * eta * b;
+  out.torque_inner /= samples * m_exact;
+  out.torque_outer /= samples * m_exact;
+  test::Dump dump(fmt::format("sph_taylor_couette_{}", n), "r,u_theta,u_exact");
+  for (int k = 0; k < n; ++k) {
+    const double r = r1 + (k + 0.5) * dx;
+    const double e = ring_err[static_cast<std::size_t>(k)] / samples;
+    dump.row(r, exact(r) + e, exact(r));
+    out.err_rings = std::max(out.err_rings, std::fabs(e) / u0);
+    if (k == 0) out.err_wall_ring = e / u0;
+  }
+  return out;
+}
+
+TEST(ValidationSph, TaylorCouetteFlow) {
+  // 20 particles across the gap (about 11 s on one core). Measured over t = 0.6-1 s (and over
+  // 0.3-0.6 s and 1-1.4 s), in units of Omega R1 and 4 pi eta B:
+  //   20 across: wall ring +0.62 % (+0.51, +0.59), rings 1.2 % (0.75, 1.4), torque inner
+  //              -0.998 (-0.999, -1.012), outer 1.033 (0.993, 1.064);
+  //   10 across: wall ring +0.26 %, rings 1.6 %, torque inner -0.990, outer 1.043.
+  // Without the rotating wall's midpoint velocity in the mirrored velocity (Adami's
+  // 2 u_w - v~ with u_w the wall particle's own velocity) the liquid slips on the inner
+  // cylinder: wall ring -1.5 to -1.7 % at 20 across (-3.6 % at 10); without the surface term
+  // eta n x Omega of the torque the inner torque is -0.66 (the Morris term's stress eta grad v
+  // lacks eta (grad v)^T). 1 % on the wall ring, 2.5 % on every ring (the slow ~1 % drift of
+  // the rings' means), 3 % on the inner torque and 7 % on the outer one (it drifts with the
+  // rings) bound what was measured and fail for either defect.
+  const auto r = run_taylor_couette(20);
+  EXPECT_LT(std::fabs(r.err_wall_ring), 0.01);
+  EXPECT_LT(r.err_rings, 0.025);
+  EXPECT_NEAR(r.torque_inner, -1.0, 0.03);
+  EXPECT_NEAR(r.torque_outer, 1.0, 0.07);
 }
 
 }  // namespace

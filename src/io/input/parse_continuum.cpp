@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -25,6 +26,27 @@ BoxRead read_box(const YamlNode& n, int dim) {
     if (!(b.hi[k] > b.lo[k]))
       n.fail(fmt::format("expected max > min along every axis (axis {})", k));
   return b;
+}
+
+struct CylinderRead {
+  Vec3 center, axis{0, 0, 1};
+  double radius = 0, length = 0, thickness = 0;
+};
+
+/// {center, radius, thickness} (3D: also axis and length).
+CylinderRead read_cylinder(const YamlNode& n, int dim) {
+  YamlMap cy(n, dim == 2
+                    ? std::vector<std::string>{"center", "radius", "thickness"}
+                    : std::vector<std::string>{"center", "radius", "thickness", "axis", "length"});
+  CylinderRead c;
+  c.center = cy.at("center").as_vec(dim);
+  c.radius = cy.number("radius", Range::positive());
+  c.thickness = cy.number_or("thickness", 0.0, Range::non_negative());
+  if (dim == 3) {
+    c.axis = cy.at("axis").as_direction(3);
+    c.length = cy.number("length", Range::positive());
+  }
+  return c;
 }
 
 }  // namespace
@@ -110,18 +132,37 @@ ContinuumCase parse_continuum(const YamlNode& block) {
       s.implicit_viscosity = v->as_choice({"explicit", "implicit"}) == "implicit";
   }
   for (const auto& bn : m.at("blocks").as_list(1)) {
-    YamlMap b(bn, {"box", "velocity", "hydrostatic"});
+    YamlMap b(bn, {"box", "cylinder", "velocity", "hydrostatic"});
     continuum::SphBlock blk;
-    const auto box = read_box(b.at("box"), dim);
-    blk.lo = box.lo;
-    blk.hi = box.hi;
+    if (b.exactly_one_of({"box", "cylinder"}) == "box") {
+      const auto box = read_box(b.at("box"), dim);
+      blk.lo = box.lo;
+      blk.hi = box.hi;
+    } else {
+      const auto cy = read_cylinder(b.at("cylinder"), dim);
+      blk.shape = continuum::SphBlock::Shape::Cylinder;
+      blk.center = cy.center;
+      blk.axis = cy.axis;
+      blk.radius = cy.radius;
+      blk.length = cy.length;
+      blk.thickness = cy.thickness;
+      // lo, hi: its bounding box (for the default sound speed below)
+      for (int k = 0; k < dim; ++k) {
+        const double a = dim == 2 ? 0.0 : cy.axis[k];
+        const double half =
+            cy.radius * std::sqrt(std::max(0.0, 1.0 - a * a)) + 0.5 * cy.length * std::fabs(a);
+        blk.lo[k] = cy.center[k] - half;
+        blk.hi[k] = cy.center[k] + half;
+      }
+    }
     if (b.find("velocity")) blk.velocity = b.at("velocity").as_vec(dim);
     blk.hydrostatic = b.boolean_or("hydrostatic", false);
     s.blocks.push_back(blk);
   }
   if (auto wl = m.find("walls")) {
     for (const auto& wn : wl->as_list()) {
-      YamlMap w(wn, {"name", "box", "cylinder", "velocity"});
+      YamlMap w(wn, {"name", "box", "cylinder", "velocity", "angular_velocity", "rotation_center",
+                     "initial_angle"});
       continuum::SphWall wall;
       wall.name = w.string("name");
       for (const auto& other : s.walls)
@@ -133,19 +174,34 @@ ContinuumCase parse_continuum(const YamlNode& block) {
         wall.hi = box.hi;
       } else {
         wall.shape = continuum::SphWall::Shape::Cylinder;
-        const auto cn = w.at("cylinder");
-        YamlMap cy(cn, dim == 2 ? std::vector<std::string>{"center", "radius", "thickness"}
-                                : std::vector<std::string>{"center", "radius", "thickness", "axis",
-                                                           "length"});
-        wall.center = cy.at("center").as_vec(dim);
-        wall.radius = cy.number("radius", Range::positive());
-        wall.thickness = cy.number_or("thickness", 0.0, Range::non_negative());
-        if (dim == 3) {
-          wall.axis = cy.at("axis").as_direction(3);
-          wall.length = cy.number("length", Range::positive());
-        }
+        const auto cy = read_cylinder(w.at("cylinder"), dim);
+        wall.center = cy.center;
+        wall.axis = cy.axis;
+        wall.radius = cy.radius;
+        wall.length = cy.length;
+        wall.thickness = cy.thickness;
       }
       if (w.find("velocity")) wall.velocity = w.at("velocity").as_vec(dim);
+      // Rigid rotation: 2D a rate about z (a number), 3D a vector; about rotation_center
+      // (default: the box's centre or the cylinder's center), the lattice first turned by
+      // initial_angle about the same axis.
+      if (auto av = w.find("angular_velocity")) {
+        if (dim == 2) {
+          if (!av->is_scalar())
+            av->fail_expected("a number in a 2D case (the rotation rate about z, rad/s)");
+          wall.angular_velocity = {0, 0, av->as_number()};
+        } else {
+          wall.angular_velocity = av->as_vec(3);
+        }
+      }
+      if (auto rc = w.find("rotation_center")) wall.rotation_center = rc->as_vec(dim);
+      if (auto ia = w.find("initial_angle")) {
+        wall.initial_angle = ia->as_number();
+        if (dim == 3 && wall.initial_angle != 0.0 && norm2(wall.angular_velocity) == 0.0)
+          ia->fail(
+              "in 3D an initial_angle turns the wall about its angular_velocity, which is zero or "
+              "not given");
+      }
       s.walls.push_back(wall);
     }
   }
