@@ -211,9 +211,11 @@ void SphSolver::build_particles() {
   n_fluid_ = p_.size();
   REQUIRE(n_fluid_ > 0, "SPH: the blocks hold no particle (spacing {} m)", dx);
   wall_motion_.assign(cfg_.walls.size(), {});
+  free_slip_.assign(cfg_.walls.size(), 0);
   for (std::size_t w = 0; w < cfg_.walls.size(); ++w) {
     const auto& wall = cfg_.walls[w];
     auto& motion = wall_motion_[w];
+    free_slip_[w] = wall.free_slip ? 1 : 0;
     motion.c0 = wall.rotation_center.value_or(
         wall.shape == SphWall::Shape::Box ? 0.5 * (wall.lo + wall.hi) : wall.center);
     motion.velocity = wall.velocity;
@@ -442,7 +444,7 @@ Vec3 SphSolver::pair_acceleration(std::size_t i, std::size_t j, bool viscous) co
   const double mj_rr = p_.mass[j] / (rho_i * p_.rho[j]);
   Vec3 acc = (-gradient_scale_ * mj_rr * (p_.p[i] + p_.p[j])) * gw;
   const Vec3 vij = p_.v[i] - (wall ? p_.v_ghost[j] : p_.v[j]);
-  if (viscous) acc -= viscous_coefficient(i, j, r, dw) * vij;
+  if (viscous && viscous_partner(j)) acc -= viscous_coefficient(i, j, r, dw) * vij;
   const double vr = dot(vij, d);
   if (vr < 0.0 && cfg_.artificial_viscosity > 0.0) {
     const double pi_ij = -cfg_.artificial_viscosity * w_.h * cfg_.sound_speed * vr /
@@ -474,6 +476,8 @@ std::vector<SphSolver::WallLoad> SphSolver::wall_particle_loads() const {
   exec::parallel_for(static_cast<exec::index_t>(nw), [&](exec::index_t ww) {
     const auto w = n_fluid_ + static_cast<std::size_t>(ww);
     const auto& mo = wall_motion_[static_cast<std::size_t>(p_.wall_index[w])];
+    // (the surface term is a shear traction: none on a free-slip wall)
+    const bool sheared_turning = mo.rotates && viscous_partner(w);
     WallLoad l;
     Vec3 area{};  // n dS
     for (auto k = nbr_start_[w]; k < nbr_start_[w + 1]; ++k) {
@@ -484,9 +488,9 @@ std::vector<SphSolver::WallLoad> SphSolver::wall_particle_loads() const {
       l.force += f;
       l.moment += cross(-0.5 * d, f);
       const double r = norm(d);
-      if (mo.rotates && r > 0.0) area += (p_.mass[i] / p_.rho[i] * w_.derivative(r) / r) * d;
+      if (sheared_turning && r > 0.0) area += (p_.mass[i] / p_.rho[i] * w_.derivative(r) / r) * d;
     }
-    if (mo.rotates) {
+    if (sheared_turning) {
       // eta (grad v)^T n = eta n x Omega on the wall's surface, with
       // n dS = 2 V_w sum_f V_f W'(r) (x_w - x_f) / r (the fluid's kernel sum seen from a wall
       // particle covers half the kernel at a plane surface), lattice-normalised like the
@@ -544,7 +548,7 @@ void SphSolver::implicit_viscous_step(double dt) {
     for (auto k = nbr_start_[i]; k < nbr_start_[i + 1]; ++k) {
       const auto j = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
       const double r = norm(cfg_.domain.delta(p_.x[i], p_.x[j]));
-      if (r <= 0.0 || r >= w_.support()) continue;
+      if (r <= 0.0 || r >= w_.support() || !viscous_partner(j)) continue;
       const double c = dt * viscous_coefficient(i, j, r, w_.derivative(r));
       diag += c;
       if (j < n_fluid_) {

@@ -29,7 +29,8 @@
 // are extrapolated from the fluid each step (Adami, Hu & Adams, J. Comput. Phys. 231 (2012)
 // 7057, eqs. 22-28): p_w = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) /
 // sum_f W_wf, and for no slip the mirrored velocity v_w = 2 u_w - sum_f v_f W_wf / sum_f W_wf
-// in the viscous term and the velocity gradient.
+// in the viscous term and the velocity gradient; a free-slip wall takes no part in the viscous
+// term (no shear stress: Adami et al. 2012, sec. 2.4.1).
 // Wall motion: rigid, a constant translation V and a constant rotation Omega about the centre
 // c(t) = c0 + V t: x_w(t) = c(t) + R(Omega t) (x_w(0) - c0), with R(Omega t) the rotation by
 // |Omega| t about Omega / |Omega| (Rodrigues' formula), evaluated from t rather than summed step
@@ -112,6 +113,9 @@ struct SphWall {
   /// rotation centre [rad] (2D: about z, so that a box can be a blade at any angle; 3D: about
   /// angular_velocity, which must then be non-zero)
   double initial_angle = 0.0;
+  /// Free slip: the wall exerts no shear stress; its particles give pressure (and artificial
+  /// viscosity) but take no part in the viscous term. Default no slip (mirrored velocities).
+  bool free_slip = false;
 };
 
 struct SphConfig {
@@ -268,6 +272,12 @@ class SphSolver {
   };
   std::vector<WallMotion> wall_motion_;  ///< per wall (SphConfig::walls order)
   std::vector<Vec3> wall_x0_;            ///< per wall particle (index - n_fluid_): x at t = 0
+  std::vector<char> free_slip_;          ///< per wall (SphConfig::walls order)
+  /// Whether neighbour j shears fluid particle i through the viscous term: a fluid particle or
+  /// a particle of a no-slip wall.
+  bool viscous_partner(std::size_t j) const {
+    return j < n_fluid_ || !free_slip_[static_cast<std::size_t>(p_.wall_index[j])];
+  }
   CellList cells_;
   Domain cell_domain_;
   std::vector<std::int64_t> nbr_start_;

@@ -295,7 +295,7 @@ TEST(ContinuumInput, ReadsWallMotionAndCylinderBlocks) {
     - {name: blade, box: {min: [0.5, 0.2], max: [0.7, 0.25]}, velocity: [0.1, 0],
        angular_velocity: -2.5, rotation_center: [0.6, 0.3], initial_angle: 0.25}
     - {name: drum, cylinder: {center: [0.6, 0.6], radius: 0.3, thickness: 0.1},
-       angular_velocity: 1.5}
+       angular_velocity: 1.5, slip: free_slip}
 )");
   const auto c = parse_text(text);
   ASSERT_EQ(c.sph.walls.size(), 3u);
@@ -311,6 +311,8 @@ TEST(ContinuumInput, ReadsWallMotionAndCylinderBlocks) {
   EXPECT_EQ(blade.initial_angle, 0.25);
   EXPECT_EQ(c.sph.walls[2].angular_velocity, (Vec3{0, 0, 1.5}));
   EXPECT_FALSE(c.sph.walls[2].rotation_center.has_value());  // the solver takes the centre
+  EXPECT_FALSE(floor.free_slip);                             // no slip by default
+  EXPECT_TRUE(c.sph.walls[2].free_slip);
   ASSERT_EQ(c.sph.blocks.size(), 2u);
   const auto& ring = c.sph.blocks[1];
   EXPECT_EQ(ring.shape, continuum::SphBlock::Shape::Cylinder);
@@ -351,6 +353,8 @@ TEST(ContinuumInput, ErrorsNameLineKeyAndExpectation) {
               ::testing::HasSubstr("continuum.walls[0].initial_angle: expected a number"));
   EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, angular_velocty: 1}")),
               ::testing::HasSubstr("continuum.walls[0].angular_velocty: unknown key"));
+  EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, slip: partial}")),
+              ::testing::HasSubstr("continuum.walls[0].slip: expected one of no_slip, free_slip"));
   // 3D: an initial angle needs the rotation's axis
   std::string three = R"(continuum:
   method: sph

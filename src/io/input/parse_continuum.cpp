@@ -162,7 +162,7 @@ ContinuumCase parse_continuum(const YamlNode& block) {
   if (auto wl = m.find("walls")) {
     for (const auto& wn : wl->as_list()) {
       YamlMap w(wn, {"name", "box", "cylinder", "velocity", "angular_velocity", "rotation_center",
-                     "initial_angle"});
+                     "initial_angle", "slip"});
       continuum::SphWall wall;
       wall.name = w.string("name");
       for (const auto& other : s.walls)
@@ -202,6 +202,8 @@ ContinuumCase parse_continuum(const YamlNode& block) {
               "in 3D an initial_angle turns the wall about its angular_velocity, which is zero or "
               "not given");
       }
+      if (auto sl = w.find("slip"))
+        wall.free_slip = sl->as_choice({"no_slip", "free_slip"}) == "free_slip";
       s.walls.push_back(wall);
     }
   }
