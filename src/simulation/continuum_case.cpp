@@ -16,6 +16,7 @@
 #include "core/stop.hpp"
 #include "core/version.hpp"
 #include "core/vtk_xml.hpp"
+#include "io/input/echo.hpp"
 #include "io/restart/h5.hpp"
 #include "io/vtk/vtk.hpp"
 
@@ -247,6 +248,8 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
       series << line << '\n';
   }
   if (!append) prepare_output_dir(dir, opts.overwrite);
+  write_atomically(dir / "resolved_case.yaml",
+                   [&](std::ostream& o) { o << input::echo_continuum_yaml(c, version_string); });
   log::info("continuum (SPH) run: {} fluid and {} wall particles, output in '{}'", s.n_fluid(),
             s.particles().size() - s.n_fluid(), dir.string());
   if (resume)

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "contact/registry.hpp"
+#include "continuum/rheology_registry.hpp"
 #include "io/input/validate.hpp"
 #include "io/input/yaml_reader.hpp"
 
@@ -519,6 +520,127 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
   text += out.c_str();
   text += "\n";
   return text;
+}
+
+namespace {
+
+/// A continuum cylinder (a wall or a block) as its YAML map.
+void emit_sph_cylinder(YAML::Emitter& out, const Vec3& center, const Vec3& axis, double radius,
+                       double length, double thickness, int dim) {
+  out << YAML::Key << "cylinder" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  key_vec(out, "center", center, dim);
+  key_number(out, "radius", radius);
+  key_number(out, "thickness", thickness);
+  if (dim == 3) {
+    key_vec(out, "axis", axis, 3);
+    key_number(out, "length", length);
+  }
+  out << YAML::EndMap;
+}
+
+void emit_sph_box(YAML::Emitter& out, const Vec3& lo, const Vec3& hi, int dim) {
+  out << YAML::Key << "box" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  key_vec(out, "min", lo, dim);
+  key_vec(out, "max", hi, dim);
+  out << YAML::EndMap;
+}
+
+}  // namespace
+
+std::string echo_continuum_yaml(const ContinuumCase& c, std::string_view program_version) {
+  const auto& s = c.sph;
+  const int dim = s.dimension;
+  YAML::Emitter out;
+  out.SetIndent(2);
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << c.name;
+  out << YAML::Key << "continuum" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "method" << YAML::Value << "sph";
+  out << YAML::Key << "dimension" << YAML::Value << dim;
+  out << YAML::Key << "domain" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  key_vec(out, "min", s.domain.lo, dim);
+  key_vec(out, "max", s.domain.hi, dim);
+  out << YAML::Key << "periodic" << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (int k = 0; k < dim; ++k) out << s.domain.periodic[static_cast<std::size_t>(k)];
+  out << YAML::EndSeq << YAML::EndMap << YAML::Comment("m");
+  key_vec(out, "gravity", s.gravity, dim);
+  out << YAML::Comment("m/s^2");
+  key_number(out, "spacing", s.spacing);
+  out << YAML::Comment("m");
+  key_number(out, "smoothing_ratio", s.smoothing_ratio);
+  key_number(out, "density", s.density);
+  out << YAML::Comment("kg/m^3");
+  key_number(out, "sound_speed", s.sound_speed);
+  out << YAML::Comment(c.sound_speed_given ? "m/s" : "m/s (default: 10 sqrt(2 |g| H))");
+  key_number(out, "eos_exponent", s.eos_exponent);
+  key_number(out, "background_pressure", s.background_pressure);
+  out << YAML::Comment("Pa");
+  key_number(out, "density_diffusion", s.density_diffusion);
+  key_number(out, "artificial_viscosity", s.artificial_viscosity);
+
+  out << YAML::Key << "rheology" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "model" << YAML::Value << c.rheology;
+  if (const auto* info = continuum::find_rheology(c.rheology))
+    for (const auto& p : info->params) {
+      const auto given = c.rheology_params.find(std::string(p.name));
+      const std::optional<double> v =
+          given != c.rheology_params.end() ? std::optional<double>(given->second) : p.default_value;
+      if (v) key_number(out, std::string(p.name).c_str(), *v);
+    }
+  out << YAML::EndMap;
+
+  out << YAML::Key << "time" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  key_number(out, "end", c.end_time);
+  key_number(out, "cfl", s.cfl);
+  key_number(out, "max_step", s.max_step);
+  out << YAML::Key << "viscous" << YAML::Value << (s.implicit_viscosity ? "implicit" : "explicit");
+  out << YAML::EndMap << YAML::Comment("s");
+
+  out << YAML::Key << "blocks" << YAML::Value << YAML::BeginSeq;
+  for (const auto& b : s.blocks) {
+    out << YAML::Flow << YAML::BeginMap;
+    if (b.shape == continuum::SphBlock::Shape::Box)
+      emit_sph_box(out, b.lo, b.hi, dim);
+    else
+      emit_sph_cylinder(out, b.center, b.axis, b.radius, b.length, b.thickness, dim);
+    key_vec(out, "velocity", b.velocity, dim);
+    out << YAML::Key << "hydrostatic" << YAML::Value << b.hydrostatic;
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+
+  if (!s.walls.empty()) {
+    out << YAML::Key << "walls" << YAML::Value << YAML::BeginSeq;
+    for (const auto& w : s.walls) {
+      out << YAML::Flow << YAML::BeginMap;
+      out << YAML::Key << "name" << YAML::Value << w.name;
+      if (w.shape == continuum::SphWall::Shape::Box)
+        emit_sph_box(out, w.lo, w.hi, dim);
+      else
+        emit_sph_cylinder(out, w.center, w.axis, w.radius, w.length, w.thickness, dim);
+      key_vec(out, "velocity", w.velocity, dim);
+      if (dim == 2)
+        key_number(out, "angular_velocity", w.angular_velocity.z);
+      else
+        key_vec(out, "angular_velocity", w.angular_velocity, 3);
+      if (w.rotation_center) key_vec(out, "rotation_center", *w.rotation_center, dim);
+      key_number(out, "initial_angle", w.initial_angle);
+      out << YAML::Key << "slip" << YAML::Value << (w.free_slip ? "free_slip" : "no_slip");
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
+  out << YAML::Key << "output" << YAML::Value << YAML::Flow << YAML::BeginMap;
+  key_number(out, "vtk_every", c.vtk_every);
+  key_number(out, "series_every", c.series_every);
+  key_number(out, "checkpoint_every", c.checkpoint_every);
+  out << YAML::EndMap << YAML::Comment("s; 0: first and last / every step / final only");
+  out << YAML::EndMap;
+  out << YAML::EndMap;
+  return fmt::format(
+             "# grainflow {}: resolved configuration of {} (defaults filled in; SI units)\n",
+             program_version, c.file) +
+         out.c_str() + "\n";
 }
 
 }  // namespace gf::input

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "io/input/config.hpp"
+#include "io/input/parse_continuum.hpp"
 
 namespace gf::input {
 
@@ -17,5 +18,10 @@ inline constexpr std::size_t echo_max_listed_particles = 20;
 /// version and the case file. Loading it back gives the same Case, except that inline particle
 /// lists longer than echo_max_listed_particles are summarised as {count, source}.
 std::string echo_yaml(const config::Case& c, std::string_view program_version);
+
+/// The same for a continuum case (`continuum:` block): every key with its value, defaults and
+/// derived defaults (the sound speed, the rheology's parameters) filled in; loading it back gives
+/// the same ContinuumCase.
+std::string echo_continuum_yaml(const ContinuumCase& c, std::string_view program_version);
 
 }  // namespace gf::input

@@ -115,6 +115,7 @@ ContinuumCase parse_continuum(const YamlNode& block) {
         rn.fail(fmt::format("[missing key] rheology '{}' needs '{}' [{}]: {}", c.rheology, p.name,
                             p.unit, p.description));
     }
+    c.rheology_params = params;
     try {
       s.rheology = continuum::prepare_rheology(c.rheology, params);
     } catch (const InputError&) {

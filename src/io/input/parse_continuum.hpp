@@ -3,6 +3,7 @@
 // with SPH): parsed into continuum::SphConfig with located errors.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include "continuum/sph.hpp"
@@ -15,11 +16,12 @@ struct ContinuumCase {
   std::string name;
   std::string file;  ///< the case file, for messages
   continuum::SphConfig sph;
-  std::string rheology;            ///< registry key of the rheology
-  double end_time = 0.0;           ///< [s]
-  double vtk_every = 0.0;          ///< [s]; 0: the first and last states only
-  double series_every = 0.0;       ///< [s]; 0: every step
-  double checkpoint_every = 0.0;   ///< [s]; 0: only sph_checkpoint_final.h5
+  std::string rheology;                           ///< registry key of the rheology
+  std::map<std::string, double> rheology_params;  ///< its parameters as given (no defaults)
+  double end_time = 0.0;                          ///< [s]
+  double vtk_every = 0.0;                         ///< [s]; 0: the first and last states only
+  double series_every = 0.0;                      ///< [s]; 0: every step
+  double checkpoint_every = 0.0;                  ///< [s]; 0: only sph_checkpoint_final.h5
   bool sound_speed_given = false;  ///< false: c0 = 10 sqrt(2 |g| H), H the fluid's height
 };
 
