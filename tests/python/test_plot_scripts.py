@@ -23,6 +23,7 @@ Checks:
   short sweep between walls;
 - scripts/plot_force_chains.py on the contacts_*.vtp of a short run between walls
   (output.contacts_vtk);
+- scripts/plot_dem_vs_continuum.py on the committed mu(I), collapse, deposit and dam-break tables;
 - scripts/plot_cfd_dem.py --shear on the committed dry / air / water tables, --slip on the
   committed windows table and on the windows of the run above;
 - where BUILD_DIR/tests/gf_validation_tests exists (BUILD_DIR: the folder of GRAINFLOW_BINARY),
@@ -229,6 +230,9 @@ with tempfile.TemporaryDirectory() as TMP:
         ("plot_cfd_dem.py --slip (windows of the run above)",
          script(os.path.join(SCRIPTS, "plot_cfd_dem.py"), "--slip", windows,
                 "--out", out("slip_run")), out("slip_run"), ["cfd_dem_shear_box_slip.png"]),
+        ("plot_dem_vs_continuum.py (committed tables)",
+         script(os.path.join(SCRIPTS, "plot_dem_vs_continuum.py"), "--out", out("dem_continuum")),
+         out("dem_continuum"), ["continuum_vs_dem.png"]),
     ]
     build = os.path.dirname(GF)
     if os.path.exists(VALIDATION_TESTS):
