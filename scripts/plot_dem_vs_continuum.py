@@ -203,6 +203,13 @@ def smooth(t, y, width):
     return tt, yy
 
 
+def finish(a, xlabel, ylabel, title):
+    a.set_xlabel(xlabel)
+    a.set_ylabel(ylabel)
+    a.set_title(title, fontsize=9)
+    a.legend(fontsize=7)
+
+
 def plot(args):
     cal = table(args.tables, "continuum_mu_i_calibration.csv")
     col = table(args.tables, "continuum_vs_dem_collapse.csv")
@@ -217,30 +224,23 @@ def plot(args):
     a.plot(ii, mu_i(ii, ms, m2, i0), "k-", lw=0.8,
            label="fit: mu_s %.3f, mu_2 %.3f, I0 %.3f" % (ms, m2, i0))
     a.set_xscale("log")
-    a.set_xlabel("I = gamma_dot d / sqrt(P / rho_s)")
-    a.set_ylabel("mu = |sigma_xz| / P")
-    a.set_title("mu(I) of the DEM grains (glass spheres, friction 0.5)", fontsize=9)
-    a.legend(fontsize=7)
+    finish(a, "I = gamma_dot d / sqrt(P / rho_s)", "mu = |sigma_xz| / P",
+           "mu(I) of the DEM grains (glass spheres, friction 0.5)")
     a = ax[1]
     for model, style, name in (("dem", "o", "DEM (5300 spheres)"),
                                ("sph", "-", "SPH, mu(I) from the fit")):
         d = col[col["model"] == model]
         a.plot(d["t"], d["front"], style, ms=4, label=name + ": front")
         a.plot(d["t"], d["top"], style, ms=4, mfc="none", label=name + ": top at the wall")
-    a.set_xlabel("t since release (s)")
-    a.set_ylabel("x of the front, height of the top (m)")
-    a.set_title("Column collapse, L0 = 0.1 m, H0 = 0.115 m", fontsize=9)
-    a.legend(fontsize=7)
+    finish(a, "t since release (s)", "x of the front, height of the top (m)",
+           "Column collapse, L0 = 0.1 m, H0 = 0.115 m")
     a = ax[2]
     for model, style, name in (("dem", "o", "DEM: highest grain per 5 mm"),
                                ("sph", "-", "SPH, mu(I): highest particle per 5 mm")):
         d = dep[dep["model"] == model]
         a.plot(d["x"], d["h"], style, ms=3, label=name)
     a.plot([0, 0.1, 0.1], [0.1155, 0.1155, 0], "k:", lw=0.8, label="column at release")
-    a.set_xlabel("x (m)")
-    a.set_ylabel("deposit height (m)")
-    a.set_title("Deposits at rest", fontsize=9)
-    a.legend(fontsize=7)
+    finish(a, "x (m)", "deposit height (m)", "Deposits at rest")
     a = ax[3]
     for model, name, width in (("dem", "DEM (per m of depth, 5 ms means)", 0.005),
                                ("sph", "SPH mu(I) (5 ms means)", 0.005)):
@@ -249,10 +249,8 @@ def plot(args):
         a.plot(t, fx, "-", label=name + ": x")
         t, fz = smooth(d["t"], d["force_z"], width)
         a.plot(t, fz, "--", label=name + ": vertical")
-    a.set_xlabel("t since release (s)")
-    a.set_ylabel("force on the cylinder (N/m)")
-    a.set_title("Dam break against a cylinder (r = 15 mm at x = 0.2 m)", fontsize=9)
-    a.legend(fontsize=7)
+    finish(a, "t since release (s)", "force on the cylinder (N/m)",
+           "Dam break against a cylinder (r = 15 mm at x = 0.2 m)")
     fig.tight_layout()
     os.makedirs(args.out, exist_ok=True)
     fig.savefig(os.path.join(args.out, "continuum_vs_dem.png"), dpi=110)
