@@ -177,7 +177,8 @@ def extract(args):
     write(os.path.join(args.extract, "continuum_mu_i_calibration.csv"),
           ["run", "volume_fraction", "shear_rate", "pressure", "inertial_number", "friction",
            "friction_err"], pts)
-    write(os.path.join(args.extract, "continuum_vs_dem_collapse.csv"), ["model", "t", "front", "top"],
+    write(os.path.join(args.extract, "continuum_vs_dem_collapse.csv"),
+          ["model", "t", "front", "top"],
           [("dem",) + r for r in dem_front_top(args.dem_collapse)] +
           [("sph",) + r for r in sph_front_top(args.sph_collapse)])
     write(os.path.join(args.extract, "continuum_vs_dem_deposit.csv"), ["model", "x", "h"],
