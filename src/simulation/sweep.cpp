@@ -14,11 +14,14 @@
 #include <csignal>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string_view>
 #include <thread>
 
+#include "analysis/kinetic_theory.hpp"
+#include "analysis/mu_i_fit.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
 #include "core/log.hpp"
@@ -147,6 +150,118 @@ std::vector<std::string> check_sweep_points(const fs::path& case_file, const con
   return warnings;
 }
 
+analysis::MuIFit write_mu_i_fit(const config::Case& c, const std::vector<SweepRunResult>& runs,
+                                const fs::path& dir) {
+  // The grains' diameter and density, as for the kinetic theory of rheology_summary.csv.
+  double d = std::nan(""), rho = std::nan("");
+  std::string material;
+  if (!c.particles.empty()) {
+    const auto& g = c.particles.front();
+    material = g.material;
+    for (const auto& m : c.materials)
+      if (m.name == g.material) rho = m.density;
+    const double measure = input::grain_measure(g, g.radius.largest());
+    d = c.dimension == 2 ? std::sqrt(4 * measure / std::numbers::pi)
+                         : analysis::volume_equivalent_diameter(measure);
+  }
+  std::vector<analysis::MuIPoint> points;
+  for (const auto& r : runs)
+    points.push_back(
+        {analysis::inertial_number(r.shear_rate, d, r.pressure, rho), r.friction, r.friction_err});
+  const auto fit = analysis::fit_mu_i(points);
+  const bool have_values = std::isfinite(fit.mu_s);
+
+  // max_viscosity: 10 x the largest apparent viscosity mu P / |gamma_dot| of the fitted runs,
+  // rounded up to a power of ten, so that every measured state lies on the mu(I) branch.
+  double eta_runs = 0;
+  for (std::size_t k = 0; k < runs.size(); ++k)
+    if (std::isfinite(points[k].inertial_number) && points[k].inertial_number > 0 &&
+        std::isfinite(runs[k].friction))
+      eta_runs =
+          std::max(eta_runs, runs[k].friction * runs[k].pressure / std::abs(runs[k].shear_rate));
+  const int eta_exponent = eta_runs > 0 && std::isfinite(eta_runs)
+                               ? static_cast<int>(std::ceil(std::log10(10 * eta_runs)))
+                               : 0;
+
+  const std::string status = fit.ok()                                           ? "fitted"
+                             : fit.status == analysis::MuIFitStatus::Unphysical ? "rejected"
+                                                                                : "no fit";
+  write_atomically(dir / "mu_i_fit.txt", [&](std::ostream& o) {
+    o << "# mu(I) of the runs of this sweep (grainflow sweep; docs/case-file.md, sweep)\n"
+         "# law: mu(I) = mu_s + (mu_2 - mu_s) / (1 + I0 / I),  I = |shear_rate| d / sqrt(P / "
+         "rho_s)\n"
+         "#      (Jop, Forterre & Pouliquen 2006, Nature 441:727, eqs. 2-3)\n";
+    o << fmt::format(
+        "# d = {:.6g} m: {} diameter of the largest grain of particles[0]{}; rho_s = {:.6g} "
+        "kg/m^3 (material '{}')\n",
+        d, c.dimension == 2 ? "area-equivalent" : "volume-equivalent",
+        c.particles.size() > 1 ? fmt::format(" (of {} groups)", c.particles.size()) : "", rho,
+        material);
+    o << "# fit: least squares in mu, unweighted (mu_err enters the reduced chi^2 only); for "
+         "each I0 of a log grid\n"
+         "# the law is linear in (mu_s, mu_2 - mu_s) and solved exactly, the best I0 refined by "
+         "golden section\n"
+         "# (analysis/mu_i_fit.hpp); residual = mu_fit - mu\n#\n";
+    o << fmt::format("# {:<24} {:>12} {:>12} {:>12} {:>10} {:>10} {:>10} {:>10}\n", "run",
+                     "rate [1/s]", "P [Pa]", "I", "mu", "mu_err", "mu_fit", "residual");
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const double i = points[k].inertial_number;
+      const bool used = std::isfinite(i) && i > 0 && std::isfinite(runs[k].friction);
+      const double mf =
+          have_values && used ? analysis::mu_i_friction(i, fit.mu_s, fit.mu_2, fit.i0) : NAN;
+      o << fmt::format(
+          "  {:<24} {:>12.6g} {:>12.6g} {:>12.6g} {:>10.6g} {:>10.3g} {:>10.6g} "
+          "{:>10.3g}{}\n",
+          runs[k].name, runs[k].shear_rate, runs[k].pressure, i, runs[k].friction,
+          runs[k].friction_err, mf, mf - runs[k].friction,
+          used ? "" : "  (not used: P <= 0 or friction not finite)");
+    }
+    o << "\n";
+    o << fmt::format("status: {}\n", status);
+    if (!fit.note.empty()) o << fmt::format("{}: {}\n", fit.ok() ? "note" : "reason", fit.note);
+    o << fmt::format("points: {} ({} distinct I)\n", fit.points, fit.distinct);
+    o << fmt::format("I_range: [{:.4g}, {:.4g}]\n", fit.i_min, fit.i_max);
+    if (!have_values) return;
+    if (!fit.ok())
+      o << "# the least-squares optimum below is NO friction law (see reason): do not use it\n";
+    o << fmt::format("mu_s: {:.6g} +- {:.2g}\n", fit.mu_s, fit.mu_s_err);
+    o << fmt::format("mu_2: {:.6g} +- {:.2g}\n", fit.mu_2, fit.mu_2_err);
+    o << fmt::format("i0: {:.6g} +- {:.2g}   (searched over [{:.3g}, {:.3g}])\n", fit.i0,
+                     fit.i0_err, fit.i0_low, fit.i0_high);
+    o << fmt::format("rms_residual: {:.3g}\n", fit.rms);
+    o << fmt::format("reduced_chi2: {:.3g}\n", fit.reduced_chi2);
+    if (!fit.ok()) return;
+    o << fmt::format(
+        "\n# For a continuum case (continuum.rheology). Valid over the I range above, an "
+        "extrapolation outside it.\n"
+        "# max_viscosity (the regularisation cap): 10 x the largest apparent viscosity mu P / "
+        "|shear_rate| of the runs\n"
+        "# ({:.3g} Pa s), rounded up to a power of ten: every measured state flows on the mu(I) "
+        "branch, below the cap.\n"
+        "# A static region creeps at about mu_s p / max_viscosity: check that against the "
+        "target flow's pressures\n"
+        "# (a larger cap: stiffer static regions and, with an explicit viscous step, a smaller "
+        "time step).\n",
+        eta_runs);
+    o << fmt::format(
+        "rheology: {{model: mu_i, mu_s: {:.4f}, mu_2: {:.4f}, i0: {:.4g}, grain_diameter: {:.6g}, "
+        "grain_density: {:.6g}, max_viscosity: 1.0e{}}}\n",
+        fit.mu_s, fit.mu_2, fit.i0, d, rho, eta_exponent);
+  });
+  const std::string file = (dir / "mu_i_fit.txt").string();
+  if (fit.ok())
+    log::info(
+        "sweep: mu(I) fit of {} runs over I = {:.3g} .. {:.3g} (Jop et al. 2006): mu_s = {:.4f} "
+        "+- {:.2g}, mu_2 = {:.4f} +- {:.2g}, I0 = {:.4g} +- {:.2g} (rms {:.2g}){}; in '{}'",
+        fit.points, fit.i_min, fit.i_max, fit.mu_s, fit.mu_s_err, fit.mu_2, fit.mu_2_err, fit.i0,
+        fit.i0_err, fit.rms, fit.note.empty() ? "" : "; " + fit.note, file);
+  else if (fit.status == analysis::MuIFitStatus::Unphysical)
+    log::warn("sweep: no mu(I) law from the {} runs: {} (see '{}')", fit.points, fit.note, file);
+  else
+    log::info("sweep: no mu(I) fit: {} (see '{}')", fit.note, file);
+  return fit;
+}
+
 int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptions& opts) {
   const auto points = sweep_points(c);
   // Every run's case is valid before the first one starts (warnings are each run's own, in its
@@ -236,6 +351,7 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
   // One table: nominal values, then mean, standard error and kinetic theory per quantity.
   std::vector<std::string> quantities;
   std::vector<std::string> lines;
+  std::vector<SweepRunResult> results;  // for the mu(I) fit
   int failed = 0;
   for (std::size_t k = 0; k < points.size(); ++k) {
     const fs::path summary = dir / points[k].name / "rheology_summary.csv";
@@ -255,6 +371,12 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
       line += fmt::format(",{:.10g},{:.10g},{:.10g}", v[0], v[1], v[2]);
     }
     lines.push_back(line);
+    auto mean = [&](const char* q, std::size_t i = 0) {
+      const auto it = s.find(q);
+      return it == s.end() ? std::nan("") : it->second[i];
+    };
+    results.push_back({points[k].name, mean("shear_rate"), mean("pressure"), mean("friction"),
+                       mean("friction", 1)});
   }
   write_atomically(dir / "sweep.csv", [&](std::ostream& o) {
     o << "run,volume_fraction_nominal,shear_rate_nominal";
@@ -263,6 +385,7 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
     for (const auto& l : lines) o << l << "\n";
   });
   log::info("sweep: table of {} runs in '{}'", lines.size(), (dir / "sweep.csv").string());
+  write_mu_i_fit(c, results, dir);
   if (failed > 0 && !stop::requested())
     log::warn("sweep: {} of {} runs failed or wrote no rheology summary (see their .log files)",
               failed, points.size());

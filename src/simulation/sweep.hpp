@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // `grainflow sweep`: runs every combination of a case's sweep lists (volume fractions x shear
 // rates) as separate processes of this program, several at a time, then gathers their
-// rheology summaries into one table (sweep.csv) and draws the rheology plots from it
+// rheology summaries into one table (sweep.csv), fits the mu(I) friction law to its runs
+// (mu_i_fit.txt; analysis/mu_i_fit.hpp) and draws the rheology plots from it
 // (scripts/plot_sweep.py, Python with matplotlib).
 #pragma once
 
@@ -11,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/mu_i_fit.hpp"
 #include "io/input/config.hpp"
 #include "io/input/parse_case.hpp"
 
@@ -51,6 +53,22 @@ std::vector<input::Override> point_overrides(const config::Case& c, const SweepP
 std::vector<std::string> check_sweep_points(const std::filesystem::path& case_file,
                                             const config::Case& c,
                                             const std::vector<input::Override>& overrides);
+
+/// One finished run of a sweep, as the mu(I) fit uses it (steady means of rheology_summary.csv).
+struct SweepRunResult {
+  std::string name;
+  double shear_rate = 0;    ///< 1/s, measured
+  double pressure = 0;      ///< Pa
+  double friction = 0;      ///< |sigma_xz| / P
+  double friction_err = 0;  ///< standard error of the friction
+};
+
+/// Fits mu(I) (analysis::fit_mu_i) to the runs, with I = |shear_rate| d / sqrt(P / rho_s), d the
+/// volume-equivalent diameter (2D: area-equivalent) of the largest grain of the case's first
+/// particle group and rho_s its material's density; writes dir/mu_i_fit.txt (the points, the
+/// fit or why there is none, and a continuum `rheology:` block) and logs the fit. Returns it.
+analysis::MuIFit write_mu_i_fit(const config::Case& c, const std::vector<SweepRunResult>& runs,
+                                const std::filesystem::path& dir);
 
 /// Runs the sweep (after check_sweep_points); returns 0 when every run succeeded, 1 otherwise
 /// (the table then holds the runs that did).
