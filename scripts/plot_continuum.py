@@ -4,11 +4,12 @@
 
 Usage: /usr/bin/python3 scripts/plot_continuum.py [--out DIR] [BUILD_DIR]   (default build/release)
 
-Runs gf_validation_tests --gtest_filter='ValidationSph*' (about 25 s) with GF_VALIDATION_OUT set
+Runs gf_validation_tests --gtest_filter='ValidationSph*' (about 40 s) with GF_VALIDATION_OUT set
 and writes docs/validation/continuum_sph.png (into DIR, created if missing, with --out DIR):
 transient plane Poiseuille flow against its series solution, the pressure of a liquid at rest
 against rho g depth, the Bagnold profile of a mu(I) layer on an incline, and a mu(I) layer below
-its yield slope against the creeping film of the regularisation. Uses Debian's
+its yield slope against the creeping film of the regularisation, a Poiseuille flow against a
+free-slip plate, and Taylor-Couette flow between a turning and a fixed cylinder. Uses Debian's
 python3-numpy and python3-matplotlib."""
 import os
 
@@ -34,7 +35,10 @@ def main():
         hyd = load(f, "sph_hydrostatic")
         bag = load(f, "sph_bagnold")
         creep = load(f, "sph_creep_1000")
-    fig, ax = plt.subplots(1, 4, figsize=(18, 4.3))
+        slip = load(f, "sph_poiseuille_free_slip")
+        tc = load(f, "sph_taylor_couette_20")
+    fig, axes = plt.subplots(2, 3, figsize=(16, 8.6))
+    ax = axes.ravel()
     a = ax[0]
     for t in np.unique(pois["t"]):
         d = pois[pois["t"] == t]
@@ -70,6 +74,25 @@ def main():
     a.set_xlabel("u (mm/s)")
     a.set_ylabel("y (mm)")
     a.set_title("mu(I) below yield, 15 deg, eta_max = 1e3 Pa s", fontsize=9)
+    a.legend(fontsize=7)
+    a = ax[4]
+    d = slip[slip["t"] == slip["t"].max()]
+    o = np.argsort(d["y"])
+    a.plot(d["u"][o] * 1e5, d["y"][o] * 1e3, "o", ms=3, label="grainflow SPH, t = %g s" % d["t"][0])
+    a.plot(d["u_exact"][o] * 1e5, d["y"][o] * 1e3, "k-", lw=0.8,
+           label="half of the flow between plates 2L apart")
+    a.set_xlabel("u (1e-5 m/s)")
+    a.set_ylabel("y (mm)")
+    a.set_title("Poiseuille flow, no-slip bottom, free-slip top (slip: free_slip)", fontsize=9)
+    a.legend(fontsize=7)
+    a = ax[5]
+    o = np.argsort(tc["r"])
+    a.plot(tc["r"][o] * 1e3, tc["u_theta"][o] * 1e3, "o", ms=4,
+           label="grainflow SPH, ring means over t = 0.6-1 s")
+    a.plot(tc["r"][o] * 1e3, tc["u_exact"][o] * 1e3, "k-", lw=0.8, label="A r + B / r")
+    a.set_xlabel("r (mm)")
+    a.set_ylabel("u_theta (mm/s)")
+    a.set_title("Taylor-Couette: inner cylinder turning (Re = 1), 20 across", fontsize=9)
     a.legend(fontsize=7)
     fig.tight_layout()
     path = os.path.join(args.out, "continuum_sph.png")
