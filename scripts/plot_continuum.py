@@ -27,6 +27,13 @@ def load(folder, name):
     return np.genfromtxt(os.path.join(folder, name + ".csv"), delimiter=",", names=True)
 
 
+def finish(a, xlabel, ylabel, title):
+    a.set_xlabel(xlabel)
+    a.set_ylabel(ylabel)
+    a.set_title(title, fontsize=9)
+    a.legend(fontsize=7)
+
+
 def main():
     args = validation_run.parser(__doc__).parse_args()
     os.makedirs(args.out, exist_ok=True)
@@ -45,55 +52,39 @@ def main():
         o = np.argsort(d["y"])
         a.plot(d["u"][o] * 1e5, d["y"][o] * 1e3, "o", ms=3, label=f"t = {t:g} s")
         a.plot(d["u_exact"][o] * 1e5, d["y"][o] * 1e3, "k-", lw=0.7)
-    a.set_xlabel("u (1e-5 m/s)")
-    a.set_ylabel("y (mm)")
-    a.set_title("Poiseuille flow from rest (Morris et al. 1997)\nlines: series solution", fontsize=9)
-    a.legend(fontsize=7)
+    finish(a, "u (1e-5 m/s)", "y (mm)",
+           "Poiseuille flow from rest (Morris et al. 1997)\nlines: series solution")
     a = ax[1]
     a.plot(hyd["p"], hyd["y"], ".", ms=3, label="grainflow SPH, t = 1 s")
-    y = np.linspace(0, hyd["y"].max(), 50)
     a.plot(hyd["p_exact"][np.argsort(hyd["y"])], np.sort(hyd["y"]), "k-", lw=0.8,
            label="rho g depth")
-    a.set_xlabel("p (Pa)")
-    a.set_ylabel("y (m)")
-    a.set_title("Water at rest in a tank (20 particles deep)", fontsize=9)
-    a.legend(fontsize=7)
+    finish(a, "p (Pa)", "y (m)", "Water at rest in a tank (20 particles deep)")
     a = ax[2]
     a.plot(bag["u"], bag["y"] * 1e3, "o", ms=4, label="grainflow SPH, mu(I), t = 4 s")
     a.plot(bag["u_exact"], bag["y"] * 1e3, "k-", lw=0.8, label="Bagnold profile")
-    a.set_xlabel("u (m/s)")
-    a.set_ylabel("y (mm)")
     err = np.max(np.abs(bag["u"] - bag["u_exact"])) / bag["u_exact"].max()
-    a.set_title(f"mu(I) layer on a 25 deg incline (max error {100 * err:.1f} % of u_s)",
-                fontsize=9)
-    a.legend(fontsize=7)
+    finish(a, "u (m/s)", "y (mm)",
+           f"mu(I) layer on a 25 deg incline (max error {100 * err:.1f} % of u_s)")
     a = ax[3]
     a.plot(creep["u"] * 1e3, creep["y"] * 1e3, "o", ms=4, label="grainflow SPH, implicit viscosity")
     a.plot(creep["u_exact"] * 1e3, creep["y"] * 1e3, "k-", lw=0.8,
            label="film of viscosity eta_max")
-    a.set_xlabel("u (mm/s)")
-    a.set_ylabel("y (mm)")
-    a.set_title("mu(I) below yield, 15 deg, eta_max = 1e3 Pa s", fontsize=9)
-    a.legend(fontsize=7)
+    finish(a, "u (mm/s)", "y (mm)", "mu(I) below yield, 15 deg, eta_max = 1e3 Pa s")
     a = ax[4]
     d = slip[slip["t"] == slip["t"].max()]
     o = np.argsort(d["y"])
     a.plot(d["u"][o] * 1e5, d["y"][o] * 1e3, "o", ms=3, label="grainflow SPH, t = %g s" % d["t"][0])
     a.plot(d["u_exact"][o] * 1e5, d["y"][o] * 1e3, "k-", lw=0.8,
            label="half of the flow between plates 2L apart")
-    a.set_xlabel("u (1e-5 m/s)")
-    a.set_ylabel("y (mm)")
-    a.set_title("Poiseuille flow, no-slip bottom, free-slip top (slip: free_slip)", fontsize=9)
-    a.legend(fontsize=7)
+    finish(a, "u (1e-5 m/s)", "y (mm)",
+           "Poiseuille flow, no-slip bottom, free-slip top (slip: free_slip)")
     a = ax[5]
     o = np.argsort(tc["r"])
     a.plot(tc["r"][o] * 1e3, tc["u_theta"][o] * 1e3, "o", ms=4,
            label="grainflow SPH, ring means over t = 0.6-1 s")
     a.plot(tc["r"][o] * 1e3, tc["u_exact"][o] * 1e3, "k-", lw=0.8, label="A r + B / r")
-    a.set_xlabel("r (mm)")
-    a.set_ylabel("u_theta (mm/s)")
-    a.set_title("Taylor-Couette: inner cylinder turning (Re = 1), 20 across", fontsize=9)
-    a.legend(fontsize=7)
+    finish(a, "r (mm)", "u_theta (mm/s)",
+           "Taylor-Couette: inner cylinder turning (Re = 1), 20 across")
     fig.tight_layout()
     path = os.path.join(args.out, "continuum_sph.png")
     fig.savefig(path, dpi=110)
