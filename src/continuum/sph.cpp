@@ -503,27 +503,22 @@ std::vector<SphSolver::WallLoad> SphSolver::wall_particle_loads() const {
   return out;
 }
 
-std::vector<Vec3> SphSolver::wall_forces() const {
-  const auto per_particle = wall_particle_loads();
-  std::vector<Vec3> out(cfg_.walls.size());
-  for (std::size_t k = 0; k < per_particle.size(); ++k)
-    out[static_cast<std::size_t>(p_.wall_index[n_fluid_ + k])] += per_particle[k].force;
-  return out;
-}
-
-std::vector<Vec3> SphSolver::wall_torques() const {
+SphWallLoads SphSolver::wall_loads() const {
   const auto per_particle = wall_particle_loads();
   std::vector<Mat3> rot(wall_motion_.size());
   for (std::size_t w = 0; w < wall_motion_.size(); ++w)
     rot[w] = rotation_about(wall_motion_[w].axis, wall_motion_[w].rate * t_);
-  std::vector<Vec3> out(cfg_.walls.size());
+  SphWallLoads out;
+  out.force.resize(cfg_.walls.size());
+  out.torque.resize(cfg_.walls.size());
   for (std::size_t k = 0; k < per_particle.size(); ++k) {
     // (x_w - c(t) from the rigid motion, not from x_w: unaffected by periodic wrapping)
     const auto w = static_cast<std::size_t>(p_.wall_index[n_fluid_ + k]);
     const auto& mo = wall_motion_[w];
     const Vec3 r0 = wall_x0_[k] - mo.c0;
     const auto& l = per_particle[k];
-    out[w] += cross(mo.rotates ? rot[w] * r0 : r0, l.force) + l.moment;
+    out.force[w] += l.force;
+    out.torque[w] += cross(mo.rotates ? rot[w] * r0 : r0, l.force) + l.moment;
   }
   return out;
 }

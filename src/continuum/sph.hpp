@@ -175,6 +175,12 @@ struct SphState {
   std::int64_t steps = 0;
 };
 
+/// What the fluid exerts on each wall (SphConfig::walls order).
+struct SphWallLoads {
+  std::vector<Vec3> force;   ///< [N] (2D: per metre of depth)
+  std::vector<Vec3> torque;  ///< about the wall's rotation centre [N m] (2D: per metre, along z)
+};
+
 class SphSolver {
  public:
   /// Builds the particles and computes the first accelerations. Throws gf::Error for a
@@ -208,14 +214,14 @@ class SphSolver {
   /// rebuilt from the positions it was built at, so the run goes on bit-identically. A state
   /// with another number of wall particles (another case) throws gf::InputError.
   void restore(const SphState& state);
-  /// Force of the fluid on each wall (SphConfig::walls order) at the current state [N] (2D: per
-  /// metre of depth): the reaction of the pair forces the wall's particles exert on the fluid
-  /// (a rotating wall: plus its surface term, see the file comment).
-  std::vector<Vec3> wall_forces() const;
-  /// Torque of the fluid on each wall about its rotation centre c(t) (also of a wall that does
-  /// not turn) at the current state [N m] (2D: per metre of depth, along z); see the file
-  /// comment.
-  std::vector<Vec3> wall_torques() const;
+  /// Force [N] and torque [N m] of the fluid on each wall (SphConfig::walls order) at the
+  /// current state, in one pass over the wall particles (2D: per metre of depth, the torque
+  /// along z). The force is the reaction of the pair forces the wall's particles exert on the
+  /// fluid (a rotating wall: plus its surface term), the torque is about the wall's rotation
+  /// centre c(t) (also for a wall that does not turn); see the file comment.
+  SphWallLoads wall_loads() const;
+  std::vector<Vec3> wall_forces() const { return wall_loads().force; }
+  std::vector<Vec3> wall_torques() const { return wall_loads().torque; }
   /// Rotation centre c(t) = c0 + V t of wall `wall` (SphConfig::walls order) at the current
   /// time [m] (unwrapped: it may lie outside a periodic domain).
   Vec3 wall_center(std::size_t wall) const;

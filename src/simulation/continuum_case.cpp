@@ -262,9 +262,10 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
                           sm.max_density_error, sm.max_viscosity);
     for (int k = 0; k < dim; ++k)
       series << fmt::format(",{:.9g},{:.9g}", sm.min_position[k], sm.max_position[k]);
-    for (const auto& f : s.wall_forces())
+    const auto loads = s.wall_loads();
+    for (const auto& f : loads.force)
       for (int k = 0; k < dim; ++k) series << fmt::format(",{:.9g}", f[k]);
-    for (const auto& m : s.wall_torques())
+    for (const auto& m : loads.torque)
       for (int k = (dim == 2 ? 2 : 0); k < 3; ++k) series << fmt::format(",{:.9g}", m[k]);
     series << '\n';
   };
