@@ -212,10 +212,14 @@ void SphSolver::build_particles() {
   REQUIRE(n_fluid_ > 0, "SPH: the blocks hold no particle (spacing {} m)", dx);
   wall_motion_.assign(cfg_.walls.size(), {});
   free_slip_.assign(cfg_.walls.size(), 0);
+  slip_length_.assign(cfg_.walls.size(), 0.0);
   for (std::size_t w = 0; w < cfg_.walls.size(); ++w) {
     const auto& wall = cfg_.walls[w];
     auto& motion = wall_motion_[w];
     free_slip_[w] = wall.free_slip ? 1 : 0;
+    REQUIRE(wall.slip_length >= 0.0, "SPH: wall '{}': slip length {} m must not be negative",
+            wall.name, wall.slip_length);
+    slip_length_[w] = wall.slip_length;
     motion.c0 = wall.rotation_center.value_or(
         wall.shape == SphWall::Shape::Box ? 0.5 * (wall.lo + wall.hi) : wall.center);
     motion.velocity = wall.velocity;
@@ -386,10 +390,13 @@ void SphSolver::extrapolate_walls() {
   const std::size_t n = p_.size();
   inv_wsum_.resize(n - n_fluid_);
   u_mirror_.resize(n - n_fluid_);
+  mirror_weight_.resize(n - n_fluid_);
   exec::parallel_for(static_cast<exec::index_t>(n - n_fluid_), [&](exec::index_t wi) {
     const auto ww = static_cast<std::size_t>(wi);
     const auto w = n_fluid_ + ww;
-    const auto& mo = wall_motion_[static_cast<std::size_t>(p_.wall_index[w])];
+    const auto wall = static_cast<std::size_t>(p_.wall_index[w]);
+    const auto& mo = wall_motion_[wall];
+    const double slip = free_slip_[wall] ? 0.0 : slip_length_[wall];
     double sum_w = 0.0, sum_p = 0.0, sum_eta = 0.0;
     Vec3 sum_rho_r{}, sum_v{}, sum_d{};
     for (auto k = nbr_start_[w]; k < nbr_start_[w + 1]; ++k) {
@@ -401,11 +408,12 @@ void SphSolver::extrapolate_walls() {
       sum_eta += p_.eta[f] * wk;
       sum_rho_r += (p_.rho[f] * wk) * d;
       sum_v += wk * p_.v[f];
-      if (mo.rotates) sum_d += wk * d;
+      if (mo.rotates || slip > 0.0) sum_d += wk * d;
     }
     double pw = cfg_.background_pressure;
     inv_wsum_[ww] = sum_w > 0.0 ? 1.0 / sum_w : 0.0;
     u_mirror_[ww] = p_.u_wall[w];
+    mirror_weight_[ww] = 1.0;
     if (sum_w > 0.0) {
       // g - a_w, a_w = Omega x (Omega x (x_w - c)) = Omega x (u_w - V) (a translating wall does
       // not accelerate)
@@ -415,7 +423,16 @@ void SphSolver::extrapolate_walls() {
       // A rotating wall's velocity at the midpoint of x_w and the fluid's centroid x~ (where the
       // mirror assumption puts the surface): u_w + Omega x (x~ - x_w) / 2
       if (mo.rotates) u_mirror_[ww] -= (0.5 / sum_w) * cross(mo.omega, sum_d);
-      p_.v_ghost[w] = 2.0 * u_mirror_[ww] - sum_v / sum_w;
+      if (slip > 0.0) {
+        // Navier slip at the mirror surface, a distance d = |x~ - x_w| / 2 from the fluid's
+        // centroid: the fluid's velocity there is u_s = (d u + b v~) / (d + b) (u_s - u =
+        // b (v~ - u_s) / d), and the mirror image of v~ about u_s is v_w = 2 u_s - v~ =
+        // 2 d / (d + b) u - (d - b) / (d + b) v~
+        const double dist = 0.5 * norm(sum_d) / sum_w;
+        u_mirror_[ww] = (dist / (dist + slip)) * u_mirror_[ww];
+        mirror_weight_[ww] = (dist - slip) / (dist + slip);
+      }
+      p_.v_ghost[w] = 2.0 * u_mirror_[ww] - (mirror_weight_[ww] / sum_w) * sum_v;
       p_.eta[w] = sum_eta / sum_w;
     } else {
       p_.v_ghost[w] = p_.u_wall[w];
@@ -525,7 +542,7 @@ SphWallLoads SphSolver::wall_loads() const {
 
 void SphSolver::implicit_viscous_step(double dt) {
   // Backward Euler for dv_i/dt = sum_j k_ij (v_j - v_i) (the Morris term, k_ij >= 0, viscosities
-  // of this step), with the walls' mirrored velocities v_w = 2 u_w - sum_f alpha_wf v_f
+  // of this step), with the walls' mirrored velocities v_w = 2 u_m - s sum_f alpha_wf v_f
   // (alpha_wf = W_wf / sum W_w) taken at the new velocities too, so that no-slip holds however
   // stiff the layer next to a wall is. One matrix, one solve per velocity component. The matrix
   // is strictly diagonally dominant (diagonal 1 + dt sum_j k_ij, off-diagonal magnitudes summing
@@ -551,7 +568,7 @@ void SphSolver::implicit_viscous_step(double dt) {
         continue;
       }
       b += (2.0 * c) * u_mirror_[j - n_fluid_];
-      const double inv = inv_wsum_[j - n_fluid_];
+      const double inv = mirror_weight_[j - n_fluid_] * inv_wsum_[j - n_fluid_];
       for (auto q = nbr_start_[j]; q < nbr_start_[j + 1]; ++q) {
         const auto f = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(q)]);
         const double wk = w_.value(norm(cfg_.domain.delta(p_.x[j], p_.x[f])));

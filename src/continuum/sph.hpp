@@ -30,7 +30,12 @@
 // 7057, eqs. 22-28): p_w = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) /
 // sum_f W_wf, and for no slip the mirrored velocity v_w = 2 u_w - sum_f v_f W_wf / sum_f W_wf
 // in the viscous term and the velocity gradient; a free-slip wall takes no part in the viscous
-// term (no shear stress: Adami et al. 2012, sec. 2.4.1).
+// term (no shear stress: Adami et al. 2012, sec. 2.4.1). Partial (Navier) slip with slip length
+// b, u_s - u_w = b dv/dn (Gomez Fino 2014, eq. 15): the mirror surface lies halfway between x_w
+// and the centroid x~ = sum_f x_f W_wf / sum_f W_wf of the fluid it sees, d = |x~ - x_w| / 2
+// from either; with a linear profile the fluid there moves at u_s = (d u_w + b v~) / (d + b)
+// (v~ the fluid's kernel mean), and the mirrored velocity is v_w = 2 u_s - v~ (b = 0: no slip;
+// b -> infinity: v_w = v~, no shear).
 // Wall motion: rigid, a constant translation V and a constant rotation Omega about the centre
 // c(t) = c0 + V t: x_w(t) = c(t) + R(Omega t) (x_w(0) - c0), with R(Omega t) the rotation by
 // |Omega| t about Omega / |Omega| (Rodrigues' formula), evaluated from t rather than summed step
@@ -116,6 +121,9 @@ struct SphWall {
   /// Free slip: the wall exerts no shear stress; its particles give pressure (and artificial
   /// viscosity) but take no part in the viscous term. Default no slip (mirrored velocities).
   bool free_slip = false;
+  /// Partial slip (Navier): the fluid slips along the wall at u_s - u_w = b dv/dn, slip length
+  /// b [m] (Gomez Fino 2014, eq. 15, with b = b/a). 0: no slip; ignored on a free-slip wall.
+  double slip_length = 0.0;
 };
 
 struct SphConfig {
@@ -279,6 +287,7 @@ class SphSolver {
   std::vector<WallMotion> wall_motion_;  ///< per wall (SphConfig::walls order)
   std::vector<Vec3> wall_x0_;            ///< per wall particle (index - n_fluid_): x at t = 0
   std::vector<char> free_slip_;          ///< per wall (SphConfig::walls order)
+  std::vector<double> slip_length_;      ///< per wall: Navier slip length b [m] (0: no slip)
   /// Whether neighbour j shears fluid particle i through the viscous term: a fluid particle or
   /// a particle of a no-slip wall.
   bool viscous_partner(std::size_t j) const {
@@ -293,6 +302,9 @@ class SphSolver {
   /// per wall particle: the wall velocity its mirrored velocity is built on, v_w = 2 u - v~
   /// [m/s] (u_wall, or a rotating wall's at the midpoint towards the fluid's centroid)
   std::vector<Vec3> u_mirror_;
+  /// per wall particle: the weight s of the fluid's mean velocity in its mirrored velocity
+  /// v_w = 2 u_m - s sum_f v_f W_wf / sum_f W_wf (1 without slip; see extrapolate_walls)
+  std::vector<double> mirror_weight_;
   int last_viscous_iterations_ = 0;
   std::vector<std::vector<Eigen::Triplet<double>>> visc_rows_;  ///< implicit step, per row
   std::vector<Eigen::Triplet<double>> visc_triplets_;

@@ -298,9 +298,13 @@ TEST(ContinuumInput, ReadsWallMotionAndCylinderBlocks) {
        angular_velocity: -2.5, rotation_center: [0.6, 0.3], initial_angle: 0.25}
     - {name: drum, cylinder: {center: [0.6, 0.6], radius: 0.3, thickness: 0.1},
        angular_velocity: 1.5, slip: free_slip}
+    - {name: chute, box: {min: [0, 0.9], max: [1, 1]}, slip: {slip_length: 0.002}}
 )");
   const auto c = parse_text(text);
-  ASSERT_EQ(c.sph.walls.size(), 3u);
+  ASSERT_EQ(c.sph.walls.size(), 4u);
+  EXPECT_EQ(c.sph.walls[0].slip_length, 0.0);
+  EXPECT_FALSE(c.sph.walls[3].free_slip);
+  EXPECT_EQ(c.sph.walls[3].slip_length, 0.002);
   const auto& floor = c.sph.walls[0];
   EXPECT_EQ(floor.angular_velocity, Vec3{});
   EXPECT_FALSE(floor.rotation_center.has_value());
@@ -357,6 +361,13 @@ TEST(ContinuumInput, ErrorsNameLineKeyAndExpectation) {
               ::testing::HasSubstr("continuum.walls[0].angular_velocty: unknown key"));
   EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, slip: partial}")),
               ::testing::HasSubstr("continuum.walls[0].slip: expected one of no_slip, free_slip"));
+  EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, slip: {slip_length: 0}}")),
+              ::testing::HasSubstr("continuum.walls[0].slip.slip_length: expected a number > 0"));
+  EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, slip: {length: 0.1}}")),
+              ::testing::HasSubstr("continuum.walls[0].slip.length: unknown key"));
+  EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, slip: [0.1]}")),
+              ::testing::HasSubstr("continuum.walls[0].slip: expected no_slip, free_slip or "
+                                   "{slip_length: b}"));
   // 3D: an initial angle needs the rotation's axis
   std::string three = R"(continuum:
   method: sph

@@ -625,7 +625,14 @@ std::string echo_continuum_yaml(const ContinuumCase& c, std::string_view program
         key_vec(out, "angular_velocity", w.angular_velocity, 3);
       if (w.rotation_center) key_vec(out, "rotation_center", *w.rotation_center, dim);
       key_number(out, "initial_angle", w.initial_angle);
-      out << YAML::Key << "slip" << YAML::Value << (w.free_slip ? "free_slip" : "no_slip");
+      out << YAML::Key << "slip";
+      if (w.slip_length > 0.0 && !w.free_slip) {
+        out << YAML::Value << YAML::Flow << YAML::BeginMap;
+        key_number(out, "slip_length", w.slip_length);
+        out << YAML::EndMap;
+      } else {
+        out << YAML::Value << (w.free_slip ? "free_slip" : "no_slip");
+      }
       out << YAML::EndMap;
     }
     out << YAML::EndSeq;

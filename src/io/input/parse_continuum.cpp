@@ -203,8 +203,17 @@ ContinuumCase parse_continuum(const YamlNode& block) {
               "in 3D an initial_angle turns the wall about its angular_velocity, which is zero or "
               "not given");
       }
-      if (auto sl = w.find("slip"))
-        wall.free_slip = sl->as_choice({"no_slip", "free_slip"}) == "free_slip";
+      // slip: no_slip | free_slip | {slip_length: b} (partial, Navier)
+      if (auto sl = w.find("slip")) {
+        if (sl->is_map()) {
+          YamlMap ps(*sl, {"slip_length"});
+          wall.slip_length = ps.number("slip_length", Range::positive());
+        } else {
+          if (!sl->is_scalar())
+            sl->fail_expected("no_slip, free_slip or {slip_length: b} (partial slip, m)");
+          wall.free_slip = sl->as_choice({"no_slip", "free_slip"}) == "free_slip";
+        }
+      }
       s.walls.push_back(wall);
     }
   }
