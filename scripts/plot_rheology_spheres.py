@@ -7,10 +7,11 @@ Usage: /usr/bin/python3 scripts/plot_rheology_spheres.py [--out DIR] [BUILD_DIR]
 (default build/release)
 
 Runs gf_validation_tests --gtest_filter='RheologyValidation.LeesEdwards*:RheologyValidation.
-Dilute*' (about 45 s on one core) with GF_VALIDATION_OUT set and writes
-docs/validation/rheology_spheres_kinetic_theory.png (into DIR, created if missing, with
---out DIR): measured over predicted T, P and sigma_xz (Lun et al. 1984) at e = 0.95 and e = 0.7,
-and the coordination number over the Enskog collision frequency times the contact duration.
+Dilute*:RheologyValidation.HomogeneousCooling*' (about 50 s on one core) with GF_VALIDATION_OUT
+set and writes docs/validation/rheology_spheres_kinetic_theory.png (into DIR, created if
+missing, with --out DIR): measured over predicted T, P and sigma_xz (Lun et al. 1984) at
+e = 0.95 and e = 0.7, the coordination number over the Enskog collision frequency times the
+contact duration, and the homogeneous cooling of a granular gas against Haff's law.
 Uses Debian's python3-numpy and python3-matplotlib."""
 import os
 
@@ -34,7 +35,7 @@ def load(folder, name):
 def plot(folder, out):
     e095 = load(folder, "rheology_lees_edwards_e095")
     e07 = load(folder, "rheology_lees_edwards_e07")
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, ax = plt.subplots(1, 3, figsize=(16, 4.2))
 
     # Left: measured / Lun et al. per quantity; e = 0.95 (one run at 100 1/s), e = 0.7 (two rates).
     a = ax[0]
@@ -76,6 +77,19 @@ def plot(folder, out):
     a.set_ylabel("measured coordination number Z")
     a.set_title("Contacts per grain")
     a.legend(fontsize=7)
+
+    # Right: homogeneous cooling, T(t) against Haff's T0 / (1 + t / tau)^2.
+    a = ax[2]
+    h = load(folder, "haff_cooling")
+    # the run ends at t = tau, where Haff's law has fallen to a quarter of T0
+    tau, t0 = h["t"][-1], 4 * h["T_haff"][-1]
+    a.plot(h["t"] / tau, h["T"] / t0, ".", ms=4, label="DEM, 2197 spheres, e = 0.9, phi = 0.1")
+    a.plot(h["t"] / tau, h["T_haff"] / t0, "k-", lw=0.8,
+           label="Haff: 1 / (1 + t / tau)^2, tau = 6 / ((1 - e^2) omega_Enskog)")
+    a.set_xlabel("t / tau")
+    a.set_ylabel("T / T0")
+    a.set_title("Homogeneous cooling (collisional dissipation)")
+    a.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(out, "rheology_spheres_kinetic_theory.png"), dpi=120)
     plt.close(fig)
@@ -83,5 +97,6 @@ def plot(folder, out):
 
 if __name__ == "__main__":
     validation_run.plot_main(__doc__,
-                             "RheologyValidation.LeesEdwards*:RheologyValidation.Dilute*",
+                             "RheologyValidation.LeesEdwards*:RheologyValidation.Dilute*:"
+                             "RheologyValidation.HomogeneousCooling*",
                              [plot], OMP_NUM_THREADS="1")
