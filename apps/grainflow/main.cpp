@@ -13,8 +13,10 @@
 #include <iostream>
 #include <span>
 #include <string>
+#include <utility>
 
 #include "contact/registry.hpp"
+#include "continuum/ktgf.hpp"
 #include "continuum/rheology_registry.hpp"
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -47,6 +49,16 @@ int list_models() {
   fmt::print("continuum rheologies (continuum.rheology.model):\n");
   for (const auto& m : gf::continuum::rheology_infos())
     fmt::print("  {:<16} {}\n", m.key, m.summary);
+  // Library only so far: no solver reads them yet (the two-fluid model will).
+  fmt::print("KTGF closure sets (library; no case-file key yet):\n");
+  for (const auto& m : gf::continuum::ktgf_closure_infos())
+    fmt::print("  {:<16} {}\n", m.key, m.summary);
+  fmt::print("KTGF radial distributions at contact g0:\n");
+  for (const auto& m : gf::continuum::radial_distribution_infos())
+    fmt::print("  {:<18} {}\n", m.key, m.summary);
+  fmt::print("KTGF dense-region (frictional) models:\n");
+  for (const auto& m : gf::continuum::frictional_model_infos())
+    fmt::print("  {:<26} {}\n", m.key, m.summary);
   fmt::print("\n`grainflow describe <key>` prints a model's equation, reference and parameters.\n");
   return 0;
 }
@@ -67,11 +79,31 @@ int describe(const std::string& key) {
     print_params(r->params);
     return 0;
   }
+  const std::pair<const gf::continuum::KtgfInfo*, const char*> ktgf[] = {
+      {gf::continuum::find_ktgf_closure(key), "KTGF closure set"},
+      {gf::continuum::find_radial_distribution(key), "KTGF radial distribution at contact"},
+      {gf::continuum::find_frictional_model(key), "KTGF dense-region model"}};
+  for (const auto& [k, kind] : ktgf)
+    if (k) {
+      fmt::print(
+          "{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters ({}; library only, no "
+          "case-file key yet):\n",
+          k->key, k->summary, k->equation, k->reference, kind);
+      if (k->params.empty())
+        fmt::print("  (none)\n");
+      else
+        print_params(k->params);
+      return 0;
+    }
   const auto* m = gf::contact::find_model(key);
   if (!m) {
     std::string keys;
     for (const auto& i : gf::contact::model_infos()) keys += fmt::format(" {}", i.key);
     for (const auto& i : gf::continuum::rheology_infos()) keys += fmt::format(" {}", i.key);
+    for (const auto& i : gf::continuum::ktgf_closure_infos()) keys += fmt::format(" {}", i.key);
+    for (const auto& i : gf::continuum::radial_distribution_infos())
+      keys += fmt::format(" {}", i.key);
+    for (const auto& i : gf::continuum::frictional_model_infos()) keys += fmt::format(" {}", i.key);
     fmt::print(stderr, "error: unknown model key '{}'; known keys:{}\n", key, keys);
     return kExitInput;
   }
