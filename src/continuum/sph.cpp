@@ -84,6 +84,26 @@ SphSolver::SphSolver(const SphConfig& cfg) : cfg_(cfg) {
   REQUIRE(cfg_.spacing > 0 && cfg_.smoothing_ratio > 0 && cfg_.density > 0 &&
               cfg_.sound_speed > 0 && cfg_.eos_exponent >= 1,
           "SPH: spacing, smoothing ratio, density and sound speed must be positive");
+  if (cfg_.kinetic_theory) {
+    const auto& kt = *cfg_.kinetic_theory;
+    REQUIRE(kt.closures.density > 0 && kt.closures.diameter > 0,
+            "SPH: kinetic theory needs the grains' diameter and density");
+    const double a0 = cfg_.density / kt.closures.density;
+    REQUIRE(a0 > 0 && a0 < 1,
+            "SPH: kinetic theory: the reference density {} kg/m^3 must be "
+            "the bulk density a0 rho_s of the dense packing (a0 = {} is not a volume fraction)",
+            cfg_.density, a0);
+    REQUIRE(kt.closures.packing_limit <= 0 || a0 < 0.99 * kt.closures.packing_limit,
+            "SPH: kinetic theory: the dense packing a0 = rho0 / rho_s = {} must lie below the "
+            "radial distribution's packing limit {} (by 1 %)",
+            a0, kt.closures.packing_limit);
+    REQUIRE(kt.dense.model != index_of_key(FrictionalModels{}, SchaefferJohnsonJackson::key) ||
+                a0 < 0.99 * kt.dense.max_fraction,
+            "SPH: kinetic theory: the dense packing a0 = rho0 / rho_s = {} must lie below the "
+            "frictional pressure's max_fraction {} (by 1 %)",
+            a0, kt.dense.max_fraction);
+    REQUIRE(kt.min_temperature > 0, "SPH: kinetic theory: min_temperature must be positive");
+  }
   w_ = WendlandC2(cfg_.dimension, cfg_.smoothing_ratio * cfg_.spacing);
   volume0_ = std::pow(cfg_.spacing, cfg_.dimension);
   b_eos_ = cfg_.density * cfg_.sound_speed * cfg_.sound_speed / cfg_.eos_exponent;
@@ -190,6 +210,10 @@ void SphSolver::build_particles() {
     p_.u_wall.push_back(wall >= 0 ? v : Vec3{});
     p_.v_ghost.push_back(wall >= 0 ? v : Vec3{});
     p_.wall_index.push_back(wall);
+    p_.theta.push_back(wall < 0 && cfg_.kinetic_theory
+                           ? std::max(cfg_.kinetic_theory->initial_temperature,
+                                      cfg_.kinetic_theory->min_temperature)
+                           : 0.0);
   };
   for (const auto& b : cfg_.blocks) {
     std::vector<Vec3> pts;
@@ -202,10 +226,14 @@ void SphSolver::build_particles() {
     double top = -std::numeric_limits<double>::infinity();
     for (const auto& x : pts) top = std::max(top, dot(up, x));
     top += 0.5 * dx;
+    REQUIRE(!(b.hydrostatic && b.volume_fraction && cfg_.kinetic_theory),
+            "SPH: a block with a volume fraction starts at rest pressure, not hydrostatic");
+    const double rho_block = cfg_.kinetic_theory && b.volume_fraction
+                                 ? *b.volume_fraction * cfg_.kinetic_theory->closures.density
+                                 : cfg_.density;
     for (const auto& x : pts) {
       const double p = b.hydrostatic ? cfg_.density * g * (top - dot(up, x)) : 0.0;
-      add(x, b.velocity, b.hydrostatic ? density_of(p + cfg_.background_pressure) : cfg_.density,
-          -1);
+      add(x, b.velocity, b.hydrostatic ? density_of(p + cfg_.background_pressure) : rho_block, -1);
     }
   }
   n_fluid_ = p_.size();
@@ -333,6 +361,12 @@ void SphSolver::build_neighbours() {
 
 void SphSolver::continuity_and_strain(double dt) {
   const Domain& dom = cfg_.domain;
+  const bool kt = cfg_.kinetic_theory.has_value();
+  if (kt) {
+    div_v_.resize(n_fluid_);
+    heat_.resize(n_fluid_);
+    conductivity_.resize(n_fluid_, 0.0);
+  }
   const double delta_hc = cfg_.density_diffusion * w_.h * cfg_.sound_speed;
   const double inv_c2 = 1.0 / (cfg_.sound_speed * cfg_.sound_speed);
   const double gs = gradient_scale_;
@@ -341,7 +375,7 @@ void SphSolver::continuity_and_strain(double dt) {
     const auto i = static_cast<std::size_t>(ii);
     const Vec3 vi = p_.v[i];
     const double rho_i = p_.rho[i];
-    double drho = 0.0;
+    double drho = 0.0, conduction = 0.0;
     Mat3 grad{}, m{};
     for (auto k = nbr_start_[i]; k < nbr_start_[i + 1]; ++k) {
       const auto j = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
@@ -363,6 +397,12 @@ void SphSolver::continuity_and_strain(double dt) {
       if (!wall) {
         grad = grad + outer(vol_j * (p_.v[j] - vi), gw);
         m = m + outer(-vol_j * d, gw);
+        // (1 / rho) div(kappa grad Theta) by the Morris form of the viscous term; the walls are
+        // adiabatic (no heat flux through them)
+        if (kt)
+          conduction +=
+              laplacian_coefficient(i, j, r, w_.derivative(r), conductivity_[i], conductivity_[j]) *
+              (p_.theta[j] - p_.theta[i]);
       }
     }
     // Kernel-gradient correction where the support is populated enough to invert it.
@@ -376,17 +416,178 @@ void SphSolver::continuity_and_strain(double dt) {
       }
     p_.drho[i] = drho;
     p_.gamma_dot[i] = std::sqrt(2.0 * dd);
+    if (kt) {
+      div_v_[i] = grad.a[0][0] + grad.a[1][1] + grad.a[2][2];
+      heat_[i] = conduction;
+    }
   });
+  // With implicit viscosity the conduction is implicit too (its explicit limit
+  // 0.125 h^2 1.5 rho / kappa is as stiff as the viscous one in a dense bed)
+  const bool implicit_heat = kt && cfg_.implicit_viscosity && dt > 0.0;
+  if (implicit_heat) theta_rhs_.resize(n_fluid_), theta_diag_.resize(n_fluid_);
   exec::parallel_for(static_cast<exec::index_t>(n_fluid_), [&](exec::index_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     p_.rho[i] += dt * p_.drho[i];
-    p_.p[i] = pressure_of(p_.rho[i]);
-    p_.eta[i] = apparent_viscosity(p_.gamma_dot[i], p_.p[i], cfg_.rheology);
+    if (kt) {
+      const auto [rhs, diag] = temperature_balance(i, dt);
+      if (implicit_heat) {
+        theta_rhs_[i] = rhs;
+        theta_diag_[i] = diag;
+      } else {
+        p_.theta[i] = std::max((rhs + dt * (2.0 / 3.0) * heat_[i]) / diag,
+                               cfg_.kinetic_theory->min_temperature);
+        kinetic_theory_state(i);
+      }
+    } else {
+      p_.p[i] = pressure_of(p_.rho[i]);
+      p_.eta[i] = apparent_viscosity(p_.gamma_dot[i], p_.p[i], cfg_.rheology);
+    }
+  });
+  if (implicit_heat) {
+    implicit_conduction_step(dt);
+    exec::parallel_for(static_cast<exec::index_t>(n_fluid_), [&](exec::index_t ii) {
+      kinetic_theory_state(static_cast<std::size_t>(ii));
+    });
+  }
+  if (kt) update_kinetic_theory_limits();
+}
+
+void SphSolver::implicit_conduction_step(double dt) {
+  // diag_i Theta_i - dt (2/3) sum_j k_ij (Theta_j - Theta_i) = rhs_i over fluid neighbours j
+  // (k_ij the Morris coefficients of kappa): strictly diagonally dominant (diag_i >= 1), so
+  // BiCGSTAB with a diagonal preconditioner converges, as for the viscous step.
+  const auto nf = static_cast<Eigen::Index>(n_fluid_);
+  auto& rows = visc_rows_;
+  rows.resize(n_fluid_);
+  Eigen::VectorXd rhs(nf), guess(nf);
+  exec::parallel_for(static_cast<exec::index_t>(n_fluid_), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    auto& row = rows[i];
+    row.clear();
+    double diag = theta_diag_[i];
+    for (auto k = nbr_start_[i]; k < nbr_start_[i + 1]; ++k) {
+      const auto j = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
+      if (j >= n_fluid_) continue;  // adiabatic walls
+      const double r = norm(cfg_.domain.delta(p_.x[i], p_.x[j]));
+      if (r <= 0.0 || r >= w_.support()) continue;
+      const double c =
+          dt * (2.0 / 3.0) *
+          laplacian_coefficient(i, j, r, w_.derivative(r), conductivity_[i], conductivity_[j]);
+      diag += c;
+      row.emplace_back(ii, static_cast<Eigen::Index>(j), -c);
+    }
+    row.emplace_back(ii, ii, diag);
+    rhs(ii) = theta_rhs_[i];
+    guess(ii) = p_.theta[i];
+  });
+  auto& all = visc_triplets_;
+  all.clear();
+  for (const auto& r : rows) all.insert(all.end(), r.begin(), r.end());
+  Eigen::SparseMatrix<double, Eigen::RowMajor> a(nf, nf);
+  a.setFromTriplets(all.begin(), all.end());
+  Eigen::BiCGSTAB<Eigen::SparseMatrix<double, Eigen::RowMajor>,
+                  Eigen::DiagonalPreconditioner<double>>
+      solver;
+  solver.setTolerance(1e-10);
+  solver.compute(a);
+  const Eigen::VectorXd theta = solver.solveWithGuess(rhs, guess);
+  REQUIRE(solver.info() == Eigen::Success,
+          "SPH: implicit heat conduction did not converge ({} iterations, error {})",
+          solver.iterations(), solver.error());
+  const double floor = cfg_.kinetic_theory->min_temperature;
+  for (Eigen::Index i = 0; i < nf; ++i)
+    p_.theta[static_cast<std::size_t>(i)] = std::max(theta(i), floor);
+}
+
+double SphSolver::laplacian_coefficient(std::size_t i, std::size_t j, double r, double dw,
+                                        double q_i, double q_j) const {
+  return -laplacian_scale_ * p_.mass[j] / (p_.rho[i] * p_.rho[j]) * (q_i + q_j) * dw * r /
+         (r * r + 0.01 * w_.h * w_.h);
+}
+
+SphSolver::TemperatureBalance SphSolver::temperature_balance(std::size_t i, double dt) const {
+  // (3/2) rho dTheta/dt = eta_k (gamma_dot^2 - 2/3 div^2) + lambda div^2 - P_k div - gamma
+  //                      + div(kappa grad Theta),
+  // eta_k, lambda, P_k, kappa, gamma of the closure set at the new density and the old Theta.
+  // The sinks, gamma ~ Theta^(3/2) and P_k div ~ Theta where the material expands, are taken
+  // implicitly (linearised about the old Theta), the sources explicitly: Theta stays positive
+  // at any step, and a gas cooling alone follows Haff's law to first order in dt / tau.
+  const auto& kt = *cfg_.kinetic_theory;
+  const double rho = p_.rho[i], theta = p_.theta[i];
+  const auto pr = ktgf_properties(volume_fraction_for_closures(rho), theta, kt.closures);
+  const double div = div_v_[i];
+  const double gd2 = p_.gamma_dot[i] * p_.gamma_dot[i];
+  double source = pr.shear_viscosity * std::max(0.0, gd2 - 2.0 / 3.0 * div * div) +
+                  pr.bulk_viscosity * div * div;  // [W/m^3]
+  double sink = pr.dissipation;                   // [W/m^3]
+  if (div < 0.0)
+    source -= pr.pressure * div;
+  else
+    sink += pr.pressure * div;
+  const double c = 2.0 / (3.0 * rho);
+  return {theta + dt * c * source, 1.0 + dt * c * sink / theta};
+}
+
+double SphSolver::volume_fraction_for_closures(double rho) const {
+  // a = rho / rho_s, kept below the radial distribution's packing limit (where g0 diverges):
+  // the dense pressure holds a near rho0 / rho_s, 1 % below it at least (checked at set-up)
+  const auto& kt = *cfg_.kinetic_theory;
+  double a = rho / kt.closures.density;
+  if (kt.closures.packing_limit > 0) a = std::min(a, 0.999 * kt.closures.packing_limit);
+  return std::min(a, 0.999);
+}
+
+void SphSolver::kinetic_theory_state(std::size_t i) {
+  // p = P_k(a, Theta) + max(0, Tait(rho)) [+ P_f(a)] - lambda div v: the kinetic theory's
+  // pressure everywhere, the weakly compressible pressure of the dense packing only where it
+  // is compressed beyond rho0 (a granular gas takes no tension), the frictional pressure of
+  // schaeffer_johnson_jackson, and the bulk viscous stress
+  const auto& kt = *cfg_.kinetic_theory;
+  const double a = volume_fraction_for_closures(p_.rho[i]);
+  const double theta = p_.theta[i];
+  const auto pr = ktgf_properties(a, theta, kt.closures);
+  double p = pr.pressure + std::max(0.0, pressure_of(p_.rho[i]) - cfg_.background_pressure) +
+             cfg_.background_pressure - pr.bulk_viscosity * div_v_[i];
+  if (kt.dense.model == index_of_key(FrictionalModels{}, SchaefferJohnsonJackson::key))
+    p += johnson_jackson_pressure(std::min(a, kt.dense.max_fraction * 0.999), kt.dense);
+  p_.p[i] = p;
+  p_.eta[i] = effective_shear_viscosity(a, theta, p_.gamma_dot[i], std::max(p, 0.0), kt.closures,
+                                        kt.dense, cfg_.rheology)
+                  .viscosity;
+}
+
+void SphSolver::update_kinetic_theory_limits() {
+  const auto& kt = *cfg_.kinetic_theory;
+  const auto nf = static_cast<exec::index_t>(n_fluid_);
+  conductivity_.resize(n_fluid_);
+  exec::parallel_for(nf, [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    conductivity_[i] =
+        granular_conductivity(volume_fraction_for_closures(p_.rho[i]), p_.theta[i], kt.closures);
+  });
+  // Sound speed of the gas, c^2 = dP/drho at fixed Theta + (dP/dTheta) (dTheta/drho) at fixed
+  // entropy = dP/drho|_Theta + 2 P^2 / (3 rho^2 Theta) (P linear in Theta; 5/3 Theta for a
+  // dilute gas)
+  kt_sound_max_ = exec::parallel_max(nf, 0.0, [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    const double rho = p_.rho[i], theta = p_.theta[i];
+    const double a = volume_fraction_for_closures(rho), da = 1e-6 * a;
+    const double p0 = solids_pressure(a, theta, kt.closures);
+    const double dp =
+        (solids_pressure(a + da, theta, kt.closures) - p0) / (da * kt.closures.density);
+    return std::sqrt(std::max(0.0, dp + 2.0 * p0 * p0 / (3.0 * rho * rho * theta)));
+  });
+  kt_diffusivity_max_ = exec::parallel_max(nf, 0.0, [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    // (implicit viscosity: viscosity and conduction both implicit, no limit)
+    if (cfg_.implicit_viscosity) return 0.0;
+    return std::max(p_.eta[i], conductivity_[i] / 1.5) / p_.rho[i];
   });
 }
 
 void SphSolver::extrapolate_walls() {
   const Domain& dom = cfg_.domain;
+  const bool kt = cfg_.kinetic_theory.has_value();
   const std::size_t n = p_.size();
   inv_wsum_.resize(n - n_fluid_);
   u_mirror_.resize(n - n_fluid_);
@@ -397,7 +598,7 @@ void SphSolver::extrapolate_walls() {
     const auto wall = static_cast<std::size_t>(p_.wall_index[w]);
     const auto& mo = wall_motion_[wall];
     const double slip = free_slip_[wall] ? 0.0 : slip_length_[wall];
-    double sum_w = 0.0, sum_p = 0.0, sum_eta = 0.0;
+    double sum_w = 0.0, sum_p = 0.0, sum_eta = 0.0, sum_rho = 0.0;
     Vec3 sum_rho_r{}, sum_v{}, sum_d{};
     for (auto k = nbr_start_[w]; k < nbr_start_[w + 1]; ++k) {
       const auto f = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
@@ -406,6 +607,7 @@ void SphSolver::extrapolate_walls() {
       sum_w += wk;
       sum_p += p_.p[f] * wk;
       sum_eta += p_.eta[f] * wk;
+      sum_rho += p_.rho[f] * wk;
       sum_rho_r += (p_.rho[f] * wk) * d;
       sum_v += wk * p_.v[f];
       if (mo.rotates || slip > 0.0) sum_d += wk * d;
@@ -439,14 +641,13 @@ void SphSolver::extrapolate_walls() {
       p_.eta[w] = 0.0;
     }
     p_.p[w] = pw;
-    p_.rho[w] = density_of(pw);
+    p_.rho[w] = std::max(density_of(pw), kt ? cfg_.density : 0.0);
     p_.mass[w] = p_.rho[w] * volume0_;
   });
 }
 
 double SphSolver::viscous_coefficient(std::size_t i, std::size_t j, double r, double dw) const {
-  return -laplacian_scale_ * p_.mass[j] / (p_.rho[i] * p_.rho[j]) * (p_.eta[i] + p_.eta[j]) * dw *
-         r / (r * r + 0.01 * w_.h * w_.h);
+  return laplacian_coefficient(i, j, r, dw, p_.eta[i], p_.eta[j]);
 }
 
 Vec3 SphSolver::pair_acceleration(std::size_t i, std::size_t j, bool viscous) const {
@@ -605,10 +806,13 @@ void SphSolver::implicit_viscous_step(double dt) {
 
 double SphSolver::stable_step() const {
   const double h = w_.h;
-  double dt = cfg_.cfl * h / (cfg_.sound_speed + v_max_);
+  double dt = cfg_.cfl * h / (std::max(cfg_.sound_speed, kt_sound_max_) + v_max_);
   if (a_max_ > 0) dt = std::min(dt, 0.25 * std::sqrt(h / a_max_));
   if (eta_max_ > 0 && !cfg_.implicit_viscosity)
     dt = std::min(dt, 0.125 * h * h * cfg_.density / eta_max_);
+  // (a granular gas: its own density, and its heat conduction, explicit also with implicit
+  // viscosity)
+  if (kt_diffusivity_max_ > 0) dt = std::min(dt, 0.125 * h * h / kt_diffusivity_max_);
   return std::min(dt, cfg_.max_step);
 }
 
@@ -652,6 +856,7 @@ bool SphSolver::remove_escaped() {
   compact(p_.u_wall);
   compact(p_.v_ghost);
   compact(p_.wall_index);
+  compact(p_.theta);
   for (std::size_t i = 0; i < n_fluid_; ++i) keep += drop[i] ? 0 : 1;
   n_removed_ += n_fluid_ - keep;
   n_fluid_ = keep;
@@ -707,7 +912,7 @@ void SphSolver::restore(const SphState& s) {
                         q.rho.size() == n && q.drho.size() == n && q.p.size() == n &&
                         q.mass.size() == n && q.eta.size() == n && q.gamma_dot.size() == n &&
                         q.u_wall.size() == n && q.v_ghost.size() == n && q.wall_index.size() == n &&
-                        s.x_built.size() == n && s.n_fluid <= n;
+                        q.theta.size() == n && s.x_built.size() == n && s.n_fluid <= n;
   if (!sizes_ok || n - s.n_fluid != walls)
     throw InputError(fmt::format(
         "SPH: the checkpoint holds {} wall particles, this case builds {}: it belongs to another "
@@ -727,6 +932,8 @@ void SphSolver::restore(const SphState& s) {
   p_.x = s.x_built;
   build_neighbours();
   p_.x = std::move(now);
+  // (the conductivities and step limits the next step reads, from the state they came from)
+  if (cfg_.kinetic_theory) update_kinetic_theory_limits();
 }
 
 SphSummary SphSolver::summary() const {
@@ -744,6 +951,19 @@ SphSummary SphSolver::summary() const {
     }
     s.max_density_error = std::max(s.max_density_error, std::fabs(p_.rho[i] / cfg_.density - 1));
     s.max_viscosity = std::max(s.max_viscosity, p_.eta[i]);
+  }
+  if (cfg_.kinetic_theory && n_fluid_ > 0) {
+    double m = 0.0, mt = 0.0;
+    s.min_volume_fraction = inf;
+    s.max_volume_fraction = 0.0;
+    for (std::size_t i = 0; i < n_fluid_; ++i) {
+      m += p_.mass[i];
+      mt += p_.mass[i] * p_.theta[i];
+      const double a = p_.rho[i] / cfg_.kinetic_theory->closures.density;
+      s.min_volume_fraction = std::min(s.min_volume_fraction, a);
+      s.max_volume_fraction = std::max(s.max_volume_fraction, a);
+    }
+    s.mean_temperature = mt / m;
   }
   return s;
 }

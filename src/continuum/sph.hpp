@@ -57,6 +57,15 @@
 // normalisation of the pressure gradient). Without it the torque on a cylinder turning in a
 // Newtonian liquid lacks -2 eta Omega A (A its cross-section; 37.5 % of the Taylor-Couette torque
 // at R2 = 2 R1).
+// Kinetic theory (SphConfig::kinetic_theory; Gomez Fino 2014, sec. 3.2): the density is the bulk
+// density a rho_s and each particle carries a granular temperature Theta;
+// p = P_s(a, Theta) + max(0, Tait(rho)) [+ P_f(a)] - lambda_s div v (no tension in a gas),
+// eta = the dense model's effective viscosity (mu_i_switch: the rheology above a_fric, KTGF's
+// mu_s below), and (3/2) rho DTheta/Dt = mu_s (gamma_dot^2 - 2/3 div^2) + lambda_s div^2 -
+// P_s div v - gamma_s + div(kappa_s grad Theta) with the kinetic theory's mu_s (frictional
+// work does not feed the fluctuations: Srivastava & Sundaresan, Powder Technol. 129 (2003) 72);
+// sinks implicit, sources explicit, conduction explicit or (with implicit viscosity) backward
+// Euler, adiabatic walls. Closures: continuum/ktgf.hpp.
 // Time integration: kick-drift-kick (velocity Verlet) with the density advanced after the drift;
 // the step is the smallest of the acoustic (cfl h / (c0 + |v|max)), force (0.25 sqrt(h / |a|max))
 // and viscous (0.125 h^2 rho0 / eta_max) limits (Monaghan, Rep. Prog. Phys. 68 (2005) 1703,
@@ -69,6 +78,7 @@
 #include <string>
 #include <vector>
 
+#include "continuum/ktgf.hpp"
 #include "continuum/rheology.hpp"
 #include "continuum/sph_kernel.hpp"
 #include "core/domain.hpp"
@@ -92,6 +102,9 @@ struct SphBlock {
   double radius = 0.0;     ///< Cylinder [m]
   double length = 0.0;     ///< Cylinder, 3D: length along the axis, centred on `center` [m]
   double thickness = 0.0;  ///< Cylinder: annulus thickness [m] (0: solid)
+  /// With kinetic theory: the block's volume fraction a, its density a rho_s (unset: the
+  /// reference density rho0); ignored without kinetic theory
+  std::optional<double> volume_fraction{};
 };
 
 /// A solid wall made of boundary particles: the lattice points of spacing dx inside a box, or
@@ -126,6 +139,18 @@ struct SphWall {
   double slip_length = 0.0;
 };
 
+/// The granular phase by kinetic theory (KTGF) with a dense regime: the continuum's density is
+/// the bulk density a rho_s of grains at volume fraction a, and each particle carries a granular
+/// temperature Theta (see "Kinetic theory" in the file comment).
+struct SphKineticTheory {
+  KtgfParams closures;               ///< closure set, g0, restitution, grain diameter and density
+  FrictionalParams dense;            ///< dense regime: mu_i_switch or schaeffer_johnson_jackson
+  double initial_temperature = 0.0;  ///< Theta of the blocks at t = 0 [m^2/s^2]
+  /// floor of Theta [m^2/s^2]: a gas at Theta = 0 has no viscosity to heat it by shear, and
+  /// would stay cold
+  double min_temperature = 1e-10;
+};
+
 struct SphConfig {
   int dimension = 2;
   Domain domain;                 ///< particles leaving it in a non-periodic direction are removed
@@ -144,7 +169,8 @@ struct SphConfig {
   /// no viscous time-step limit, for stiff materials (a mu(I) pile at rest with a large
   /// max_viscosity). First order in time for the viscous part.
   bool implicit_viscosity = false;
-  RheologyParams rheology;
+  RheologyParams rheology;  ///< the material's rheology (with kinetic theory: the dense one)
+  std::optional<SphKineticTheory> kinetic_theory;
   double cfl = 0.2;        ///< acoustic Courant number
   double max_step = 1e30;  ///< upper bound of the time step [s]
   std::vector<SphBlock> blocks;
@@ -161,6 +187,9 @@ struct SphParticles {
   std::vector<Vec3> u_wall;              ///< walls: prescribed (rigid-body) velocity [m/s]
   std::vector<Vec3> v_ghost;             ///< walls: mirrored velocity for no slip [m/s]
   std::vector<std::int32_t> wall_index;  ///< walls: index in SphConfig::walls; fluid: -1
+  /// granular temperature Theta, the velocity variance per component [m^2/s^2] (kinetic
+  /// theory; otherwise 0)
+  std::vector<double> theta;
   std::size_t size() const { return x.size(); }
 };
 
@@ -172,6 +201,10 @@ struct SphSummary {
   Vec3 min_position, max_position;  ///< bounding box of the fluid [m]
   double max_density_error = 0.0;   ///< max |rho / rho0 - 1|
   double max_viscosity = 0.0;       ///< [Pa s]
+  /// kinetic theory: mass-weighted mean granular temperature [m^2/s^2] and the range of the
+  /// volume fraction rho / rho_s
+  double mean_temperature = 0.0;
+  double min_volume_fraction = 0.0, max_volume_fraction = 0.0;
 };
 
 /// Everything besides the case that a run's continuation needs to go on bit-identically.
@@ -255,7 +288,28 @@ class SphSolver {
   /// k_ij >= 0 of the Morris term dv_i/dt = sum_j k_ij (v_j - v_i) [1/s], for r = |r_ij| and
   /// dw = W'(r).
   double viscous_coefficient(std::size_t i, std::size_t j, double r, double dw) const;
+  /// The same for a diffusion (1 / rho) div(q grad f) ~ sum_j k_ij (f_j - f_i) with
+  /// coefficients q_i, q_j (eta: the viscous term; kappa: heat conduction).
+  double laplacian_coefficient(std::size_t i, std::size_t j, double r, double dw, double q_i,
+                               double q_j) const;
+  /// Kinetic theory: the volume fraction rho / rho_s the closures are evaluated at (kept
+  /// below the radial distribution's packing limit).
+  double volume_fraction_for_closures(double rho) const;
   void implicit_viscous_step(double dt);
+  /// Kinetic theory: pressure, viscosity and conductivity of fluid particle i from its density,
+  /// temperature, shear rate and velocity divergence (the particle's own fields).
+  void kinetic_theory_state(std::size_t i);
+  /// Kinetic theory: the granular energy balance of fluid particle i over dt without
+  /// conduction, linearised: Theta_new diag = rhs (+ dt (2/3) (1 / rho) div(kappa grad Theta)).
+  struct TemperatureBalance {
+    double rhs, diag;
+  };
+  TemperatureBalance temperature_balance(std::size_t i, double dt) const;
+  /// Kinetic theory with implicit viscosity: the balance with backward-Euler conduction.
+  void implicit_conduction_step(double dt);
+  /// Kinetic theory: conductivities and the time-step limits (sound speed, diffusivities) from
+  /// the fluid particles' state.
+  void update_kinetic_theory_limits();
   /// Removes fluid particles outside the domain's non-periodic bounds; true if any was.
   bool remove_escaped();
   bool moved_beyond_skin() const;
@@ -305,6 +359,13 @@ class SphSolver {
   /// per wall particle: the weight s of the fluid's mean velocity in its mirrored velocity
   /// v_w = 2 u_m - s sum_f v_f W_wf / sum_f W_wf (1 without slip; see extrapolate_walls)
   std::vector<double> mirror_weight_;
+  // Kinetic theory, per fluid particle (recomputed every step from the state: not in SphState)
+  std::vector<double> div_v_;                   ///< velocity divergence [1/s]
+  std::vector<double> heat_;                    ///< (1 / rho) div(kappa grad Theta) [W/kg]
+  std::vector<double> theta_rhs_, theta_diag_;  ///< the temperature balance (implicit conduction)
+  std::vector<double> conductivity_;            ///< kappa_s [kg/(m s)]
+  double kt_sound_max_ = 0.0;                   ///< largest sound speed of the granular gas [m/s]
+  double kt_diffusivity_max_ = 0.0;  ///< largest of eta / rho and kappa / (3/2 rho) [m^2/s]
   int last_viscous_iterations_ = 0;
   std::vector<std::vector<Eigen::Triplet<double>>> visc_rows_;  ///< implicit step, per row
   std::vector<Eigen::Triplet<double>> visc_triplets_;

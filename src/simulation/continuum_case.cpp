@@ -86,6 +86,15 @@ std::vector<std::pair<std::string, std::string>> describe_continuum_case(
         fmt::format("{:.3g}{}", dt_visc,
                     cfg.implicit_viscosity ? " (implicit viscosity: not a limit)" : ""));
   }
+  if (const auto& kt = cfg.kinetic_theory) {
+    const double d = kt->closures.diameter;
+    const double ratio = cfg.spacing / d;
+    out.emplace_back("kinetic theory: rho0 / rho_s, dx / d",
+                     fmt::format("{:.4g}, {:.3g}{}", cfg.density / kt->closures.density, ratio,
+                                 ratio < 3 ? " (below ~3: a particle holds few grains, the "
+                                             "continuum is a coarse model)"
+                                           : ""));
+  }
   out.emplace_back("first time step [s]", fmt::format("{:.3g}", s.stable_step()));
   out.emplace_back("steps to the end (at the first step)",
                    fmt::format("{:.0f}", std::ceil(c.end_time / s.stable_step())));
@@ -111,6 +120,12 @@ void write_sph_vtp(const fs::path& path, const continuum::SphSolver& s) {
   add("density", std::span<const double>(p.rho));
   add("viscosity", std::span<const double>(p.eta));
   add("shear_rate", std::span<const double>(p.gamma_dot));
+  if (const auto& kt = s.config().kinetic_theory) {
+    std::vector<double> a(n);
+    for (std::size_t i = 0; i < n; ++i) a[i] = p.rho[i] / kt->closures.density;
+    add("granular_temperature", std::span<const double>(p.theta));
+    add("volume_fraction", std::span<const double>(a));
+  }
   add("wall", std::span<const std::int32_t>(p.wall_index));
   add("id", std::span<const std::int64_t>(p.id));
   io::write_points_vtp(path, arrays, " Vectors=\"velocity\" Scalars=\"pressure\"", data,
@@ -163,6 +178,7 @@ void save_continuum_checkpoint(const fs::path& file, const ContinuumCheckpoint& 
     h.write("particles/u_wall", std::span<const Vec3>(p.u_wall));
     h.write("particles/v_ghost", std::span<const Vec3>(p.v_ghost));
     h.write("particles/wall_index", std::span<const std::int32_t>(p.wall_index));
+    h.write("particles/theta", std::span<const double>(p.theta));
     h.write("particles/x_built", std::span<const Vec3>(st.x_built));
   });
 }
@@ -203,6 +219,9 @@ ContinuumCheckpoint load_continuum_checkpoint(const fs::path& file) {
   p.u_wall = h.read_vec3("particles/u_wall");
   p.v_ghost = h.read_vec3("particles/v_ghost");
   p.wall_index = h.read_int32("particles/wall_index");
+  // (checkpoints written before kinetic theory have no temperatures: a liquid's are 0)
+  p.theta = h.exists("particles/theta") ? h.read_double("particles/theta")
+                                        : std::vector<double>(p.wall_index.size(), 0.0);
   st.x_built = h.read_vec3("particles/x_built");
   return c;
 }
@@ -231,6 +250,8 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
   std::string header =
       "time,steps,dt,n_fluid,kinetic_energy,max_speed,max_density_error,max_viscosity";
   for (int k = 0; k < dim; ++k) header += fmt::format(",min_{0},max_{0}", axes[k]);
+  const bool kt = c.sph.kinetic_theory.has_value();
+  if (kt) header += ",mean_granular_temperature,min_volume_fraction,max_volume_fraction";
   for (const auto& w : c.sph.walls)
     for (int k = 0; k < dim; ++k) header += fmt::format(",force_{}.{}", axes[k], w.name);
   // torque about each wall's rotation centre (2D: the z component only)
@@ -262,6 +283,9 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
                           sm.max_density_error, sm.max_viscosity);
     for (int k = 0; k < dim; ++k)
       series << fmt::format(",{:.9g},{:.9g}", sm.min_position[k], sm.max_position[k]);
+    if (kt)
+      series << fmt::format(",{:.9g},{:.6g},{:.6g}", sm.mean_temperature, sm.min_volume_fraction,
+                            sm.max_volume_fraction);
     const auto loads = s.wall_loads();
     for (const auto& f : loads.force)
       for (int k = 0; k < dim; ++k) series << fmt::format(",{:.9g}", f[k]);

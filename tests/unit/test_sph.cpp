@@ -393,6 +393,68 @@ TEST(ContinuumInput, ErrorsNameLineKeyAndExpectation) {
 // The resolved case written into the output folder loads back to the same configuration: for
 // every shipped continuum case, echo -> load -> echo gives the same text (every echoed key round
 // trips) and the same derived numbers (the default sound speed, the rheology's constants).
+TEST(ContinuumInput, ReadsKineticTheory) {
+  std::string text = kContinuumBlock;
+  const std::string kt = R"(  kinetic_theory:
+    closures: gidaspow
+    radial_distribution: lun_savage
+    packing_limit: 0.63
+    restitution: 0.8
+    grain_diameter: 1.0e-3
+    grain_density: 2500
+    initial_temperature: 0.01
+    dense: {model: mu_i_switch, frictional_limit: 0.5}
+)";
+  auto with_kt = [&](std::string t) {
+    t.insert(t.find("  time:"), kt);
+    return t;
+  };
+  text = with_kt(text);
+  text.replace(text.find("hydrostatic: true}"), 18, "volume_fraction: 0.3}");
+  const auto c = parse_text(text);
+  ASSERT_TRUE(c.sph.kinetic_theory.has_value());
+  const auto& k = *c.sph.kinetic_theory;
+  EXPECT_EQ(k.closures.model, index_of_key(continuum::KtgfClosures{}, "gidaspow"));
+  EXPECT_EQ(k.closures.radial, index_of_key(continuum::RadialDistributions{}, "lun_savage"));
+  EXPECT_EQ(k.closures.packing_limit, 0.63);
+  EXPECT_EQ(k.closures.restitution, 0.8);
+  EXPECT_EQ(k.initial_temperature, 0.01);
+  EXPECT_EQ(k.min_temperature, 1e-10);  // default
+  EXPECT_EQ(k.dense.frictional_limit, 0.5);
+  EXPECT_EQ(c.sph.blocks[0].volume_fraction, 0.3);
+  EXPECT_EQ(c.ktgf_closures, "gidaspow");
+  EXPECT_EQ(c.ktgf_dense, "mu_i_switch");
+  // errors name the key and what was expected
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  EXPECT_THAT(error_of(with("closures: gidaspow", "closures: enskog")),
+              ::testing::HasSubstr("continuum.kinetic_theory.closures: expected a KTGF closure "
+                                   "set: lun, syamlal, gidaspow"));
+  EXPECT_THAT(error_of(with("    restitution: 0.8\n", "")),
+              ::testing::HasSubstr("[missing key] KTGF closure set 'gidaspow' needs "
+                                   "'restitution'"));
+  EXPECT_THAT(error_of(with("restitution: 0.8", "restitution: 1.5")),
+              ::testing::HasSubstr("continuum.kinetic_theory.restitution: expected a number"));
+  EXPECT_THAT(error_of(with("packing_limit: 0.63", "packing_limt: 0.63")),
+              ::testing::HasSubstr("continuum.kinetic_theory.packing_limt: unknown key"));
+  EXPECT_THAT(error_of(with("model: mu_i_switch", "model: plastic")),
+              ::testing::HasSubstr("continuum.kinetic_theory.dense.model: expected a dense-regime "
+                                   "model: schaeffer_johnson_jackson, mu_i_switch"));
+  EXPECT_THAT(
+      error_of(with("{model: mu_i_switch, frictional_limit: 0.5}",
+                    "{model: schaeffer_johnson_jackson, min_fraction: 0.6, max_fraction: 0.55}")),
+      ::testing::HasSubstr("min_fraction = 0.6 must be below max_fraction = 0.55"));
+  // a volume fraction needs kinetic theory
+  std::string plain = kContinuumBlock;
+  plain.replace(plain.find("hydrostatic: true}"), 18, "volume_fraction: 0.3}");
+  EXPECT_THAT(error_of(plain), ::testing::HasSubstr("continuum.blocks[0].volume_fraction: a "
+                                                    "block's volume fraction needs "
+                                                    "kinetic_theory"));
+}
+
 TEST(ContinuumInput, ResolvedCaseLoadsBackTheSame) {
   int n_cases = 0;
   for (const auto& e : std::filesystem::directory_iterator(GF_SOURCE_DIR "/cases/continuum")) {
@@ -436,7 +498,10 @@ namespace {
 // through, in a new folder and with --append in its own (series and ParaView files as the
 // straight run's), explicit and implicit viscosity, with a translating and rotating wall.
 TEST(ContinuumRestart, ContinuesBitIdentically) {
-  for (const bool implicit : {false, true}) {
+  // (modes 2, 3: a granular gas by kinetic theory, whose temperatures must continue too;
+  // explicit, and implicit viscosity and conduction)
+  for (const int mode : {0, 1, 2, 3}) {
+    const bool implicit = mode == 1 || mode == 3;
     test::TempDir tmp;
     std::string text = R"(continuum:
   method: sph
@@ -457,6 +522,15 @@ TEST(ContinuumRestart, ContinuesBitIdentically) {
   output: {vtk_every: 0.002, series_every: 0.0005, checkpoint_every: 0.003}
 )";
     text.replace(text.find("VISCOUS"), 7, implicit ? "implicit" : "explicit");
+    if (mode >= 2) {
+      text.insert(text.find("  time:"), R"(  kinetic_theory:
+    restitution: 0.8
+    grain_diameter: 1.0e-3
+    grain_density: 2500
+    initial_temperature: 0.001
+)");
+      text.replace(text.find("hydrostatic: true}"), 18, "volume_fraction: 0.3}");
+    }
     auto c = input::parse_text(text);
     c.name = "restart";
     c.file = "case.yaml";
@@ -481,10 +555,14 @@ TEST(ContinuumRestart, ContinuesBitIdentically) {
       auto h = io::h5::File::open_read(f);
       return std::make_tuple(h.read_vec3("particles/x"), h.read_vec3("particles/v"),
                              h.read_double("particles/rho"), h.read_int_attribute("/", "steps"),
-                             h.read_double_attribute("/", "time"));
+                             h.read_double_attribute("/", "time"),
+                             h.read_double("particles/theta"));
     };
     const auto ref = state(tmp.path() / "straight" / "sph_checkpoint_final.h5");
     EXPECT_EQ(std::get<3>(ref), 120);
+    if (mode >= 2) {
+      EXPECT_GT(std::get<5>(ref)[0], 0.0);  // (a fluid particle's temperature)
+    }
     EXPECT_TRUE(state(tmp.path() / "fresh" / "sph_checkpoint_final.h5") == ref) << implicit;
     EXPECT_TRUE(state(tmp.path() / "split" / "sph_checkpoint_final.h5") == ref) << implicit;
     EXPECT_EQ(read_text_file(tmp.path() / "split" / "sph_series.csv"),

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "contact/registry.hpp"
+#include "continuum/ktgf.hpp"
 #include "continuum/rheology_registry.hpp"
 #include "io/input/validate.hpp"
 #include "io/input/yaml_reader.hpp"
@@ -589,6 +590,35 @@ std::string echo_continuum_yaml(const ContinuumCase& c, std::string_view program
     }
   out << YAML::EndMap;
 
+  if (s.kinetic_theory) {
+    // every parameter with its default filled in, from the schemas
+    auto emit_params = [&](std::span<const ParamSpec> schema,
+                           const std::map<std::string, double>& given) {
+      for (const auto& p : schema) {
+        const auto g = given.find(std::string(p.name));
+        const std::optional<double> v =
+            g != given.end() ? std::optional<double>(g->second) : p.default_value;
+        if (v) key_number(out, std::string(p.name).c_str(), *v);
+      }
+    };
+    out << YAML::Key << "kinetic_theory" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "closures" << YAML::Value << c.ktgf_closures;
+    out << YAML::Key << "radial_distribution" << YAML::Value << c.ktgf_radial;
+    if (const auto* set = continuum::find_ktgf_closure(c.ktgf_closures))
+      emit_params(set->params, c.ktgf_params);
+    if (const auto* radial = continuum::find_radial_distribution(c.ktgf_radial))
+      emit_params(radial->params, c.ktgf_params);
+    key_number(out, "initial_temperature", s.kinetic_theory->initial_temperature);
+    key_number(out, "min_temperature", s.kinetic_theory->min_temperature);
+    out << YAML::Comment("m^2/s^2");
+    out << YAML::Key << "dense" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "model" << YAML::Value << c.ktgf_dense;
+    if (const auto* dense = continuum::find_frictional_model(c.ktgf_dense))
+      emit_params(dense->params, c.ktgf_dense_params);
+    out << YAML::EndMap;
+    out << YAML::EndMap;
+  }
+
   out << YAML::Key << "time" << YAML::Value << YAML::Flow << YAML::BeginMap;
   key_number(out, "end", c.end_time);
   key_number(out, "cfl", s.cfl);
@@ -605,6 +635,8 @@ std::string echo_continuum_yaml(const ContinuumCase& c, std::string_view program
       emit_sph_cylinder(out, b.center, b.axis, b.radius, b.length, b.thickness, dim);
     key_vec(out, "velocity", b.velocity, dim);
     out << YAML::Key << "hydrostatic" << YAML::Value << b.hydrostatic;
+    if (s.kinetic_theory && b.volume_fraction)
+      key_number(out, "volume_fraction", *b.volume_fraction);
     out << YAML::EndMap;
   }
   out << YAML::EndSeq;

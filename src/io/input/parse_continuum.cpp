@@ -8,12 +8,30 @@
 #include <cmath>
 #include <map>
 
+#include "continuum/ktgf.hpp"
 #include "continuum/rheology_registry.hpp"
 #include "core/error.hpp"
 
 namespace gf::input {
 
 namespace {
+
+/// The parameters of a model's schema from map `m` (the node `node`): each in its range, every
+/// one without a default required ("[missing key] WHAT needs 'name' [unit]: description").
+std::map<std::string, double> read_schema_params(const YamlMap& m, const YamlNode& node,
+                                                 const std::vector<ParamSpec>& schema,
+                                                 const std::string& what) {
+  std::map<std::string, double> params;
+  for (const auto& p : schema) {
+    Range range{p.min, p.max, p.min_exclusive, false};
+    if (auto v = m.optional_number(p.name, range))
+      params[std::string(p.name)] = *v;
+    else if (!p.default_value)
+      node.fail(
+          fmt::format("[missing key] {} needs '{}' [{}]: {}", what, p.name, p.unit, p.description));
+  }
+  return params;
+}
 
 struct BoxRead {
   Vec3 lo, hi;
@@ -53,10 +71,10 @@ CylinderRead read_cylinder(const YamlNode& n, int dim) {
 
 ContinuumCase parse_continuum(const YamlNode& block) {
   ContinuumCase c;
-  YamlMap m(block,
-            {"method", "dimension", "domain", "gravity", "spacing", "smoothing_ratio", "density",
-             "sound_speed", "eos_exponent", "background_pressure", "density_diffusion",
-             "artificial_viscosity", "rheology", "time", "blocks", "walls", "output"});
+  YamlMap m(block, {"method", "dimension", "domain", "gravity", "spacing", "smoothing_ratio",
+                    "density", "sound_speed", "eos_exponent", "background_pressure",
+                    "density_diffusion", "artificial_viscosity", "rheology", "kinetic_theory",
+                    "time", "blocks", "walls", "output"});
   m.at("method").as_choice({"sph"});
   auto& s = c.sph;
   const int dim = static_cast<int>(m.at("dimension").as_integer({2, 3}));
@@ -106,15 +124,8 @@ ContinuumCase parse_continuum(const YamlNode& block) {
     std::vector<std::string> accepted{"model"};
     for (const auto& p : info->params) accepted.emplace_back(p.name);
     r.check_keys(accepted, fmt::format("parameters of rheology '{}'", c.rheology));
-    std::map<std::string, double> params;
-    for (const auto& p : info->params) {
-      Range range{p.min, p.max, p.min_exclusive, false};
-      if (auto v = r.optional_number(p.name, range))
-        params[std::string(p.name)] = *v;
-      else if (!p.default_value)
-        rn.fail(fmt::format("[missing key] rheology '{}' needs '{}' [{}]: {}", c.rheology, p.name,
-                            p.unit, p.description));
-    }
+    const auto params = read_schema_params(r, rn, {info->params.begin(), info->params.end()},
+                                           fmt::format("rheology '{}'", c.rheology));
     c.rheology_params = params;
     try {
       s.rheology = continuum::prepare_rheology(c.rheology, params);
@@ -123,6 +134,79 @@ ContinuumCase parse_continuum(const YamlNode& block) {
     } catch (const Error& e) {
       rn.fail(e.what());
     }
+  }
+  if (auto kn = m.find("kinetic_theory")) {
+    // kinetic_theory: {closures, radial_distribution, restitution, grain_diameter,
+    //                  grain_density, [packing_limit], initial_temperature, min_temperature,
+    //                  dense: {model, ...}}
+    const auto& kblock = *kn;
+    std::vector<std::string> accepted{"closures", "radial_distribution", "initial_temperature",
+                                      "min_temperature", "dense"};
+    YamlMap k(kblock);
+    c.ktgf_closures = k.has("closures") ? k.string("closures") : "lun";
+    c.ktgf_radial =
+        k.has("radial_distribution") ? k.string("radial_distribution") : "carnahan_starling";
+    const auto* set = continuum::find_ktgf_closure(c.ktgf_closures);
+    if (!set) {
+      std::vector<std::string> keys;
+      for (const auto& i : continuum::ktgf_closure_infos()) keys.emplace_back(i.key);
+      k.at("closures").fail_expected("a KTGF closure set: " + join(keys));
+    }
+    const auto* radial = continuum::find_radial_distribution(c.ktgf_radial);
+    if (!radial) {
+      std::vector<std::string> keys;
+      for (const auto& i : continuum::radial_distribution_infos()) keys.emplace_back(i.key);
+      k.at("radial_distribution").fail_expected("a radial distribution: " + join(keys));
+    }
+    std::vector<ParamSpec> schema(set->params.begin(), set->params.end());
+    schema.insert(schema.end(), radial->params.begin(), radial->params.end());
+    for (const auto& p : schema) accepted.emplace_back(p.name);
+    k.check_keys(accepted, fmt::format("keys of kinetic_theory (closures '{}', radial "
+                                       "distribution '{}')",
+                                       c.ktgf_closures, c.ktgf_radial));
+    c.ktgf_params = read_schema_params(k, kblock, schema,
+                                       fmt::format("KTGF closure set '{}'", c.ktgf_closures));
+    continuum::SphKineticTheory kt;
+    try {
+      kt.closures = continuum::prepare_ktgf(c.ktgf_closures, c.ktgf_params, c.ktgf_radial);
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      kblock.fail(e.what());
+    }
+    kt.initial_temperature = k.number_or("initial_temperature", 0.0, Range::non_negative());
+    kt.min_temperature = k.number_or("min_temperature", 1e-10, Range::positive());
+    // the dense regime: the rheology above a frictional packing limit (default) or Schaeffer's
+    // frictional viscosity with the Johnson-Jackson pressure
+    c.ktgf_dense = "mu_i_switch";
+    std::optional<YamlNode> dn = k.find("dense");
+    std::optional<YamlMap> d;
+    if (dn) {
+      d.emplace(*dn);
+      c.ktgf_dense = d->string("model");
+    }
+    const auto* dense = continuum::find_frictional_model(c.ktgf_dense);
+    if (!dense) {
+      std::vector<std::string> keys;
+      for (const auto& i : continuum::frictional_model_infos()) keys.emplace_back(i.key);
+      d->at("model").fail_expected("a dense-regime model: " + join(keys));
+    }
+    if (d) {
+      std::vector<std::string> dk{"model"};
+      for (const auto& p : dense->params) dk.emplace_back(p.name);
+      d->check_keys(dk, fmt::format("parameters of dense-regime model '{}'", c.ktgf_dense));
+      c.ktgf_dense_params =
+          read_schema_params(*d, *dn, {dense->params.begin(), dense->params.end()},
+                             fmt::format("dense-regime model '{}'", c.ktgf_dense));
+    }
+    try {
+      kt.dense = continuum::prepare_frictional(c.ktgf_dense, c.ktgf_dense_params);
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      (dn ? *dn : kblock).fail(e.what());
+    }
+    s.kinetic_theory = kt;
   }
   {
     YamlMap t(m.at("time"), {"end", "cfl", "max_step", "viscous"});
@@ -133,7 +217,7 @@ ContinuumCase parse_continuum(const YamlNode& block) {
       s.implicit_viscosity = v->as_choice({"explicit", "implicit"}) == "implicit";
   }
   for (const auto& bn : m.at("blocks").as_list(1)) {
-    YamlMap b(bn, {"box", "cylinder", "velocity", "hydrostatic"});
+    YamlMap b(bn, {"box", "cylinder", "velocity", "hydrostatic", "volume_fraction"});
     continuum::SphBlock blk;
     if (b.exactly_one_of({"box", "cylinder"}) == "box") {
       const auto box = read_box(b.at("box"), dim);
@@ -158,6 +242,14 @@ ContinuumCase parse_continuum(const YamlNode& block) {
     }
     if (b.find("velocity")) blk.velocity = b.at("velocity").as_vec(dim);
     blk.hydrostatic = b.boolean_or("hydrostatic", false);
+    if (auto vf = b.find("volume_fraction")) {
+      if (!m.has("kinetic_theory"))
+        vf->fail(
+            "a block's volume fraction needs kinetic_theory (without it the continuum has "
+            "the reference density)");
+      if (blk.hydrostatic) vf->fail("a block with a volume fraction cannot be hydrostatic");
+      blk.volume_fraction = vf->as_number({0.0, 1.0, true, true});
+    }
     s.blocks.push_back(blk);
   }
   if (auto wl = m.find("walls")) {

@@ -18,10 +18,14 @@ struct ContinuumCase {
   continuum::SphConfig sph;
   std::string rheology;                           ///< registry key of the rheology
   std::map<std::string, double> rheology_params;  ///< its parameters as given (no defaults)
-  double end_time = 0.0;                          ///< [s]
-  double vtk_every = 0.0;                         ///< [s]; 0: the first and last states only
-  double series_every = 0.0;                      ///< [s]; 0: every step
-  double checkpoint_every = 0.0;                  ///< [s]; 0: only sph_checkpoint_final.h5
+  /// kinetic theory (sph.kinetic_theory set): the keys of the closure set, radial distribution
+  /// and dense-regime model, and their parameters as given (no defaults)
+  std::string ktgf_closures, ktgf_radial, ktgf_dense;
+  std::map<std::string, double> ktgf_params, ktgf_dense_params;
+  double end_time = 0.0;           ///< [s]
+  double vtk_every = 0.0;          ///< [s]; 0: the first and last states only
+  double series_every = 0.0;       ///< [s]; 0: every step
+  double checkpoint_every = 0.0;   ///< [s]; 0: only sph_checkpoint_final.h5
   bool sound_speed_given = false;  ///< false: c0 = 10 sqrt(2 |g| H), H the fluid's height
 };
 
