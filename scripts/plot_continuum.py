@@ -4,13 +4,15 @@
 
 Usage: /usr/bin/python3 scripts/plot_continuum.py [--out DIR] [BUILD_DIR]   (default build/release)
 
-Runs gf_validation_tests --gtest_filter='ValidationSph*' (about 40 s) with GF_VALIDATION_OUT set
+Runs gf_validation_tests --gtest_filter='ValidationSph*' (about 90 s) with GF_VALIDATION_OUT set
 and writes docs/validation/continuum_sph.png (into DIR, created if missing, with --out DIR):
 transient plane Poiseuille flow against its series solution, the pressure of a liquid at rest
 against rho g depth, the Bagnold profile of a mu(I) layer on an incline, and a mu(I) layer below
 its yield slope against the creeping film of the regularisation, a Poiseuille flow against a
-free-slip plate, and Taylor-Couette flow between a turning and a fixed cylinder. Uses Debian's
-python3-numpy and python3-matplotlib."""
+free-slip plate, Taylor-Couette flow between a turning and a fixed cylinder, Poiseuille and
+Couette flows between Navier-slip plates, and the kinetic-theory mode: a granular gas cooling
+(Haff's law) and a granular gas sheared between plates reaching the theory's homogeneous shear
+state. Uses Debian's python3-numpy and python3-matplotlib."""
 import os
 
 import numpy as np
@@ -44,7 +46,10 @@ def main():
         creep = load(f, "sph_creep_1000")
         slip = load(f, "sph_poiseuille_free_slip")
         tc = load(f, "sph_taylor_couette_20")
-    fig, axes = plt.subplots(2, 3, figsize=(16, 8.6))
+        navier = [load(f, "sph_navier_slip_f1_u0"), load(f, "sph_navier_slip_f0_u1")]
+        haff = load(f, "sph_ktgf_haff")
+        kt = load(f, "sph_ktgf_couette")
+    fig, axes = plt.subplots(3, 3, figsize=(16, 12.6))
     ax = axes.ravel()
     a = ax[0]
     for t in np.unique(pois["t"]):
@@ -85,6 +90,28 @@ def main():
     a.plot(tc["r"][o] * 1e3, tc["u_exact"][o] * 1e3, "k-", lw=0.8, label="A r + B / r")
     finish(a, "r (mm)", "u_theta (mm/s)",
            "Taylor-Couette: inner cylinder turning (Re = 1), 20 across")
+    a = ax[6]
+    for d, lab in zip(navier, ["Poiseuille, bottom b = L/4", "Couette, both b = L/4"]):
+        o = np.argsort(d["y"])
+        scale = np.abs(d["u_exact"]).max()
+        a.plot(d["u"][o] / scale, d["y"][o] * 1e3, "o", ms=3, label=f"grainflow SPH, {lab}")
+        a.plot(d["u_exact"][o] / scale, d["y"][o] * 1e3, "k-", lw=0.8)
+    a.axvline(0, color="0.6", lw=0.5)
+    finish(a, "u / largest speed", "y (mm)",
+           "Navier slip u - u_w = b du/dn (slip: {slip_length: b})\nlines: exact, steady")
+    a = ax[7]
+    a.plot(haff["t"], haff["theta"], "o", ms=3, label="grainflow SPH, kinetic theory")
+    a.plot(haff["t"], haff["theta_haff"], "k-", lw=0.8, label="Haff: Theta0 / (1 + t/tau)^2")
+    finish(a, "t (s)", "Theta (m^2/s^2)", "Granular gas cooling at rest (a = 0.1, e = 0.7)")
+    a = ax[8]
+    for q, ex, lab in (("theta", "theta_exact", "Theta"), ("pressure", "p_exact", "P (plates)"),
+                       ("shear_stress", "tau_exact", "shear stress (plates)")):
+        a.plot(kt["t"], kt[q] / kt[ex], "-", label=lab)
+    a.axhline(1.0, color="k", lw=0.8)
+    a.axhspan(0.95, 1.05, color="0.9", label="+- 5 %")
+    a.set_ylim(0, 1.2)
+    finish(a, "t (s)", "SPH / kinetic theory (lun, a = 0.1)",
+           "Granular gas sheared between plates (e = 0.95, 100 1/s), from rest and cold")
     fig.tight_layout()
     path = os.path.join(args.out, "continuum_sph.png")
     fig.savefig(path, dpi=110)

@@ -334,7 +334,7 @@ void run_ktgf_couette(bool implicit) {
   c.walls.back().velocity = {u, 0, 0};
   SphSolver s(c);
   test::Dump dump(implicit ? "sph_ktgf_couette_implicit" : "sph_ktgf_couette",
-                  "t,theta,pressure,shear_stress,a_min,a_max");
+                  "t,theta,pressure,shear_stress,a_min,a_max,theta_exact,p_exact,tau_exact");
   // Time averages over 0.5-1 s (the start's transient decays in about 0.2 s)
   double sum_theta = 0, sum_p = 0, sum_tau = 0, sum_a = 0;
   int samples = 0;
@@ -348,7 +348,8 @@ void run_ktgf_couette(bool implicit) {
     const double tau = 0.5 * (loads.force[0].x - loads.force[1].x) / width;
     const double p = 0.5 * (loads.force[1].y - loads.force[0].y) / width;
     const auto sm = s.summary();
-    dump.row(s.time(), sm.mean_temperature, p, tau, sm.min_volume_fraction, sm.max_volume_fraction);
+    dump.row(s.time(), sm.mean_temperature, p, tau, sm.min_volume_fraction, sm.max_volume_fraction,
+             exact.temperature, exact.pressure, exact.shear_stress);
     if (s.time() > t_average - 1e-9) {
       sum_theta += sm.mean_temperature, sum_p += p, sum_tau += tau;
       sum_a += 0.5 * (sm.min_volume_fraction + sm.max_volume_fraction);
