@@ -335,6 +335,9 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
   }
   flush_series();
   const std::int64_t first_step = s.steps();
+  // A step that has shrunk a millionfold from the run's first is a run diverging slowly (speeds
+  // of 1e13 m/s at steps of 1e-25 s, never quite infinite): stop it as diverged.
+  const double first_stable_step = s.stable_step();
   int sig = 0;
   while (s.time() < c.end_time - eps) {
     if (opts.steps && s.steps() - first_step >= *opts.steps) break;
@@ -349,6 +352,19 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
           fmt::format("SPH: the run diverged at t = {} s (step {}); lower time.cfl or "
                       "raise sound_speed",
                       s.time(), s.steps()));
+    if (s.stable_step() < 1e-6 * first_stable_step)
+      throw Error(fmt::format(
+          "SPH: the run diverged at t = {} s (step {}): the time step fell to {:.3g} s from "
+          "{:.3g} s at the start; lower time.cfl, raise sound_speed or add artificial_viscosity",
+          s.time(), s.steps(), s.stable_step(), first_stable_step));
+    // (a speed of ten times the sound speed, itself meant to be ten times the largest expected
+    // speed: the weakly compressible model has broken down)
+    if (s.max_speed() > 10.0 * c.sph.sound_speed)
+      throw Error(fmt::format(
+          "SPH: the run diverged at t = {} s (step {}): a particle moves at {:.3g} m/s, over ten "
+          "times the sound speed {:.3g} m/s; raise sound_speed (to about ten times the largest "
+          "expected speed) or lower time.cfl",
+          s.time(), s.steps(), s.max_speed(), c.sph.sound_speed));
     if (c.series_every <= 0 || s.time() >= next_series - eps) {
       sample();
       if (c.series_every > 0)

@@ -494,6 +494,38 @@ TEST(ContinuumInput, ResolvedCaseLoadsBackTheSame) {
 namespace gf {
 namespace {
 
+// A run whose weakly compressible model breaks down stops with an error naming the time: here
+// a block falls past ten times the sound speed it was given (c0 = 0.1 m/s: 1 m/s after 0.09 s
+// of fall and of its own expansion).
+TEST(ContinuumRun, StopsARunThatDiverges) {
+  test::TempDir tmp;
+  auto c = input::parse_text(R"(continuum:
+  method: sph
+  dimension: 2
+  domain: {min: [0, -10], max: [0.1, 0.1]}
+  gravity: [0, -9.81]
+  spacing: 0.01
+  density: 1000
+  sound_speed: 0.1
+  rheology: {model: newtonian, viscosity: 1.0e-3}
+  time: {end: 1.0}
+  blocks:
+    - {box: {min: [0.02, 0.02], max: [0.08, 0.08]}}
+)");
+  c.name = "diverging";
+  c.file = "case.yaml";
+  RunOptions o;
+  o.output = tmp.path() / "run";
+  o.quiet = true;
+  try {
+    run_continuum_case(c, {}, o);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("SPH: the run diverged at t = 0.08"));
+    EXPECT_THAT(e.what(), ::testing::HasSubstr("over ten times the sound speed 0.1 m/s"));
+  }
+}
+
 // A continuum run continued from a checkpoint ends bit-identically to one that ran straight
 // through, in a new folder and with --append in its own (series and ParaView files as the
 // straight run's), explicit and implicit viscosity, with a translating and rotating wall.
