@@ -438,35 +438,45 @@ GF_HOST_DEVICE inline KtgfProperties ktgf_properties(double a, double theta, con
   return r;
 }
 
-/// Solids pressure P_s [Pa].
+/// One property of the closure set p.model at volume fraction a [1] and granular temperature
+/// theta [m^2/s^2] (a switch over the set, one evaluation of g0).
+enum class KtgfProperty { Pressure, ShearViscosity, BulkViscosity, Conductivity, Dissipation };
+GF_HOST_DEVICE inline double ktgf_property(KtgfProperty what, double a, double theta,
+                                           const KtgfParams& p) {
+  const double g0 = radial_distribution(a, p);
+  return dispatch_index(KtgfClosures{}, p.model, [&]<class M>() {
+    switch (what) {
+      case KtgfProperty::Pressure:
+        return M::pressure(a, theta, g0, p);
+      case KtgfProperty::ShearViscosity:
+        return M::shear_viscosity(a, theta, g0, p);
+      case KtgfProperty::BulkViscosity:
+        return M::bulk_viscosity(a, theta, g0, p);
+      case KtgfProperty::Conductivity:
+        return M::conductivity(a, theta, g0, p);
+      case KtgfProperty::Dissipation:
+        return M::dissipation(a, theta, g0, p);
+    }
+    return 0.0;
+  });
+}
+/// Solids pressure P_s [Pa]; shear viscosity mu_s, kinetic + collisional [Pa s]; bulk viscosity
+/// lambda_s [Pa s]; granular conductivity kappa_s [kg/(m s)]; collisional dissipation gamma_s
+/// [W/m^3].
 GF_HOST_DEVICE inline double solids_pressure(double a, double theta, const KtgfParams& p) {
-  const double g0 = radial_distribution(a, p);
-  return dispatch_index(KtgfClosures{}, p.model,
-                        [&]<class M>() { return M::pressure(a, theta, g0, p); });
+  return ktgf_property(KtgfProperty::Pressure, a, theta, p);
 }
-/// Shear viscosity mu_s, kinetic + collisional [Pa s].
 GF_HOST_DEVICE inline double solids_shear_viscosity(double a, double theta, const KtgfParams& p) {
-  const double g0 = radial_distribution(a, p);
-  return dispatch_index(KtgfClosures{}, p.model,
-                        [&]<class M>() { return M::shear_viscosity(a, theta, g0, p); });
+  return ktgf_property(KtgfProperty::ShearViscosity, a, theta, p);
 }
-/// Bulk viscosity lambda_s [Pa s].
 GF_HOST_DEVICE inline double solids_bulk_viscosity(double a, double theta, const KtgfParams& p) {
-  const double g0 = radial_distribution(a, p);
-  return dispatch_index(KtgfClosures{}, p.model,
-                        [&]<class M>() { return M::bulk_viscosity(a, theta, g0, p); });
+  return ktgf_property(KtgfProperty::BulkViscosity, a, theta, p);
 }
-/// Granular conductivity kappa_s [kg/(m s)].
 GF_HOST_DEVICE inline double granular_conductivity(double a, double theta, const KtgfParams& p) {
-  const double g0 = radial_distribution(a, p);
-  return dispatch_index(KtgfClosures{}, p.model,
-                        [&]<class M>() { return M::conductivity(a, theta, g0, p); });
+  return ktgf_property(KtgfProperty::Conductivity, a, theta, p);
 }
-/// Collisional dissipation rate gamma_s [W/m^3].
 GF_HOST_DEVICE inline double collisional_dissipation(double a, double theta, const KtgfParams& p) {
-  const double g0 = radial_distribution(a, p);
-  return dispatch_index(KtgfClosures{}, p.model,
-                        [&]<class M>() { return M::dissipation(a, theta, g0, p); });
+  return ktgf_property(KtgfProperty::Dissipation, a, theta, p);
 }
 
 // ---------------------------------------------------------------------------------------------
