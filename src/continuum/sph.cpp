@@ -874,7 +874,10 @@ void SphSolver::step(double until) {
     dom.wrap(p_.x[i]);
   });
   move_walls(t_ + dt, true);  // (t_ + dt: the time this step ends at, as below)
-  if (remove_escaped() || moved_beyond_skin()) build_neighbours();
+  const bool removed = remove_escaped();
+  // (the conductivities follow the particles' new order, as a restart would compute them)
+  if (removed && cfg_.kinetic_theory) update_kinetic_theory_limits();
+  if (removed || moved_beyond_skin()) build_neighbours();
   continuity_and_strain(dt);
   extrapolate_walls();
   momentum();

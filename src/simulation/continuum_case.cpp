@@ -91,8 +91,8 @@ std::vector<std::pair<std::string, std::string>> describe_continuum_case(
     const double ratio = cfg.spacing / d;
     out.emplace_back("kinetic theory: rho0 / rho_s, dx / d",
                      fmt::format("{:.4g}, {:.3g}{}", cfg.density / kt->closures.density, ratio,
-                                 ratio < 3 ? " (below ~3: a particle holds few grains, the "
-                                             "continuum is a coarse model)"
+                                 ratio < 3 ? " (below ~3: fields that vary on the grain "
+                                             "scale lie outside a continuum model's validity)"
                                            : ""));
   }
   out.emplace_back("first time step [s]", fmt::format("{:.3g}", s.stable_step()));
