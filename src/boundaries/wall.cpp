@@ -87,7 +87,7 @@ SurfaceMesh Wall::surface(const Domain& domain) const {
 
 void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const double* r,
                             std::size_t n, double skin, std::span<const std::int64_t> perm,
-                            const Vec3* half_axis) {
+                            const Vec3* half_axis, const std::int32_t* fixed) {
   old_entries_.swap(entries_);
   old_history_.swap(history_);
   entries_.clear();
@@ -97,6 +97,7 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
   for (const auto& w : walls)
     if (w.kind == WallKind::Mesh) w.mesh.index(r_max + 1.5 * skin);
   for (std::size_t i = 0; i < n; ++i) {
+    if (fixed != nullptr && fixed[i] != 0) continue;
     for (std::size_t w = 0; w < walls.size(); ++w) {
       const auto ii = static_cast<std::int32_t>(i), ww = static_cast<std::int32_t>(w);
       if (walls[w].kind == WallKind::Mesh) {

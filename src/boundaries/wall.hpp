@@ -146,8 +146,12 @@ class WallContactList {
   /// so that a mesh's triangles are listed by their distance from the axis (r - h the cap
   /// radius) rather than from the bounding sphere: the skin then bounds the move of any point of
   /// the axis, which the rebuild criterion for spherocylinders (their ends' moves) guarantees.
+  /// `fixed` (optional): grains with fixed[i] != 0 are left out. A fixed grain and a wall are
+  /// both immobile boundaries: a force between them would move nothing and only add a constant to
+  /// the wall's reaction (docs/models/fixed_particles.md).
   void build(std::span<const Wall> walls, const Vec3* x, const double* r, std::size_t n,
-             double skin, std::span<const std::int64_t> perm = {}, const Vec3* half_axis = nullptr);
+             double skin, std::span<const std::int64_t> perm = {}, const Vec3* half_axis = nullptr,
+             const std::int32_t* fixed = nullptr);
   /// Contacts per entry (1 for spheres and disks; 2 when spherocylinders are present: one per end,
   /// see contact/geometry/capsule.hpp), each with its own tangential history. Set before build().
   void set_slots(int slots) { slots_ = slots; }

@@ -44,6 +44,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
   Vec3* const tq = p.torque();
   const double* const r = p.radius();
   const double* const m = p.mass();
+  const std::int32_t* const fixed = p.fixed();  // null: no fixed grains
   const std::int32_t* const mat = p.material();
   const std::int64_t* const off = list.offsets().data();
   const std::int32_t* const nb = list.neighbors().data();
@@ -56,6 +57,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
     const Vec3 xi = x[i];
     const double ri = r[i];
     const double mi = m[i];
+    const bool fixed_i = fixed != nullptr && fixed[i] != 0;
     const PairCoeffs* const c_row = coeffs + static_cast<std::size_t>(mat[i]) * n_mat;
     std::int64_t touching = 0;
     Vec3 fi{}, ti{};
@@ -78,8 +80,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
       const double arm_i = ri - 0.5 * kin.overlap;
       const double arm_j = rj - 0.5 * kin.overlap;
       kin.r_eff = ri * rj / rs;
-      const double mj = m[j];
-      kin.m_eff = mi * mj / (mi + mj);
+      kin.m_eff = reduced_mass(mi, m[j], fixed_i, fixed != nullptr && fixed[j] != 0);
       Vec3 vj = v[j];
       if constexpr (Sheared) vj += dom.image_velocity(xi, x[j]);
       kin.v_rel = v[i] - vj - cross(arm_i * om[i] + arm_j * om[j], kin.normal);
@@ -151,7 +152,10 @@ __attribute__((always_inline)) inline void batch_body(ContactBatch& b, int n,
     const double q = 1.0 / (dist_or_1 * rs * ms);
     kin.normal = dist > 0 ? (rs * ms * q) * d : Vec3{0, 0, 1};
     kin.r_eff = ri * rj * ms * (dist_or_1 * q);
-    kin.m_eff = mi * mj * rs * (dist_or_1 * q);
+    // A fixed grain is gathered with mass 0, standing for an infinite one (reduced_mass): m* is
+    // then the free grain's mass, m_i + m_j. (A select: every lane computes both.)
+    const bool free_pair = mi > 0 && mj > 0;
+    kin.m_eff = free_pair ? mi * mj * rs * (dist_or_1 * q) : ms;
     const Vec3 omi = b.om_i.get(c);
     const Vec3 omj = b.om_j.get(c);
     kin.v_rel = b.dv.get(c) - cross(arm_i * omi + arm_j * omj, kin.normal);
@@ -237,6 +241,7 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
   const Vec3* const v = p.v();
   const Vec3* const om = p.omega();
   const double* const m = p.mass();
+  const std::int32_t* const fixed = p.fixed();  // null: no fixed grains
   const std::int32_t* const mat = p.material();
   const PairCoeffs* const coeffs = pairs.data();
   const std::size_t n_mat = static_cast<std::size_t>(pairs.n());
@@ -254,6 +259,14 @@ std::int64_t batched_pair_loop(ParticleStore& p, const Domain& domain, VerletLis
       b.rj[c] = r[j];
       b.mi[c] = m[i];
       b.mj[c] = m[j];
+      if (fixed != nullptr) {
+        // A fixed grain's mass is infinite for the contact law (reduced_mass): gathered as 0,
+        // which batch_body reads as such. (Two fixed grains are never listed.)
+        if (fixed[j] != 0)
+          b.mj[c] = 0;
+        else if (fixed[i] != 0)
+          b.mi[c] = 0;
+      }
       Vec3 vj = v[j];
       if constexpr (Sheared) vj += dom.image_velocity(x[i], x[j]);
       b.dv.set(c, v[i] - vj);

@@ -32,6 +32,17 @@ GF_HOST_DEVICE inline bool sphere_sphere(const Domain& dom, const Vec3& xi, cons
   return true;
 }
 
+/// Reduced mass m* of a contact, kg: m_i m_j / (m_i + m_j), the mass of the two-body relative
+/// motion that the damping slot's critical damping 2 sqrt(m* S_n) refers to. A fixed grain (a
+/// particle group with `fixed: true`: glued to an immobile base, never integrated) takes no part
+/// in that motion: its mass counts as infinite (1/m = 0) and m* is the free grain's mass, so that
+/// a grain hitting a fixed one rebounds with the requested restitution, as against a wall
+/// (docs/models/fixed_particles.md). Two fixed grains never meet (the neighbour list leaves such
+/// pairs out); the first one's mass is returned for them.
+GF_HOST_DEVICE inline double reduced_mass(double mi, double mj, bool fixed_i, bool fixed_j) {
+  return fixed_j ? mi : (fixed_i ? mj : mi * mj / (mi + mj));
+}
+
 /// One touching pair as the force loop saw it (output.contacts_csv): grains i and j (indices in
 /// the store; i < 0 marks a list entry whose pair is apart), the contact point, the unit normal
 /// (pointing from j to i), the force on i from j (j gets -force), the overlap and the branch

@@ -56,6 +56,7 @@ std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, V
   Vec3* f = p.f();
   Vec3* tq = p.torque();
   const double* m = p.mass();
+  const std::int32_t* fixed = p.fixed();  // null: no fixed grains
   const std::int32_t* mat = p.material();
   auto hist = list.history();
   return touching_rows(
@@ -70,7 +71,10 @@ std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, V
         const Vec3 vj = v[j] + domain.image_velocity(x[i], x[j]);
         kin.v_rel = v[i] + cross(om[i], arm_i) - vj - cross(om[j], arm_j);
         kin.omega_rel = om[i] - om[j];
-        kin.m_eff = m[i] * m[j] / ((m[i] + m[j]) * g.force_scale);
+        const bool fixed_i = fixed != nullptr && fixed[i] != 0;
+        const bool fixed_j = fixed != nullptr && fixed[j] != 0;
+        kin.m_eff = fixed_i || fixed_j ? reduced_mass(m[i], m[j], fixed_i, fixed_j) / g.force_scale
+                                       : m[i] * m[j] / ((m[i] + m[j]) * g.force_scale);
         const PairCoeffs& c = pairs(mat[i], mat[j]);
         ContactResult res = dispatch_index(ContactModels{}, c.model, [&]<class M>() {
           return M::Law::evaluate(c, kin, dt, hist[k]);

@@ -50,7 +50,10 @@ void for_gear_states(ParticleStore& p, Body&& body) {
   const bool polygons = p.has_shapes();
   const std::int32_t* shape = polygons ? p.shape() : nullptr;
   Quat* q = polygons ? p.orientation() : nullptr;
+  // Fixed grains are never integrated: their states (x, v = 0, omega = 0, derivatives 0) stay.
+  const std::int32_t* fixed = p.fixed();
   exec::parallel_for(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
+    if (fixed != nullptr && fixed[i] != 0) return;
     Gear5State tr, rot;
     tr.d[0] = x[i];
     tr.d[1] = v[i];
@@ -84,8 +87,10 @@ void Gear5Integrator::enable(ParticleStore& p) {
 
 void Gear5Integrator::start(ParticleStore& p) {
   const auto c = gear_columns(p);
+  const std::int32_t* fixed = p.fixed();
   for (std::size_t i = 0; i < p.size(); ++i) {
     for (auto* col : c) col[i] = {};
+    if (fixed != nullptr && fixed[i] != 0) continue;  // at rest, and stays so
     c[0][i] = (1.0 / p.mass()[i]) * p.f()[i];
     c[5][i] = (1.0 / p.inertia()[i]) * p.torque()[i];
   }

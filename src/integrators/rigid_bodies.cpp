@@ -15,7 +15,9 @@ void RigidBodies::pre_force(ParticleStore& p, double dt) {
   Vec3* w = p.omega();
   const Vec3* t = p.torque();
   const Vec3* inertia = p.inertia_body();
+  const std::int32_t* fixed = p.fixed();  // fixed grains keep their orientation
   exec::parallel_for(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
+    if (fixed != nullptr && fixed[i] != 0) return;
     switch (static_cast<ShapeCode>(shape[i])) {
       case ShapeCode::Spherocylinder:
         rigid_rotation_pre_force(q[i], L[i], w[i], t[i], inertia[i], dt);
@@ -37,7 +39,9 @@ void RigidBodies::post_force(ParticleStore& p, double dt) {
   Vec3* w = p.omega();
   const Vec3* t = p.torque();
   const Vec3* inertia = p.inertia_body();
+  const std::int32_t* fixed = p.fixed();  // fixed grains keep L = 0, omega = 0
   exec::parallel_for(static_cast<exec::index_t>(p.size()), [&](exec::index_t i) {
+    if (fixed != nullptr && fixed[i] != 0) return;
     if (static_cast<ShapeCode>(shape[i]) == ShapeCode::Spherocylinder)
       rigid_rotation_post_force(q[i], L[i], w[i], t[i], inertia[i], dt);
   });

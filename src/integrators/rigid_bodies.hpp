@@ -9,6 +9,7 @@
 //     rotation;
 //   - polygons: turns the orientation by omega_z dt about z with the half-step omega (the
 //     leapfrog drift of the angle).
+// Fixed grains (ParticleStore::fixed) are skipped: their orientation, L and omega stay.
 #pragma once
 
 #include "particles/particle_store.hpp"

@@ -42,15 +42,32 @@ double kick(ParticleStore& p, const Domain* domain, double h, double dt, const V
     }
   };
   const auto n = static_cast<exec::index_t>(p.size());
-  if constexpr (Track) {
-    return exec::parallel_max(n, 0.0, [&](exec::index_t i) {
-      one(i);
-      return norm2(periodic ? domain->delta(x[i], x_ref[i]) : x[i] - x_ref[i]);
+  auto run = [&](auto&& body) {
+    if constexpr (Track) {
+      return exec::parallel_max(n, 0.0, [&](exec::index_t i) {
+        body(i);
+        return norm2(periodic ? domain->delta(x[i], x_ref[i]) : x[i] - x_ref[i]);
+      });
+    } else {
+      exec::parallel_for(n, body);  // no reduction where nothing is measured
+      return 0.0;
+    }
+  };
+  // Fixed grains (a group with fixed: true) are never integrated: no kick, no drift, no wrap;
+  // their velocities stay zero and their positions bit for bit. Their forces are reset like the
+  // others' (the next evaluation adds to m g; the series' fixed_force takes m g off). Runs
+  // without fixed grains keep the loop without the test.
+  if (const std::int32_t* fixed = p.fixed()) {
+    return run([&](exec::index_t i) {
+      if (fixed[i] == 0) {
+        one(i);
+      } else if constexpr (Reset) {
+        f[i] = m[i] * g;
+        t[i] = {};
+      }
     });
-  } else {
-    exec::parallel_for(n, one);  // no reduction where nothing is measured
-    return 0.0;
   }
+  return run(one);
 }
 
 }  // namespace

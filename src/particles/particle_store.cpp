@@ -60,6 +60,11 @@ void ParticleStore::enable_shapes() {
   for (auto& k : get<std::int32_t>(shape_field_ + 5)) k = -1;
 }
 
+void ParticleStore::enable_fixed() {
+  if (fixed_field_ >= 0) return;
+  fixed_field_ = add_field("fixed", FieldType::Int32, "1", kRestart | kOutput | kGhost);
+}
+
 int ParticleStore::find_field(const std::string& name) const {
   for (std::size_t i = 0; i < info_.size(); ++i)
     if (info_[i].name == name) return static_cast<int>(i);

@@ -121,6 +121,20 @@ class ParticleStore {
   std::int32_t* polygon() { return get<std::int32_t>(shape_field_ + 5).data(); }
   const std::int32_t* polygon() const { return get<std::int32_t>(shape_field_ + 5).data(); }
 
+  /// Adds the field `fixed` (Int32: 1 for a grain of a particle group with `fixed: true`, which
+  /// keeps its initial position and orientation and has zero velocity and angular velocity;
+  /// 0 otherwise) once, zero for every grain so far; runs without fixed grains never carry it.
+  /// Saved in checkpoints, copied to ghosts and written to the particle outputs. Idempotent.
+  void enable_fixed();
+  bool has_fixed() const { return fixed_field_ >= 0; }
+  /// The `fixed` column, or null when the store has none (no grain is fixed).
+  std::int32_t* fixed() {
+    return fixed_field_ >= 0 ? get<std::int32_t>(fixed_field_).data() : nullptr;
+  }
+  const std::int32_t* fixed() const {
+    return fixed_field_ >= 0 ? get<std::int32_t>(fixed_field_).data() : nullptr;
+  }
+
   /// Body-frame polygons that polygon grains refer to (field `polygon`); saved in checkpoints.
   std::vector<PolygonShape>& polygons() { return polygons_; }
   const std::vector<PolygonShape>& polygons() const { return polygons_; }
@@ -146,6 +160,7 @@ class ParticleStore {
   std::vector<Column> cols_;
   std::vector<std::uint64_t> done_;  ///< permute(): one bit per particle, cycle visited
   int shape_field_ = -1;             ///< index of `shape`; the other shape fields follow it
+  int fixed_field_ = -1;             ///< index of `fixed` (enable_fixed), -1 without
   std::vector<PolygonShape> polygons_;
 };
 

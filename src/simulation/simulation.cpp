@@ -81,6 +81,18 @@ double contact_radius(const ParticleStore& p, std::size_t i) {
   }
 }
 
+/// The force on all fixed grains but their weight, N: the sum over fixed grains of f - m g (their
+/// contacts with free grains and, in CFD-DEM runs, the fluid's force), serial so that it does not
+/// depend on the thread count. Zero without fixed grains.
+Vec3 fixed_grain_load(const ParticleStore& p, const Vec3& gravity) {
+  const std::int32_t* fixed = p.fixed();
+  Vec3 sum{};
+  if (fixed == nullptr) return sum;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (fixed[i] != 0) sum += p.f()[i] - p.mass()[i] * gravity;
+  return sum;
+}
+
 }  // namespace
 
 Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
@@ -108,13 +120,19 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   build_materials_and_pairs();
   build_walls();
 
-  double r_max = 0, r_contact = 0;
+  double r_max = 0, r_contact = 0, r_contact_free = 0;
+  const std::int32_t* fixed = particles_.fixed();
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     r_max = std::max(r_max, particles_.radius()[i]);
     r_contact = std::max(r_contact, contact_radius(particles_, i));
+    if (fixed == nullptr || fixed[i] == 0)
+      r_contact_free = std::max(r_contact_free, contact_radius(particles_, i));
   }
   // Half the largest contact radius: for spheres the usual skin; elongated grains get a skin
-  // sized by their thickness, not by their (rotation-invariant) bounding sphere.
+  // sized by their thickness, not by their (rotation-invariant) bounding sphere. The skin
+  // bounds how far grains move between list builds, so fixed grains (which never move) do not
+  // count: a large fixed obstacle does not inflate the lists of small free grains.
+  if (r_contact_free > 0) r_contact = r_contact_free;
   skin_ = cfg.neighbor.skin.value_or(0.5 * r_contact > 0 ? 0.5 * r_contact : 1e-3);
   if (two_d_) {
     // Grains lie in z = 0; the cell grid needs a (one-cell) extent along z.
@@ -136,7 +154,8 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
     // shear is then reached in a few strain units instead of growing in from the walls.
     const double zmid = 0.5 * (domain_.lo.z + domain_.hi.z);
     for (std::size_t i = 0; i < particles_.size(); ++i)
-      particles_.v()[i].x += cfg.shear->rate * (particles_.x()[i].z - zmid);
+      if (fixed == nullptr || fixed[i] == 0)  // fixed grains stay at rest
+        particles_.v()[i].x += cfg.shear->rate * (particles_.x()[i].z - zmid);
   }
   if (cfg.analysis.rheology) {
     const auto& rc = *cfg.analysis.rheology;
@@ -190,6 +209,11 @@ void Simulation::build_particles() {
         "rigid-body step of velocity_verlet); use integrator: velocity_verlet",
         cfg_.file.string()));
   if (polygons || capsules) particles_.enable_shapes();
+  // Fixed groups: the store carries the flag (checkpoints, ghosts, outputs) only when some
+  // group has it, so that other runs' memory and files stay as they were.
+  const bool any_fixed = std::any_of(cfg_.particles.begin(), cfg_.particles.end(),
+                                     [](const config::ParticleGroup& g) { return g.fixed; });
+  if (any_fixed) particles_.enable_fixed();
   // Spherocylinders: one contact per end with planes and cylinders, up to eight per triangle of
   // a mesh wall (boundaries/triangle_mesh.hpp).
   const bool mesh_walls = std::any_of(cfg_.walls.begin(), cfg_.walls.end(), [](const auto& w) {
@@ -212,6 +236,23 @@ void Simulation::build_particles() {
     const std::uint64_t seed = g.fill ? g.fill->seed : 1 + gi;
     ShapeBuilder builder(g, rho, cfg_.domain.thickness, seed);
     const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
+    if (g.fixed) {
+      // The reader refuses these (with the line); a case built in code is checked here too.
+      const bool moving_fill =
+          g.fill && (!(g.fill->velocity == Vec3{}) || g.fill->velocity_jitter > 0);
+      bool moving_explicit = false;
+      if (g.explicit_particles) {
+        for (const auto& v : g.explicit_particles->velocities) moving_explicit |= !(v == Vec3{});
+        for (const auto& w : g.explicit_particles->angular_velocities)
+          moving_explicit |= !(w == Vec3{});
+      }
+      if (moving_fill || moving_explicit)
+        throw InputError(fmt::format(
+            "{}: the grains of a fixed group (fixed: true) stay at rest; expected no initial "
+            "velocities",
+            where(g.loc)));
+    }
+    const std::size_t first = particles_.size();
     if (g.fill) {
       Rng rng(g.fill->seed);
       FillSpec spec = to_fill(*g.fill);
@@ -264,6 +305,8 @@ void Simulation::build_particles() {
         placed.push_back({e.positions[k], particles_.radius()[i]});
       }
     }
+    if (g.fixed)
+      for (std::size_t i = first; i < particles_.size(); ++i) particles_.fixed()[i] = 1;
   }
   log::info("{} particles", particles_.size());
 }
@@ -531,7 +574,8 @@ void Simulation::update_neighbors(bool force) {
     // Since the last full build every particle moved less than skin/2, so until the next one it
     // moves less than skin relative to now; with the walls' skin/2, a pair further apart than
     // 1.5 skin now cannot touch before the next rebuild.
-    wlist_.build(walls_, particles_.x(), particles_.radius(), n, 1.5 * skin_, {}, wall_half_axes());
+    wlist_.build(walls_, particles_.x(), particles_.radius(), n, 1.5 * skin_, {}, wall_half_axes(),
+                 particles_.fixed());
     for (std::size_t w = 0; w < walls_.size(); ++w) {
       wall_point_at_build_[w] = walls_[w].point;
       wall_dir_at_build_[w] = walls_[w].dir;
@@ -545,6 +589,9 @@ void Simulation::update_neighbors(bool force) {
   // grains (aspect ratio 4: ~18 candidates per rod, ~2 contacts), so the list keeps only pairs
   // whose axes come closer than r_i + r_j + skin; the rebuild criterion then also watches the
   // ends of every capsule (capsule_ends_moved).
+  // Two fixed grains never interact (parts of one immobile base: the force between them would
+  // move nothing, and would count in the contacts, the elastic energy and the stresses), so the
+  // list leaves their pairs out.
   PairFilter filter;
   if (has_capsules_)
     filter = [this](std::int32_t i, std::int32_t j) {
@@ -559,6 +606,12 @@ void Simulation::update_neighbors(bool force) {
       const double reach = p.radius()[i] - hi + p.radius()[j] - hj + skin_;
       return sc.dist2 < reach * reach;
     };
+  if (particles_.has_fixed())
+    filter = [this, shapes = std::move(filter)](std::int32_t i, std::int32_t j) {
+      const std::int32_t* fixed = particles_.fixed();  // (re-ordered by the build: read now)
+      if (fixed[i] != 0 && fixed[j] != 0) return false;
+      return !shapes || shapes(i, j);
+    };
   const auto perm = nlist_.sort_and_build(particles_, domain_, skin_, filter);
   if (has_capsules_) {
     axis_ref_.resize(n);
@@ -566,7 +619,8 @@ void Simulation::update_neighbors(bool force) {
       axis_ref_[i] = particles_.half_length()[i] * capsule_axis_of(particles_.orientation()[i]);
     build_pair_gaps();
   }
-  wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_, perm, wall_half_axes());
+  wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_, perm, wall_half_axes(),
+               particles_.fixed());
   wall_point_at_build_.resize(walls_.size());
   wall_dir_at_build_.resize(walls_.size());
   for (std::size_t w = 0; w < walls_.size(); ++w) {
@@ -741,7 +795,9 @@ std::vector<std::string> Simulation::series_columns() const {
     for (std::string_view prefix : input::wall_series_prefixes()) wall |= q.starts_with(prefix);
     const bool component =
         q.size() > 2 && q[q.size() - 2] == '.' && (q.back() >= 'x' && q.back() <= 'z');
-    if (wall && !component) {
+    const auto vectors = input::vector_series_quantities();
+    const bool vector = std::find(vectors.begin(), vectors.end(), q) != vectors.end();
+    if ((wall && !component) || vector) {
       for (const char* c : {".x", ".y", ".z"}) cols.push_back(q + c);
     } else {
       cols.push_back(q);
@@ -779,6 +835,11 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
                      : contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_)) +
                 wall_elastic_energy(particles_, walls_, wlist_, pairs_);
     return *elastic;
+  };
+  std::optional<Vec3> fixed_load;
+  auto fixed_force = [&]() -> const Vec3& {
+    if (!fixed_load) fixed_load = fixed_grain_load(particles_, gravity_);
+    return *fixed_load;
   };
   std::vector<double> row;
   row.reserve(columns.size());
@@ -824,6 +885,12 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       }
       REQUIRE(found, "no wall named '{}'", rest);
       row.push_back(sum[comp]);
+    } else if (name == "fixed_force" || name.starts_with("fixed_force.")) {
+      // fixed_force.x|y|z (fixed_force alone, as quantity() may ask: z, as wall_force.W).
+      const int comp = name.size() == 13 ? name.back() - 'x' : 2;
+      REQUIRE(comp >= 0 && comp <= 2, "series quantity '{}': expected a component .x, .y or .z",
+              name);
+      row.push_back(fixed_force()[comp]);
     } else if (name == "kinetic_energy") {
       row.push_back(energies().kinetic_translational + energies().kinetic_rotational);
     } else if (name == "translational_kinetic_energy") {

@@ -172,4 +172,23 @@ inline config::ParticleGroup& add_disks(config::Case& c, const std::string& mate
   return g;
 }
 
+/// A rough base: explicit spheres of radius r on a square lattice of spacing `spacing` (>= 2r)
+/// with centres at height z, as many rows as fit in x in [lo_x, hi_x] and y in [lo_y, hi_y]
+/// (centres at lo + (k + 1/2) spacing), in one group with fixed: true. Returns the group.
+inline config::ParticleGroup& add_fixed_sphere_layer(config::Case& c, const std::string& material,
+                                                     double radius, double spacing, double lo_x,
+                                                     double hi_x, double lo_y, double hi_y,
+                                                     double z) {
+  const int nx = static_cast<int>((hi_x - lo_x) / spacing + 1e-9);
+  const int ny = static_cast<int>((hi_y - lo_y) / spacing + 1e-9);
+  std::vector<Vec3> x;
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      x.push_back({lo_x + (i + 0.5) * spacing, lo_y + (j + 0.5) * spacing, z});
+  add_spheres(c, material, radius, std::move(x));
+  config::ParticleGroup& g = c.particles.back();
+  g.fixed = true;
+  return g;
+}
+
 }  // namespace gf::test

@@ -150,6 +150,11 @@ struct ParticleGroup {
   std::string material;
   std::optional<Fill> fill;
   std::optional<Explicit> explicit_particles;
+  /// `fixed: true`: the grains never move (a rough base, an obstacle made of grains): they keep
+  /// their initial position and orientation with zero velocity and angular velocity, are never
+  /// integrated, count as infinitely heavy in their contacts with free grains, and touch neither
+  /// one another nor walls (docs/models/fixed_particles.md). Initial velocities are refused.
+  bool fixed = false;
   SourceLoc loc;
 };
 

@@ -194,6 +194,7 @@ void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config
   const bool radius_from_file = g.explicit_particles && !g.explicit_particles->radii.empty();
   emit_size(out, g, radius_from_file);
   out << YAML::Key << "material" << YAML::Value << g.material;
+  out << YAML::Key << "fixed" << YAML::Value << g.fixed;
   const int dim = c.dimension;
   if (g.fill) emit_fill(out, *g.fill, g, dim);
   if (g.explicit_particles) {

@@ -12,6 +12,7 @@
 #include <map>
 #include <numbers>
 #include <set>
+#include <tuple>
 
 #include "contact/registry.hpp"
 #include "core/error.hpp"
@@ -104,6 +105,9 @@ struct Reader {
   void read_materials(const YamlMap& root);
   void read_contacts(const YamlMap& root);
   void read_particles(const YamlMap& root);
+  /// A group with fixed: true: no grain of `ex` may have a non-zero velocity or angular velocity
+  /// (InputError at its list entry, or its line of the CSV file).
+  void check_fixed_at_rest(const YamlMap& gm, const config::Explicit& ex) const;
   config::ParticleGroup read_group(const YamlNode& node);
   void read_shape(const YamlMap& gm, config::ParticleGroup& g) const;
   void read_size(const YamlMap& gm, config::ParticleGroup& g);
@@ -664,6 +668,19 @@ config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup
     f.seed = static_cast<std::uint64_t>(s->as_integer(Range::non_negative()));
   f.velocity = vec_or(fm, "velocity", Vec3{});
   f.velocity_jitter = fm.number_or("velocity_jitter", 0.0, Range::non_negative());
+  if (g.fixed) {
+    if (f.velocity != Vec3{})
+      fm.at("velocity")
+          .fail(fmt::format("the grains of a fixed group (fixed: true) stay at rest; expected no "
+                            "initial velocity "
+                            "(or zero), found {}",
+                            text(f.velocity)));
+    if (f.velocity_jitter > 0)
+      fm.at("velocity_jitter")
+          .fail(fmt::format("the grains of a fixed group (fixed: true) stay at rest; expected no "
+                            "velocity jitter (or 0), found {}",
+                            number_text(f.velocity_jitter)));
+  }
   if (auto m = fm.find("max_attempts")) {
     if (!random) m->fail("'max_attempts' applies to lattice: random only");
     f.max_attempts = m->as_integer(Range::at_least(1));
@@ -1077,9 +1094,10 @@ config::PolygonSpec Reader::read_polygon(const YamlNode& node) const {
 config::ParticleGroup Reader::read_group(const YamlNode& node) {
   YamlMap gm(node, {"shape", "radius", "equivalent_diameter", "length", "aspect_ratio", "polygon",
                     "material", "fill", "positions", "velocities", "angular_velocities", "axes",
-                    "angles", "file"});
+                    "angles", "file", "fixed"});
   config::ParticleGroup g;
   g.loc = node.loc();
+  g.fixed = gm.boolean_or("fixed", false);
   read_shape(gm, g);
   if (g.kind == config::Shape::Polygon) g.polygon = read_polygon(gm.at("polygon"));
   const YamlNode mat = gm.at("material");
@@ -1130,6 +1148,7 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
     } else {
       read_size(gm, g);
     }
+    if (g.fixed) check_fixed_at_rest(gm, ex);
     g.explicit_particles = std::move(ex);
     return g;
   }
@@ -1139,9 +1158,37 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
   } else {
     config::Explicit ex;
     read_positions(gm, g, ex);
+    if (g.fixed) check_fixed_at_rest(gm, ex);
     g.explicit_particles = std::move(ex);
   }
   return g;
+}
+
+void Reader::check_fixed_at_rest(const YamlMap& gm, const config::Explicit& ex) const {
+  // The first grain given a velocity or an angular velocity, at its list entry or CSV line.
+  for (const auto& [key, values, what] :
+       {std::tuple{"velocities", &ex.velocities, "velocity"},
+        std::tuple{"angular_velocities", &ex.angular_velocities, "angular velocity"}}) {
+    for (std::size_t k = 0; k < values->size(); ++k) {
+      const Vec3& v = (*values)[k];
+      if (v == Vec3{}) continue;
+      const std::string found =
+          two_d() && values == &ex.angular_velocities ? number_text(v.z) : text(v);
+      const std::string msg = fmt::format(
+          "the grains of a fixed group (fixed: true) stay at rest; expected no initial {} (or "
+          "zero), found {} for particle {}",
+          what, found, k);
+      if (!ex.file.empty()) {
+        const YamlNode fn = gm.at("file");
+        throw_input_error({ex.file.string(), ex.lines[k], 1, fn.path()},
+                          fmt::format("columns {}: {}",
+                                      values == &ex.velocities ? (two_d() ? "vx, vy" : "vx, vy, vz")
+                                                               : (two_d() ? "wz" : "wx, wy, wz"),
+                                      msg));
+      }
+      gm.at(key).as_list()[k].fail(msg);
+    }
+  }
 }
 
 void Reader::read_particles(const YamlMap& root) {
@@ -1409,13 +1456,20 @@ void Reader::read_output(const YamlMap& root) {
             hint = fmt::format(" (did you mean '{}'?)", *near);
           item.fail(fmt::format(
               "unknown series quantity '{}'{}; accepted: {}, wall_force.WALL, wall_torque.WALL, "
-              "wall_force_mean.WALL, wall_torque_mean.WALL, wall_position.WALL (optionally with "
-              ".x, .y or .z)",
+              "wall_force_mean.WALL, wall_torque_mean.WALL, wall_position.WALL (these and "
+              "fixed_force optionally with .x, .y or .z)",
               name, hint, join(series_quantity_names())));
         }
         if (!c.fluid && (name.rfind("fluid_", 0) == 0 || name == "superficial_velocity" ||
                          name == "min_fluid_fraction"))
           item.fail(fmt::format("series quantity '{}' needs a fluid: block", name));
+        if (name.starts_with("fixed_force") &&
+            std::none_of(c.particles.begin(), c.particles.end(),
+                         [](const config::ParticleGroup& g) { return g.fixed; }))
+          item.fail(fmt::format(
+              "series quantity '{}' is the load on fixed grains; it needs a particle group with "
+              "fixed: true",
+              name));
         if (std::find(c.output.quantities.begin(), c.output.quantities.end(), name) !=
             c.output.quantities.end())
           item.fail(fmt::format("quantity '{}' is listed twice", name));
@@ -1507,10 +1561,16 @@ const std::vector<std::string>& series_quantity_names() {
                                               "contact_count",
                                               "wall_contact_count",
                                               "coordination_number",
+                                              "fixed_force",
                                               "fluid_pressure_drop",
                                               "superficial_velocity",
                                               "fluid_kinetic_energy",
                                               "min_fluid_fraction"};
+  return names;
+}
+
+std::span<const std::string_view> vector_series_quantities() {
+  static constexpr std::string_view names[] = {"fixed_force"};
   return names;
 }
 
@@ -1523,6 +1583,11 @@ std::span<const std::string_view> wall_series_prefixes() {
 bool is_series_quantity(std::string_view quantity, const std::vector<std::string>& wall_names) {
   const auto& names = series_quantity_names();
   if (std::find(names.begin(), names.end(), quantity) != names.end()) return true;
+  for (std::string_view vector : vector_series_quantities())
+    if (quantity.size() == vector.size() + 2 && quantity.starts_with(vector) &&
+        quantity[vector.size()] == '.' &&
+        (quantity.back() == 'x' || quantity.back() == 'y' || quantity.back() == 'z'))
+      return true;
   for (std::string_view prefix : wall_series_prefixes()) {
     if (quantity.substr(0, prefix.size()) != prefix) continue;
     std::string_view wall = quantity.substr(prefix.size());

@@ -48,6 +48,10 @@ config::Case load_case_text(const std::string& yaml_text, const std::filesystem:
 /// with a .x, .y or .z component suffix), PREFIX one of wall_series_prefixes().
 const std::vector<std::string>& series_quantity_names();
 
+/// The quantities of series_quantity_names() that are vectors: NAME gives three columns NAME.x,
+/// NAME.y, NAME.z, and NAME.x (.y, .z) one component ("fixed_force").
+std::span<const std::string_view> vector_series_quantities();
+
 /// The per-wall series quantities, with their dot: "wall_force.", "wall_torque.",
 /// "wall_force_mean.", "wall_torque_mean.", "wall_position.".
 std::span<const std::string_view> wall_series_prefixes();

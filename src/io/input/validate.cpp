@@ -154,14 +154,17 @@ std::string seconds(double t) {
 /// The smallest grain of one particle group: radius for the contact laws (sphere, disk: r;
 /// spherocylinder: the cap radius; polygon: the equal-area radius) and mass.
 struct SmallGrain {
-  double r = 0;  ///< m
-  double m = 0;  ///< kg
+  double r = 0;        ///< m
+  double m = 0;        ///< kg
+  bool fixed = false;  ///< of a group with fixed: true (immobile: see check_time_step)
 };
 
 /// Sizes of the grains of one material.
 struct GrainSizes {
   double r_min = inf;                ///< smallest contact radius, m
+  double r_min_free = inf;           ///< the same over groups that are not fixed, m
   double r_max = 0;                  ///< largest contact radius, m
+  double r_max_free = 0;             ///< the same over groups that are not fixed, m
   double reach_max = 0;              ///< largest bounding radius, m
   std::vector<SmallGrain> smallest;  ///< one per group of this material
 };
@@ -213,6 +216,16 @@ class Validator {
     return bounding_radius(group, r);
   }
   std::string describe(const Placed& p) const;
+  /// The contact radius the simulation's default skin is half of: the largest over grains of
+  /// groups that are not fixed (fixed grains never move), over all grains when every one is.
+  double skin_radius() const {
+    double r_free = 0, r_all = 0;
+    for (const auto& [name, gs] : grains_) {
+      r_free = std::max(r_free, gs.r_max_free);
+      r_all = std::max(r_all, gs.r_max);
+    }
+    return r_free > 0 ? r_free : r_all;
+  }
 
   void check_basics() const;
   void check_materials();
@@ -320,9 +333,11 @@ void Validator::check_materials() {
       hi = group.radius.largest();
     }
     gs.r_min = std::min(gs.r_min, lo);
+    if (!group.fixed) gs.r_min_free = std::min(gs.r_min_free, lo);
     gs.r_max = std::max(gs.r_max, hi);
+    if (!group.fixed) gs.r_max_free = std::max(gs.r_max_free, hi);
     gs.reach_max = std::max(gs.reach_max, reach(g, hi));
-    gs.smallest.push_back({lo, mass(g, lo)});
+    gs.smallest.push_back({lo, mass(g, lo), group.fixed});
   }
   for (std::size_t w = 0; w < c_.walls.size(); ++w)
     need(c_.walls[w].material, at(c_.walls[w].loc, fmt::format("walls[{}]", w)));
@@ -618,6 +633,9 @@ void Validator::check_overlaps(const std::vector<Placed>& all) {
             const auto& p = all[i];
             const auto& q = all[j];
             if (!(norm(dx) < p.reach + q.reach)) continue;  // bounding spheres apart
+            // Fixed grains never touch one another (a rough base may be built of overlapping
+            // grains); a free grain must not overlap a fixed one.
+            if (c_.particles[p.group].fixed && c_.particles[q.group].fixed) continue;
             std::string detail;
             if (!overlap(p, q, dx, detail)) {
               if (!p.exact || !q.exact) ++n_possible;
@@ -646,14 +664,11 @@ void Validator::check_overlaps(const std::vector<Placed>& all) {
 }
 
 void Validator::check_periodic() const {
-  double reach_max = 0, r_max = 0;
-  for (const auto& [name, gs] : grains_) {
-    reach_max = std::max(reach_max, gs.reach_max);
-    r_max = std::max(r_max, gs.r_max);
-  }
+  double reach_max = 0;
+  for (const auto& [name, gs] : grains_) reach_max = std::max(reach_max, gs.reach_max);
   // The simulation's default skin: half the largest contact radius (cap radius of
   // spherocylinders, equal-area radius of polygons), not of the bounding radius.
-  const double skin = c_.neighbor.skin.value_or(0.5 * r_max);
+  const double skin = c_.neighbor.skin.value_or(0.5 * skin_radius());
   const double cutoff = 2 * reach_max + skin;
   for (int k = 0; k < dim_; ++k) {
     const double len = c_.domain.max[k] - c_.domain.min[k];
@@ -758,7 +773,8 @@ void Validator::estimate_counts() {
                                 ? (dim_ == 2 ? "hexagonal" : "hcp")
                                 : "random";
       report_.derived.emplace_back(
-          fmt::format("particles[{}]: grains (fill, {})", g, lattice),
+          fmt::format("particles[{}]: grains (fill, {}{})", g, lattice,
+                      group.fixed ? ", fixed" : ""),
           fmt::format("{}{:.0f}", f.lattice == config::Fill::Lattice::Random ? "" : "~", est));
       total += est;
       if (est < 1)
@@ -807,8 +823,9 @@ void Validator::estimate_counts() {
       const auto& ex = *group.explicit_particles;
       const double n = static_cast<double>(ex.positions.size());
       report_.derived.emplace_back(
-          fmt::format("particles[{}]: grains (explicit{})", g,
-                      ex.file.empty() ? "" : ", " + ex.file.filename().string()),
+          fmt::format("particles[{}]: grains (explicit{}{})", g,
+                      ex.file.empty() ? "" : ", " + ex.file.filename().string(),
+                      group.fixed ? ", fixed" : ""),
           fmt::format("{:.0f}", n));
       total += n;
     }
@@ -905,15 +922,26 @@ void Validator::check_time_step() {
     }
     double tc = inf;
     for (const auto& sa : ga.smallest) {
+      // Fixed grains touch neither walls nor one another; against a free grain they are at rest
+      // and infinitely heavy (contact::reduced_mass): m* is the free grain's mass and the impact
+      // speed that of the free grain alone.
       if (wall) {
-        tc = std::min(tc, contact::contact_time(coeffs, sa.r, sa.m, v_impact));
+        if (!sa.fixed) tc = std::min(tc, contact::contact_time(coeffs, sa.r, sa.m, v_impact));
         continue;
       }
-      // Two grains may meet head-on, each at the impact speed: twice that relative speed.
-      for (const auto& sb : grains_.at(b).smallest)
-        tc = std::min(tc, contact::contact_time(coeffs, sa.r * sb.r / (sa.r + sb.r),
-                                                sa.m * sb.m / (sa.m + sb.m), 2 * v_impact));
+      for (const auto& sb : grains_.at(b).smallest) {
+        if (sa.fixed && sb.fixed) continue;
+        const double r_eff = sa.r * sb.r / (sa.r + sb.r);
+        if (sa.fixed || sb.fixed) {
+          tc = std::min(tc, contact::contact_time(coeffs, r_eff, sa.fixed ? sb.m : sa.m, v_impact));
+          continue;
+        }
+        // Two grains may meet head-on, each at the impact speed: twice that relative speed.
+        tc = std::min(
+            tc, contact::contact_time(coeffs, r_eff, sa.m * sb.m / (sa.m + sb.m), 2 * v_impact));
+      }
     }
+    if (!(tc < inf)) return;  // only fixed grains: they never touch
     report_.derived.emplace_back(fmt::format("contact time, {} ({})", label, ct->model),
                                  seconds(tc));
     if (tc < tc_min) {
@@ -940,7 +968,9 @@ void Validator::check_time_step() {
   double tr_min = inf;
   std::string tr_what;
   for (const auto& m : particle_materials_) {
-    const double r = grains_.at(m).r_min;
+    // Over free grains only: fixed grains carry no waves through the packing (they do not move).
+    const double r = grains_.at(m).r_min_free;
+    if (!(r < inf)) continue;  // every grain of the material is fixed
     const double tr = contact::rayleigh_time(to_material(*materials_.at(m)), r);
     report_.derived.emplace_back(fmt::format("Rayleigh time, {} (r = {} m)", m, number_text(r)),
                                  seconds(tr));
@@ -998,16 +1028,19 @@ void Validator::check_output() {
   }
   if (!counts.empty()) report_.derived.emplace_back("outputs over the run", counts);
   double r_max = 0, reach_max = 0;
+  bool any_fixed = false;
   for (const auto& [name, gs] : grains_) {
     r_max = std::max(r_max, gs.r_max);
     reach_max = std::max(reach_max, gs.reach_max);
   }
+  for (const auto& g : c_.particles) any_fixed |= g.fixed;
   report_.derived.emplace_back(
       "neighbor skin",
       c_.neighbor.skin
           ? fmt::format("{} m", number_text(*c_.neighbor.skin))
-          : fmt::format("{:.4g} m (default: half the largest {})", 0.5 * r_max,
-                        reach_max > r_max ? "contact radius: cap or equal-area radius" : "radius"));
+          : fmt::format("{:.4g} m (default: half the largest {}{})", 0.5 * skin_radius(),
+                        reach_max > r_max ? "contact radius: cap or equal-area radius" : "radius",
+                        any_fixed ? " of the grains that are not fixed" : ""));
 }
 
 void Validator::check_fluid() {

@@ -25,7 +25,8 @@ struct CheckReport {
 ///  - explicit particles lie inside the domain and do not overlap one another (cell method on
 ///    the bounding radii, then the shapes: sphere / disk radii, spherocylinder axis segments,
 ///    polygon outlines; random polygons, drawn at run time, only by their centres, with a
-///    warning for pairs whose bounding circles intersect);
+///    warning for pairs whose bounding circles intersect); grains of fixed groups (fixed: true)
+///    may overlap one another, since they never touch;
 ///  - fill regions lie inside the domain; periodic lengths exceed 2 (2 r_max + skin), r_max the
 ///    largest bounding radius; in 2D only x and y are checked;
 ///  - the time step is at most 0.3 x min(Rayleigh time, contact time) (warning above 0.15 x).
@@ -35,7 +36,9 @@ struct CheckReport {
 ///    contact time is computed for every used pair with the smallest grain of each group (its
 ///    contact radius and its mass, from grain_measure and, in 2D, the domain's thickness), at an
 ///    impact speed max(initial speeds) + sqrt(2 |g| H), H the domain height along gravity,
-///    >= 0.1 m/s.
+///    >= 0.1 m/s. Fixed groups: a free grain meets a fixed one at that speed (not twice) with
+///    m* its own mass (contact::reduced_mass); pairs of fixed grains and fixed grains with walls
+///    never touch and are left out, as are fixed grains from the Rayleigh time.
 CheckReport validate(const config::Case& c);
 
 /// Length L of the cylindrical part of a spherocylinder of cap radius r (m): `length`, or
