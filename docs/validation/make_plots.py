@@ -32,7 +32,7 @@ def load(path):
     return np.genfromtxt(path, delimiter=",", names=True)
 
 
-with validation_run.validation_run(args.build, "Validation*:AllLaws*:Laws*") as out:
+with validation_run.validation_run(args.build, "Validation*:AllLaws*:Laws*:*/ValidationFixedBounce.*") as out:
     # Chung & Ooi test 1: force against overlap, with Hertz theory and the published extrema.
     d = load(os.path.join(out, "chung_ooi_test1.csv"))
     E, nu, R = 48e9, 0.2, 0.010
@@ -240,5 +240,34 @@ with validation_run.validation_run(args.build, "Validation*:AllLaws*:Laws*") as 
     a.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(PLOT_DIR, "dem_shapes.png"), dpi=120)
+
+    # Fixed grains (tests/validation/test_fixed_particles_validation.cpp).
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    d = load(os.path.join(out, "fixed_bed_load.csv"))
+    a = ax[0]
+    a.plot(d["t"], d["fixed_force_z_over_weight"], "-", lw=0.8)
+    a.axhline(1.0, color="k", lw=0.8)
+    a.set_ylim(0, 2)
+    a.set_xlabel("t (s)")
+    a.set_ylabel("load on the fixed bed / weight of the free grains")
+    a.set_title("150 spheres settling on 100 fixed spheres (periodic sides)")
+    a = ax[1]
+    rows = [(os.path.basename(f)[len("fixed_bounce_"):-4], load(f))
+            for f in sorted(glob.glob(os.path.join(out, "fixed_bounce_*.csv")))]
+    x = np.arange(len(rows))
+    req = np.array([float(r["requested"]) for _, r in rows])
+    a.plot(x, [float(r["on_fixed"]) / q for (_, r), q in zip(rows, req)], "o",
+           label="on a fixed grain")
+    a.plot(x, [float(r["on_heavy"]) / q for (_, r), q in zip(rows, req)], "x",
+           label="on a free grain 1e6 times heavier")
+    a.plot(x, [float(r["real_mass_linear"]) / q for (_, r), q in zip(rows, req)], "s",
+           fillstyle="none", label="fixed grain's real mass in the damping (linear law)")
+    a.axhspan(0.99, 1.01, color="0.85", label="1 % tolerance")
+    a.set_xticks(x, [n for n, _ in rows], rotation=30, fontsize=7)
+    a.set_ylabel("realised / requested restitution")
+    a.set_title("Bounces on a fixed grain")
+    a.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(PLOT_DIR, "dem_fixed_particles.png"), dpi=120)
 
 print("plots written to", PLOT_DIR)

@@ -386,12 +386,12 @@ TEST(FixedParticles, ContactLawTakesTheFreeGrainsMass) {
   const Vec3 load{sim.quantity("fixed_force.x"), sim.quantity("fixed_force.y"),
                   sim.quantity("fixed_force.z")};
   expect_vec_near(load, -1.0 * expected.force, 1e-9);
-  // With half the mass (the fixed grain's real mass counted, as LIGGGHTS's frozen particles do)
+  // With half the mass (the fixed grain's real mass counted in the reduced mass)
   // the damping would be sqrt(2) smaller: a different force, by far more than the tolerance.
   kin.m_eff = 0.5 * m;
   xi = {};
-  const auto liggghts = contact::HertzMindlin::Law::evaluate(coeffs, kin, sim.dt(), xi);
-  EXPECT_GT(norm(liggghts.force - expected.force), 1e-3 * norm(expected.force));
+  const auto real_mass = contact::HertzMindlin::Law::evaluate(coeffs, kin, sim.dt(), xi);
+  EXPECT_GT(norm(real_mass.force - expected.force), 1e-3 * norm(expected.force));
 
   // The per-contact dispatch (two laws in the case) and the loop of stores with shapes (a
   // spherocylinder far away) give the same force.

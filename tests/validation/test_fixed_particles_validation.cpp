@@ -2,8 +2,8 @@
 // Fixed (frozen) grains against physics: a pile at rest on a bed of fixed spheres loads the bed
 // with exactly its weight (fixed_force), and a grain bouncing on a fixed grain rebounds with the
 // requested restitution, as against an immobile partner of infinite mass (the limit of a very
-// heavy free partner), not with the restitution LIGGGHTS's frozen particles give. Each tolerance
-// is argued.
+// heavy free partner, as LAMMPS's granular pair styles treat `fix freeze` groups), not with the
+// restitution a damping with the fixed grain's real mass would give. Each tolerance is argued.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -211,7 +211,7 @@ class ValidationFixedBounce : public ::testing::TestWithParam<BounceCase> {};
 // ~0.1 % from time discretisation, 1 % required), and equals that of a free partner 10^6 times
 // heavier within 1e-3 (its m* differs by 1e-6, the rest is the same discretisation).
 //
-// LIGGGHTS's frozen particles keep their real mass in the damping coefficient: for equal grains
+// Keeping the fixed grain's real mass in the damping coefficient instead: for equal grains
 // c = 2 zeta sqrt(m2/2 S_n), i.e. a damping ratio zeta / sqrt(2) for the actual motion, and a
 // restitution e' = exp(-pi zeta' / sqrt(1 - zeta'^2)) for a linear spring without the clamp of
 // the normal force (0.616 where 0.5 is asked; 0.600 measured with the clamped law when this
@@ -230,24 +230,24 @@ TEST_P(ValidationFixedBounce, RestitutionIsTheRequestedOneAsAgainstAnImmobileGra
   Simulation heavy_sim(bounce_case(bc, false, 1e6, v0));
   const Bounce on_heavy = bounce(heavy_sim, axis, v0);
 
-  // LIGGGHTS's damping with the real mass of the frozen grain (linear spring, equal masses).
+  // The damping with the real mass of the fixed grain (linear spring, equal masses).
   const double zeta = -std::log(bc.e) / std::sqrt(std::numbers::pi * std::numbers::pi +
                                                   std::log(bc.e) * std::log(bc.e));
   const double zeta_l = zeta / std::sqrt(2.0);
-  const double e_liggghts = std::exp(-std::numbers::pi * zeta_l / std::sqrt(1 - zeta_l * zeta_l));
+  const double e_real_mass = std::exp(-std::numbers::pi * zeta_l / std::sqrt(1 - zeta_l * zeta_l));
   std::printf(
       "%s: requested e = %.3f, on a fixed grain %.5f (%.3f %%), on a 1e6 x heavier free "
       "grain %.5f; with the frozen grain's real mass in the damping (linear law) %.3f\n",
       bc.name, bc.e, on_fixed.restitution, 100 * (on_fixed.restitution / bc.e - 1),
-      on_heavy.restitution, e_liggghts);
-  Dump d(std::string("fixed_bounce_") + bc.name, "requested,on_fixed,on_heavy,liggghts_linear");
-  d.row(bc.e, on_fixed.restitution, on_heavy.restitution, e_liggghts);
+      on_heavy.restitution, e_real_mass);
+  Dump d(std::string("fixed_bounce_") + bc.name, "requested,on_fixed,on_heavy,real_mass_linear");
+  d.row(bc.e, on_fixed.restitution, on_heavy.restitution, e_real_mass);
   RecordProperty("realised_restitution", std::to_string(on_fixed.restitution));
   EXPECT_NEAR(on_fixed.restitution, bc.e, 0.01 * bc.e);
   EXPECT_NEAR(on_fixed.restitution, on_heavy.restitution, 1e-3);
   EXPECT_NEAR(on_fixed.contact_time, on_heavy.contact_time, 0.01 * on_heavy.contact_time);
   if (std::string(bc.model) == "hooke" && std::string(bc.shape) == "sphere") {
-    EXPECT_GT(std::abs(on_fixed.restitution - e_liggghts), 0.05);
+    EXPECT_GT(std::abs(on_fixed.restitution - e_real_mass), 0.05);
   }
 }
 
