@@ -120,8 +120,10 @@ void write_sph_vtp(const fs::path& path, const continuum::SphSolver& s) {
   add("density", std::span<const double>(p.rho));
   add("viscosity", std::span<const double>(p.eta));
   add("shear_rate", std::span<const double>(p.gamma_dot));
+  // (the arrays keep spans: the volume fractions live as long as the writer)
+  std::vector<double> a;
   if (const auto& kt = s.config().kinetic_theory) {
-    std::vector<double> a(n);
+    a.resize(n);
     for (std::size_t i = 0; i < n; ++i) a[i] = p.rho[i] / kt->closures.density;
     add("granular_temperature", std::span<const double>(p.theta));
     add("volume_fraction", std::span<const double>(a));
