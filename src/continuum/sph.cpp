@@ -77,6 +77,20 @@ Mat3 rotation_about(const Vec3& k, double angle) {
   return r;
 }
 
+/// effective_shear_viscosity (continuum/ktgf.hpp) with the kinetic theory's mu_s [Pa s] given
+/// instead of evaluated once more: schaeffer_johnson_jackson mu_s + Schaeffer's viscosity of the
+/// Johnson-Jackson pressure above a_min; mu_i_switch the dense rheology's viscosity above the
+/// frictional limit, mu_s below. (Checked against effective_shear_viscosity in debug builds and
+/// by the unit test SphSolver.KineticTheoryStateMatchesTheClosures.)
+double dense_shear_viscosity(double mu_s, double a, double gamma_dot, double pressure,
+                             const FrictionalParams& f, const RheologyParams& dense) {
+  if (f.model == index_of_key(FrictionalModels{}, SchaefferJohnsonJackson::key))
+    return a > f.min_fraction
+               ? mu_s + schaeffer_viscosity(johnson_jackson_pressure(a, f), gamma_dot, f)
+               : mu_s;
+  return a > f.frictional_limit ? apparent_viscosity(gamma_dot, pressure, dense) : mu_s;
+}
+
 }  // namespace
 
 SphSolver::SphSolver(const SphConfig& cfg) : cfg_(cfg) {
@@ -160,6 +174,7 @@ SphSolver::SphSolver(const SphConfig& cfg) : cfg_(cfg) {
       }
     }
   // First accelerations (dt = 0: nothing moves).
+  if (cfg_.kinetic_theory) refresh_kinetic_theory();
   extrapolate_walls();
   continuity_and_strain(0.0);
   extrapolate_walls();
@@ -366,6 +381,7 @@ void SphSolver::continuity_and_strain(double dt) {
     div_v_.resize(n_fluid_);
     heat_.resize(n_fluid_);
     conductivity_.resize(n_fluid_, 0.0);
+    kt_closures_.resize(n_fluid_);
   }
   const double delta_hc = cfg_.density_diffusion * w_.h * cfg_.sound_speed;
   const double inv_c2 = 1.0 / (cfg_.sound_speed * cfg_.sound_speed);
@@ -382,7 +398,8 @@ void SphSolver::continuity_and_strain(double dt) {
       const Vec3 d = dom.delta(p_.x[i], p_.x[j]);  // r_ij = x_i - x_j
       const double r = norm(d);
       if (r <= 0.0) continue;
-      const Vec3 gw = (w_.derivative(r) / r) * d;  // grad_i W_ij
+      const double dw = w_.derivative(r);
+      const Vec3 gw = (dw / r) * d;  // grad_i W_ij
       const bool wall = j >= n_fluid_;
       const double vol_j = wall ? volume0_ : p_.mass[j] / p_.rho[j];
       drho += gs * p_.mass[j] * dot(vi - (wall ? p_.u_wall[j] : p_.v[j]), gw);
@@ -400,9 +417,8 @@ void SphSolver::continuity_and_strain(double dt) {
         // (1 / rho) div(kappa grad Theta) by the Morris form of the viscous term; the walls are
         // adiabatic (no heat flux through them)
         if (kt)
-          conduction +=
-              laplacian_coefficient(i, j, r, w_.derivative(r), conductivity_[i], conductivity_[j]) *
-              (p_.theta[j] - p_.theta[i]);
+          conduction += laplacian_coefficient(i, j, r, dw, conductivity_[i], conductivity_[j]) *
+                        (p_.theta[j] - p_.theta[i]);
       }
     }
     // Kernel-gradient correction where the support is populated enough to invert it.
@@ -429,6 +445,9 @@ void SphSolver::continuity_and_strain(double dt) {
     const auto i = static_cast<std::size_t>(ii);
     p_.rho[i] += dt * p_.drho[i];
     if (kt) {
+      // (the particle's one evaluation of the closures this step: at its new density, for the
+      // balance at the old Theta and the state at the new one)
+      kt_closures_[i] = kinetic_theory_closures(p_.rho[i]);
       const auto [rhs, diag] = temperature_balance(i, dt);
       if (implicit_heat) {
         theta_rhs_[i] = rhs;
@@ -512,20 +531,19 @@ SphSolver::TemperatureBalance SphSolver::temperature_balance(std::size_t i, doub
   // The sinks, gamma ~ Theta^(3/2) and P_k div ~ Theta where the material expands, are taken
   // implicitly (linearised about the old Theta), the sources explicitly: Theta stays positive
   // at any step, and a gas cooling alone follows Haff's law to first order in dt / tau.
-  const auto& kt = *cfg_.kinetic_theory;
-  const double rho = p_.rho[i], theta = p_.theta[i];
-  const auto pr = ktgf_properties(volume_fraction_for_closures(rho), theta, kt.closures);
+  const auto& c = kt_closures_[i];
+  const double rho = p_.rho[i], theta = p_.theta[i], sq = std::sqrt(theta);
   const double div = div_v_[i];
   const double gd2 = p_.gamma_dot[i] * p_.gamma_dot[i];
-  double source = pr.shear_viscosity * std::max(0.0, gd2 - 2.0 / 3.0 * div * div) +
-                  pr.bulk_viscosity * div * div;  // [W/m^3]
-  double sink = pr.dissipation;                   // [W/m^3]
+  double source = c.shear_viscosity * sq * std::max(0.0, gd2 - 2.0 / 3.0 * div * div) +
+                  c.bulk_viscosity * sq * div * div;  // [W/m^3]
+  double sink = c.dissipation * theta * sq;           // [W/m^3]
   if (div < 0.0)
-    source -= pr.pressure * div;
+    source -= c.pressure * theta * div;
   else
-    sink += pr.pressure * div;
-  const double c = 2.0 / (3.0 * rho);
-  return {theta + dt * c * source, 1.0 + dt * c * sink / theta};
+    sink += c.pressure * theta * div;
+  const double k = 2.0 / (3.0 * rho);
+  return {theta + dt * k * source, 1.0 + dt * k * sink / theta};
 }
 
 double SphSolver::volume_fraction_for_closures(double rho) const {
@@ -537,45 +555,58 @@ double SphSolver::volume_fraction_for_closures(double rho) const {
   return std::min(a, 0.999);
 }
 
+SphSolver::KtClosures SphSolver::kinetic_theory_closures(double rho) const {
+  const auto& kt = *cfg_.kinetic_theory;
+  KtClosures c;
+  c.a = volume_fraction_for_closures(rho);
+  const auto pr = ktgf_properties(c.a, 1.0, kt.closures);  // (one g0, every closure, Theta = 1)
+  c.g0 = pr.g0;
+  c.pressure = pr.pressure;
+  c.shear_viscosity = pr.shear_viscosity;
+  c.bulk_viscosity = pr.bulk_viscosity;
+  c.conductivity = pr.conductivity;
+  c.dissipation = pr.dissipation;
+  // Sound speed of the gas, c^2 = dP/drho at fixed Theta + (dP/dTheta) (dTheta/drho) at fixed
+  // entropy = dP/drho|_Theta + 2 P^2 / (3 rho^2 Theta) (P linear in Theta; 5/3 Theta for a
+  // dilute gas) = Theta (dP1/drho + 2 P1^2 / (3 rho^2)), P1 = P / Theta; dP1/drho by a forward
+  // difference
+  const double da = 1e-6 * c.a;
+  const double dp =
+      (solids_pressure(c.a + da, 1.0, kt.closures) - c.pressure) / (da * kt.closures.density);
+  c.sound_speed = std::sqrt(std::max(0.0, dp + 2.0 * c.pressure * c.pressure / (3.0 * rho * rho)));
+  return c;
+}
+
 void SphSolver::kinetic_theory_state(std::size_t i) {
   // p = P_k(a, Theta) + max(0, Tait(rho)) [+ P_f(a)] - lambda div v: the kinetic theory's
   // pressure everywhere, the weakly compressible pressure of the dense packing only where it
   // is compressed beyond rho0 (a granular gas takes no tension), the frictional pressure of
   // schaeffer_johnson_jackson, and the bulk viscous stress
   const auto& kt = *cfg_.kinetic_theory;
-  const double a = volume_fraction_for_closures(p_.rho[i]);
-  const double theta = p_.theta[i];
-  const auto pr = ktgf_properties(a, theta, kt.closures);
-  double p = pr.pressure + std::max(0.0, pressure_of(p_.rho[i]) - cfg_.background_pressure) +
-             cfg_.background_pressure - pr.bulk_viscosity * div_v_[i];
+  const auto& c = kt_closures_[i];
+  const double theta = p_.theta[i], sq = std::sqrt(theta);
+  // (Tait's pressure exceeds p_b only above rho0: no pow() for a gas)
+  const double tait =
+      p_.rho[i] > cfg_.density ? pressure_of(p_.rho[i]) - cfg_.background_pressure : 0.0;
+  double p = c.pressure * theta + std::max(0.0, tait) + cfg_.background_pressure -
+             c.bulk_viscosity * sq * div_v_[i];
   if (kt.dense.model == index_of_key(FrictionalModels{}, SchaefferJohnsonJackson::key))
-    p += johnson_jackson_pressure(std::min(a, kt.dense.max_fraction * 0.999), kt.dense);
+    p += johnson_jackson_pressure(std::min(c.a, kt.dense.max_fraction * 0.999), kt.dense);
   p_.p[i] = p;
-  p_.eta[i] = effective_shear_viscosity(a, theta, p_.gamma_dot[i], std::max(p, 0.0), kt.closures,
-                                        kt.dense, cfg_.rheology)
-                  .viscosity;
+  p_.eta[i] = dense_shear_viscosity(c.shear_viscosity * sq, c.a, p_.gamma_dot[i], std::max(p, 0.0),
+                                    kt.dense, cfg_.rheology);
+  ASSERT(
+      std::fabs(p_.eta[i] - effective_shear_viscosity(c.a, theta, p_.gamma_dot[i], std::max(p, 0.0),
+                                                      kt.closures, kt.dense, cfg_.rheology)
+                                .viscosity) <= 1e-12 * p_.eta[i]);
+  conductivity_[i] = c.conductivity * sq;
 }
 
 void SphSolver::update_kinetic_theory_limits() {
-  const auto& kt = *cfg_.kinetic_theory;
   const auto nf = static_cast<exec::index_t>(n_fluid_);
-  conductivity_.resize(n_fluid_);
-  exec::parallel_for(nf, [&](exec::index_t ii) {
-    const auto i = static_cast<std::size_t>(ii);
-    conductivity_[i] =
-        granular_conductivity(volume_fraction_for_closures(p_.rho[i]), p_.theta[i], kt.closures);
-  });
-  // Sound speed of the gas, c^2 = dP/drho at fixed Theta + (dP/dTheta) (dTheta/drho) at fixed
-  // entropy = dP/drho|_Theta + 2 P^2 / (3 rho^2 Theta) (P linear in Theta; 5/3 Theta for a
-  // dilute gas)
   kt_sound_max_ = exec::parallel_max(nf, 0.0, [&](exec::index_t ii) {
     const auto i = static_cast<std::size_t>(ii);
-    const double rho = p_.rho[i], theta = p_.theta[i];
-    const double a = volume_fraction_for_closures(rho), da = 1e-6 * a;
-    const double p0 = solids_pressure(a, theta, kt.closures);
-    const double dp =
-        (solids_pressure(a + da, theta, kt.closures) - p0) / (da * kt.closures.density);
-    return std::sqrt(std::max(0.0, dp + 2.0 * p0 * p0 / (3.0 * rho * rho * theta)));
+    return kt_closures_[i].sound_speed * std::sqrt(p_.theta[i]);
   });
   kt_diffusivity_max_ = exec::parallel_max(nf, 0.0, [&](exec::index_t ii) {
     const auto i = static_cast<std::size_t>(ii);
@@ -583,6 +614,17 @@ void SphSolver::update_kinetic_theory_limits() {
     if (cfg_.implicit_viscosity) return 0.0;
     return std::max(p_.eta[i], conductivity_[i] / 1.5) / p_.rho[i];
   });
+}
+
+void SphSolver::refresh_kinetic_theory() {
+  kt_closures_.resize(n_fluid_);
+  conductivity_.resize(n_fluid_);
+  exec::parallel_for(static_cast<exec::index_t>(n_fluid_), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    kt_closures_[i] = kinetic_theory_closures(p_.rho[i]);
+    conductivity_[i] = kt_closures_[i].conductivity * std::sqrt(p_.theta[i]);  // (as a step does)
+  });
+  update_kinetic_theory_limits();
 }
 
 void SphSolver::extrapolate_walls() {
@@ -857,6 +899,17 @@ bool SphSolver::remove_escaped() {
   compact(p_.v_ghost);
   compact(p_.wall_index);
   compact(p_.theta);
+  if (cfg_.kinetic_theory) {
+    // (per fluid particle, from its own density and temperature: they follow it)
+    auto compact_fluid = [&](auto& field) {
+      std::size_t o = 0;
+      for (std::size_t i = 0; i < n_fluid_; ++i)
+        if (!drop[i]) field[o++] = field[i];
+      field.resize(o);
+    };
+    compact_fluid(conductivity_);
+    compact_fluid(kt_closures_);
+  }
   for (std::size_t i = 0; i < n_fluid_; ++i) keep += drop[i] ? 0 : 1;
   n_removed_ += n_fluid_ - keep;
   n_fluid_ = keep;
@@ -875,8 +928,6 @@ void SphSolver::step(double until) {
   });
   move_walls(t_ + dt, true);  // (t_ + dt: the time this step ends at, as below)
   const bool removed = remove_escaped();
-  // (the conductivities follow the particles' new order, as a restart would compute them)
-  if (removed && cfg_.kinetic_theory) update_kinetic_theory_limits();
   if (removed || moved_beyond_skin()) build_neighbours();
   continuity_and_strain(dt);
   extrapolate_walls();
@@ -935,8 +986,9 @@ void SphSolver::restore(const SphState& s) {
   p_.x = s.x_built;
   build_neighbours();
   p_.x = std::move(now);
-  // (the conductivities and step limits the next step reads, from the state they came from)
-  if (cfg_.kinetic_theory) update_kinetic_theory_limits();
+  // (the closures, conductivities and step limits the next step reads, from the state they came
+  // from)
+  if (cfg_.kinetic_theory) refresh_kinetic_theory();
 }
 
 SphSummary SphSolver::summary() const {

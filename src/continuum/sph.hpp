@@ -296,8 +296,24 @@ class SphSolver {
   /// below the radial distribution's packing limit).
   double volume_fraction_for_closures(double rho) const;
   void implicit_viscous_step(double dt);
-  /// Kinetic theory: pressure, viscosity and conductivity of fluid particle i from its density,
-  /// temperature, shear rate and velocity divergence (the particle's own fields).
+  /// Kinetic theory: a fluid particle's closures at its density, at unit granular temperature.
+  /// Every closure set scales at fixed a as P_s ~ Theta, mu_s, lambda_s, kappa_s ~ sqrt(Theta) and
+  /// gamma_s ~ Theta^(3/2) (for hard spheres sqrt(Theta) is the only velocity scale; the same
+  /// scaling ktgf_simple_shear uses), so that one evaluation per particle and step serves both the
+  /// temperature balance at the old Theta and the state at the new one.
+  struct KtClosures {
+    double a = 0.0;                ///< the volume fraction they are evaluated at [1]
+    double g0 = 0.0;               ///< radial distribution at contact [1]
+    double pressure = 0.0;         ///< P_s / Theta [kg/m^3]
+    double shear_viscosity = 0.0;  ///< mu_s / sqrt(Theta) [kg/m^2]
+    double bulk_viscosity = 0.0;   ///< lambda_s / sqrt(Theta) [kg/m^2]
+    double conductivity = 0.0;     ///< kappa_s / sqrt(Theta) [kg/m^2]
+    double dissipation = 0.0;      ///< gamma_s / Theta^(3/2) [kg/m^4]
+    double sound_speed = 0.0;      ///< the granular gas's sound speed / sqrt(Theta) [1]
+  };
+  KtClosures kinetic_theory_closures(double rho) const;
+  /// Kinetic theory: pressure, viscosity and conductivity of fluid particle i from its closures
+  /// (kt_closures_[i]), temperature, shear rate and velocity divergence.
   void kinetic_theory_state(std::size_t i);
   /// Kinetic theory: the granular energy balance of fluid particle i over dt without
   /// conduction, linearised: Theta_new diag = rhs (+ dt (2/3) (1 / rho) div(kappa grad Theta)).
@@ -307,9 +323,13 @@ class SphSolver {
   TemperatureBalance temperature_balance(std::size_t i, double dt) const;
   /// Kinetic theory with implicit viscosity: the balance with backward-Euler conduction.
   void implicit_conduction_step(double dt);
-  /// Kinetic theory: conductivities and the time-step limits (sound speed, diffusivities) from
-  /// the fluid particles' state.
+  /// Kinetic theory: the time-step limits (sound speed, diffusivities) from the fluid particles'
+  /// closures, temperatures, viscosities and conductivities.
   void update_kinetic_theory_limits();
+  /// Kinetic theory: every fluid particle's closures and conductivity from its density and
+  /// temperature, then the limits: at set-up and after a restore (a step computes them as it
+  /// updates the particles, in the same way, so that a continued run stays bit-identical).
+  void refresh_kinetic_theory();
   /// Removes fluid particles outside the domain's non-periodic bounds; true if any was.
   bool remove_escaped();
   bool moved_beyond_skin() const;
@@ -364,6 +384,7 @@ class SphSolver {
   std::vector<double> heat_;                    ///< (1 / rho) div(kappa grad Theta) [W/kg]
   std::vector<double> theta_rhs_, theta_diag_;  ///< the temperature balance (implicit conduction)
   std::vector<double> conductivity_;            ///< kappa_s [kg/(m s)]
+  std::vector<KtClosures> kt_closures_;         ///< at the particle's density (see KtClosures)
   double kt_sound_max_ = 0.0;                   ///< largest sound speed of the granular gas [m/s]
   double kt_diffusivity_max_ = 0.0;  ///< largest of eta / rho and kappa / (3/2 rho) [m^2/s]
   int last_viscous_iterations_ = 0;
