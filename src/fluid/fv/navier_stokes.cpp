@@ -710,8 +710,13 @@ void VolumeAveragedNS::solve_pressure(StepReport& rep) {
         const double eps_f = eps_f_[a][fi];
         div += (2 * s - 1) * eps_f * u_new_[a][fi] / grid_.h[a];
         flux += std::abs(eps_f * u_new_[a][fi]) / grid_.h[a];
+        if (shared_) {
+          div += (2 * s - 1) * shared_flux_[a][fi] / grid_.h[a];
+          flux += std::abs(shared_flux_[a][fi]) / grid_.h[a];
+        }
         if (!assemble) continue;
-        const double k = eps_f * eps_f / a_face_[a][fi] / h2;
+        double k = eps_f * eps_f / a_face_[a][fi] / h2;
+        if (shared_) k += shared_response_[a][fi] / h2;
         const int entry = row.entry[2 * a + s];
         if (entry == PressureRow::kOutlet) {
           diag += 2.0 * k;
@@ -722,7 +727,7 @@ void VolumeAveragedNS::solve_pressure(StepReport& rep) {
       }
     }
     if (assemble) values[row.diag] += diag;
-    prhs_[c] = -(div + eps_rate_[c]);
+    prhs_[c] = -(div + (shared_ ? 0.0 : eps_rate_[c]));
     flux_scale_[c] = flux;
   });
   if (closed_) {
@@ -773,6 +778,15 @@ void VolumeAveragedNS::solve_pressure(StepReport& rep) {
     });
   }
   refresh_boundary_faces(u_new_);
+  if (shared_) {
+    for (int a = 0; a < dim_; ++a)
+      exec::parallel_for(grid_.face_count(a), [&](exec::index_t fi) {
+        const int i = unflatten_face(a, fi)[a];
+        const bool wall = !grid_.periodic[a] && (i == 0 || i == grid_.n[a]) &&
+                          bc(a, i == 0 ? 0 : 1).kind != BcKind::PressureOutlet;
+        grad_phi_[a][fi] = wall ? 0.0 : face_gradient(a, fi, i, phi_.data(), true);
+      });
+  }
   double mean = 0.0;
   for (std::int64_t c = 0; c < nc; ++c) {
     p_[c] += phi_[c];
@@ -826,6 +840,26 @@ void VolumeAveragedNS::set_fluid_fraction(std::span<const double> eps,
   if (changed) {
     update_face_fraction();
     coefficients_dirty_ = true;
+  }
+}
+
+void VolumeAveragedNS::set_shared_phase(const std::array<std::span<const double>, 3>& flux,
+                                        const std::array<std::span<const double>, 3>& response) {
+  bool any = false;
+  for (int a = 0; a < dim_; ++a) any = any || !flux[a].empty() || !response[a].empty();
+  shared_ = any;
+  coefficients_dirty_ = true;  // the pressure matrix carries the response
+  if (!any) return;
+  for (int a = 0; a < dim_; ++a) {
+    const auto nf = static_cast<std::size_t>(grid_.face_count(a));
+    REQUIRE(flux[a].size() == nf && response[a].size() == nf,
+            "fluid: set_shared_phase got {} and {} values for the {} faces normal to axis {}",
+            flux[a].size(), response[a].size(), nf, a);
+    shared_flux_[a].assign(flux[a].begin(), flux[a].end());
+    shared_response_[a].assign(response[a].begin(), response[a].end());
+    for (double c : shared_response_[a])
+      REQUIRE(c >= 0.0 && std::isfinite(c), "fluid: shared phase response {} must be >= 0", c);
+    grad_phi_[a].assign(nf, 0.0);
   }
 }
 

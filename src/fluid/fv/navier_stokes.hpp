@@ -112,6 +112,19 @@ class VolumeAveragedNS {
   /// Particle momentum source S = s_explicit - k u per cell: s_explicit [N/m^3] and the drag
   /// coefficient k >= 0 [kg/(m^3 s)], which is treated implicitly (stable for any k dt / rho).
   void set_momentum_source(std::span<const Vec3> s_explicit, std::span<const double> k);
+  /// A second incompressible phase that shares the pressure (the solids of a two-fluid model):
+  /// its predicted volume flux per unit face area F* [m/s] and the response of that flux to the
+  /// pressure correction phi, F = F* - c grad(phi) with c [m^3 s/kg], on the faces normal to
+  /// each axis (the layout of face_velocity; c = 0 and F* = 0 on walls). While set, the pressure
+  /// correction enforces the continuity of the mixture, div(eps u + F) = 0, in place of
+  /// div(eps u) = -d eps/dt (the rate of set_fluid_fraction is then not used), so neither
+  /// phase can fill or empty a cell on its own; correction_gradient gives grad(phi) for the
+  /// caller's F. Spans of the face counts, or all empty to remove the phase.
+  void set_shared_phase(const std::array<std::span<const double>, 3>& flux,
+                        const std::array<std::span<const double>, 3>& response);
+  /// grad(phi) [Pa/m] of the last step's pressure correction on the faces normal to axis a (on
+  /// an outlet face from phi = 0 on the face; zero on walls and inlets), for a shared phase.
+  [[nodiscard]] std::span<const double> correction_gradient(int a) const { return grad_phi_[a]; }
   /// Replaces the condition on one box face by one of the same kind (new values).
   void set_boundary(BoxFace face, const BoundaryCondition& bc);
 
@@ -251,8 +264,11 @@ class VolumeAveragedNS {
   std::vector<Vec3> source_;                        // cells (input)
   std::vector<double> eps_f_[3];                    // eps on faces (mean of the two cells)
   std::vector<double> flux_[3];                     // eps u on faces at t^n (the convecting fluxes)
-  std::vector<double> a_face_[3];         // eps rho c0/dt + K on faces: the predictor's diagonal
-  std::vector<FaceCells> face_cells_[3];  // per face (built once)
+  std::vector<double> a_face_[3];  // eps rho c0/dt + K on faces: the predictor's diagonal
+  bool shared_ = false;            // a second phase shares the pressure
+  std::vector<double> shared_flux_[3], shared_response_[3];  // faces: its F* and c
+  std::vector<double> grad_phi_[3];             // faces: grad(phi) of the last correction
+  std::vector<FaceCells> face_cells_[3];        // per face (built once)
   std::array<std::int64_t, 3> face_stride_[3];  // face index step along each axis, per component
   bool coefficients_dirty_ = true;  // eps or K changed since the matrices were assembled
   bool assemble_ = true;            // this step re-assembles the matrices
