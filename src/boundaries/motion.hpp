@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Prescribed rigid motion of a wall: constant translation plus rotation about an axis.
+// Prescribed rigid motion of a wall or of a fixed particle group: constant translation plus
+// rotation about an axis.
 #pragma once
 
 #include <cmath>
 
 #include "core/host_device.hpp"
+#include "core/quaternion.hpp"
 #include "core/vec3.hpp"
 
 namespace gf {
@@ -33,6 +35,19 @@ struct RigidMotion {
   }
   GF_HOST_DEVICE Vec3 point_at(const Vec3& p0, double t) const {
     return center_at(t) + rotate(p0 - center, t);
+  }
+  /// point_at(p0, t), the image at time t of the material point at p0 at t = 0, evaluated so
+  /// that a translation alone carries p0 by exactly V max(0, t - start) (without the round-off
+  /// of (p0 - center) + center): the grains of fixed groups (docs/models/fixed_particles.md).
+  GF_HOST_DEVICE Vec3 carry(const Vec3& p0, double t) const {
+    if (rate == 0) return p0 + (t > start ? t - start : 0.0) * velocity;
+    return point_at(p0, t);
+  }
+  /// Orientation (body -> world) at time t of a body whose orientation is q0 at t = 0: q0 turned
+  /// by the angle rate * t about axis, as rotate() turns directions.
+  GF_HOST_DEVICE Quat turn(const Quat& q0, double t) const {
+    if (rate == 0) return q0;
+    return quat_from_axis_angle(axis, rate * t) * q0;
   }
   /// Velocity of the wall material at point p (world) at time t.
   GF_HOST_DEVICE Vec3 velocity_at(const Vec3& p, double t) const {

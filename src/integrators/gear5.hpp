@@ -90,7 +90,9 @@ void gear5_correct(std::size_t n, Gear5State* s, const Vec3* force, const double
 /// rigid_bodies.hpp and are refused with gear5 (the simulation says so before running).
 /// The higher derivatives are store fields (gear_x2..gear_x5, gear_phi, gear_w2..gear_w5: 9
 /// Vec3, 216 B per particle), so they follow re-ordering and go into checkpoints.
-/// Fixed grains (ParticleStore::fixed) are skipped: their state stays at rest where it began.
+/// Fixed grains (ParticleStore::fixed) are skipped: their state stays at rest where it began
+/// (or follows a prescribed motion, set by Simulation::place_fixed_groups; their Gear
+/// derivatives stay zero, unused).
 struct Gear5Integrator {
   static constexpr const char* key = "gear5";
   /// Adds the fields (idempotent).

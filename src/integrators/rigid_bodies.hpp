@@ -9,7 +9,8 @@
 //     rotation;
 //   - polygons: turns the orientation by omega_z dt about z with the half-step omega (the
 //     leapfrog drift of the angle).
-// Fixed grains (ParticleStore::fixed) are skipped: their orientation, L and omega stay.
+// Fixed grains (ParticleStore::fixed) are skipped: their orientation, L and omega stay (or, for
+// a group with a prescribed motion, are set by Simulation::place_fixed_groups).
 #pragma once
 
 #include "particles/particle_store.hpp"

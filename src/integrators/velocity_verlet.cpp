@@ -54,8 +54,9 @@ double kick(ParticleStore& p, const Domain* domain, double h, double dt, const V
     }
   };
   // Fixed grains (a group with fixed: true) are never integrated: no kick, no drift, no wrap;
-  // their velocities stay zero and their positions bit for bit. Their forces are reset like the
-  // others' (the next evaluation adds to m g; the series' fixed_force takes m g off). Runs
+  // their velocities stay zero and their positions bit for bit (those of a group with a
+  // prescribed motion are placed by the simulation, analytically). Their forces are reset like
+  // the others' (the next evaluation adds to m g; the series' fixed_force takes m g off). Runs
   // without fixed grains keep the loop without the test.
   if (const std::int32_t* fixed = p.fixed()) {
     return run([&](exec::index_t i) {

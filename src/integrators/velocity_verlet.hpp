@@ -2,7 +2,8 @@
 // Velocity Verlet for translation and rotation of spheres (Swope et al., J. Chem. Phys. 76
 // (1982) 637): v(t+dt/2) = v(t) + dt/2 a(t); x(t+dt) = x(t) + dt v(t+dt/2); forces at t+dt;
 // v(t+dt) = v(t+dt/2) + dt/2 a(t+dt). The same for omega with torque / moment of inertia.
-// Fixed grains (ParticleStore::fixed) are skipped: they neither kick nor drift.
+// Fixed grains (ParticleStore::fixed) are skipped: they neither kick nor drift (those with a
+// prescribed motion are placed by Simulation::place_fixed_groups).
 #pragma once
 
 #include "core/domain.hpp"

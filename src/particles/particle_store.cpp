@@ -65,6 +65,15 @@ void ParticleStore::enable_fixed() {
   fixed_field_ = add_field("fixed", FieldType::Int32, "1", kRestart | kOutput | kGhost);
 }
 
+void ParticleStore::enable_fixed_motion() {
+  if (fixed_x0_field_ >= 0) return;
+  fixed_x0_field_ = add_field("fixed_x0", FieldType::Vec3, "m", kRestart | kGhost);
+  if (has_shapes()) {
+    fixed_q0_field_ = add_field("fixed_q0", FieldType::Quat, "1", kRestart | kGhost);
+    for (auto& q : get<Quat>(fixed_q0_field_)) q = Quat{};
+  }
+}
+
 int ParticleStore::find_field(const std::string& name) const {
   for (std::size_t i = 0; i < info_.size(); ++i)
     if (info_[i].name == name) return static_cast<int>(i);

@@ -121,10 +121,17 @@ class ParticleStore {
   std::int32_t* polygon() { return get<std::int32_t>(shape_field_ + 5).data(); }
   const std::int32_t* polygon() const { return get<std::int32_t>(shape_field_ + 5).data(); }
 
-  /// Adds the field `fixed` (Int32: 1 for a grain of a particle group with `fixed: true`, which
-  /// keeps its initial position and orientation and has zero velocity and angular velocity;
-  /// 0 otherwise) once, zero for every grain so far; runs without fixed grains never carry it.
-  /// Saved in checkpoints, copied to ghosts and written to the particle outputs. Idempotent.
+  /// Values of the field `fixed`: a free grain; a grain of a fixed group at rest (`fixed: true`);
+  /// kFixedMoving + k for a grain of a fixed group that follows prescribed motion k (the k-th
+  /// group with `fixed: {translate, rotate}` of the case).
+  static constexpr std::int32_t kFree = 0, kFixedAtRest = 1, kFixedMoving = 2;
+
+  /// Adds the field `fixed` (Int32: kFixedAtRest for a grain of a particle group with
+  /// `fixed: true`, which keeps its initial position and orientation and has zero velocity and
+  /// angular velocity; kFixedMoving + k for one of a group with prescribed motion k, which the
+  /// simulation places; 0 otherwise) once, zero for every grain so far; runs without fixed
+  /// grains never carry it. Saved in checkpoints, copied to ghosts and written to the particle
+  /// outputs. Idempotent.
   void enable_fixed();
   bool has_fixed() const { return fixed_field_ >= 0; }
   /// The `fixed` column, or null when the store has none (no grain is fixed).
@@ -133,6 +140,23 @@ class ParticleStore {
   }
   const std::int32_t* fixed() const {
     return fixed_field_ >= 0 ? get<std::int32_t>(fixed_field_).data() : nullptr;
+  }
+
+  /// Adds the reference state of grains with prescribed motion (after enable_shapes, if any):
+  /// `fixed_x0` (Vec3, m), the position at t = 0 (not wrapped), and with shapes `fixed_q0`
+  /// (Quat), the orientation at t = 0; their motion carries them to time t analytically, never
+  /// by integration. Saved in checkpoints and copied to ghosts, not written to the outputs; runs
+  /// without a moving fixed group never carry them. Idempotent.
+  void enable_fixed_motion();
+  bool has_fixed_motion() const { return fixed_x0_field_ >= 0; }
+  /// `fixed_x0` and `fixed_q0` (null without: no moving group, or no shapes for the latter).
+  Vec3* fixed_x0() { return fixed_x0_field_ >= 0 ? get<Vec3>(fixed_x0_field_).data() : nullptr; }
+  const Vec3* fixed_x0() const {
+    return fixed_x0_field_ >= 0 ? get<Vec3>(fixed_x0_field_).data() : nullptr;
+  }
+  Quat* fixed_q0() { return fixed_q0_field_ >= 0 ? get<Quat>(fixed_q0_field_).data() : nullptr; }
+  const Quat* fixed_q0() const {
+    return fixed_q0_field_ >= 0 ? get<Quat>(fixed_q0_field_).data() : nullptr;
   }
 
   /// Body-frame polygons that polygon grains refer to (field `polygon`); saved in checkpoints.
@@ -161,6 +185,8 @@ class ParticleStore {
   std::vector<std::uint64_t> done_;  ///< permute(): one bit per particle, cycle visited
   int shape_field_ = -1;             ///< index of `shape`; the other shape fields follow it
   int fixed_field_ = -1;             ///< index of `fixed` (enable_fixed), -1 without
+  int fixed_x0_field_ = -1;          ///< index of `fixed_x0` (enable_fixed_motion), -1 without
+  int fixed_q0_field_ = -1;          ///< index of `fixed_q0` (with shapes), -1 without
   std::vector<PolygonShape> polygons_;
 };
 

@@ -125,6 +125,19 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
                              ? h.read_double_attribute("/", "wall_seconds")
                              : std::numeric_limits<double>::quiet_NaN();
   io::load_particles(h, particles_);
+  if (const std::int32_t* fixed = particles_.fixed()) {
+    // Grains of moving fixed groups follow motion k of this case (its k-th moving group): a
+    // checkpoint whose grains name a motion the case does not have was written by another case.
+    const auto n_motions = static_cast<std::int32_t>(fixed_motions_.size());
+    for (std::size_t i = 0; i < particles_.size(); ++i)
+      if (fixed[i] < 0 || fixed[i] >= ParticleStore::kFixedMoving + n_motions)
+        throw InputError(fmt::format(
+            "{}: grain {} belongs to a fixed group with prescribed motion {} (field 'fixed' = "
+            "{}), but the case has {} fixed group{} with a motion (fixed: {{translate, rotate}}); "
+            "was the checkpoint written by another case?",
+            file.string(), particles_.id()[i], fixed[i] - ParticleStore::kFixedMoving + 1, fixed[i],
+            n_motions, n_motions == 1 ? "" : "s"));
+  }
 
   nlist_.restore(h.read_int64("neighbor/offsets"), h.read_int32("neighbor/neighbors"),
                  h.read_vec3("neighbor/history"), h.read_vec3("neighbor/reference_positions"),

@@ -93,6 +93,20 @@ Vec3 fixed_grain_load(const ParticleStore& p, const Vec3& gravity) {
   return sum;
 }
 
+/// The rigid motion of a case's motion block (walls[].motion, particles[].fixed): translation
+/// and start; axis, centre and rate when it rotates (else the defaults: at rest, no turn).
+RigidMotion rigid_motion(const config::Motion& m) {
+  RigidMotion r;
+  r.velocity = m.velocity;
+  r.start = m.start;
+  if (m.rotates) {
+    r.axis = m.axis;
+    r.center = m.center;
+    r.rate = m.rate;
+  }
+  return r;
+}
+
 }  // namespace
 
 Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
@@ -172,6 +186,7 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   }
   const double t0 = 0.0;
   for (auto& w : walls_) w.update_geometry(t0);
+  place_fixed_groups(t0);  // (moving fixed groups: their velocities at t = 0)
   RigidBodies::init_angular_momentum(particles_);
   if (gear_) Gear5Integrator::enable(particles_);
   if (cfg.fluid && cfg.coupling) {
@@ -214,6 +229,18 @@ void Simulation::build_particles() {
   const bool any_fixed = std::any_of(cfg_.particles.begin(), cfg_.particles.end(),
                                      [](const config::ParticleGroup& g) { return g.fixed; });
   if (any_fixed) particles_.enable_fixed();
+  // Moving fixed groups: their grains' reference state (position, orientation at t = 0), which
+  // their motions carry analytically (place_fixed_groups); only in runs that have one.
+  const bool any_moving = std::any_of(cfg_.particles.begin(), cfg_.particles.end(),
+                                      [](const config::ParticleGroup& g) { return g.motion; });
+  if (any_moving) {
+    if (cfg_.shear && cfg_.shear->boundary == config::Shear::Boundary::LeesEdwards)
+      throw InputError(fmt::format(
+          "{}: a fixed group with a prescribed motion is not available in a Lees-Edwards shear "
+          "box; expected fixed: true (grains at rest) or shear boundary: walls",
+          cfg_.file.string()));
+    particles_.enable_fixed_motion();
+  }
   // Spherocylinders: one contact per end with planes and cylinders, up to eight per triangle of
   // a mesh wall (boundaries/triangle_mesh.hpp).
   const bool mesh_walls = std::any_of(cfg_.walls.begin(), cfg_.walls.end(), [](const auto& w) {
@@ -236,6 +263,10 @@ void Simulation::build_particles() {
     const std::uint64_t seed = g.fill ? g.fill->seed : 1 + gi;
     ShapeBuilder builder(g, rho, cfg_.domain.thickness, seed);
     const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
+    if (g.motion && !g.fixed)
+      throw InputError(
+          fmt::format("{}: a prescribed motion is for fixed groups (fixed: {{translate, rotate}})",
+                      where(g.loc)));
     if (g.fixed) {
       // The reader refuses these (with the line); a case built in code is checked here too.
       const bool moving_fill =
@@ -248,9 +279,8 @@ void Simulation::build_particles() {
       }
       if (moving_fill || moving_explicit)
         throw InputError(fmt::format(
-            "{}: the grains of a fixed group (fixed: true) stay at rest; expected no initial "
-            "velocities",
-            where(g.loc)));
+            "{}: the grains of a fixed group {}; expected no initial velocities", where(g.loc),
+            g.motion ? "take their velocities from its prescribed motion" : "stay at rest"));
     }
     const std::size_t first = particles_.size();
     if (g.fill) {
@@ -305,8 +335,19 @@ void Simulation::build_particles() {
         placed.push_back({e.positions[k], particles_.radius()[i]});
       }
     }
-    if (g.fixed)
-      for (std::size_t i = first; i < particles_.size(); ++i) particles_.fixed()[i] = 1;
+    if (g.fixed) {
+      std::int32_t flag = ParticleStore::kFixedAtRest;
+      if (g.motion) {
+        flag = ParticleStore::kFixedMoving + static_cast<std::int32_t>(fixed_motions_.size());
+        fixed_motions_.push_back({rigid_motion(*g.motion), g.motion->rotates});
+      }
+      for (std::size_t i = first; i < particles_.size(); ++i) {
+        particles_.fixed()[i] = flag;
+        if (!g.motion) continue;
+        particles_.fixed_x0()[i] = particles_.x()[i];
+        if (particles_.has_shapes()) particles_.fixed_q0()[i] = particles_.orientation()[i];
+      }
+    }
   }
   log::info("{} particles", particles_.size());
 }
@@ -383,8 +424,7 @@ void Simulation::build_walls() {
     w.name = wc.name;
     w.group = wc.name;
     w.material = it->second;
-    w.motion.velocity = wc.motion.velocity;
-    w.motion.start = wc.motion.start;
+    w.motion = rigid_motion(wc.motion);
     if (wc.servo) {
       w.servo = true;
       w.servo_max_velocity = wc.servo->max_velocity;
@@ -393,9 +433,7 @@ void Simulation::build_walls() {
       w.servo_pressure = wc.servo->pressure;  // spans resolved once all walls exist (below)
     }
     if (wc.motion.rotates) {
-      w.motion.axis = wc.motion.axis;
-      w.motion.center = wc.motion.center;
-      w.motion.rate = wc.motion.rate;
+      // (axis, centre and rate: rigid_motion)
     } else if (wc.kind == config::Wall::Kind::Mesh) {  // torques about the box centre of the mesh
       Vec3 lo = wc.mesh_points[0], hi = wc.mesh_points[0];
       for (const auto& q : wc.mesh_points)
@@ -488,6 +526,66 @@ double Simulation::servo_target_force(std::size_t w) const {
 void Simulation::update_servos() {
   for (std::size_t w = 0; w < walls_.size(); ++w)
     if (walls_[w].servo) walls_[w].servo_step(time(), dt_, servo_target_force(w));
+}
+
+void Simulation::place_fixed_groups(double t) {
+  if (fixed_motions_.empty()) return;
+  ParticleStore& p = particles_;
+  const std::int32_t* fixed = p.fixed();
+  const Vec3* x0 = p.fixed_x0();
+  const Quat* q0 = p.fixed_q0();  // null without shapes
+  Vec3* x = p.x();
+  Vec3* v = p.v();
+  Vec3* w = p.omega();
+  Quat* q = p.has_shapes() ? p.orientation() : nullptr;
+  Vec3* L = p.has_shapes() ? p.angular_momentum() : nullptr;
+  const std::int32_t* shape = p.has_shapes() ? p.shape() : nullptr;
+  const Vec3* inertia = p.has_shapes() ? p.inertia_body() : nullptr;
+  const FixedMotion* motions = fixed_motions_.data();
+  const bool periodic = domain_.any_periodic();
+  // The displacements since the list build join the drift's rebuild test (a moving fixed grain
+  // must trigger a rebuild as a free one does); without the drift's measure (Gear, shapes) the
+  // test reads the positions themselves.
+  const auto ref = nlist_.reference_positions();
+  const bool track = drift_max_d2_ >= 0 && ref.size() == p.size();
+  const double max_d2 =
+      exec::parallel_max(static_cast<exec::index_t>(p.size()), 0.0, [&](exec::index_t i) {
+        const std::int32_t k = fixed[i] - ParticleStore::kFixedMoving;
+        if (k < 0) return 0.0;
+        const RigidMotion& m = motions[k].motion;
+        const Vec3 at = m.carry(x0[i], t);  // not wrapped: the rigid body's own point
+        x[i] = at;
+        if (periodic) domain_.wrap(x[i]);
+        v[i] = m.velocity_at(at, t);
+        w[i] = m.omega();
+        if (q != nullptr) {
+          q[i] = m.turn(q0[i], t);
+          if (static_cast<ShapeCode>(shape[i]) == ShapeCode::Spherocylinder) {
+            // L = R I_body R^T omega, as RigidBodies keeps it for free rods.
+            const Vec3 wb = rotate_inverse(q[i], w[i]);
+            const Vec3& I = inertia[i];
+            L[i] = rotate(q[i], Vec3{I.x * wb.x, I.y * wb.y, I.z * wb.z});
+          }
+        }
+        return track ? norm2(domain_.delta(x[i], ref[static_cast<std::size_t>(i)])) : 0.0;
+      });
+  if (track) drift_max_d2_ = std::max(drift_max_d2_, max_d2);
+}
+
+Vec3 Simulation::fixed_group_torque() const {
+  // Serial, so that it does not depend on the thread count (as fixed_grain_load).
+  const ParticleStore& p = particles_;
+  Vec3 sum{};
+  if (fixed_motions_.empty()) return sum;
+  const double t = time();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const std::int32_t k = p.fixed()[i] - ParticleStore::kFixedMoving;
+    if (k < 0 || !fixed_motions_[static_cast<std::size_t>(k)].rotates) continue;
+    const RigidMotion& m = fixed_motions_[static_cast<std::size_t>(k)].motion;
+    const Vec3 arm = m.carry(p.fixed_x0()[i], t) - m.center_at(t);
+    sum += cross(arm, p.f()[i] - p.mass()[i] * gravity_) + p.torque()[i];
+  }
+  return sum;
 }
 
 void Simulation::build_pair_gaps() {
@@ -724,6 +822,7 @@ void Simulation::step(bool defer_kick) {
   }
   ++step_;
   for (auto& w : walls_) w.update_geometry(time());
+  place_fixed_groups(time());
   update_neighbors(false);
   compute_forces();
   update_servos();
@@ -841,6 +940,11 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
     if (!fixed_load) fixed_load = fixed_grain_load(particles_, gravity_);
     return *fixed_load;
   };
+  std::optional<Vec3> fixed_turn;
+  auto fixed_torque = [&]() -> const Vec3& {
+    if (!fixed_turn) fixed_turn = fixed_group_torque();
+    return *fixed_turn;
+  };
   std::vector<double> row;
   row.reserve(columns.size());
   for (const auto& name : columns) {
@@ -891,6 +995,12 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       REQUIRE(comp >= 0 && comp <= 2, "series quantity '{}': expected a component .x, .y or .z",
               name);
       row.push_back(fixed_force()[comp]);
+    } else if (name == "fixed_torque" || name.starts_with("fixed_torque.")) {
+      // fixed_torque.x|y|z (alone: z), about the rotating fixed groups' centre.
+      const int comp = name.size() == 14 ? name.back() - 'x' : 2;
+      REQUIRE(comp >= 0 && comp <= 2, "series quantity '{}': expected a component .x, .y or .z",
+              name);
+      row.push_back(fixed_torque()[comp]);
     } else if (name == "kinetic_energy") {
       row.push_back(energies().kinetic_translational + energies().kinetic_rotational);
     } else if (name == "translational_kinetic_energy") {

@@ -159,6 +159,15 @@ class Simulation {
   double servo_target_force(std::size_t w) const;
   /// Moves the servo walls after a force evaluation (Wall::servo_step).
   void update_servos();
+  /// Places the grains of fixed groups with prescribed motion at time t: position
+  /// motion.carry(fixed_x0, t) wrapped into the periodic box, orientation motion.turn(fixed_q0,
+  /// t), velocity and angular velocity of the rigid motion there (and the angular momentum of
+  /// spherocylinders that goes with it). Analytic, so without drift. Within a step (drift_max_d2_
+  /// >= 0) it adds their displacements since the list build to the rebuild test.
+  void place_fixed_groups(double t);
+  /// Torque on the grains of the rotating fixed groups about their (common) rotation centre now,
+  /// N m: sum of (x_i - c(t)) x (f_i - m_i g) + torque_i, x_i not wrapped.
+  Vec3 fixed_group_torque() const;
   void compute_forces();
 
   config::Case cfg_;
@@ -188,6 +197,14 @@ class Simulation {
   bool pair_skip_on_ = true;
   mutable std::vector<double> end_moved_;
   bool gear_ = false;  ///< integrator: gear5
+  /// Prescribed motions of the fixed groups that move (`fixed: {translate, rotate}`), in case
+  /// order: motion k carries the grains whose `fixed` is ParticleStore::kFixedMoving + k.
+  /// `rotates`: the group has a rotate: motion (fixed_torque is about its centre).
+  struct FixedMotion {
+    RigidMotion motion;
+    bool rotates = false;
+  };
+  std::vector<FixedMotion> fixed_motions_;
   analysis::RheologyRegion rheo_region_;
   bool collect_virial_ = false;
   bool collect_contacts_ = false;

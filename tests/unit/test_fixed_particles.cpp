@@ -632,7 +632,8 @@ TEST(FixedParticlesInput, FlagIsReadAndDefaultsToFalse) {
   // yes / no are refused as everywhere.
   std::string yes = bed_case_text("    positions: [[0.05, 0.05, 0.005]]\n");
   yes.replace(yes.find("fixed: true"), 11, "fixed: yes");
-  EXPECT_NE(error_of(yes).find("t.yaml:10:12: error: particles[0].fixed: expected true or false"),
+  EXPECT_NE(error_of(yes).find("t.yaml:10:12: error: particles[0].fixed: expected true, false or "
+                               "a prescribed motion"),
             std::string::npos)
       << error_of(yes);
 }
@@ -794,4 +795,613 @@ walls:
   EXPECT_NE(error_of(free).find("t.yaml:1:14: error: time.step: expected a time step <="),
             std::string::npos)
       << error_of(free);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Fixed groups with prescribed motion (fixed: {translate, rotate}, the keys of walls[].motion)
+
+namespace {
+
+config::Motion translation(const Vec3& velocity, double start = 0) {
+  config::Motion m;
+  m.velocity = velocity;
+  m.start = start;
+  return m;
+}
+
+config::Motion rotation(const Vec3& axis, const Vec3& center, double rate,
+                        const Vec3& velocity = {}) {
+  config::Motion m;
+  m.rotates = true;
+  m.axis = normalized(axis);
+  m.center = center;
+  m.rate = rate;
+  m.velocity = velocity;
+  return m;
+}
+
+/// Makes group g of c a fixed group with prescribed motion m.
+void set_motion(config::Case& c, std::size_t g, const config::Motion& m) {
+  c.particles[g].fixed = true;
+  c.particles[g].motion = m;
+}
+
+/// Rodrigues: d turned by `angle` about the unit `axis` (independent of RigidMotion).
+Vec3 turned(const Vec3& d, const Vec3& axis, double angle) {
+  return std::cos(angle) * d + std::sin(angle) * cross(axis, d) +
+         (1 - std::cos(angle)) * dot(axis, d) * axis;
+}
+
+/// The reference state (position, orientation at t = 0) of every grain of a moving group, by id.
+std::map<std::int64_t, std::pair<Vec3, Quat>> moving_grains(const Simulation& sim) {
+  const auto& p = sim.particles();
+  std::map<std::int64_t, std::pair<Vec3, Quat>> out;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.fixed()[i] >= ParticleStore::kFixedMoving)
+      out[p.id()[i]] = {p.x()[i], p.has_shapes() ? p.orientation()[i] : Quat{}};
+  return out;
+}
+
+/// The free grains' touching pairs by brute force (all pairs, minimum image), fixed pairs left
+/// out as the list leaves them out: the count the force loop must find.
+std::int64_t brute_force_contacts(const Simulation& sim) {
+  const auto& p = sim.particles();
+  std::int64_t n = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (std::size_t j = i + 1; j < p.size(); ++j) {
+      if (p.fixed()[i] != 0 && p.fixed()[j] != 0) continue;
+      const double rs = p.radius()[i] + p.radius()[j];
+      if (norm2(sim.domain().delta(p.x()[i], p.x()[j])) < rs * rs) ++n;
+    }
+  return n;
+}
+
+/// A rough plate (100 fixed spheres, r = 1 mm) translating at 0.5 m/s along x and 0.1 m/s along
+/// y in a box periodic in x and y, with 60 free spheres thrown onto it under gravity.
+config::Case translating_plate_case(const std::string& integrator) {
+  auto c = sphere_bed_case(integrator);
+  c.walls.clear();  // (the plate would cut through the floor)
+  set_motion(c, 0, translation({0.5, 0.1, 0}));
+  return c;
+}
+
+}  // namespace
+
+// The plate's grains are where the motion puts them, x0 + V t wrapped into the periodic box, to
+// the last bit (analytic: no drift, whatever the number of steps), with velocity V and no spin;
+// the plate travels more than a box length along x, wrapping through the boundary, and drags the
+// free grains along.
+TEST_P(FixedParticlesIntegrator, TranslatingPlateIsExactAndWraps) {
+  Simulation sim(translating_plate_case(GetParam()));
+  ASSERT_TRUE(sim.particles().has_fixed_motion());
+  const auto x0 = moving_grains(sim);
+  ASSERT_EQ(x0.size(), 100u);
+  const Vec3 V{0.5, 0.1, 0};
+  const std::int64_t builds0 = sim.neighbor_list().n_builds();
+  int wrapped = 0;
+  double load = 0;
+  for (int s = 0; s < 9000; ++s) {  // 0.045 s: 22.5 mm along x, more than L_x = 20 mm
+    sim.step(true);
+    if (s % 1000 != 999) continue;
+    sim.complete_step();
+    load = std::max(load, std::abs(sim.quantity("fixed_force.z")));
+    const auto& p = sim.particles();
+    const double t = sim.time();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const auto it = x0.find(p.id()[i]);
+      if (it == x0.end()) continue;
+      Vec3 expected = it->second.first + t * V;  // (the formula, evaluated the same way)
+      sim.domain().wrap(expected);
+      EXPECT_TRUE(same_bits(p.x()[i], expected)) << "grain " << p.id()[i] << " at step " << s;
+      // Independently: the displacement is V t modulo the box.
+      const Vec3 d = sim.domain().delta(p.x()[i], it->second.first);
+      const Vec3 vt = t * V;
+      EXPECT_NEAR(std::remainder(d.x - vt.x, 0.02), 0.0, 1e-15);
+      EXPECT_NEAR(std::remainder(d.y - vt.y, 0.02), 0.0, 1e-15);
+      EXPECT_EQ(d.z, 0.0);
+      EXPECT_TRUE(same_bits(p.v()[i], V));
+      EXPECT_EQ(p.omega()[i], Vec3{});
+      if (p.x()[i].x < it->second.first.x) ++wrapped;
+    }
+  }
+  EXPECT_GT(wrapped, 0) << "no grain of the plate crossed the periodic boundary";
+  EXPECT_GT(load, 0.0) << "no free grain touched the plate";
+  EXPECT_GT(sim.neighbor_list().n_builds(), builds0);
+  // Friction on the plate drags the free grains along x.
+  const auto& p = sim.particles();
+  double vx = 0;
+  int n_free = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.fixed()[i] == 0) {
+      vx += p.v()[i].x;
+      ++n_free;
+    }
+  EXPECT_GT(vx / n_free, 0.05);
+}
+
+// A translation with a start time: at rest (and in place) before it, then x0 + V (t - start).
+TEST(FixedMotion, TranslationStartsAtItsStartTime) {
+  auto c = translating_plate_case("velocity_verlet");
+  c.particles[0].motion->start = 0.01;
+  Simulation sim(c);
+  const auto x0 = moving_grains(sim);
+  for (int s = 0; s < 3000; ++s) {
+    sim.step();
+    const double t = sim.time();
+    if (s % 500 != 0 && s != 1999 && s != 2000) continue;
+    const auto& p = sim.particles();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const auto it = x0.find(p.id()[i]);
+      if (it == x0.end()) continue;
+      if (t <= 0.01) {
+        EXPECT_TRUE(same_bits(p.x()[i], it->second.first)) << t;
+        EXPECT_EQ(p.v()[i], (t < 0.01 ? Vec3{} : Vec3{0.5, 0.1, 0})) << t;
+      } else {
+        Vec3 expected = it->second.first + (t - 0.01) * Vec3{0.5, 0.1, 0};
+        sim.domain().wrap(expected);
+        EXPECT_TRUE(same_bits(p.x()[i], expected)) << t;
+        EXPECT_EQ(p.v()[i], (Vec3{0.5, 0.1, 0}));
+      }
+    }
+  }
+}
+
+// A group of spherocylinders turning about a tilted axis, and a group of spheres turning and
+// translating (a paddle on a moving frame), among free rods and spheres under gravity: every
+// grain of them sits at c + V t + R(w t)(x0 - c), its axis turned by R(w t), with the rigid
+// velocity V + w x (x - c(t)), the angular velocity w and the angular momentum I w of its turned
+// body, checked against Rodrigues' formula evaluated here.
+TEST(FixedMotion, RotatingGroupsOfRodsAndSpheres) {
+  auto c = test::base_case(5e-6, 1.0, {0, 0, 0}, {0.04, 0.04, 0.04}, {true, true, false});
+  c.gravity = {0, 0, -9.81};
+  test::add_material(c, "pom", 1400, 1e7, 0.3);
+  test::add_contact(c, "pom", "pom", "hertz_mindlin",
+                    {{"restitution", 0.5}, {"friction", 0.4}, {"rolling_friction", 0.05}});
+  std::vector<Vec3> x;
+  std::vector<Quat> q;
+  for (int i = 0; i < 6; ++i) {
+    x.push_back({0.008 + 0.004 * i, 0.02, 0.006});
+    q.push_back(quat_from_axis_angle(normalized(Vec3{1, 2, 0}), 0.4 * i));
+  }
+  test::add_capsules(c, "pom", 0.001, 0.002, x, q);
+  const Vec3 axis = normalized(Vec3{0.2, -0.1, 1});
+  const Vec3 centre{0.02, 0.02, 0.005};
+  const double rate = 40;  // rad/s
+  set_motion(c, 0, rotation(axis, centre, rate));
+  test::add_spheres(c, "pom", 0.0012,
+                    {{0.01, 0.03, 0.012}, {0.014, 0.03, 0.012}, {0.018, 0.03, 0.012}});
+  const Vec3 V{0.2, 0, 0};
+  set_motion(c, 1, rotation({0, 0, 1}, {0.014, 0.03, 0.012}, -25, V));
+  auto& rods = test::add_capsule_fill(c, "pom", 0.001, 2.5, {0, 0, 0.016}, {0.04, 0.04, 0.035},
+                                      config::Fill::Lattice::Random);
+  rods.count = 25;
+  rods.seed = 9;
+  rods.velocity = {0, 0, -0.5};
+  c.output.quantities = {"fixed_force", "fixed_torque"};
+  Simulation sim(c);
+  const auto ref = moving_grains(sim);
+  ASSERT_EQ(ref.size(), 9u);
+  double load = 0;
+  for (int s = 0; s < 8000; ++s) {  // 0.04 s: 1.6 rad, and 8 mm along x
+    sim.step();
+    load = std::max(load, norm(Vec3{sim.quantity("fixed_force.x"), sim.quantity("fixed_force.y"),
+                                    sim.quantity("fixed_force.z")}));
+    if (s % 2000 != 1999) continue;
+    const double t = sim.time();
+    const auto& p = sim.particles();
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const auto it = ref.find(p.id()[i]);
+      if (it == ref.end()) continue;
+      const bool rod = p.id()[i] <= 6;
+      const Vec3 ax = rod ? axis : Vec3{0, 0, 1};
+      const double w = rod ? rate : -25.0;
+      const Vec3 c0 = rod ? centre : Vec3{0.014, 0.03, 0.012};
+      const Vec3 ct = rod ? c0 : c0 + t * V;
+      Vec3 expected = ct + turned(it->second.first - c0, ax, w * t);
+      sim.domain().wrap(expected);
+      EXPECT_LT(norm(sim.domain().delta(p.x()[i], expected)), 1e-15) << p.id()[i];
+      const Vec3 r = ct + turned(it->second.first - c0, ax, w * t) - ct;
+      const Vec3 v_expected = (rod ? Vec3{} : V) + cross(w * ax, r);
+      EXPECT_LT(norm(p.v()[i] - v_expected), 1e-14) << p.id()[i];
+      EXPECT_LT(norm(p.omega()[i] - w * ax), 1e-14) << p.id()[i];
+      if (!rod) continue;
+      const Vec3 body_axis = rotate(p.orientation()[i], Vec3{0, 0, 1});
+      const Vec3 axis_expected = turned(rotate(it->second.second, Vec3{0, 0, 1}), ax, w * t);
+      EXPECT_LT(norm(body_axis - axis_expected), 1e-14) << p.id()[i];
+      EXPECT_NEAR(norm2(p.orientation()[i]), 1.0, 1e-14);
+      const Vec3 wb = rotate_inverse(p.orientation()[i], p.omega()[i]);
+      const Vec3& I = p.inertia_body()[i];
+      const Vec3 L = rotate(p.orientation()[i], Vec3{I.x * wb.x, I.y * wb.y, I.z * wb.z});
+      EXPECT_LT(norm(p.angular_momentum()[i] - L), 1e-12 * norm(L)) << p.id()[i];
+    }
+  }
+  EXPECT_GT(load, 0.0) << "no free grain touched the moving groups";
+}
+
+// 2D: a turning paddle of hexagons (rotation about z; the sign of a 2D axis [0, 0, -1] is in the
+// rate) under both integrators: the orientation angle is angle0 + rate t, the position turned.
+class FixedMotion2D : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(FixedMotion2D, TurningPolygonsFollowTheirAngle) {
+  auto c = two_d_case(true, GetParam());
+  const Vec3 centre{0.02, 0.002, 0};
+  set_motion(c, 0, rotation({0, 0, 1}, centre, -30));
+  Simulation sim(c);
+  const auto ref = moving_grains(sim);
+  ASSERT_EQ(ref.size(), 10u);
+  for (int s = 0; s < 6000; ++s) sim.step();
+  const double t = sim.time(), angle = -30 * t;
+  const auto& p = sim.particles();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto it = ref.find(p.id()[i]);
+    if (it == ref.end()) continue;
+    Vec3 expected = centre + turned(it->second.first - centre, {0, 0, 1}, angle);
+    sim.domain().wrap(expected);
+    EXPECT_LT(norm(sim.domain().delta(p.x()[i], expected)), 1e-15);
+    EXPECT_EQ(p.x()[i].z, 0.0);
+    // The body's x axis turned by angle0 + angle, angle0 = 0.3 (id - 1).
+    const Vec3 ex = rotate(p.orientation()[i], Vec3{1, 0, 0});
+    const double a = 0.3 * static_cast<double>(p.id()[i] - 1) + angle;
+    EXPECT_LT(norm(ex - Vec3{std::cos(a), std::sin(a), 0}), 1e-14);
+    EXPECT_EQ(p.omega()[i], (Vec3{0, 0, -30}));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Both, FixedMotion2D, ::testing::Values("velocity_verlet", "gear5"),
+                         [](const auto& param_info) { return std::string(param_info.param); });
+
+// The neighbour list follows moving fixed grains: free grains at rest (no gravity, apart), a
+// plate sweeping through them along the periodic x axis and a paddle of spheres turning among
+// them. The free grains alone would never ask for a rebuild; the contacts the force loop finds
+// equal a brute-force count over all pairs (velocity Verlet: the positions after a step are
+// those the forces saw; Gear corrects them afterwards).
+TEST(FixedMotion, NeighbourListFollowsMovingFixedGrains) {
+  auto c = test::base_case(5e-6, 1.0, {0, 0, 0}, {0.02, 0.02, 0.02}, {true, true, false});
+  test::add_material(c, "glass", 2500, 1e7, 0.3);
+  test::add_contact(c, "glass", "glass", "hertz_mindlin",
+                    {{"restitution", 0.5}, {"friction", 0.5}});
+  test::add_fixed_sphere_layer(c, "glass", 0.001, 0.002, 0, 0.01, 0, 0.02, 0.004);
+  set_motion(c, 0, translation({1.0, 0, 0}));
+  test::add_spheres(c, "glass", 0.001, {{0.0145, 0.01, 0.014}, {0.0175, 0.01, 0.014}});
+  set_motion(c, 1, rotation({0, 1, 0}, {0.016, 0.01, 0.014}, 150));
+  // Free grains 2.5 mm ahead of the plate (in its path: it reaches them after 500 steps, having
+  // moved six skins) and around the paddle (whose grains reach new neighbours after a turn of a
+  // fraction of a radian).
+  auto& f = test::add_box_fill(c, "glass", 0.0008, 0.0008, {0.0125, 0, 0.0025}, {0.02, 0.02, 0.018},
+                               config::Fill::Lattice::Random);
+  f.count = 150;
+  f.seed = 5;
+  Simulation sim(c);
+  std::int64_t touching = 0;
+  const std::int64_t builds0 = sim.neighbor_list().n_builds();
+  ASSERT_EQ(sim.n_contacts(), 0);
+  for (int s = 0; s < 3000; ++s) {
+    sim.step();
+    const std::int64_t expected = brute_force_contacts(sim);
+    ASSERT_EQ(sim.n_contacts(), expected) << "step " << s;
+    touching += expected;
+  }
+  EXPECT_GT(touching, 100);
+  EXPECT_GT(sim.neighbor_list().n_builds(), builds0 + 5);
+}
+
+// Checkpoints carry the reference state; a restart continues bit-identically (spheres on a
+// translating plate across the periodic boundary; turning rods and spheres; Gear with turning
+// hexagons), also with two threads (suite name Restart*).
+TEST(RestartFixedParticles, TranslatingPlateContinuesBitIdentically) {
+  expect_restart_continues(translating_plate_case("velocity_verlet"), "plate", 2500, 2500);
+}
+
+TEST(RestartFixedParticles, TurningRodsContinueBitIdentically) {
+  auto c = test::base_case(5e-6, 1.0, {0, 0, 0}, {0.03, 0.03, 0.03}, {true, true, false});
+  c.gravity = {0, 0, -9.81};
+  test::add_material(c, "pom", 1400, 1e7, 0.3);
+  test::add_contact(c, "pom", "pom", "hertz_mindlin", {{"restitution", 0.5}, {"friction", 0.4}});
+  test::add_capsules(c, "pom", 0.001, 0.004,
+                     {{0.009, 0.015, 0.004}, {0.015, 0.015, 0.004}, {0.021, 0.015, 0.004}},
+                     {quat_from_axis_angle({1, 0, 0}, 1.5707963267948966), Quat{},
+                      quat_from_axis_angle({0, 1, 0}, 1.5707963267948966)});
+  set_motion(c, 0, rotation({0, 0, 1}, {0.015, 0.015, 0.004}, 60, {0.3, 0, 0}));
+  auto& rods = test::add_capsule_fill(c, "pom", 0.001, 2.5, {0, 0, 0.01}, {0.03, 0.03, 0.028},
+                                      config::Fill::Lattice::Random);
+  rods.count = 20;
+  rods.seed = 4;
+  rods.velocity = {0, 0, -0.5};
+  c.output.quantities = {"fixed_force", "fixed_torque"};
+  expect_restart_continues(c, "rods", 3000, 3000);
+}
+
+TEST(RestartFixedParticles, GearTurningPolygonsContinueBitIdentically) {
+  auto c = two_d_case(true, "gear5");
+  set_motion(c, 0, rotation({0, 0, 1}, {0.02, 0.002, 0}, 20, {0.1, 0, 0}));
+  expect_restart_continues(c, "polygons_moving", 3000, 3000);
+}
+
+// A checkpoint whose grains name a motion the case does not have is refused; runs without a
+// moving group carry no reference fields.
+TEST(RestartFixedParticles, MotionsMustMatchTheCase) {
+  Simulation at_rest(sphere_bed_case("velocity_verlet"));
+  EXPECT_FALSE(at_rest.particles().has_fixed_motion());
+  EXPECT_EQ(at_rest.particles().find_field("fixed_x0"), -1);
+  EXPECT_EQ(at_rest.particles().find_field("fixed_q0"), -1);
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("gf_fixed_motion_" + std::to_string(::getpid()) + ".h5");
+  auto moving = translating_plate_case("velocity_verlet");
+  Simulation(moving).save_checkpoint(file);
+  // Without the motion (fixed: true): the checkpoint's grains follow motion 1 of none.
+  auto none = moving;
+  none.particles[0].motion.reset();
+  Simulation sim(none);
+  try {
+    sim.load_checkpoint(file);
+    ADD_FAILURE() << "a checkpoint with moving grains continued a case without motion";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("belongs to a fixed group with prescribed motion 1"),
+              std::string::npos)
+        << e.what();
+  }
+  std::filesystem::remove(file);
+}
+
+// fixed_torque: the torque on the turning groups about their centre c(t) (which translates with
+// them), the sum over their grains of (x - c) x (f - m g) + torque, x not wrapped; fixed_force
+// still sums every fixed grain.
+TEST(FixedMotion, FixedTorqueIsAboutTheRotationCentre) {
+  auto c = test::base_case(5e-6, 1.0, {0, 0, 0}, {0.02, 0.02, 0.03}, {true, true, false});
+  c.gravity = {0, 0, -9.81};
+  test::add_material(c, "glass", 2500, 1e7, 0.3);
+  test::add_contact(c, "glass", "glass", "hertz_mindlin",
+                    {{"restitution", 0.5}, {"friction", 0.5}});
+  test::add_fixed_sphere_layer(c, "glass", 0.001, 0.002, 0, 0.02, 0, 0.02, 0.001);  // at rest
+  const Vec3 centre{0.01, 0.01, 0.005}, V{0.4, 0, 0};
+  test::add_spheres(
+      c, "glass", 0.001,
+      {{0.006, 0.01, 0.005}, {0.008, 0.01, 0.005}, {0.012, 0.01, 0.005}, {0.014, 0.01, 0.005}});
+  set_motion(c, 1, rotation({0, 0, 1}, centre, 50, V));
+  // Free grains resting on the paddle's grains (0.1 mm above them) and more falling.
+  test::add_spheres(c, "glass", 0.0008,
+                    {{0.006, 0.01, 0.0069},
+                     {0.008, 0.0102, 0.0069},
+                     {0.012, 0.0098, 0.0069},
+                     {0.014, 0.01, 0.0069}});
+  auto& f = test::add_box_fill(c, "glass", 0.0008, 0.0008, {0, 0, 0.0085}, {0.02, 0.02, 0.025},
+                               config::Fill::Lattice::Random);
+  f.count = 80;
+  f.seed = 3;
+  c.output.quantities = {"fixed_force", "fixed_torque"};
+  Simulation sim(c);
+  EXPECT_EQ(sim.series_columns(),
+            (std::vector<std::string>{"fixed_force.x", "fixed_force.y", "fixed_force.z",
+                                      "fixed_torque.x", "fixed_torque.y", "fixed_torque.z"}));
+  const auto ref = moving_grains(sim);
+  double largest = 0;
+  for (int s = 0; s < 8000; ++s) {
+    sim.step();
+    if (s % 400 != 399) continue;
+    const double t = sim.time();
+    const auto& p = sim.particles();
+    Vec3 torque{}, force{};
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.fixed()[i] != 0) force += p.f()[i] - p.mass()[i] * sim.gravity();
+      const auto it = ref.find(p.id()[i]);
+      if (it == ref.end()) continue;
+      const Vec3 arm = turned(it->second.first - centre, {0, 0, 1}, 50 * t);
+      torque += cross(arm, p.f()[i] - p.mass()[i] * sim.gravity()) + p.torque()[i];
+    }
+    const auto row = sim.series_row(sim.series_columns());
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(row[static_cast<std::size_t>(k)], force[k]);
+      EXPECT_NEAR(row[3 + static_cast<std::size_t>(k)], torque[k], 1e-12 * (norm(torque) + 1e-9));
+    }
+    EXPECT_EQ(sim.quantity("fixed_torque"), row[5]);
+    largest = std::max(largest, norm(torque));
+  }
+  EXPECT_GT(largest, 0.0) << "no free grain touched the paddle";
+}
+
+// ---------------------------------------------------------------------------------------------
+// Input of prescribed motions
+
+namespace {
+
+/// bed_case_text with the bed's fixed: replaced by `fixed` (its text after "fixed: ").
+std::string moving_bed_text(const std::string& fixed, const std::string& bed_extra,
+                            const std::string& quantities = "[kinetic_energy, fixed_force.z]") {
+  std::string text = bed_case_text(bed_extra, quantities);
+  text.replace(text.find("fixed: true"), 11, "fixed: " + fixed);
+  return text;
+}
+
+}  // namespace
+
+// fixed: takes the keys of walls[].motion, read by the same reader: translate {velocity,
+// start}, rotate {axis, center, rpm | rate}, both together (a turning paddle on a moving frame).
+TEST(FixedMotionInput, MotionIsReadWithTheWallsKeys) {
+  const std::string bed = "    positions: [[0.05, 0.05, 0.005]]\n";
+  auto c = input::load_case_text(
+      moving_bed_text("{translate: {velocity: [0.1, 0, 0], start: 0.002}}", bed), "t.yaml");
+  ASSERT_TRUE(c.particles[0].motion);
+  EXPECT_TRUE(c.particles[0].fixed);
+  EXPECT_EQ(c.particles[0].motion->velocity, (Vec3{0.1, 0, 0}));
+  EXPECT_EQ(c.particles[0].motion->start, 0.002);
+  EXPECT_FALSE(c.particles[0].motion->rotates);
+  EXPECT_FALSE(c.particles[1].motion);
+  EXPECT_EQ(c.particles[0].fixed_loc.line, 10);
+  c = input::load_case_text(
+      moving_bed_text("\n      rotate: {axis: [0, 0, 2], center: [0.05, 0.05, 0], rpm: 60}\n"
+                      "      translate: {velocity: [0, 0.1, 0]}",
+                      bed),
+      "t.yaml");
+  ASSERT_TRUE(c.particles[0].motion);
+  EXPECT_TRUE(c.particles[0].motion->rotates);
+  EXPECT_EQ(c.particles[0].motion->axis, (Vec3{0, 0, 1}));
+  EXPECT_EQ(c.particles[0].motion->center, (Vec3{0.05, 0.05, 0}));
+  EXPECT_NEAR(c.particles[0].motion->rate, 2 * std::numbers::pi, 1e-15);
+  EXPECT_EQ(c.particles[0].motion->velocity, (Vec3{0, 0.1, 0}));
+  EXPECT_EQ(error_of(moving_bed_text("\n      rotate: {axis: [0, 0, 1], center: [0.05, 0.05, "
+                                     "0], rpm: 60}\n      translate: {velocity: [0, 0.1, 0]}",
+                                     bed)),
+            "");
+  // A translation at zero velocity is rest.
+  c = input::load_case_text(moving_bed_text("{translate: {velocity: [0, 0, 0]}}", bed), "t.yaml");
+  EXPECT_TRUE(c.particles[0].fixed);
+  EXPECT_FALSE(c.particles[0].motion);
+  // fixed: false is a free group.
+  c = input::load_case_text(moving_bed_text("false", bed, "[kinetic_energy]"), "t.yaml");
+  EXPECT_FALSE(c.particles[0].fixed);
+}
+
+// Bad input: each an error at its file:line:column and key path, naming what was expected.
+TEST(FixedMotionInput, BadMotionsAreClearErrors) {
+  const std::string bed = "    positions: [[0.05, 0.05, 0.005]]\n";
+  struct Bad {
+    std::string fixed, extra, expected;
+  };
+  const std::string forms =
+      "expected true, false or a prescribed motion with the keys of walls[].motion: {translate: "
+      "{velocity: V, start: T}, rotate: {axis: A, center: C, rpm: N (or rate: W)}}";
+  const std::vector<Bad> cases{
+      {"yes", bed, "t.yaml:10:12: error: particles[0].fixed: " + forms + ", found 'yes'"},
+      {"3", bed, "t.yaml:10:12: error: particles[0].fixed: " + forms + ", found '3'"},
+      {"[0.1, 0, 0]", bed, "t.yaml:10:12: error: particles[0].fixed: " + forms},
+      {"{}", bed, "t.yaml:10:12: error: particles[0].fixed: " + forms + " (an empty map"},
+      {"{velocity: [0.1, 0, 0]}", bed, "particles[0].fixed.velocity: unknown key"},
+      {"{translate: {velocity: 0.1}}", bed, "particles[0].fixed.translate.velocity: expected"},
+      {"{rotate: {center: [0, 0, 0], rpm: 10}}", bed,
+       "missing required key 'axis' in 'particles[0].fixed.rotate'"},
+      {"{rotate: {axis: [0, 0, 1], rpm: 10, rate: 1}}", bed, "particles[0].fixed.rotate"},
+      {"{translate: {velocity: [0.1, 0, 0]}}",
+       "    positions: [[0.02, 0.05, 0.005], [0.05, 0.05, 0.005]]\n"
+       "    velocities: [[0, 0, 0], [0.1, 0, 0]]\n",
+       "t.yaml:12:29: error: particles[0].velocities[1]: the grains of a fixed group with a "
+       "prescribed motion (fixed: {translate, rotate}) take their velocities from the motion; "
+       "expected no initial velocity (or zero), found [0.1, 0, 0] for particle 1"},
+      {"{rotate: {axis: [0, 0, 1], rpm: 10}}",
+       "    fill: {box: {min: [0, 0, 0], max: [0.1, 0.1, 0.01]}, velocity: [0, 0, -1]}\n",
+       "particles[0].fill.velocity: the grains of a fixed group with a prescribed motion"},
+  };
+  for (const auto& b : cases) {
+    const std::string msg = error_of(moving_bed_text(b.fixed, b.extra));
+    EXPECT_NE(msg.find(b.expected), std::string::npos) << b.fixed << "\n" << msg;
+  }
+  // Unknown keys name the accepted ones.
+  EXPECT_NE(error_of(moving_bed_text("{velocity: [0.1, 0, 0]}", bed)).find("translate"),
+            std::string::npos);
+
+  // fixed_torque needs a turning group, and one centre.
+  std::string msg = error_of(moving_bed_text("{translate: {velocity: [0.1, 0, 0]}}", bed,
+                                             "[fixed_force, fixed_torque.z]"));
+  EXPECT_NE(msg.find("series quantity 'fixed_torque.z' is the torque on the rotating fixed "
+                     "groups about their rotation centre; it needs a particle group with fixed: "
+                     "{rotate: {...}}"),
+            std::string::npos)
+      << msg;
+  std::string two = moving_bed_text("{rotate: {axis: [0, 0, 1], center: [0.05, 0.05, 0], rpm: 10}}",
+                                    bed, "[fixed_torque]");
+  two.replace(two.find("  - radius: 0.005\n    material: glass\n    positions: [[0.05, 0.05, "
+                       "0.08]]"),
+              0,
+              "  - radius: 0.005\n    material: glass\n    fixed: {rotate: {axis: [0, 0, 1], "
+              "center: [0.02, 0.05, 0], rpm: 10}}\n    positions: [[0.02, 0.02, 0.05]]\n");
+  msg = error_of(two);
+  EXPECT_NE(msg.find("error: output.series.quantities[0]: series quantity 'fixed_torque' is the "
+                     "torque on the rotating fixed groups about their rotation centre; expected "
+                     "one centre, but the groups at t.yaml:10 and t.yaml:14 turn about different "
+                     "ones"),
+            std::string::npos)
+      << msg;
+  // The same centre: accepted.
+  std::string same = two;
+  const std::string other_centre = "center: [0.02, 0.05, 0]";
+  same.replace(same.find(other_centre), other_centre.size(), "center: [0.05, 0.05, 0]");
+  EXPECT_EQ(error_of(same), "");
+
+  // Lees-Edwards: refused at the group's fixed: value.
+  const std::string le = R"(time: {step: 1.0e-5, end: 0.01}
+domain: {min: [0, 0, 0], max: [0.1, 0.1, 0.1], periodic: [true, true, true]}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+particles:
+  - radius: 0.005
+    material: glass
+    fixed: {translate: {velocity: [0.1, 0, 0]}}
+    positions: [[0.05, 0.05, 0.05]]
+shear: {rate: 10, boundary: lees_edwards}
+)";
+  msg = error_of(le);
+  EXPECT_NE(msg.find("t.yaml:10:12: error: particles[0].fixed: a fixed group with a prescribed "
+                     "motion is not available in a Lees-Edwards shear box"),
+            std::string::npos)
+      << msg;
+  auto code = input::load_case_text(bed_case_text(bed), "t.yaml");
+  code.particles[0].motion = translation({0.1, 0, 0});
+  code.particles[0].explicit_particles->velocities = {{0.1, 0, 0}};
+  EXPECT_THROW(Simulation{code}, InputError);
+  code.particles[0].explicit_particles->velocities.clear();
+  code.particles[0].fixed = false;
+  EXPECT_THROW(Simulation{code}, InputError);
+
+  // The command line: exit code 2, the message on stderr.
+  test::TempDir dir;
+  const auto bad = dir.write("bad.yaml", moving_bed_text("{}", bed));
+  const std::string cmd =
+      std::string(GF_BINARY) + " check " + bad.string() + " > " + (dir / "log").string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  EXPECT_NE(read_text_file(dir / "log").find("bad.yaml:10:12: error: particles[0].fixed: expected"),
+            std::string::npos)
+      << read_text_file(dir / "log");
+}
+
+// The echo writes a moving group's fixed: as a motion map (the walls' form, rate in rad/s) and
+// loads back to the same motion; check reports the moving group's speed in the impact speed.
+TEST(FixedMotionInput, EchoRoundTripsAndCheckCountsTheSpeed) {
+  const auto c = input::load_case_text(
+      moving_bed_text("{translate: {velocity: [2, 0, 0], start: 0.001}, rotate: {axis: [0, 1, "
+                      "0], center: [0.05, 0.05, 0.005], rpm: 30}}",
+                      "    positions: [[0.05, 0.05, 0.005]]\n", "[fixed_force, fixed_torque]"),
+      "t.yaml");
+  const std::string text = input::echo_yaml(c, "1");
+  EXPECT_NE(text.find("fixed:\n      translate: {velocity: [2, 0, 0], start: 0.001}"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("fixed: false"), std::string::npos) << text;
+  test::TempDir dir;
+  const auto again = input::load_case(dir.write("echo.yaml", text));
+  ASSERT_TRUE(again.particles[0].motion);
+  EXPECT_EQ(again.particles[0].motion->velocity, c.particles[0].motion->velocity);
+  EXPECT_EQ(again.particles[0].motion->start, c.particles[0].motion->start);
+  EXPECT_EQ(again.particles[0].motion->axis, c.particles[0].motion->axis);
+  EXPECT_EQ(again.particles[0].motion->center, c.particles[0].motion->center);
+  EXPECT_EQ(again.particles[0].motion->rate, c.particles[0].motion->rate);
+  const std::string second = input::echo_yaml(again, "1");
+  const auto third = input::load_case(dir.write("echo2.yaml", second));
+  EXPECT_EQ(body(input::echo_yaml(third, "1")), body(second));
+  // The impact speed: the free grain's 1 m/s is below the group's 2 m/s + pi rad/s x reach.
+  std::string impact;
+  for (const auto& [k, v] : input::validate(c).derived)
+    if (k.rfind("impact speed", 0) == 0) impact = v;
+  EXPECT_NE(impact.find("(initial 2.3"), std::string::npos) << impact;
+}
+
+// check warns when a translation carries a group out of the box along a non-periodic axis (its
+// grains then meet nothing); along periodic axes the group wraps.
+TEST(FixedMotionInput, CheckWarnsWhenAGroupLeavesTheBox) {
+  std::string text = moving_bed_text("{translate: {velocity: [0, 0.2, 0]}}",
+                                     "    positions: [[0.05, 0.05, 0.005]]\n");
+  text.replace(text.find("end: 0.01"), 9, "end: 1.0");
+  std::string warning;
+  for (const auto& w : input::validate(input::load_case_text(text, "t.yaml")).warnings)
+    if (w.find("fixed group") != std::string::npos) warning = w;
+  EXPECT_EQ(
+      warning,
+      "t.yaml:10: the fixed group's translation carries it 0.2 m along y by time.end, more "
+      "than the domain's length 0.1 m along that non-periodic axis: its grains leave the box");
+  text.replace(text.find("max: [0.1, 0.1, 0.1]}"), 21,
+               "max: [0.1, 0.1, 0.1], periodic: [false, true, false]}");
+  for (const auto& w : input::validate(input::load_case_text(text, "t.yaml")).warnings)
+    EXPECT_EQ(w.find("fixed group"), std::string::npos) << w;
 }

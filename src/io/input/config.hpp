@@ -134,6 +134,17 @@ struct PolygonSpec {
 /// Shapes: sphere (3D), spherocylinder (3D), disk (2D), polygon (2D).
 enum class Shape { Sphere, Spherocylinder, Disk, Polygon };
 
+/// Prescribed rigid motion (walls[].motion, and fixed particle groups): a translation at
+/// `velocity` from `start` on and a rotation about `axis` through `center` from t = 0.
+struct Motion {
+  Vec3 velocity;     ///< translation, m/s
+  double start = 0;  ///< s: the translation begins at this time (the wall rests before)
+  bool rotates = false;
+  Vec3 axis{0, 0, 1};  ///< unit rotation axis
+  Vec3 center;         ///< a point on the rotation axis at t = 0, m
+  double rate = 0;     ///< rad/s (from `rpm` or `rate`)
+};
+
 struct ParticleGroup {
   std::string shape = "sphere";  ///< as written; `kind` is the parsed value
   Shape kind = Shape::Sphere;
@@ -155,16 +166,12 @@ struct ParticleGroup {
   /// integrated, count as infinitely heavy in their contacts with free grains, and touch neither
   /// one another nor walls (docs/models/fixed_particles.md). Initial velocities are refused.
   bool fixed = false;
+  /// `fixed: {translate: ..., rotate: ...}` (the keys of walls[].motion): a fixed group whose
+  /// grains follow this prescribed rigid motion instead of resting (fixed is then true); none:
+  /// at rest.
+  std::optional<Motion> motion;
+  SourceLoc fixed_loc;  ///< where the value of `fixed:` is (empty without the key)
   SourceLoc loc;
-};
-
-struct Motion {
-  Vec3 velocity;     ///< translation, m/s
-  double start = 0;  ///< s: the translation begins at this time (the wall rests before)
-  bool rotates = false;
-  Vec3 axis{0, 0, 1};  ///< unit rotation axis
-  Vec3 center;         ///< a point on the rotation axis at t = 0, m
-  double rate = 0;     ///< rad/s (from `rpm` or `rate`)
 };
 
 /// Stress-controlled (servo) plane wall: it moves along its normal so that the particles push

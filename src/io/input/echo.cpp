@@ -188,14 +188,37 @@ void emit_size(YAML::Emitter& out, const config::ParticleGroup& g, bool radius_f
   }
 }
 
+/// A prescribed motion, as walls[].motion and particles[].fixed take it: {translate, rotate}.
+void emit_motion(YAML::Emitter& out, const config::Motion& m, int dim) {
+  out << YAML::BeginMap;
+  if (!(m.velocity == Vec3{})) {
+    out << YAML::Key << "translate" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    key_vec(out, "velocity", m.velocity, dim);
+    key_number(out, "start", m.start);
+    out << YAML::EndMap;
+  }
+  if (m.rotates) {
+    out << YAML::Key << "rotate" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    if (dim != 2) key_vec(out, "axis", m.axis, dim);  // 2D: about z
+    key_vec(out, "center", m.center, dim);
+    key_number(out, "rate", m.rate);
+    out << YAML::EndMap << YAML::Comment("rate in rad/s");
+  }
+  out << YAML::EndMap;
+}
+
 void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config::Case& c) {
   out << YAML::BeginMap;
   out << YAML::Key << "shape" << YAML::Value << g.shape;
   const bool radius_from_file = g.explicit_particles && !g.explicit_particles->radii.empty();
   emit_size(out, g, radius_from_file);
   out << YAML::Key << "material" << YAML::Value << g.material;
-  out << YAML::Key << "fixed" << YAML::Value << g.fixed;
   const int dim = c.dimension;
+  out << YAML::Key << "fixed" << YAML::Value;
+  if (g.motion)
+    emit_motion(out, *g.motion, dim);  // a fixed group with a prescribed motion
+  else
+    out << g.fixed;
   if (g.fill) emit_fill(out, *g.fill, g, dim);
   if (g.explicit_particles) {
     const auto& ex = *g.explicit_particles;
@@ -280,23 +303,9 @@ void emit_wall(YAML::Emitter& out, const config::Wall& w, int dim) {
       break;
   }
   out << YAML::Key << "material" << YAML::Value << w.material;
-  const bool translates = !(w.motion.velocity == Vec3{});
-  if (translates || w.motion.rotates) {
-    out << YAML::Key << "motion" << YAML::Value << YAML::BeginMap;
-    if (translates) {
-      out << YAML::Key << "translate" << YAML::Value << YAML::Flow << YAML::BeginMap;
-      key_vec(out, "velocity", w.motion.velocity, dim);
-      key_number(out, "start", w.motion.start);
-      out << YAML::EndMap;
-    }
-    if (w.motion.rotates) {
-      out << YAML::Key << "rotate" << YAML::Value << YAML::Flow << YAML::BeginMap;
-      if (dim != 2) key_vec(out, "axis", w.motion.axis, dim);  // 2D: about z
-      key_vec(out, "center", w.motion.center, dim);
-      key_number(out, "rate", w.motion.rate);
-      out << YAML::EndMap << YAML::Comment("rate in rad/s");
-    }
-    out << YAML::EndMap;
+  if (!(w.motion.velocity == Vec3{}) || w.motion.rotates) {
+    out << YAML::Key << "motion" << YAML::Value;
+    emit_motion(out, w.motion, dim);
   }
   if (w.servo) {
     out << YAML::Key << "servo" << YAML::Value << YAML::Flow << YAML::BeginMap;

@@ -46,6 +46,13 @@ Quat quat_about_z(double angle) {
   return quat_from_axis_angle(Vec3{0, 0, 1}, angle);
 }
 
+/// The rule a fixed group's initial velocities break, for the messages that refuse them.
+std::string fixed_rule(const config::ParticleGroup& g) {
+  return g.motion ? "the grains of a fixed group with a prescribed motion (fixed: {translate, "
+                    "rotate}) take their velocities from the motion"
+                  : "the grains of a fixed group (fixed: true) stay at rest";
+}
+
 const char* shape_name(config::Shape s) {
   switch (s) {
     case config::Shape::Sphere:
@@ -105,9 +112,12 @@ struct Reader {
   void read_materials(const YamlMap& root);
   void read_contacts(const YamlMap& root);
   void read_particles(const YamlMap& root);
-  /// A group with fixed: true: no grain of `ex` may have a non-zero velocity or angular velocity
-  /// (InputError at its list entry, or its line of the CSV file).
-  void check_fixed_at_rest(const YamlMap& gm, const config::Explicit& ex) const;
+  /// A fixed group (at rest or with a prescribed motion): no grain of `ex` may have a non-zero
+  /// velocity or angular velocity (InputError at its list entry, or its line of the CSV file).
+  void check_fixed_at_rest(const YamlMap& gm, const config::ParticleGroup& g,
+                           const config::Explicit& ex) const;
+  /// `fixed:` true, false, or a prescribed motion (the keys of walls[].motion, read_motion).
+  void read_fixed(const YamlNode& node, config::ParticleGroup& g);
   config::ParticleGroup read_group(const YamlNode& node);
   void read_shape(const YamlMap& gm, config::ParticleGroup& g) const;
   void read_size(const YamlMap& gm, config::ParticleGroup& g);
@@ -124,6 +134,9 @@ struct Reader {
   void read_output(const YamlMap& root);
   std::optional<config::OutputEvery> read_interval(const YamlMap& m, bool off_allowed) const;
   void read_shear(const YamlMap& root);
+  /// The series quantity fixed_torque[.x|.y|.z] (`item`): it needs a rotating fixed group, and
+  /// all of them share one centre.
+  void check_fixed_torque(const YamlNode& item, const std::string& name) const;
   void read_analysis(const YamlMap& root);
   void read_sweep(const YamlMap& root);
   void read_fluid(const YamlMap& root);
@@ -213,6 +226,13 @@ void Reader::read_shear(const YamlMap& root) {
       if (!w.from_shear)
         sn->fail(
             fmt::format("a Lees-Edwards shear box has no walls, but walls: declares '{}'", w.name));
+    for (const auto& g : c.particles)
+      if (g.motion)
+        throw_input_error(
+            g.fixed_loc,
+            "a fixed group with a prescribed motion is not available in a Lees-Edwards shear box "
+            "(its grains would cross the sliding boundary, which remaps velocities); expected "
+            "fixed: true (grains at rest) or shear boundary: walls");
   }
   c.shear = std::move(sh);
 }
@@ -671,14 +691,11 @@ config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup
   if (g.fixed) {
     if (f.velocity != Vec3{})
       fm.at("velocity")
-          .fail(fmt::format("the grains of a fixed group (fixed: true) stay at rest; expected no "
-                            "initial velocity "
-                            "(or zero), found {}",
+          .fail(fmt::format("{}; expected no initial velocity (or zero), found {}", fixed_rule(g),
                             text(f.velocity)));
     if (f.velocity_jitter > 0)
       fm.at("velocity_jitter")
-          .fail(fmt::format("the grains of a fixed group (fixed: true) stay at rest; expected no "
-                            "velocity jitter (or 0), found {}",
+          .fail(fmt::format("{}; expected no velocity jitter (or 0), found {}", fixed_rule(g),
                             number_text(f.velocity_jitter)));
   }
   if (auto m = fm.find("max_attempts")) {
@@ -1097,7 +1114,7 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
                     "angles", "file", "fixed"});
   config::ParticleGroup g;
   g.loc = node.loc();
-  g.fixed = gm.boolean_or("fixed", false);
+  if (auto fx = gm.find("fixed")) read_fixed(*fx, g);
   read_shape(gm, g);
   if (g.kind == config::Shape::Polygon) g.polygon = read_polygon(gm.at("polygon"));
   const YamlNode mat = gm.at("material");
@@ -1148,7 +1165,7 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
     } else {
       read_size(gm, g);
     }
-    if (g.fixed) check_fixed_at_rest(gm, ex);
+    if (g.fixed) check_fixed_at_rest(gm, g, ex);
     g.explicit_particles = std::move(ex);
     return g;
   }
@@ -1158,13 +1175,39 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
   } else {
     config::Explicit ex;
     read_positions(gm, g, ex);
-    if (g.fixed) check_fixed_at_rest(gm, ex);
+    if (g.fixed) check_fixed_at_rest(gm, g, ex);
     g.explicit_particles = std::move(ex);
   }
   return g;
 }
 
-void Reader::check_fixed_at_rest(const YamlMap& gm, const config::Explicit& ex) const {
+void Reader::read_fixed(const YamlNode& node, config::ParticleGroup& g) {
+  g.fixed_loc = node.loc();
+  constexpr std::string_view forms =
+      "true, false or a prescribed motion with the keys of walls[].motion: {translate: "
+      "{velocity: V, start: T}, rotate: {axis: A, center: C, rpm: N (or rate: W)}}";
+  if (!node.is_map()) {
+    try {
+      g.fixed = node.as_bool();
+    } catch (const InputError&) {
+      node.fail_expected(forms);
+    }
+    return;
+  }
+  if (node.raw().size() == 0)
+    node.fail_expected(fmt::format(
+        "{} (an empty map names no motion; give 'translate' and/or 'rotate', or fixed: true for "
+        "grains at rest)",
+        forms));
+  // The same reader as the walls' motions: one syntax, one meaning (boundaries/motion.hpp).
+  const config::Motion m = read_motion(node);
+  g.fixed = true;
+  // A translation at zero velocity without rotation is rest: the group is fixed at rest.
+  if (m.rotates || !(m.velocity == Vec3{})) g.motion = m;
+}
+
+void Reader::check_fixed_at_rest(const YamlMap& gm, const config::ParticleGroup& g,
+                                 const config::Explicit& ex) const {
   // The first grain given a velocity or an angular velocity, at its list entry or CSV line.
   for (const auto& [key, values, what] :
        {std::tuple{"velocities", &ex.velocities, "velocity"},
@@ -1174,10 +1217,9 @@ void Reader::check_fixed_at_rest(const YamlMap& gm, const config::Explicit& ex) 
       if (v == Vec3{}) continue;
       const std::string found =
           two_d() && values == &ex.angular_velocities ? number_text(v.z) : text(v);
-      const std::string msg = fmt::format(
-          "the grains of a fixed group (fixed: true) stay at rest; expected no initial {} (or "
-          "zero), found {} for particle {}",
-          what, found, k);
+      const std::string msg =
+          fmt::format("{}; expected no initial {} (or zero), found {} for particle {}",
+                      fixed_rule(g), what, found, k);
       if (!ex.file.empty()) {
         const YamlNode fn = gm.at("file");
         throw_input_error({ex.file.string(), ex.lines[k], 1, fn.path()},
@@ -1456,8 +1498,8 @@ void Reader::read_output(const YamlMap& root) {
             hint = fmt::format(" (did you mean '{}'?)", *near);
           item.fail(fmt::format(
               "unknown series quantity '{}'{}; accepted: {}, wall_force.WALL, wall_torque.WALL, "
-              "wall_force_mean.WALL, wall_torque_mean.WALL, wall_position.WALL (these and "
-              "fixed_force optionally with .x, .y or .z)",
+              "wall_force_mean.WALL, wall_torque_mean.WALL, wall_position.WALL (these, "
+              "fixed_force and fixed_torque optionally with .x, .y or .z)",
               name, hint, join(series_quantity_names())));
         }
         if (!c.fluid && (name.rfind("fluid_", 0) == 0 || name == "superficial_velocity" ||
@@ -1470,6 +1512,7 @@ void Reader::read_output(const YamlMap& root) {
               "series quantity '{}' is the load on fixed grains; it needs a particle group with "
               "fixed: true",
               name));
+        if (name.starts_with("fixed_torque")) check_fixed_torque(item, name);
         if (std::find(c.output.quantities.begin(), c.output.quantities.end(), name) !=
             c.output.quantities.end())
           item.fail(fmt::format("quantity '{}' is listed twice", name));
@@ -1483,6 +1526,34 @@ void Reader::read_output(const YamlMap& root) {
           loc, "missing required key 'quantities' (the series to write, e.g. [kinetic_energy])");
     }
   }
+}
+
+void Reader::check_fixed_torque(const YamlNode& item, const std::string& name) const {
+  // The torque is taken about one centre: the rotating fixed groups must share it (its place at
+  // t = 0 and its translation), so that one point is the centre at every time.
+  const config::ParticleGroup* first = nullptr;
+  for (const auto& g : c.particles) {
+    if (!g.motion || !g.motion->rotates) continue;
+    if (!first) {
+      first = &g;
+      continue;
+    }
+    const config::Motion& a = *first->motion;
+    const config::Motion& b = *g.motion;
+    if (!(a.center == b.center) || !(a.velocity == b.velocity) ||
+        (!(a.velocity == Vec3{}) && a.start != b.start))
+      item.fail(fmt::format(
+          "series quantity '{}' is the torque on the rotating fixed groups about their rotation "
+          "centre; expected one centre, but the groups at {}:{} and {}:{} turn about different "
+          "ones (center {} and {}, translation {} and {})",
+          name, first->fixed_loc.file, first->fixed_loc.line, g.fixed_loc.file, g.fixed_loc.line,
+          text(a.center), text(b.center), text(a.velocity), text(b.velocity)));
+  }
+  if (!first)
+    item.fail(fmt::format(
+        "series quantity '{}' is the torque on the rotating fixed groups about their rotation "
+        "centre; it needs a particle group with fixed: {{rotate: {{...}}}}",
+        name));
 }
 
 void Reader::check_pairs() const {
@@ -1562,6 +1633,7 @@ const std::vector<std::string>& series_quantity_names() {
                                               "wall_contact_count",
                                               "coordination_number",
                                               "fixed_force",
+                                              "fixed_torque",
                                               "fluid_pressure_drop",
                                               "superficial_velocity",
                                               "fluid_kinetic_energy",
@@ -1570,7 +1642,7 @@ const std::vector<std::string>& series_quantity_names() {
 }
 
 std::span<const std::string_view> vector_series_quantities() {
-  static constexpr std::string_view names[] = {"fixed_force"};
+  static constexpr std::string_view names[] = {"fixed_force", "fixed_torque"};
   return names;
 }
 

@@ -49,7 +49,7 @@ config::Case load_case_text(const std::string& yaml_text, const std::filesystem:
 const std::vector<std::string>& series_quantity_names();
 
 /// The quantities of series_quantity_names() that are vectors: NAME gives three columns NAME.x,
-/// NAME.y, NAME.z, and NAME.x (.y, .z) one component ("fixed_force").
+/// NAME.y, NAME.z, and NAME.x (.y, .z) one component ("fixed_force", "fixed_torque").
 std::span<const std::string_view> vector_series_quantities();
 
 /// The per-wall series quantities, with their dot: "wall_force.", "wall_torque.",

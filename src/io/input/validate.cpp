@@ -151,6 +151,12 @@ std::string seconds(double t) {
   return fmt::format("{:.4g} s", t);
 }
 
+/// How check's counts name a fixed group: ", fixed" (at rest), ", fixed, moving", or nothing.
+const char* fixed_tag(const config::ParticleGroup& g) {
+  if (g.motion) return ", fixed, moving";
+  return g.fixed ? ", fixed" : "";
+}
+
 /// The smallest grain of one particle group: radius for the contact laws (sphere, disk: r;
 /// spherocylinder: the cap radius; polygon: the equal-area radius) and mass.
 struct SmallGrain {
@@ -238,6 +244,8 @@ class Validator {
   void check_output();
   void check_fluid();
   void check_shear_walls();
+  /// Warnings for moving fixed groups (docs/models/fixed_particles.md).
+  void check_fixed_motion();
 
   const config::Case& c_;
   int dim_;
@@ -773,8 +781,7 @@ void Validator::estimate_counts() {
                                 ? (dim_ == 2 ? "hexagonal" : "hcp")
                                 : "random";
       report_.derived.emplace_back(
-          fmt::format("particles[{}]: grains (fill, {}{})", g, lattice,
-                      group.fixed ? ", fixed" : ""),
+          fmt::format("particles[{}]: grains (fill, {}{})", g, lattice, fixed_tag(group)),
           fmt::format("{}{:.0f}", f.lattice == config::Fill::Lattice::Random ? "" : "~", est));
       total += est;
       if (est < 1)
@@ -824,8 +831,7 @@ void Validator::estimate_counts() {
       const double n = static_cast<double>(ex.positions.size());
       report_.derived.emplace_back(
           fmt::format("particles[{}]: grains (explicit{}{})", g,
-                      ex.file.empty() ? "" : ", " + ex.file.filename().string(),
-                      group.fixed ? ", fixed" : ""),
+                      ex.file.empty() ? "" : ", " + ex.file.filename().string(), fixed_tag(group)),
           fmt::format("{:.0f}", n));
       total += n;
     }
@@ -865,25 +871,29 @@ void Validator::check_time_step() {
       for (const auto& v : group.explicit_particles->velocities) v0 = std::max(v0, norm(v));
   }
   const Vec3 len = c_.domain.max - c_.domain.min;
-  for (const auto& w : c_.walls) {
-    double v = norm(w.motion.velocity);
-    if (w.motion.rotates) {
-      double reach = 0;
-      if (w.kind == config::Wall::Kind::Cylinder) {
-        reach = w.radius;
-      } else {
-        for (int corner = 0; corner < 8; ++corner) {
-          const Vec3 p{corner & 1 ? c_.domain.max.x : c_.domain.min.x,
-                       corner & 2 ? c_.domain.max.y : c_.domain.min.y,
-                       corner & 4 ? c_.domain.max.z : c_.domain.min.z};
-          const Vec3 d = p - w.motion.center;
-          reach = std::max(reach, norm(d - dot(d, w.motion.axis) * w.motion.axis));
-        }
+  // The largest speed of a point moving with `m` within `reach` of the axis (< 0: anywhere in
+  // the domain, whose farthest corner from the axis bounds it).
+  auto motion_speed = [&](const config::Motion& m, double reach) {
+    double v = norm(m.velocity);
+    if (!m.rotates) return v;
+    if (reach < 0) {
+      reach = 0;
+      for (int corner = 0; corner < 8; ++corner) {
+        const Vec3 p{corner & 1 ? c_.domain.max.x : c_.domain.min.x,
+                     corner & 2 ? c_.domain.max.y : c_.domain.min.y,
+                     corner & 4 ? c_.domain.max.z : c_.domain.min.z};
+        const Vec3 d = p - m.center;
+        reach = std::max(reach, norm(d - dot(d, m.axis) * m.axis));
       }
-      v += std::abs(w.motion.rate) * reach;
     }
-    v0 = std::max(v0, v);
-  }
+    return v + std::abs(m.rate) * reach;
+  };
+  for (const auto& w : c_.walls)
+    v0 = std::max(v0,
+                  motion_speed(w.motion, w.kind == config::Wall::Kind::Cylinder ? w.radius : -1.0));
+  // Fixed groups with a prescribed motion hit free grains as a moving wall does.
+  for (const auto& group : c_.particles)
+    if (group.motion) v0 = std::max(v0, motion_speed(*group.motion, -1.0));
   const double g = norm(c_.gravity);
   double height = 0;
   if (g > 0)
@@ -1180,7 +1190,29 @@ CheckReport Validator::run() {
   check_output();
   check_fluid();
   check_shear_walls();
+  check_fixed_motion();
   return std::move(report_);
+}
+
+void Validator::check_fixed_motion() {
+  // A moving fixed group is carried along periodic axes (wrapped), but not along others: a
+  // translation that takes it farther than the box is long leaves its grains outside the box,
+  // where they meet nothing. Legal (a plate may pass through), so a warning.
+  for (std::size_t g = 0; g < c_.particles.size(); ++g) {
+    const auto& group = c_.particles[g];
+    if (!group.motion) continue;
+    const double travel_time = std::max(0.0, c_.time.end - group.motion->start);
+    for (int k = 0; k < dim_; ++k) {
+      const double travel = std::abs(group.motion->velocity[k]) * travel_time;
+      const double length = c_.domain.max[k] - c_.domain.min[k];
+      if (c_.domain.periodic[k] || !(travel > length)) continue;
+      const auto loc = at(group.fixed_loc, fmt::format("particles[{}].fixed", g));
+      report_.warnings.push_back(fmt::format(
+          "{}:{}: the fixed group's translation carries it {} m along {} by time.end, more than "
+          "the domain's length {} m along that non-periodic axis: its grains leave the box",
+          loc.file, loc.line, number_text(travel), "xyz"[k], number_text(length)));
+    }
+  }
 }
 
 }  // namespace
