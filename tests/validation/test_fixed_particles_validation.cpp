@@ -260,3 +260,280 @@ INSTANTIATE_TEST_SUITE_P(
                       BounceCase{"hertz_capsule_e05", "hertz_mindlin", "capsule", 0.5},
                       BounceCase{"hooke_square_e05", "hooke", "square", 0.5}),
     [](const auto& param_info) { return std::string(param_info.param.name); });
+
+// ---------------------------------------------------------------------------------------------
+// Fixed groups with prescribed motion (fixed: {translate, rotate})
+
+namespace {
+
+config::Motion translation(const Vec3& velocity, double start = 0) {
+  config::Motion m;
+  m.velocity = velocity;
+  m.start = start;
+  return m;
+}
+
+}  // namespace
+
+// A bounce seen from the moving grain. Grain 1 (fixed) moves up at v0 into grain 2 at rest
+// above it: in the frame of grain 1, grain 2 comes down at v0 and leaves at e v0, so in the lab
+// it leaves at (1 + e) v0 and the relative velocity after the bounce is e v0. Galilean
+// invariance of the contact law (it sees v_2 - v_1 and the overlap only) and the infinite mass
+// of the fixed grain give the requested e, as against a fixed grain at rest; the moving grain's
+// velocity field must equal the motion's for the damping to see the right approach speed (a
+// fixed grain with v = 0 moving under it would leave grain 2 at (1 + e') v0 with the damping
+// acting on the wrong speed). Tolerance: 1 % as for the grain at rest (time discretisation,
+// dt = t_c / 1000), and equal to the at-rest bounce within 1e-3 (the same discretisation, the
+// positions shifted by the motion).
+TEST_P(ValidationFixedBounce, MovingFixedGrainGivesTheRestitutionOfItsFrame) {
+  const BounceCase bc = GetParam();
+  const double v0 = 0.5;
+  const int axis = std::string(bc.shape) == "square" ? 1 : 2;
+  Simulation at_rest(bounce_case(bc, true, 1.0, v0));
+  const Bounce still = bounce(at_rest, axis, v0);
+  auto c = bounce_case(bc, true, 1.0, v0);
+  // Grain 2 at rest; grain 1 moving towards it at v0.
+  Vec3 up{};
+  up[axis] = v0;
+  c.particles[1].explicit_particles->velocities = {Vec3{}};
+  c.particles[0].motion = translation(up);
+  Simulation moving(c);
+  const Bounce seen = bounce(moving, axis, v0);
+  const auto& p = moving.particles();
+  const std::size_t b = index_of(moving, 2);
+  std::printf(
+      "%s: requested e = %.3f; grain at rest %.5f, moving grain %.5f (%.3f %%), grain 2 "
+      "leaves at %.5f v0 (1 + e = %.5f)\n",
+      bc.name, bc.e, still.restitution, seen.restitution, 100 * (seen.restitution / bc.e - 1),
+      p.v()[b][axis] / v0, 1 + seen.restitution);
+  EXPECT_NEAR(seen.restitution, bc.e, 0.01 * bc.e);
+  EXPECT_NEAR(seen.restitution, still.restitution, 1e-3);
+  EXPECT_NEAR(p.v()[b][axis] / v0, 1 + bc.e, 0.01 * (1 + bc.e));
+  EXPECT_NEAR(p.v()[b].x, 0.0, 1e-12);  // head-on: nothing sideways
+}
+
+// A grain on a turning arm. A fixed sphere (r = 5 mm) on a rotating arm of length R = 1 m
+// (Omega = 0.5 rad/s about z: speed Omega R = 0.5 m/s) hits a free sphere at rest in its path,
+// frictionless, Hooke e = 0.5 and Hertz e = 0.8. The moving grain's velocity is the rigid
+// motion's Omega x (x - c); the free grain leaves along the arm's path at (1 + e) Omega R.
+// Tolerance 1 %: the discretisation as above, plus the turn of the arm during the contact
+// (Omega t_c ~ 1e-3 rad: the normal turns by that, changing the normal speed by ~1e-6 and the
+// direction of departure by 1e-3 rad) and the centripetal acceleration of the arm
+// (Omega^2 R t_c / (Omega R) = Omega t_c ~ 1e-3).
+TEST(ValidationFixedMotion, GrainOnATurningArmGivesTheRequestedRestitution) {
+  for (const auto& [model, e] : {std::pair{"hooke", 0.5}, std::pair{"hertz_mindlin", 0.8}}) {
+    const bool hertz = std::string(model) == "hertz_mindlin";
+    const double r = 0.005, rho = 2500, E = 1e7, nu = 0.3, k = 1e4, R = 1.0, omega = 0.5;
+    const double v0 = omega * R;
+    const double m = rho * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const double e_star = E / (2 * (1 - nu * nu));
+    const double tc = hertz ? 2.868 * std::pow(m * m / (0.5 * r * e_star * e_star * v0), 0.2)
+                            : std::numbers::pi * std::sqrt(m / k);
+    auto c = test::base_case(tc / 1000, 1.0, {-1.2, -1.2, -0.05}, {1.2, 1.2, 0.05});
+    test::add_material(c, "grain", rho, E, nu);
+    std::map<std::string, double> prm{{"restitution", e}, {"friction", 0.0}};
+    if (!hertz) prm["stiffness"] = k;
+    test::add_contact(c, "grain", "grain", model, prm);
+    test::add_spheres(c, "grain", r, {{R, 0, 0}});
+    c.particles[0].fixed = true;
+    config::Motion turn;
+    turn.rotates = true;
+    turn.axis = {0, 0, 1};
+    turn.center = {0, 0, 0};
+    turn.rate = omega;
+    c.particles[0].motion = turn;
+    test::add_spheres(c, "grain", r, {{R, 2 * r + 1e-4, 0}});
+    Simulation sim(c);
+    bool touched = false;
+    int steps = 0;
+    for (; steps < 10000000; ++steps) {
+      sim.step();
+      if (sim.n_contacts() > 0)
+        touched = true;
+      else if (touched)
+        break;
+    }
+    ASSERT_TRUE(touched);
+    const auto& p = sim.particles();
+    const std::size_t a = index_of(sim, 1), b = index_of(sim, 2);
+    // The arm's point under the free grain moves at Omega R along the arm's normal (y at the
+    // moment of contact, turned by Omega t since): the relative normal velocity after.
+    const Vec3 arm_dir = normalized(p.x()[a]);
+    const Vec3 path = cross(Vec3{0, 0, 1}, arm_dir);
+    const double v_after = dot(p.v()[b], path);
+    const double e_seen = (v_after - dot(p.v()[a], path)) / v0;
+    std::printf(
+        "turning arm (%s): requested e = %.3f, realised %.5f (%.3f %%), free grain "
+        "leaves at %.5f Omega R; the fixed grain moved %.3e m, at %.5f m/s\n",
+        model, e, e_seen, 100 * (e_seen / e - 1), v_after / v0, norm(p.x()[a] - Vec3{R, 0, 0}),
+        norm(p.v()[a]));
+    EXPECT_NEAR(e_seen, e, 0.01 * e);
+    EXPECT_NEAR(v_after / v0, 1 + e, 0.01 * (1 + e));
+    EXPECT_NEAR(norm(p.v()[a]), v0, 1e-12);
+    EXPECT_NEAR(norm(p.x()[a]), R, 1e-12);
+  }
+}
+
+// A sphere on a conveyor. A free glass sphere (r = 2 mm) rests on top of a fixed sphere so large
+// (R = 0.5 m) that its top is a flat plate for it; at t0 = 5 ms (the sphere settled) the plate
+// starts translating at V = 0.05 m/s along x (translate.start). Friction mu = 0.4 (Hooke, no
+// rolling resistance): the sphere slides with a = mu g, spins up with dw/dt = 5 mu g / (2 r)
+// (the torque mu m g r over I = 2/5 m r^2) until its contact point moves with the plate,
+// v + w r = V, at t* = 2 V / (7 mu g); from then it rolls at v = 2 V / 7, spinning at w r = 5 V / 7
+// (rolling on the plate that moves at V under it: a free sphere on a
+// moving plate never reaches the plate's speed: the friction that would accelerate it further
+// would spin it faster than rolling allows). The plate's velocity field is what makes the
+// friction act: were its grain's velocity left at zero, the sphere would see no sliding and stay.
+// Tolerances: a and dw/dt within 1 % (fit over the middle of the sliding phase; the normal force
+// is m g to the curvature of the plate, whose slope under the sphere stays below 1e-3, and the
+// settling's ringing, damped to < 1e-4 m g; the tangential spring reaches the Coulomb bound
+// within mu m g / (k_t V) ~ 2 us, one step), t* within 2 % (one part in ~600 steps and the
+// tangential spring's transition from sliding to sticking), the rolling speed 2 V / 7 within
+// 2 % over a window after t* (the elastic ringing of the tangential spring when it sticks,
+// amplitude mu g / omega_t ~ 2.5 % of 2 V / 7, damped over a few of its 0.6 ms periods and
+// averaged out over the 5 ms window).
+TEST(ValidationFixedMotion, SphereOnAConveyorSlidesAtMuGThenRolls) {
+  const double g = 9.81, mu = 0.4, V = 0.05, r = 0.002, R = 0.5, rho = 2500, k = 1e4;
+  const double m = rho * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double tc = std::numbers::pi * std::sqrt(m / k);
+  const double dt = tc / 50, t0 = 0.005;
+  auto c = test::base_case(dt, 1.0, {-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6});
+  c.gravity = {0, 0, -g};
+  test::add_material(c, "glass", rho, 1e7, 0.3);
+  test::add_contact(c, "glass", "glass", "hooke",
+                    {{"restitution", 0.5}, {"friction", mu}, {"stiffness", k}});
+  test::add_spheres(c, "glass", R, {{0, 0, 0}});
+  c.particles[0].fixed = true;
+  c.particles[0].motion = translation({V, 0, 0}, t0);
+  const double overlap = m * g / k;  // resting on it from the start
+  test::add_spheres(c, "glass", r, {{0, 0, R + r - overlap}});
+  Simulation sim(c);
+  const double t_star = 2 * V / (7 * mu * g);
+  std::vector<double> ts, vs, ws;
+  Dump trace("fixed_conveyor", "t_over_tstar,v_over_V,w_r_over_V");
+  double roll_v = 0, roll_w = 0;
+  int roll_n = 0;
+  double t_lock = -1;
+  const std::size_t b = index_of(sim, 2);
+  while (sim.time() < t0 + 3 * t_star) {
+    sim.step();
+    const auto& p = sim.particles();
+    const std::size_t i = p.id()[b] == 2 ? b : index_of(sim, 2);
+    const double t = sim.time() - t0;
+    const double v = p.v()[i].x, w = p.omega()[i].y;
+    if (t < 0) continue;
+    if (sim.step_count() % 20 == 0) trace.row(t / t_star, v / V, -w * r / V);
+    if (t > 0.1 * t_star && t < 0.8 * t_star) {
+      ts.push_back(t);
+      vs.push_back(v);
+      ws.push_back(w);
+    }
+    // The contact point's slip V - (v - w r) (w < 0: rolling along +x) falls to zero at t*.
+    if (t_lock < 0 && V - (v - w * r) < 1e-3 * V) t_lock = t;
+    if (t > 2 * t_star) {
+      roll_v += v;
+      roll_w += -w * r;
+      ++roll_n;
+    }
+  }
+  // Least-squares slopes over the sliding phase.
+  auto slope = [&](const std::vector<double>& y) {
+    const double n = static_cast<double>(ts.size());
+    double st = 0, sy = 0, stt = 0, sty = 0;
+    for (std::size_t j = 0; j < ts.size(); ++j) {
+      st += ts[j];
+      sy += y[j];
+      stt += ts[j] * ts[j];
+      sty += ts[j] * y[j];
+    }
+    return (n * sty - st * sy) / (n * stt - st * st);
+  };
+  const double a = slope(vs), alpha = -slope(ws);
+  roll_v /= roll_n;
+  roll_w /= roll_n;
+  std::printf(
+      "conveyor: a = %.5f m/s^2 (mu g = %.5f, %.3f %%), dw/dt = %.4f rad/s^2 (5 mu g / "
+      "2r = %.4f, %.3f %%), slip ends at %.4e s (t* = %.4e s, %.3f %%), rolls at %.5f "
+      "m/s (2V/7 = %.5f, %.3f %%), w r = %.5f m/s (5V/7 = %.5f)\n",
+      a, mu * g, 100 * (a / (mu * g) - 1), alpha, 5 * mu * g / (2 * r),
+      100 * (alpha / (5 * mu * g / (2 * r)) - 1), t_lock, t_star, 100 * (t_lock / t_star - 1),
+      roll_v, 2 * V / 7, 100 * (roll_v / (2 * V / 7) - 1), roll_w, 5 * V / 7);
+  RecordProperty("acceleration_over_mu_g", std::to_string(a / (mu * g)));
+  EXPECT_NEAR(a, mu * g, 0.01 * mu * g);
+  EXPECT_NEAR(alpha, 5 * mu * g / (2 * r), 0.01 * 5 * mu * g / (2 * r));
+  EXPECT_NEAR(t_lock, t_star, 0.02 * t_star);
+  EXPECT_NEAR(roll_v, 2 * V / 7, 0.02 * 2 * V / 7);
+  EXPECT_NEAR(roll_w, 5 * V / 7, 0.02 * 5 * V / 7);  // its contact point moves with the plate
+}
+
+// A block on a conveyor (2D). A free square (side 3.5 mm) lies face down on a fixed square plate
+// (side 0.18 m) that starts translating at V = 0.1 m/s at t0 = 10 ms: a block does not roll, so
+// friction accelerates it at a = mu g until it moves with the plate, at t* = V / (mu g), and the
+// plate then carries it along at V. mu = 0.4 (below 1: the friction couple cannot tip a square).
+// Tolerances: a within 1 % (fit over the middle of the sliding phase; as above), t* within 2 %,
+// the carried speed V within 1 % (averaged after 1.5 t*: the tangential spring's ringing when it
+// sticks is mu g / omega_t ~ 0.3 % of V here and damped).
+TEST(ValidationFixedMotion, BlockOnAConveyorIsCarriedAlongAfterSlidingAtMuG) {
+  const double g = 9.81, mu = 0.4, V = 0.1, r = 0.002, R = 0.1, rho = 2500, k = 2e4;
+  const double thickness = 0.01;
+  const double m = rho * std::numbers::pi * r * r * thickness;
+  const double tc = std::numbers::pi * std::sqrt(m / k);
+  const double t0 = 0.01;
+  auto c = test::base_case(tc / 50, 1.0, {-0.3, -0.3, 0}, {0.3, 0.3, 0});
+  c.dimension = 2;
+  c.domain.thickness = thickness;
+  c.gravity = {0, -g, 0};
+  test::add_material(c, "stone", rho, 1e7, 0.3);
+  test::add_contact(c, "stone", "stone", "hooke",
+                    {{"restitution", 0.5}, {"friction", mu}, {"stiffness", k}});
+  const Quat faces = quat_from_axis_angle({0, 0, 1}, 0.25 * std::numbers::pi);
+  const double half_plate = 0.5 * std::sqrt(std::numbers::pi) * R;
+  const double half_block = 0.5 * std::sqrt(std::numbers::pi) * r;
+  test::add_polygons(c, "stone", R, 4, {{0, 0, 0}}, {faces});
+  c.particles[0].fixed = true;
+  c.particles[0].motion = translation({V, 0, 0}, t0);
+  test::add_polygons(c, "stone", r, 4, {{0, half_plate + half_block - 1e-6, 0}}, {faces});
+  Simulation sim(c);
+  const double t_star = V / (mu * g);
+  std::vector<double> ts, vs;
+  Dump trace("fixed_conveyor_block", "t_over_tstar,v_over_V");
+  double carried = 0, turn = 0;
+  int carried_n = 0;
+  double t_lock = -1;
+  while (sim.time() < t0 + 2.5 * t_star) {
+    sim.step();
+    const auto& p = sim.particles();
+    const std::size_t i = index_of(sim, 2);
+    const double t = sim.time() - t0, v = p.v()[i].x;
+    if (t < 0) continue;
+    if (sim.step_count() % 50 == 0) trace.row(t / t_star, v / V);
+    if (t > 0.1 * t_star && t < 0.8 * t_star) {
+      ts.push_back(t);
+      vs.push_back(v);
+    }
+    if (t_lock < 0 && V - v < 1e-3 * V) t_lock = t;
+    if (t > 1.5 * t_star) {
+      carried += v;
+      ++carried_n;
+    }
+    turn = std::max(turn, std::abs(p.omega()[i].z));
+  }
+  const double n = static_cast<double>(ts.size());
+  double st = 0, sy = 0, stt = 0, sty = 0;
+  for (std::size_t j = 0; j < ts.size(); ++j) {
+    st += ts[j];
+    sy += vs[j];
+    stt += ts[j] * ts[j];
+    sty += ts[j] * vs[j];
+  }
+  const double a = (n * sty - st * sy) / (n * stt - st * st);
+  carried /= carried_n;
+  std::printf(
+      "block on conveyor: a = %.5f m/s^2 (mu g = %.5f, %.3f %%), carried from %.4e s "
+      "(t* = %.4e s, %.3f %%) at %.6f m/s (V = %.3f, %.3f %%); largest spin %.3e rad/s\n",
+      a, mu * g, 100 * (a / (mu * g) - 1), t_lock, t_star, 100 * (t_lock / t_star - 1), carried, V,
+      100 * (carried / V - 1), turn);
+  EXPECT_NEAR(a, mu * g, 0.01 * mu * g);
+  EXPECT_NEAR(t_lock, t_star, 0.02 * t_star);
+  EXPECT_NEAR(carried, V, 0.01 * V);
+}
