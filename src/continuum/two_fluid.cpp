@@ -84,9 +84,17 @@ void TwoFluidModel::check_settings() {
           "two-fluid model: the algebraic granular temperature needs a restitution in [0, 1), "
           "got {}",
           k.restitution);
+  REQUIRE(s_.temperature != GranularTemperature::Algebraic ||
+              k.model == index_of_key(KtgfClosures{}, Syamlal::key),
+          "two-fluid model: the algebraic granular temperature needs the '{}' closures, whose "
+          "viscosity vanishes with the volume fraction; with the others the local balance gives "
+          "Theta ~ 1/a^2 in dilute cells (use the transported temperature)",
+          Syamlal::key);
   REQUIRE(s_.drag.law >= 0, "two-fluid model: no drag law (use cfd_dem::prepare_drag)");
   REQUIRE(s_.specularity >= 0 && s_.specularity <= 1,
           "two-fluid model: specularity coefficient {} outside [0, 1]", s_.specularity);
+  REQUIRE(s_.wall_restitution >= 0 && s_.wall_restitution <= 1,
+          "two-fluid model: wall restitution {} outside [0, 1]", s_.wall_restitution);
   REQUIRE(s_.max_courant > 0 && s_.max_courant <= 1,
           "two-fluid model: max_courant {} outside (0, 1]", s_.max_courant);
   if (s_.frictional)
@@ -867,15 +875,17 @@ TwoFluidReport TwoFluidModel::step(double dt) {
   return advance(dt, 0);
 }
 
-// One step of dt, or two of dt / 2 when the predicted solids velocities would carry more than a
-// cell's content out of a cell (stable_dt() predicts from the velocities of t^n; a front that
-// accelerates can overshoot it). Nothing of the state changes before that check.
+// One step of dt, or two of dt / 2 when the predicted solids velocities u* would give a Courant
+// number above max_courant (stable_dt() predicts from the velocities of t^n; a front that
+// accelerates can overshoot it). Nothing of the state changes before that check. The margin
+// below 1 (the bound of the upwind update's positivity) leaves room for the pressure corrections
+// that follow; what they still push outside [0, a_max] is clipped and reported.
 TwoFluidReport TwoFluidModel::advance(double dt, int depth) {
   TwoFluidReport report;
   if (stale_) evaluate_closures();
   report.momentum_iterations = solids_predictor(dt);
   report.solids_courant = dt * max_outflow_rate(ustar_);
-  if (report.solids_courant > 1.0) {
+  if (report.solids_courant > s_.max_courant) {
     REQUIRE(depth < 20,
             "two-fluid model: solids Courant number {:.3g} at t = {:.6g} s even with a step of "
             "{} s (solids velocity diverges)",

@@ -66,7 +66,8 @@ enum class SolidsWall {
 /// How the granular temperature is found.
 enum class GranularTemperature {
   /// Local equilibrium of production and dissipation (no convection, no conduction): dense,
-  /// collision-dominated beds (MFIX's and Fluent's algebraic option).
+  /// collision-dominated beds (MFIX's algebraic option, with Syamlal's closures, which it
+  /// requires: with closures of finite dilute viscosity the balance gives Theta ~ 1/a^2).
   Algebraic,
   /// The granular energy balance with convection and conduction (MFIX's default; needed where
   /// energy is carried, e.g. from a sheared wall layer into the bulk).
@@ -102,7 +103,7 @@ struct TwoFluidReport {
   int momentum_iterations = 0;  ///< CG iterations of the solids predictor, summed over components
   int fraction_iterations = 0;  ///< CG iterations of the implicit volume-fraction equation
   double solids_courant = 0.0;  ///< dt * max over cells of sum_a |u_s,a| / h_a (of a substep)
-  int substeps = 1;             ///< steps taken: more than 1 when the Courant number exceeded 1
+  int substeps = 1;             ///< steps taken: more than 1 when the Courant number was too high
   double clipped_volume = 0.0;  ///< solids volume added (+) or removed (-) by clipping [m^3]
   fluid::StepReport fluid;      ///< the fluid solver's report
 };
@@ -138,7 +139,7 @@ class TwoFluidModel {
   /// itself are implicit).
   [[nodiscard]] double stable_dt() const;
   /// Advances by dt [s]: one step, or substeps of dt / 2^k where the predicted solids Courant
-  /// number exceeds 1 (the fluid solver checks its own Courant number and throws).
+  /// number exceeds max_courant (the fluid solver checks its own Courant number and throws).
   TwoFluidReport step(double dt);
 
   // --- results ------------------------------------------------------------------------------
@@ -158,6 +159,9 @@ class TwoFluidModel {
   [[nodiscard]] std::span<const double> exchange_coefficient() const { return beta_; }
   /// Solids velocity component a on the faces normal to axis a [m/s].
   [[nodiscard]] std::span<const double> solids_face_velocity(int a) const { return us_[a]; }
+  /// Solids volume flux per unit face area through the faces normal to axis a over the last
+  /// step [m/s] (what moved a: first-order upwind a times u_s).
+  [[nodiscard]] std::span<const double> solids_face_flux(int a) const { return flux_[a]; }
   /// Solids velocity at a cell centre (mean of the two faces per axis) [m/s].
   [[nodiscard]] Vec3 solids_velocity(std::int64_t cell) const;
   /// Total solids volume sum(a V) [m^3] (2D: per depth h_z).

@@ -275,14 +275,15 @@ TEST(ValidationTwoFluid, HomogeneousCoolingFollowsHaff) {
 // equals mu_s gamma_dot, and since mu_s and C both scale as sqrt(Theta) ~ gamma_dot, u_slip /
 // gamma_dot = mu_s / C is a constant: gamma_dot = U / (H / 2 + mu_s / C). The algebraic temperature
 // is exact for this state; the run starts from the analytic state and must keep it (the stencils,
-// the wall ghost values and the closures agree with the theory to round-off: 1e-9).
+// the wall ghost values and the closures agree with the theory to round-off: 1e-9 in u, 1e-8 in
+// Theta).
 TEST(ValidationTwoFluid, CouetteFlowIsTheKineticTheoryState) {
   for (const bool jj : {false, true}) {
     TwoFluidSettings s;
     s.fluid.density = 1.2;
     s.fluid.dynamic_viscosity = 1.8e-5;
     s.ktgf = prepare_ktgf(
-        "lun", {{"restitution", 0.8}, {"grain_diameter", 1e-3}, {"grain_density", 2500.0}});
+        "syamlal", {{"restitution", 0.8}, {"grain_diameter", 1e-3}, {"grain_density", 2500.0}});
     s.frictional = false;
     s.drag = cfd_dem::prepare_drag("wen_yu");
     // A gas of negligible viscosity: the theory's state has no gas damping 3 beta Theta.
@@ -339,7 +340,7 @@ TEST(ValidationTwoFluid, CouetteFlowIsTheKineticTheoryState) {
         "%.6f Pa vs %.6f\n",
         jj ? "Johnson-Jackson" : "no-slip", gd, err_u, err_t, err_a, tau, ref.shear_stress);
     EXPECT_LT(err_u, 1e-9);
-    EXPECT_LT(err_t, 1e-9);
+    EXPECT_LT(err_t, 1e-8);
     EXPECT_LT(err_a, 1e-12);
     EXPECT_NEAR(tau / ref.shear_stress, 1.0, 1e-9);
   }
