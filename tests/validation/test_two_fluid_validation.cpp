@@ -2,7 +2,8 @@
 // Two-fluid model against analytic references: batch sedimentation (Kynch's front speed and the
 // sediment's weight), a packed bed (Ergun), a fluidised bed (the pressure drop carries the bed),
 // homogeneous cooling of the granular energy (Haff) and Couette flow in the kinetic-theory
-// steady state, with no-slip and Johnson-Jackson walls. Each run takes a second or two.
+// steady state, with no-slip and Johnson-Jackson walls. Each run takes a second or two. Curves
+// go to GF_VALIDATION_OUT for scripts/plot_two_fluid.py (docs/validation/two_fluid.png).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +13,7 @@
 
 #include "continuum/two_fluid.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
+#include "dump.hpp"
 
 using namespace gf;
 using namespace gf::continuum;
@@ -119,7 +121,15 @@ TEST(ValidationTwoFluid, BatchSedimentationFollowsKynch) {
   const double re_t = s.fluid.density * u_t * s.ktgf.diameter / s.fluid.dynamic_viscosity;
   const double n_rz = (4.7 + 0.41 * std::pow(re_t, 0.75)) / (1.0 + 0.175 * std::pow(re_t, 0.75));
   double clipped = 0.0;
-  auto count = [&](const TwoFluidReport& r) { clipped += std::abs(r.clipped_volume); };
+  test::Dump history("two_fluid_sedimentation_front", "t,front,kynch");
+  double next = 0.0;
+  auto count = [&](const TwoFluidReport& r) {
+    clipped += std::abs(r.clipped_volume);
+    if (m.time() >= next - 1e-12) {
+      history.row(m.time(), front(m, 0.5 * a0), h0 - u_hs * m.time());
+      next += 0.05;
+    }
+  };
   run_to(m, 0.5, 2e-3, count);
   const double y1 = front(m, 0.5 * a0);
   run_to(m, 4.5, 2e-3, count);
@@ -152,6 +162,16 @@ TEST(ValidationTwoFluid, BatchSedimentationFollowsKynch) {
       dps, w, 100 * (dps / w - 1), umax, m.solids_fraction()[0]);
   EXPECT_NEAR(dps / w, 1.0, 5e-3);
   EXPECT_LT(umax, 1e-5);
+  {
+    test::Dump profile("two_fluid_sediment_profile", "y,alpha,solids_pressure,weight_above");
+    double above = 0.0;
+    for (int j = g.n[1] - 1; j >= 0; --j) {
+      const double a = m.solids_fraction()[g.index(0, j, 0)];
+      const double wj = above + 0.5 * a * g.h.y * drho_g;
+      profile.row((j + 0.5) * g.h.y, a, ps[g.index(0, j, 0)], wj);
+      above += a * g.h.y * drho_g;
+    }
+  }
   EXPECT_NEAR(m.solids_volume() / v0, 1.0, 1e-12);
   EXPECT_LT(clipped, 1e-12 * v0);
 }
@@ -215,15 +235,21 @@ TEST(ValidationTwoFluid, PackedBedFollowsErgunThenFluidises) {
           ratio, u_mf, dp, ref, dp / ref - 1, af[g.index(0, 6, 0)], umax);
       EXPECT_NEAR(dp / ref, 1.0, 1e-3);
       EXPECT_LT(umax, 1e-5);
+      test::Dump bed("two_fluid_packed_bed", "y,alpha,pressure,ergun_gradient");
+      for (int j = 0; j < g.n[1]; ++j)
+        bed.row((j + 0.5) * g.h.y, af[g.index(0, j, 0)], pr[g.index(0, j, 0)],
+                ergun_at(std::min(af[g.index(0, j, 0)], 0.6), U) + rho * kG);
     } else {
       run_to(m, 1.0, 2e-3);
       double dp = 0.0, w = 0.0;
       int n = 0;
+      test::Dump series("two_fluid_fluidised_bed", "t,pressure_drop,mixture_weight,bed_top");
       run_to(m, 3.0, 2e-3, [&](const TwoFluidReport&) {
         const auto [a, b] = drop(0, 50);
         dp += a;
         w += b;
         ++n;
+        series.row(m.time(), a, b, front(m, 0.2));
       });
       std::printf("U/U_mf %.1f: mean pressure drop %.3f Pa, mixture weight %.3f Pa (%+.3f %%)\n",
                   ratio, dp / n, w / n, 100 * (dp / w - 1));
@@ -258,7 +284,16 @@ TEST(ValidationTwoFluid, HomogeneousCoolingFollowsHaff) {
   const double a = 0.3, theta0 = 0.01;
   m.set_solids([&](const Vec3&) { return a; }, theta0);
   const double tau = haff_time(a, theta0, s.ktgf);
+  test::Dump curve("two_fluid_haff", "t_over_tau,theta,haff");
+  for (int k = 1; k <= 30; ++k) {
+    if (k == 10 || k == 30) continue;  // the checked times below
+    run_to(m, 0.1 * k * tau, tau / 400);
+    curve.row(0.1 * k, m.granular_temperature()[5], haff_temperature(a, theta0, m.time(), s.ktgf));
+  }
+  TwoFluidModel m2(g, s);
+  m2.set_solids([&](const Vec3&) { return a; }, theta0);
   for (const double t : {1.0, 3.0}) {
+    TwoFluidModel& m = m2;
     run_to(m, t * tau, tau / 400);
     const double ref = haff_temperature(a, theta0, t * tau, s.ktgf);
     const double th = m.granular_temperature()[5];
@@ -339,6 +374,14 @@ TEST(ValidationTwoFluid, CouetteFlowIsTheKineticTheoryState) {
         "%s walls: gamma_dot %.4f 1/s, errors u %.2e, Theta %.2e, a %.2e; shear stress "
         "%.6f Pa vs %.6f\n",
         jj ? "Johnson-Jackson" : "no-slip", gd, err_u, err_t, err_a, tau, ref.shear_stress);
+    test::Dump prof(jj ? "two_fluid_couette_jj" : "two_fluid_couette_noslip",
+                    "y,u,u_theory,theta,theta_theory");
+    for (int j = 0; j < g.n[1]; ++j) {
+      const std::int64_t c = g.index(1, j, 0);
+      const double y = (j + 0.5) * g.h.y;
+      prof.row(y, run.solids_velocity(c).x, gd * (y - H / 2), run.granular_temperature()[c],
+               ref.temperature);
+    }
     EXPECT_LT(err_u, 1e-9);
     EXPECT_LT(err_t, 1e-8);
     EXPECT_LT(err_a, 1e-12);
