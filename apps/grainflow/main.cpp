@@ -29,6 +29,7 @@
 #include "simulation/fem_case.hpp"
 #include "simulation/simulation.hpp"
 #include "simulation/sweep.hpp"
+#include "simulation/two_fluid_case.hpp"
 
 namespace {
 
@@ -146,6 +147,12 @@ int check(const std::string& file, const std::vector<std::string>& sets) {
     const auto rows = gf::describe_continuum_case(*cc);  // builds the particles: may throw
     fmt::print("{}: OK (continuum case)\n", file);
     for (const auto& [k, v] : rows) fmt::print("  {:<52} {}\n", k, v);
+    return 0;
+  }
+  if (const auto tc = gf::load_two_fluid_case(file, fem_dir, overrides(sets))) {
+    const auto rows = gf::describe_two_fluid_case(*tc);
+    fmt::print("{}: OK (two-fluid case)\n", file);
+    for (const auto& [k, v] : rows) fmt::print("  {:<62} {}\n", k, v);
     return 0;
   }
   const auto cfg = gf::input::load_case(file, overrides(sets));
@@ -302,6 +309,11 @@ int main(int argc, char** argv) {
       if (const auto cc = gf::load_continuum_case(run_file, fem_dir, overrides(sets))) {
         gf::stop::install_handlers();
         const int sig = gf::run_continuum_case(*cc, fem_dir, opts);
+        return sig ? gf::stop::exit_status(sig) : 0;
+      }
+      if (const auto tc = gf::load_two_fluid_case(run_file, fem_dir, overrides(sets))) {
+        gf::stop::install_handlers();
+        const int sig = gf::run_two_fluid_case(*tc, fem_dir, opts);
         return sig ? gf::stop::exit_status(sig) : 0;
       }
       const auto cfg = gf::input::load_case(run_file, overrides(sets));

@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -240,6 +241,35 @@ void TwoFluidModel::set_solids_velocity(const std::function<Vec3(const Vec3&)>& 
               kind == FaceKind::Wall ? 0.0 : velocity(grid_.face_center(a, i, j, k))[a];
         }
   }
+  evaluate_closures();
+}
+
+TwoFluidModel::State TwoFluidModel::state() const {
+  State st;
+  st.time = time_;
+  st.fluid = fluid_.state();
+  st.arrays.emplace_back("alpha", alpha_);
+  st.arrays.emplace_back("theta", theta_);
+  for (int a = 0; a < dim_; ++a) st.arrays.emplace_back("us" + std::to_string(a), us_[a]);
+  return st;
+}
+
+void TwoFluidModel::restore(const State& st) {
+  auto get = [&](const std::string& name, std::size_t n) -> const std::vector<double>& {
+    for (const auto& [key, v] : st.arrays)
+      if (key == name) {
+        REQUIRE(v.size() == n, "two-fluid restore: '{}' has {} values, the grid needs {}", name,
+                v.size(), n);
+        return v;
+      }
+    throw Error(fmt::format("two-fluid restore: no array '{}'", name));
+  };
+  fluid_.restore(st.fluid);
+  alpha_ = get("alpha", alpha_.size());
+  theta_ = get("theta", theta_.size());
+  for (int a = 0; a < dim_; ++a) us_[a] = get("us" + std::to_string(a), us_[a].size());
+  for (std::size_t c = 0; c < alpha_.size(); ++c) eps_[c] = 1.0 - alpha_[c];
+  time_ = st.time;
   evaluate_closures();
 }
 

@@ -44,6 +44,8 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "continuum/ktgf.hpp"
@@ -141,6 +143,19 @@ class TwoFluidModel {
   /// Advances by dt [s]: one step, or substeps of dt / 2^k where the predicted solids Courant
   /// number exceeds max_courant (the fluid solver checks its own Courant number and throws).
   TwoFluidReport step(double dt);
+
+  /// Everything a restart needs to continue bit-identically: the fluid solver's state, the
+  /// solids fraction, temperature and face velocities, and the clock (the closures follow from
+  /// them).
+  struct State {
+    double time = 0.0;
+    std::vector<std::pair<std::string, std::vector<double>>> arrays;
+    fluid::VolumeAveragedNS::State fluid;
+  };
+  [[nodiscard]] State state() const;
+  /// Restores a state() of a model on the same grid and settings (gf::Error when an array is
+  /// missing or has another size).
+  void restore(const State& state);
 
   // --- results ------------------------------------------------------------------------------
   [[nodiscard]] const fluid::Grid& grid() const { return grid_; }

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Reading a kinetic-theory (KTGF) block of a case file: the closure set, the radial distribution,
+// the grain material and the dense-region model, each checked against its registry schema.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "continuum/ktgf.hpp"
+#include "core/params.hpp"
+#include "io/input/yaml_reader.hpp"
+
+namespace gf::input {
+
+/// The parameters of a model's schema from map `m` (the node `node`): each in its range, every
+/// one without a default required ("[missing key] WHAT needs 'name' [unit]: description").
+std::map<std::string, double> read_schema_params(const YamlMap& m, const YamlNode& node,
+                                                 const std::vector<ParamSpec>& schema,
+                                                 const std::string& what);
+
+/// A KTGF block as read: registry keys, parameters as given, and the prepared constants.
+struct KtgfInput {
+  std::string closures, radial, dense;
+  std::map<std::string, double> params, dense_params;
+  continuum::KtgfParams ktgf;
+  std::optional<continuum::FrictionalParams> frictional;  ///< none: `dense: none`
+};
+
+/// Reads {closures (default lun), radial_distribution (default carnahan_starling), the set's and
+/// the distribution's parameters (restitution, grain_diameter, grain_density, ...), dense:
+/// {model, ...} (default `default_dense`; `none` when allow_none)} plus the caller's `extra`
+/// keys (read by the caller). Errors are located InputErrors.
+KtgfInput read_ktgf_input(const YamlNode& block, const std::vector<std::string>& extra,
+                          const std::string& default_dense, bool allow_none);
+
+}  // namespace gf::input
