@@ -28,7 +28,7 @@
 #include "continuum/ktgf.hpp"
 #include "core/error.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
-#include "io/input/ktgf_input.hpp"
+#include "io/input/continuum_input.hpp"
 
 namespace gf::input {
 
@@ -236,10 +236,10 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
       }
   }
   if (auto on = m.find("output")) {
-    YamlMap o(*on, {"vtk_every", "series_every", "checkpoint_every"});
-    c.vtk_every = o.number_or("vtk_every", 0.0, Range::non_negative());
-    c.series_every = o.number_or("series_every", 0.0, Range::non_negative());
-    c.checkpoint_every = o.number_or("checkpoint_every", 0.0, Range::non_negative());
+    const OutputSchedule o = read_output_schedule(*on);
+    c.vtk_every = o.vtk_every;
+    c.series_every = o.series_every;
+    c.checkpoint_every = o.checkpoint_every;
   }
   // The model's own checks (packing limits, periodic grid axes) with the block's location.
   try {

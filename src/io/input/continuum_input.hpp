@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Reading a kinetic-theory (KTGF) block of a case file: the closure set, the radial distribution,
-// the grain material and the dense-region model, each checked against its registry schema.
+// Parts shared by the continuum methods' blocks (`continuum:` SPH, `two_fluid:`): a model's
+// parameters against its registry schema, a kinetic-theory (KTGF) block, the output schedule.
 #pragma once
 
 #include <map>
@@ -34,5 +34,11 @@ struct KtgfInput {
 /// keys (read by the caller). Errors are located InputErrors.
 KtgfInput read_ktgf_input(const YamlNode& block, const std::vector<std::string>& extra,
                           const std::string& default_dense, bool allow_none);
+
+/// The output schedule {vtk_every, series_every, checkpoint_every} [s], each >= 0.
+struct OutputSchedule {
+  double vtk_every = 0.0, series_every = 0.0, checkpoint_every = 0.0;
+};
+OutputSchedule read_output_schedule(const YamlNode& node);
 
 }  // namespace gf::input

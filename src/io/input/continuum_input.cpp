@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Reading a kinetic-theory block (closure set, radial distribution, material, dense model).
-#include "io/input/ktgf_input.hpp"
+// Reading the parts the continuum methods' blocks share.
+#include "io/input/continuum_input.hpp"
 
 #include <fmt/format.h>
 
@@ -97,6 +97,15 @@ KtgfInput read_ktgf_input(const YamlNode& block, const std::vector<std::string>&
     (dn ? *dn : block).fail(e.what());
   }
   return r;
+}
+
+OutputSchedule read_output_schedule(const YamlNode& node) {
+  YamlMap o(node, {"vtk_every", "series_every", "checkpoint_every"});
+  OutputSchedule s;
+  s.vtk_every = o.number_or("vtk_every", 0.0, Range::non_negative());
+  s.series_every = o.number_or("series_every", 0.0, Range::non_negative());
+  s.checkpoint_every = o.number_or("checkpoint_every", 0.0, Range::non_negative());
+  return s;
 }
 
 }  // namespace gf::input
