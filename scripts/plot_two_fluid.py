@@ -262,8 +262,23 @@ def fractions(ax, folder):
     ax.legend(fontsize=7)
 
 
+def incline(ax, folder):
+    d = load(folder, "two_fluid_incline")
+    inside = d["y"] < 0.8 * 0.01
+    err = np.max(np.abs(d["u"][inside] - d["u_mu_i"][inside])) / d["u_mu_i"][inside][-1]
+    ax.plot(d["u"], d["y"] * 1e3, "o", ms=3, label="grainflow (mu_i_switch)")
+    ax.plot(d["u_mu_i"], d["y"] * 1e3, "k-", lw=1, label="mu(I) at the model's pressure")
+    ax.plot(d["u_bagnold"], d["y"] * 1e3, "r--", lw=1, label="Bagnold (pressure = weight)")
+    ax.set_ylim(0, 12)
+    ax.set_xlabel("u_s (m/s)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title("Dense layer on a 25 deg incline, mu(I) regime switch:\n"
+                 f"max error {100 * err:.2f} % of u at 0.8 h (lower 80 % of the layer)", fontsize=9)
+    ax.legend(fontsize=7)
+
+
 def plot(folder, out):
-    fig, axes = plt.subplots(2, 4, figsize=(20, 9.5))
+    fig, axes = plt.subplots(3, 3, figsize=(16, 13.5))
     ax = axes.ravel()
     sedimentation_front(ax[0], folder)
     sediment_profile(ax[1], folder)
@@ -273,6 +288,7 @@ def plot(folder, out):
     haff(ax[5], folder)
     couette_velocity(ax[6], folder)
     couette_temperature(ax[7], folder)
+    incline(ax[8], folder)
     for a in ax:
         a.grid(alpha=0.3)
     fig.suptitle("Two-fluid model (KTGF solids in a fluid) against analytic references "

@@ -44,6 +44,13 @@ int entry_position(const fluid::SpdSolver::Matrix& m, int row, int col) {
   return -1;
 }
 
+/// The seed's dense-regime pressure (Gomez Fino 2014, eq 14, after Josserand, Lagree & Lhuillier
+/// 2006): p0 ln((a_M - a_m) / (a_M - a)) for a > a_m, 0 below [Pa].
+double logarithmic_pressure(double a, const TwoFluidSettings::LogPressure& lp) {
+  if (!(a > lp.min_fraction)) return 0.0;
+  return lp.p0 * std::log((lp.max_fraction - lp.min_fraction) / (lp.max_fraction - a));
+}
+
 /// Zeroes column `col` of a compressed column-major matrix (its entries are then accumulated: on
 /// a periodic axis of two cells both neighbours are the same unknown, one entry).
 void zero_column(fluid::SpdSolver::Matrix& m, int col) {
@@ -98,14 +105,24 @@ void TwoFluidModel::check_settings() {
           "two-fluid model: wall restitution {} outside [0, 1]", s_.wall_restitution);
   REQUIRE(s_.max_courant > 0 && s_.max_courant <= 1,
           "two-fluid model: max_courant {} outside (0, 1]", s_.max_courant);
-  if (s_.frictional)
-    REQUIRE(s_.dense.model == index_of_key(FrictionalModels{}, SchaefferJohnsonJackson::key),
-            "two-fluid model: the dense-region model must be '{}' (the mu(I) switch needs a "
-            "pressure model the two-fluid model does not have yet)",
-            SchaefferJohnsonJackson::key);
-  // The cap stays below every divergence: g0's packing limit and the frictional a_max.
+  mu_i_switch_ =
+      s_.frictional && s_.dense.model == index_of_key(FrictionalModels{}, MuISwitch::key);
+  if (mu_i_switch_) {
+    REQUIRE(s_.dense_rheology.model == index_of_key(Rheologies{}, MuI::key),
+            "two-fluid model: the '{}' dense regime needs the 'mu_i' rheology (prepare_rheology)",
+            MuISwitch::key);
+    const auto& lp = s_.log_pressure;
+    REQUIRE(lp.p0 > 0 && lp.min_fraction > 0 && lp.min_fraction < lp.max_fraction &&
+                lp.max_fraction < 1,
+            "two-fluid model: the '{}' dense regime needs its pressure p0 ln((a_M - a_m) / (a_M - "
+            "a)) with p0 > 0 and 0 < a_m < a_M < 1 (got p0 = {}, a_m = {}, a_M = {})",
+            MuISwitch::key, lp.p0, lp.min_fraction, lp.max_fraction);
+  }
+  // The cap stays below every divergence: g0's packing limit, the frictional a_max, the a_M of
+  // the logarithmic pressure.
   double limit = k.packing_limit > 0 ? k.packing_limit : 1.0;
-  if (s_.frictional) limit = std::min(limit, s_.dense.max_fraction);
+  if (s_.frictional)
+    limit = std::min(limit, mu_i_switch_ ? s_.log_pressure.max_fraction : s_.dense.max_fraction);
   a_max_ = s_.max_fraction > 0 ? s_.max_fraction : limit - 0.005;
   REQUIRE(a_max_ > 0 && a_max_ < limit,
           "two-fluid model: max_fraction {} must lie in (0, {}) (the packing limit of g0 and the "
@@ -284,7 +301,10 @@ TwoFluidModel::CellClosures TwoFluidModel::closures(double a, double theta, doub
   const double ac = std::clamp(a, 0.0, a_max_);
   auto pressure = [&](double x) {
     double p = continuum::solids_pressure(x, theta, k);
-    if (s_.frictional) p += johnson_jackson_pressure(x, s_.dense);
+    if (mu_i_switch_)
+      p += logarithmic_pressure(x, s_.log_pressure);
+    else if (s_.frictional)
+      p += johnson_jackson_pressure(x, s_.dense);
     return p;
   };
   r.g0 = radial_distribution(ac, k);
@@ -295,9 +315,9 @@ TwoFluidModel::CellClosures TwoFluidModel::closures(double a, double theta, doub
   const double lo = std::max(ac - h, 0.0), hi = std::min(ac + h, a_max_);
   r.pressure_slope = hi > lo ? (pressure(hi) - pressure(lo)) / (hi - lo) : 0.0;
   if (s_.frictional) {
-    RheologyParams none;
     r.viscosity =
-        effective_shear_viscosity(ac, theta, gamma_dot, r.pressure, k, s_.dense, none).viscosity;
+        effective_shear_viscosity(ac, theta, gamma_dot, r.pressure, k, s_.dense, s_.dense_rheology)
+            .viscosity;
   } else {
     r.viscosity = solids_shear_viscosity(ac, theta, k);
   }

@@ -13,31 +13,39 @@
 //                                          + eps rho_f g
 //
 // ("model A": both phases feel the shared pressure gradient in proportion to their fraction).
-// Closures: P_s = P_kt(a, Theta) + P_f(a) (kinetic theory + Johnson-Jackson frictional pressure),
-// tau_s = 2 mu_s D + (lambda_s - 2/3 mu_s) tr(D) I with mu_s the KTGF viscosity plus Schaeffer's
-// frictional viscosity, beta = a beta_p / V_p with beta_p the per-particle coefficient of a drag
-// law of the registry evaluated at the fluid fraction eps and the cell's slip. The granular
-// temperature is algebraic (local equilibrium of production and dissipation, Syamlal, Rogers &
-// O'Brien 1993, the MFIX theory guide; Fluent's "algebraic" option; van Wachem et al. 2001):
-//   -P_kt tr(D) + 2 mu_kt D':D' + lambda_s tr(D)^2 = gamma_s + 3 beta Theta
-// solved in closed form since P_kt ~ Theta, mu_kt, lambda_s ~ sqrt(Theta), gamma_s ~ Theta^1.5
-// at fixed a (the frictional parts are not fluctuation energy and stay out of the balance).
+// Closures: P_s = P_kt(a, Theta) + P_dense(a), tau_s = 2 mu_s D + (lambda_s - 2/3 mu_s) tr(D) I,
+// beta = a beta_p / V_p with beta_p the per-particle coefficient of a drag law of the registry
+// at the fluid fraction eps and the cell's slip. Dense regime (FrictionalModels):
+// schaeffer_johnson_jackson adds the Johnson-Jackson pressure and Schaeffer's viscosity to the
+// kinetic theory's (seed eqs 3, 6, 7); mu_i_switch is the seed's regime switch: above a
+// frictional limit the viscosity of the mu(I) rheology at the solids pressure (seed eqs 8-11),
+// with the seed's logarithmic pressure p0 ln((a_M - a_m) / (a_M - a)) (eq 14). The granular
+// temperature is either algebraic, the local equilibrium of production and dissipation
+// (Syamlal, Rogers & O'Brien 1993, the MFIX theory guide; van Wachem et al. 2001)
+//   -P_kt tr(D) + 2 mu_kt D':D' + lambda_s tr(D)^2 = gamma_s + 3 beta Theta,
+// solved in closed form since P_kt ~ Theta, mu_kt, lambda_s ~ sqrt(Theta), gamma_s ~ Theta^1.5 at
+// fixed a (the dense parts are not fluctuation energy and stay out of the balance), or
+// transported: the granular energy balance with convection, conduction and Johnson-Jackson wall
+// fluxes (transport_temperature).
 //
 // One step (sec. "Algorithm" of docs/models/two_fluid.md):
 //   1. cell closures at t^n (g0, P_s, dP_s/da, mu_s, lambda_s, beta);
-//   2. solids momentum predictor on the faces, explicit in everything but the drag (implicit in
-//      u_s with the fluid velocity of t^n): u*;
+//   2. solids momentum predictor on the faces: drag implicit in u_s (with the fluid velocity of
+//      t^n), the viscous terms of u_s itself implicit, the rest explicit: u*;
 //   3. solids continuity with the solids pressure implicit in a (the "implicit phase pressure"
 //      of OpenFOAM's twoPhaseEulerFoam; the solids volume-fraction correction of MFIX): the face
-//      velocity is u_s = u* - c_f grad(delta), delta = a^{n+1} - a^n, c_f = dt (dP_s/da)_f /
-//      (a_f rho_s + beta_f dt), so the stiff pressure near packing costs no time step; the
-//      resulting SPD system for delta is solved by conjugate gradients;
-//   4. the fluid step of VolumeAveragedNS with eps^{n+1}, d eps/dt = -delta / dt and the drag
-//      beta (u_s^{n+1} - u_f) implicit in u_f;
-//   5. Theta^{n+1} from the algebraic balance with the new solids velocities.
-// The solids fluxes of step 3 are the ones that move a, so the solids volume is conserved to
+//      velocity is u~ = u* - c_f grad(delta), delta = a~ - a^n, c_f = dt (dP_s/da)_f /
+//      (a_f rho_s + beta_f dt), so the stiff pressure near packing costs no time step (an SPD
+//      system for delta);
+//   4. the fluid step of VolumeAveragedNS with the drag beta (u~ - u_f) implicit in u_f, whose
+//      pressure correction phi enforces the continuity of the mixture, div(eps u_f + F) = 0,
+//      with the solids flux F responding to phi as well (set_shared_phase): correcting the fluid
+//      alone made a packed sediment ring, the fluid forced to fill what the lagged solids left;
+//      then u_s = u~ - (a_f / (a_f rho_s / dt + beta_f)) grad(phi) and a^{n+1} = a^n - dt div(F);
+//   5. Theta^{n+1}, algebraic or transported, with the new solids velocities.
+// The fluxes F of step 4 are the ones that move a, so the solids volume is conserved to
 // round-off (a closed box; the rare clip of a below 0 or above the packing limit is counted in
-// StepReport::clipped_volume).
+// TwoFluidReport::clipped_volume).
 #pragma once
 
 #include <array>
@@ -83,9 +91,20 @@ struct TwoFluidSettings {
   /// a periodic face is periodic for both.
   fluid::FluidSettings fluid;
   KtgfParams ktgf;  ///< closure set and grain material (diameter, density, restitution)
-  /// Dense-region closure (schaeffer_johnson_jackson); frictional = false: kinetic theory only.
+  /// Dense-region closure; frictional = false: kinetic theory only. schaeffer_johnson_jackson:
+  /// the Johnson-Jackson pressure and Schaeffer's viscosity added to the kinetic theory's;
+  /// mu_i_switch (the seed's regime switch): above its frictional limit the viscosity of the
+  /// mu(I) rheology `dense_rheology` at the solids pressure, and the pressure `log_pressure`.
   bool frictional = true;
   FrictionalParams dense;
+  RheologyParams dense_rheology;  ///< mu_i_switch: prepare_rheology("mu_i", ...)
+  /// mu_i_switch: the seed's eq 14, P = p0 ln((a_M - a_m) / (a_M - a)) for a > a_m (Gomez Fino
+  /// 2014; Josserand, Lagree & Lhuillier, Europhys. Lett. 73 (2006) 363), added to P_kt.
+  struct LogPressure {
+    double p0 = 0.0;            ///< [Pa], the seed's rho g h scale
+    double min_fraction = 0.0;  ///< a_m [1]
+    double max_fraction = 0.0;  ///< a_M [1]: the pressure diverges there
+  } log_pressure;
   cfd_dem::DragParams drag;  ///< drag law (index in cfd_dem::DragLaws)
   std::array<SolidsWall, 6> solids_wall{SolidsWall::NoSlip, SolidsWall::NoSlip, SolidsWall::NoSlip,
                                         SolidsWall::NoSlip, SolidsWall::NoSlip, SolidsWall::NoSlip};
@@ -233,10 +252,11 @@ class TwoFluidModel {
   fluid::VolumeAveragedNS fluid_;
   int dim_ = 3;
   double time_ = 0.0;
-  double a_max_ = 0.0;     // cap of the volume fraction
-  double v_p_ = 0.0;       // grain volume [m^3]
-  double a_floor_ = 1e-6;  // mass and drag of an empty cell are those of this fraction
-  bool stale_ = true;      // closures not evaluated for the present state
+  double a_max_ = 0.0;        // cap of the volume fraction
+  double v_p_ = 0.0;          // grain volume [m^3]
+  double a_floor_ = 1e-6;     // mass and drag of an empty cell are those of this fraction
+  bool stale_ = true;         // closures not evaluated for the present state
+  bool mu_i_switch_ = false;  // dense regime by mu(I) with the logarithmic pressure
 
   std::vector<double> alpha_, alpha_old_, theta_;      // cells
   std::vector<double> ps_, dps_, mu_, lambda_, beta_;  // cells, closures at t^n

@@ -216,7 +216,7 @@ TEST(TwoFluid, SettingsErrors) {
   EXPECT_THAT(with([](TwoFluidSettings& s) { s.max_fraction = 0.7; }),
               HasSubstr("max_fraction 0.7"));
   EXPECT_THAT(with([](TwoFluidSettings& s) { s.dense = prepare_frictional("mu_i_switch"); }),
-              HasSubstr("schaeffer_johnson_jackson"));
+              HasSubstr("needs the 'mu_i' rheology"));
   EXPECT_THAT(with([](TwoFluidSettings& s) {
                 s.fluid.boundary[0] = s.fluid.boundary[1] = fluid::BoundaryCondition::no_slip();
               }),

@@ -101,6 +101,23 @@ TEST(TwoFluidInput, ReadsTheBlock) {
                                        "    grain_density: 2500\n    dense: none\n"));
   EXPECT_EQ(lun.settings.temperature, continuum::GranularTemperature::Transport);
   EXPECT_FALSE(lun.settings.frictional);
+  // The seed's regime switch: mu(I) with the logarithmic pressure; its echo reads back too.
+  const auto mui = parse_text(
+      replaced(kCase, "    grain_density: 2500\n",
+               "    grain_density: 2500\n    dense: {model: mu_i_switch, frictional_limit: 0.5}\n"
+               "    rheology: {mu_s: 0.38, max_viscosity: 50}\n"
+               "    dense_pressure: {p0: 2000, min_fraction: 0.55, max_fraction: 0.6}\n"));
+  EXPECT_EQ(mui.dense, "mu_i_switch");
+  EXPECT_DOUBLE_EQ(mui.settings.log_pressure.p0, 2000.0);
+  EXPECT_DOUBLE_EQ(mui.settings.dense_rheology.max_viscosity, 50.0);
+  {
+    const std::string e1 = input::echo_two_fluid_yaml(mui, "test");
+    const auto r1 = input::YamlNode::parse_text(e1, "echo.yaml");
+    input::YamlMap t1(r1, {"name", "two_fluid"});
+    auto b1 = input::parse_two_fluid(t1.at("two_fluid"));
+    b1.name = mui.name;
+    EXPECT_EQ(input::echo_two_fluid_yaml(b1, "test"), e1);
+  }
   // The echo reads back to the same case.
   const std::string echo = input::echo_two_fluid_yaml(c, "test");
   const auto root = input::YamlNode::parse_text(echo, "echo.yaml");
@@ -123,7 +140,9 @@ TEST(TwoFluidInput, ErrorsNameLineKeyAndExpectation) {
       {"closures: syamlal", "closures: lun\n    temperature: algebraic",
        "algebraic granular temperature needs closures: syamlal"},
       {"    grain_density: 2500\n", "    grain_density: 2500\n    dense: {model: mu_i_switch}\n",
-       "dense regime is 'schaeffer_johnson_jackson' or none"},
+       "missing required key 'rheology'"},
+      {"    grain_density: 2500\n", "    grain_density: 2500\n    rheology: {mu_s: 0.4}\n",
+       "'rheology' belongs to the dense model 'mu_i_switch'"},
       {"model: gidaspow", "model: ergun", "a drag law: schiller_naumann"},
       {"model: gidaspow", "model: gidaspow, switch_fractio: 0.8", "switch_fractio"},
       {"    x_max: {type: periodic}\n", "", "x_min and x_max must both be periodic"},

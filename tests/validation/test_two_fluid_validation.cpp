@@ -8,9 +8,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <vector>
 
+#include "continuum/rheology_registry.hpp"
 #include "continuum/two_fluid.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
 #include "dump.hpp"
@@ -286,18 +288,12 @@ TEST(ValidationTwoFluid, HomogeneousCoolingFollowsHaff) {
   const double tau = haff_time(a, theta0, s.ktgf);
   test::Dump curve("two_fluid_haff", "t_over_tau,theta,haff");
   for (int k = 1; k <= 30; ++k) {
-    if (k == 10 || k == 30) continue;  // the checked times below
     run_to(m, 0.1 * k * tau, tau / 400);
-    curve.row(0.1 * k, m.granular_temperature()[5], haff_temperature(a, theta0, m.time(), s.ktgf));
-  }
-  TwoFluidModel m2(g, s);
-  m2.set_solids([&](const Vec3&) { return a; }, theta0);
-  for (const double t : {1.0, 3.0}) {
-    TwoFluidModel& m = m2;
-    run_to(m, t * tau, tau / 400);
-    const double ref = haff_temperature(a, theta0, t * tau, s.ktgf);
+    const double ref = haff_temperature(a, theta0, m.time(), s.ktgf);
     const double th = m.granular_temperature()[5];
-    std::printf("t = %.0f tau: Theta %.6e, Haff %.6e (%+.3f %%)\n", t, th, ref,
+    curve.row(0.1 * k, th, ref);
+    if (k % 10 != 0 || k == 20) continue;  // checked at tau and 3 tau
+    std::printf("t = %d tau: Theta %.6e, Haff %.6e (%+.3f %%)\n", k / 10, th, ref,
                 100 * (th / ref - 1));
     EXPECT_NEAR(th / ref, 1.0, 2e-3);
   }
@@ -387,4 +383,83 @@ TEST(ValidationTwoFluid, CouetteFlowIsTheKineticTheoryState) {
     EXPECT_LT(err_a, 1e-12);
     EXPECT_NEAR(tau / ref.shear_stress, 1.0, 1e-9);
   }
+}
+
+// The seed's regime switch in the two-fluid model: a dense layer flowing down a rough incline
+// (angle theta) under the mu(I) rheology (Jop, Forterre & Pouliquen 2006; GDR MiDi 2004) with the
+// seed's logarithmic pressure. In the steady uniform flow the shear stress is the weight of the
+// grains above, tau(y) = sin(theta) W(y), and the rheology gives the shear rate from it and the
+// solids pressure P(y): mu(I) = tau / P, gamma_dot = I sqrt(P / rho_s) / d, so
+//   u(y) = int_0^y I(tau / P) sqrt(P / rho_s) / d dy'.
+// The reference integrates this with the model's pressure profile (trapezoids over half cells).
+// Pure mu(I) theory has P = cos(theta) W (Bagnold's profile, u ~ h^1.5 - (h - y)^1.5); the
+// two-fluid pressure also holds the kinetic-theory pressure of the sheared, dilute free surface
+// (~3 Pa here, on 4-120 Pa), which lowers I near the surface: the run reaches ~74 % of Bagnold's
+// surface speed, printed for the record. Tolerance 3 % of the speed at 0.8 h, over the lower 80 %
+// of the layer (the smeared surface cell aside): the first-order upwind convection and the
+// half-cell shear at the no-slip base are the errors.
+TEST(ValidationTwoFluid, DenseLayerOnAnInclineFollowsMuI) {
+  TwoFluidSettings s;
+  s.fluid.density = 1e-2;  // a tenuous gas: drag negligible
+  s.fluid.dynamic_viscosity = 1e-7;
+  const double theta = 25.0 * kPi / 180.0, d = 5e-4, rho_s = 2500.0;
+  s.fluid.gravity = {kG * std::sin(theta), -kG * std::cos(theta), 0.0};
+  s.ktgf = prepare_ktgf("syamlal",
+                        {{"restitution", 0.8}, {"grain_diameter", d}, {"grain_density", rho_s}});
+  s.dense = prepare_frictional("mu_i_switch", {{"frictional_limit", 0.5}});
+  s.dense_rheology = prepare_rheology(
+      "mu_i", {{"grain_diameter", d}, {"grain_density", rho_s}, {"max_viscosity", 50.0}});
+  s.log_pressure = {2000.0, 0.55, 0.6};
+  s.drag = cfd_dem::prepare_drag("wen_yu");
+  fluid::Grid g = column(2, 40, 5e-4);
+  s.fluid.boundary[0] = s.fluid.boundary[1] = fluid::BoundaryCondition::periodic();
+  s.fluid.boundary[3] = fluid::BoundaryCondition::pressure_outlet(0.0);
+  s.solids_wall[2] = SolidsWall::NoSlip;
+  TwoFluidModel m(g, s);
+  const double h = 0.01;
+  m.set_solids([&](const Vec3& x) { return x.y < h ? 0.56 : 0.0; }, 1e-6);
+  run_to(m, 3.0, 1e-3);  // steady within 0.5 % (u at 0.8 h: +0.5 % from 2.5 s to 3 s)
+  // mu(I) = tan(theta) (pure mu(I), Bagnold) and I of mu = tau / P (the model's pressure).
+  auto i_of = [](double mu) { return 0.279 * (mu - 0.382) / (0.643 - mu); };
+  const double i_bagnold = i_of(std::tan(theta));
+  const auto a = m.solids_fraction();
+  const auto ps = m.solids_pressure();
+  std::vector<double> w(static_cast<std::size_t>(g.n[1]) + 1, 0.0);  // weight above each face
+  for (int j = g.n[1] - 1; j >= 0; --j) w[j] = w[j + 1] + a[g.index(0, j, 0)] * rho_s * kG * g.h.y;
+  // gamma_dot at a level with weight ww above and pressure pp
+  auto rate = [&](double ww, double pp) {
+    if (!(pp > 0)) return 0.0;
+    const double mu = std::min(std::sin(theta) * ww / pp, 0.64);
+    return mu > 0.382 ? i_of(mu) * std::sqrt(pp / rho_s) / d : 0.0;
+  };
+  double u_ref = 0.0, u_bag = 0.0, err = 0.0, u_top = 0.0, u_bag_top = 0.0;
+  test::Dump prof("two_fluid_incline", "y,alpha,u,u_mu_i,u_bagnold,pressure,weight_pressure");
+  for (int j = 0; j < g.n[1]; ++j) {
+    // the pressure on the faces: the mean of the two cells (the floor: extrapolated)
+    const double pc = ps[g.index(0, j, 0)];
+    const double p_lo =
+        j == 0 ? pc + 0.5 * (pc - ps[g.index(0, 1, 0)]) : 0.5 * (pc + ps[g.index(0, j - 1, 0)]);
+    const double p_hi = j + 1 < g.n[1] ? 0.5 * (pc + ps[g.index(0, j + 1, 0)]) : 0.0;
+    const double wc = 0.5 * (w[j] + w[j + 1]);
+    u_ref += 0.25 * g.h.y * (rate(w[j], p_lo) + rate(wc, pc));
+    const double cth = std::cos(theta);
+    u_bag += 0.25 * g.h.y * (i_bagnold / d) *
+             (std::sqrt(cth * w[j] / rho_s) + std::sqrt(cth * wc / rho_s));
+    const double u = m.solids_velocity(g.index(0, j, 0)).x;
+    prof.row((j + 0.5) * g.h.y, a[g.index(0, j, 0)], u, u_ref, u_bag, pc, cth * wc);
+    if ((j + 0.5) * g.h.y < 0.8 * h) {
+      err = std::max(err, std::abs(u - u_ref));
+      u_top = u_ref;
+      u_bag_top = u_bag;
+    }
+    u_ref += 0.25 * g.h.y * (rate(wc, pc) + rate(w[j + 1], p_hi));
+    u_bag += 0.25 * g.h.y * (i_bagnold / d) *
+             (std::sqrt(cth * wc / rho_s) + std::sqrt(cth * w[j + 1] / rho_s));
+  }
+  std::printf(
+      "incline %.0f deg: u at 0.8 h %.4f m/s, mu(I) at the model's pressure %.4f (max "
+      "error %.2f %%), Bagnold (pressure = weight, I = %.4f) %.4f; a(base) %.4f\n",
+      theta * 180 / kPi, m.solids_velocity(g.index(0, 15, 0)).x, u_top, 100 * err / u_top,
+      i_bagnold, u_bag_top, a[0]);
+  EXPECT_LT(err, 0.03 * u_top);
 }

@@ -26,6 +26,7 @@
 #include <sstream>
 
 #include "continuum/ktgf.hpp"
+#include "continuum/rheology_registry.hpp"
 #include "core/error.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
 #include "io/input/continuum_input.hpp"
@@ -85,8 +86,9 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
   }
   {
     const auto sn = m.at("solids");
-    std::vector<std::string> extra{"temperature", "initial_temperature", "max_fraction",
-                                   "specularity", "wall_restitution"};
+    std::vector<std::string> extra{"temperature",   "initial_temperature", "max_fraction",
+                                   "specularity",   "wall_restitution",    "rheology",
+                                   "dense_pressure"};
     const KtgfInput kt = read_ktgf_input(sn, extra, "schaeffer_johnson_jackson", true);
     c.closures = kt.closures;
     c.radial = kt.radial;
@@ -95,15 +97,42 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
     c.dense_params = kt.dense_params;
     s.ktgf = kt.ktgf;
     s.frictional = kt.frictional.has_value();
-    if (kt.frictional) {
-      if (c.dense != continuum::SchaefferJohnsonJackson::key)
-        YamlMap(sn).at("dense").fail(fmt::format(
-            "the two-fluid model's dense regime is '{}' or none (the mu(I) switch needs a "
-            "pressure model it does not have yet)",
-            continuum::SchaefferJohnsonJackson::key));
-      s.dense = *kt.frictional;
-    }
     YamlMap sm(sn);
+    if (kt.frictional) s.dense = *kt.frictional;
+    // mu_i_switch (the seed's regime switch): the mu(I) rheology above the frictional limit and
+    // the seed's logarithmic pressure; both blocks required there, refused elsewhere.
+    const bool mu_i = c.dense == continuum::MuISwitch::key;
+    for (const char* key : {"rheology", "dense_pressure"})
+      if (!mu_i && sm.has(key))
+        sm.at(key).fail(
+            fmt::format("'{}' belongs to the dense model '{}' (the dense model is '{}')", key,
+                        continuum::MuISwitch::key, c.dense));
+    if (mu_i) {
+      const auto rn = sm.at("rheology");
+      YamlMap r(rn, {"mu_s", "mu_2", "i0", "max_viscosity"});
+      const auto* info = continuum::find_rheology(continuum::MuI::key);
+      std::vector<ParamSpec> schema;
+      for (const auto& p : info->params)
+        if (p.name != "grain_diameter" && p.name != "grain_density") schema.push_back(p);
+      c.rheology_params = read_schema_params(r, rn, schema, "rheology 'mu_i'");
+      auto params = c.rheology_params;
+      params["grain_diameter"] = s.ktgf.diameter;
+      params["grain_density"] = s.ktgf.density;
+      try {
+        s.dense_rheology = continuum::prepare_rheology(continuum::MuI::key, params);
+      } catch (const InputError&) {
+        throw;
+      } catch (const Error& e) {
+        rn.fail(e.what());
+      }
+      const auto pn = sm.at("dense_pressure");
+      YamlMap pm(pn, {"p0", "min_fraction", "max_fraction"});
+      s.log_pressure.p0 = pm.number("p0", Range::positive());
+      s.log_pressure.min_fraction = pm.number("min_fraction", {0.0, 1.0, true, true});
+      s.log_pressure.max_fraction = pm.number("max_fraction", {0.0, 1.0, true, true});
+      if (!(s.log_pressure.max_fraction > s.log_pressure.min_fraction))
+        pm.at("max_fraction").fail("expected max_fraction > min_fraction");
+    }
     s.temperature = continuum::GranularTemperature::Algebraic;
     if (auto t = sm.find("temperature"))
       s.temperature = t->as_choice({"algebraic", "transport"}) == "transport"
@@ -284,6 +313,12 @@ std::string echo_two_fluid_yaml(const TwoFluidCase& c, const std::string& versio
                    c.radial, params(c.ktgf_params),
                    s.frictional ? fmt::format("{{model: {}{}}}", c.dense, params(c.dense_params))
                                 : std::string("none"));
+  if (c.dense == continuum::MuISwitch::key)
+    o << fmt::format(
+        ", rheology: {{{}}}, dense_pressure: {{p0: {:.17g}, min_fraction: {:.17g}, "
+        "max_fraction: {:.17g}}}",
+        params(c.rheology_params).substr(2), s.log_pressure.p0, s.log_pressure.min_fraction,
+        s.log_pressure.max_fraction);
   o << fmt::format(
       ", temperature: {}, initial_temperature: {:.17g}, max_fraction: {:.17g}, specularity: "
       "{:.17g}, wall_restitution: {:.17g}}}\n",

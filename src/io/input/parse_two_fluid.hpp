@@ -21,6 +21,7 @@ struct TwoFluidCase {
   /// registry keys and parameters as given (no defaults), for the echo
   std::string closures, radial, dense, drag;
   std::map<std::string, double> ktgf_params, dense_params, drag_params;
+  std::map<std::string, double> rheology_params;  ///< mu_i_switch: mu_s, mu_2, i0, max_viscosity
   /// A box of the initial state (later boxes override earlier ones where they overlap).
   struct Region {
     Vec3 lo, hi;
