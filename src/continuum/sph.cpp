@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "continuum/rheology_registry.hpp"
 #include "core/error.hpp"
@@ -256,6 +257,9 @@ void SphSolver::build_particles() {
   wall_motion_.assign(cfg_.walls.size(), {});
   free_slip_.assign(cfg_.walls.size(), 0);
   slip_length_.assign(cfg_.walls.size(), 0.0);
+  jj_shear_.assign(cfg_.walls.size(), 0.0);
+  jj_dissipation_.assign(cfg_.walls.size(), 0.0);
+  jj_wall_.assign(cfg_.walls.size(), 0);
   for (std::size_t w = 0; w < cfg_.walls.size(); ++w) {
     const auto& wall = cfg_.walls[w];
     auto& motion = wall_motion_[w];
@@ -263,6 +267,30 @@ void SphSolver::build_particles() {
     REQUIRE(wall.slip_length >= 0.0, "SPH: wall '{}': slip length {} m must not be negative",
             wall.name, wall.slip_length);
     slip_length_[w] = wall.slip_length;
+    if (wall.johnson_jackson) {
+      const auto& jj = *wall.johnson_jackson;
+      if (!cfg_.kinetic_theory)
+        throw InputError(fmt::format(
+            "SPH: wall '{}': the Johnson-Jackson wall condition (specularity, wall_restitution) "
+            "needs kinetic_theory (a granular temperature)",
+            wall.name));
+      REQUIRE(!wall.free_slip && wall.slip_length == 0.0,
+              "SPH: wall '{}': a Johnson-Jackson wall is neither free-slip nor has a slip length",
+              wall.name);
+      REQUIRE(jj.specularity >= 0.0 && jj.specularity <= 1.0 && jj.wall_restitution >= 0.0 &&
+                  jj.wall_restitution <= 1.0,
+              "SPH: wall '{}': specularity {} and wall restitution {} must lie in [0, 1]",
+              wall.name, jj.specularity, jj.wall_restitution);
+      // a / a_max with a_max the dense packing rho0 / rho_s: rho_s / a_max = rho_s^2 / rho0
+      const double rho_s = cfg_.kinetic_theory->closures.density;
+      const double rho_per_amax = rho_s * rho_s / cfg_.density;
+      const double pi = std::numbers::pi, sqrt3 = std::numbers::sqrt3;
+      jj_shear_[w] = pi * sqrt3 / 6.0 * jj.specularity * rho_per_amax;
+      jj_dissipation_[w] =
+          sqrt3 * pi / 4.0 * (1.0 - jj.wall_restitution * jj.wall_restitution) * rho_per_amax;
+      jj_wall_[w] = 1;
+      any_jj_ = true;
+    }
     motion.c0 = wall.rotation_center.value_or(
         wall.shape == SphWall::Shape::Box ? 0.5 * (wall.lo + wall.hi) : wall.center);
     motion.velocity = wall.velocity;
@@ -383,6 +411,7 @@ void SphSolver::continuity_and_strain(double dt) {
     conductivity_.resize(n_fluid_, 0.0);
     kt_closures_.resize(n_fluid_);
   }
+  if (kt && any_jj_) johnson_jackson_heat();
   const double delta_hc = cfg_.density_diffusion * w_.h * cfg_.sound_speed;
   const double inv_c2 = 1.0 / (cfg_.sound_speed * cfg_.sound_speed);
   const double gs = gradient_scale_;
@@ -414,8 +443,8 @@ void SphSolver::continuity_and_strain(double dt) {
       if (!wall) {
         grad = grad + outer(vol_j * (p_.v[j] - vi), gw);
         m = m + outer(-vol_j * d, gw);
-        // (1 / rho) div(kappa grad Theta) by the Morris form of the viscous term; the walls are
-        // adiabatic (no heat flux through them)
+        // (1 / rho) div(kappa grad Theta) by the Morris form of the viscous term; no conduction
+        // into walls (adiabatic, or the Johnson-Jackson flux: johnson_jackson_heat)
         if (kt)
           conduction += laplacian_coefficient(i, j, r, dw, conductivity_[i], conductivity_[j]) *
                         (p_.theta[j] - p_.theta[i]);
@@ -542,6 +571,12 @@ SphSolver::TemperatureBalance SphSolver::temperature_balance(std::size_t i, doub
     source -= c.pressure * theta * div;
   else
     sink += c.pressure * theta * div;
+  if (any_jj_) {
+    // Johnson-Jackson walls: slip work in, inelastic wall collisions out (~ Theta^(3/2) of the
+    // fluid next to the wall: implicit like gamma)
+    source += jj_source_[i];
+    sink += jj_sink_[i];
+  }
   const double k = 2.0 / (3.0 * rho);
   return {theta + dt * k * source, 1.0 + dt * k * sink / theta};
 }
@@ -627,6 +662,85 @@ void SphSolver::refresh_kinetic_theory() {
   update_kinetic_theory_limits();
 }
 
+double SphSolver::johnson_jackson_grip(std::size_t wall, double sum_ag, double sum_w, double eta,
+                                       double dist) const {
+  // C = (pi sqrt(3) / 6) phi' (a / a_max) rho_s g0 sqrt(Theta) from the kernel mean of
+  // a g0 sqrt(Theta); s = d / (d + eta / C) (phi' = 0: s = 0, free slip)
+  const double dc = dist * jj_shear_[wall] * sum_ag / sum_w;
+  return dc > 0.0 ? dc / (dc + eta) : 0.0;
+}
+
+void SphSolver::johnson_jackson_heat() {
+  // Per wall particle of a Johnson-Jackson wall: q dS / sum_f V_f W_wf, with
+  // q = C |u_slip|^2 - (sqrt(3) pi / 4) (1 - e_w^2) (a / a_max) rho_s g0 Theta^(3/2) from the
+  // kernel means of the fluid it sees (u_slip its velocity at the mirror surface relative to the
+  // wall, tangential), and dS the particle's surface element as in the wall loads; fluid particle
+  // i then receives q dS W_wi / sum_f V_f W_wf [W/m^3] (the sum over i of V_i times it is q dS).
+  const Domain& dom = cfg_.domain;
+  const std::size_t nw = p_.size() - n_fluid_;
+  jj_heat_.resize(nw);
+  exec::parallel_for(static_cast<exec::index_t>(nw), [&](exec::index_t wi) {
+    const auto ww = static_cast<std::size_t>(wi);
+    const auto w = n_fluid_ + ww;
+    const auto wall = static_cast<std::size_t>(p_.wall_index[w]);
+    jj_heat_[ww] = {};
+    if (!jj_wall_[wall]) return;
+    double sum_w = 0.0, sum_vw = 0.0, sum_eta = 0.0, sum_ag = 0.0, sum_ag3 = 0.0;
+    Vec3 sum_v{}, sum_d{}, area{};
+    for (auto k = nbr_start_[w]; k < nbr_start_[w + 1]; ++k) {
+      const auto f = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
+      const Vec3 d = dom.delta(p_.x[w], p_.x[f]);
+      const double r = norm(d);
+      const double wk = w_.value(r);
+      if (!(wk > 0.0)) continue;
+      const double vol = p_.mass[f] / p_.rho[f];
+      const double theta = p_.theta[f], ag = kt_closures_[f].a * kt_closures_[f].g0;
+      sum_w += wk;
+      sum_vw += vol * wk;
+      sum_eta += p_.eta[f] * wk;
+      sum_v += wk * p_.v[f];
+      sum_d += wk * d;
+      sum_ag += ag * std::sqrt(theta) * wk;
+      sum_ag3 += ag * theta * std::sqrt(theta) * wk;
+      area += (vol * w_.derivative(r) / r) * d;
+    }
+    if (!(sum_vw > 0.0)) return;
+    const auto& mo = wall_motion_[wall];
+    Vec3 u_m = p_.u_wall[w];  // the wall's velocity at the mirror surface (as extrapolate_walls)
+    if (mo.rotates) u_m -= (0.5 / sum_w) * cross(mo.omega, sum_d);
+    const double s =
+        johnson_jackson_grip(wall, sum_ag, sum_w, sum_eta / sum_w, 0.5 * norm(sum_d) / sum_w);
+    Vec3 slip = (1.0 - s) * (sum_v / sum_w - u_m);
+    if (norm2(sum_d) > 0.0) {
+      const Vec3 n = normalized(sum_d);
+      slip -= dot(slip, n) * n;
+    }
+    // n dS = 2 V_w sum_f V_f W'(r) (x_w - x_f) / r, lattice-normalised (see wall_particle_loads)
+    const double ds = 2.0 * gradient_scale_ * volume0_ * norm(area);
+    const double c = jj_shear_[wall] * sum_ag / sum_w;  // C [kg/(m^2 s)]
+    jj_heat_[ww] = {c * norm2(slip) * ds / sum_vw,
+                    jj_dissipation_[wall] * sum_ag3 / sum_w * ds / sum_vw};
+  });
+  // Each fluid particle's share (a pass of its own: the neighbour loop of
+  // continuity_and_strain stays as it is without these walls)
+  jj_source_.resize(n_fluid_);
+  jj_sink_.resize(n_fluid_);
+  exec::parallel_for(static_cast<exec::index_t>(n_fluid_), [&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    double in = 0.0, out = 0.0;
+    for (auto k = nbr_start_[i]; k < nbr_start_[i + 1]; ++k) {
+      const auto j = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
+      if (j < n_fluid_ || !jj_wall_[static_cast<std::size_t>(p_.wall_index[j])]) continue;
+      const auto& h = jj_heat_[j - n_fluid_];
+      const double wk = w_.value(norm(dom.delta(p_.x[i], p_.x[j])));
+      in += h.production * wk;
+      out += h.dissipation * wk;
+    }
+    jj_source_[i] = in;
+    jj_sink_[i] = out;
+  });
+}
+
 void SphSolver::extrapolate_walls() {
   const Domain& dom = cfg_.domain;
   const bool kt = cfg_.kinetic_theory.has_value();
@@ -640,7 +754,8 @@ void SphSolver::extrapolate_walls() {
     const auto wall = static_cast<std::size_t>(p_.wall_index[w]);
     const auto& mo = wall_motion_[wall];
     const double slip = free_slip_[wall] ? 0.0 : slip_length_[wall];
-    double sum_w = 0.0, sum_p = 0.0, sum_eta = 0.0, sum_rho = 0.0;
+    const bool jj = jj_wall_[wall] != 0;
+    double sum_w = 0.0, sum_p = 0.0, sum_eta = 0.0, sum_rho = 0.0, sum_ag = 0.0;
     Vec3 sum_rho_r{}, sum_v{}, sum_d{};
     for (auto k = nbr_start_[w]; k < nbr_start_[w + 1]; ++k) {
       const auto f = static_cast<std::size_t>(nbr_[static_cast<std::size_t>(k)]);
@@ -652,7 +767,8 @@ void SphSolver::extrapolate_walls() {
       sum_rho += p_.rho[f] * wk;
       sum_rho_r += (p_.rho[f] * wk) * d;
       sum_v += wk * p_.v[f];
-      if (mo.rotates || slip > 0.0) sum_d += wk * d;
+      if (mo.rotates || slip > 0.0 || jj) sum_d += wk * d;
+      if (jj) sum_ag += kt_closures_[f].a * kt_closures_[f].g0 * std::sqrt(p_.theta[f]) * wk;
     }
     double pw = cfg_.background_pressure;
     inv_wsum_[ww] = sum_w > 0.0 ? 1.0 / sum_w : 0.0;
@@ -667,7 +783,13 @@ void SphSolver::extrapolate_walls() {
       // A rotating wall's velocity at the midpoint of x_w and the fluid's centroid x~ (where the
       // mirror assumption puts the surface): u_w + Omega x (x~ - x_w) / 2
       if (mo.rotates) u_mirror_[ww] -= (0.5 / sum_w) * cross(mo.omega, sum_d);
-      if (slip > 0.0) {
+      if (jj) {
+        // Johnson-Jackson: Navier slip of the local length b = eta / C, d / (d + b) = s
+        const double s =
+            johnson_jackson_grip(wall, sum_ag, sum_w, sum_eta / sum_w, 0.5 * norm(sum_d) / sum_w);
+        u_mirror_[ww] = s * u_mirror_[ww];
+        mirror_weight_[ww] = 2.0 * s - 1.0;
+      } else if (slip > 0.0) {
         // Navier slip at the mirror surface, a distance d = |x~ - x_w| / 2 from the fluid's
         // centroid: the fluid's velocity there is u_s = (d u + b v~) / (d + b) (u_s - u =
         // b (v~ - u_s) / d), and the mirror image of v~ about u_s is v_w = 2 u_s - v~ =

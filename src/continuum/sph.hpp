@@ -65,7 +65,23 @@
 // P_s div v - gamma_s + div(kappa_s grad Theta) with the kinetic theory's mu_s (frictional
 // work does not feed the fluctuations: Srivastava & Sundaresan, Powder Technol. 129 (2003) 72);
 // sinks implicit, sources explicit, conduction explicit or (with implicit viscosity) backward
-// Euler, adiabatic walls. Closures: continuum/ktgf.hpp.
+// Euler; walls adiabatic unless Johnson-Jackson walls. Closures: continuum/ktgf.hpp.
+// Johnson-Jackson walls (kinetic theory only; Johnson & Jackson, J. Fluid Mech. 176 (1987) 67,
+// their wall conditions in the form with a / a_max that MFIX, Fluent and OpenFOAM use, e.g.
+// OpenFOAM's JohnsonJacksonParticleSlip / JohnsonJacksonParticleTheta, after Reuge et al., Chem.
+// Eng. Sci. 63 (2008) 5540): the wall's shear stress on the grains opposes their slip u_slip
+// (their velocity at the wall relative to it), tau_w = -C u_slip with C = (pi sqrt(3) / 6) phi'
+// (a / a_max) rho_s g0 sqrt(Theta), phi' the specularity coefficient; with eta du/dn = C u_slip
+// this is Navier slip of local length b = eta / C (eta the material's viscosity at the wall),
+// applied through the mirrored velocity as above, with d / (d + b) = d C / (d C + eta). The wall
+// puts the granular energy flux q = C |u_slip|^2 - (sqrt(3) pi / 4) (1 - e_w^2) (a / a_max)
+// rho_s g0 Theta^(3/2) [W/m^2] into the material (the slip work becomes fluctuation energy, and
+// inelastic grain-wall collisions of restitution e_w dissipate some), q = kappa dTheta/dn with n
+// out of the material. a, g0, Theta, eta and u_slip are the kernel means of the fluid a wall
+// particle sees (u_slip tangential, (1 - d / (d + b)) (v~ - u_m) by the Navier profile), a_max the
+// dense packing rho0 / rho_s; a wall particle's surface element n dS is that of the wall loads,
+// and its power q dS goes to the fluid particles it sees in proportion to V_f W_wf (a heat source
+// q dS W_wf / sum_f V_f W_wf [W/m^3]; the dissipation implicit like gamma_s).
 // Time integration: kick-drift-kick (velocity Verlet) with the density advanced after the drift;
 // the step is the smallest of the acoustic (cfl h / (c0 + |v|max)), force (0.25 sqrt(h / |a|max))
 // and viscous (0.125 h^2 rho0 / eta_max) limits (Monaghan, Rep. Prog. Phys. 68 (2005) 1703,
@@ -137,6 +153,16 @@ struct SphWall {
   /// Partial slip (Navier): the fluid slips along the wall at u_s - u_w = b dv/dn, slip length
   /// b [m] (Gomez Fino 2014, eq. 15, with b = b/a). 0: no slip; ignored on a free-slip wall.
   double slip_length = 0.0;
+  /// The Johnson & Jackson (1987) wall of kinetic theory: partial slip with the local slip
+  /// length b = mu / C, C = (pi sqrt(3) / 6) phi' (a / a_max) rho_s g0 sqrt(Theta), and the
+  /// granular energy flux q = C |u_slip|^2 - (sqrt(3) pi / 4) (1 - e_w^2) (a / a_max) rho_s g0
+  /// Theta^(3/2) into the material (see the file comment).
+  struct JohnsonJackson {
+    double specularity = 0.0;       ///< phi' in [0, 1] (0: free slip, specular reflections)
+    double wall_restitution = 1.0;  ///< e_w in [0, 1], grain-wall (1: no dissipation at the wall)
+  };
+  /// Only with kinetic theory; excludes free_slip and slip_length (unset: not such a wall).
+  std::optional<JohnsonJackson> johnson_jackson;
 };
 
 /// The granular phase by kinetic theory (KTGF) with a dense regime: the continuum's density is
@@ -321,6 +347,14 @@ class SphSolver {
     double rhs, diag;
   };
   TemperatureBalance temperature_balance(std::size_t i, double dt) const;
+  /// Kinetic theory with Johnson-Jackson walls: each such wall particle's granular energy flux
+  /// (jj_heat_) from the current state, and each fluid particle's share (jj_source_, jj_sink_).
+  void johnson_jackson_heat();
+  /// Johnson-Jackson wall `wall`: the fraction s = d / (d + b) = d C / (d C + eta) of the wall's
+  /// velocity at the mirror surface, from the kernel sums over the fluid the wall particle sees:
+  /// sum_ag = sum_f a g0 sqrt(Theta) W, eta = its mean viscosity, dist = d [m].
+  double johnson_jackson_grip(std::size_t wall, double sum_ag, double sum_w, double eta,
+                              double dist) const;
   /// Kinetic theory with implicit viscosity: the balance with backward-Euler conduction.
   void implicit_conduction_step(double dt);
   /// Kinetic theory: the time-step limits (sound speed, diffusivities) from the fluid particles'
@@ -362,6 +396,18 @@ class SphSolver {
   std::vector<Vec3> wall_x0_;            ///< per wall particle (index - n_fluid_): x at t = 0
   std::vector<char> free_slip_;          ///< per wall (SphConfig::walls order)
   std::vector<double> slip_length_;      ///< per wall: Navier slip length b [m] (0: no slip)
+  /// per wall: the Johnson-Jackson constants (pi sqrt(3) / 6) phi' rho_s / a_max and
+  /// (sqrt(3) pi / 4) (1 - e_w^2) rho_s / a_max [kg/m^3] (0 for other walls), whether it is one
+  std::vector<double> jj_shear_, jj_dissipation_;
+  std::vector<char> jj_wall_;
+  bool any_jj_ = false;
+  /// Johnson-Jackson walls: what a wall particle's surface element puts into the fluid it sees
+  struct JjHeat {
+    double production = 0.0, dissipation = 0.0;  ///< q dS / sum_f V_f W_wf, each part [W]
+  };
+  std::vector<JjHeat> jj_heat_;  ///< per wall particle (index - n_fluid_)
+  /// per fluid particle: the Johnson-Jackson walls' heat source and sink [W/m^3]
+  std::vector<double> jj_source_, jj_sink_;
   /// Whether neighbour j shears fluid particle i through the viscous term: a fluid particle or
   /// a particle of a no-slip wall.
   bool viscous_partner(std::size_t j) const {

@@ -3,8 +3,11 @@
 // solver's set-up checks, the `continuum:` block's reader.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <numbers>
@@ -268,6 +271,68 @@ SphConfig kt_gas_box(double a, const char* dense, std::map<std::string, double> 
   return c;
 }
 
+// A granular gas sheared between moving Johnson-Jackson walls (slip, slip work and wall
+// dissipation at play): a run continued from its state goes on bit-identically, explicit and
+// implicit (the walls' heat and mirrored velocities are computed from the state alone).
+TEST(SphSolver, JohnsonJacksonWallsContinueBitIdentically) {
+  for (const bool implicit : {false, true}) {
+    auto c = kt_gas_box(0.2, "mu_i_switch");
+    c.domain.periodic = {true, false, false};
+    c.domain.lo.y = -0.015;
+    c.domain.hi.y = 0.075;
+    c.implicit_viscosity = implicit;
+    SphWall floor;
+    floor.name = "floor";
+    floor.lo = {0, -0.015, 0};
+    floor.hi = {0.06, 0, 0};
+    floor.velocity = {-1.0, 0, 0};
+    floor.johnson_jackson = SphWall::JohnsonJackson{0.3, 0.8};
+    SphWall lid = floor;
+    lid.name = "lid";
+    lid.lo = {0, 0.06, 0};
+    lid.hi = {0.06, 0.075, 0};
+    lid.velocity = {1.0, 0, 0};
+    c.walls = {floor, lid};
+    SphSolver a(c);
+    for (int q = 0; q < 60; ++q) a.step();
+    SphSolver b(c);
+    b.restore(a.state());
+    for (int q = 0; q < 60; ++q) {
+      a.step();
+      b.step();
+    }
+    for (std::size_t i = 0; i < a.n_fluid(); ++i) {
+      ASSERT_EQ(a.particles().x[i], b.particles().x[i]) << i << " " << implicit;
+      ASSERT_EQ(a.particles().v[i], b.particles().v[i]) << i << " " << implicit;
+      ASSERT_EQ(a.particles().theta[i], b.particles().theta[i]) << i << " " << implicit;
+    }
+    EXPECT_GT(std::fabs(a.particles().v[0].x), 0.0);  // (sheared)
+  }
+}
+
+// A Johnson-Jackson wall needs kinetic theory (an input error for a case built in code too) and
+// is neither free-slip nor given a slip length.
+TEST(SphSolver, RefusesJohnsonJacksonWallsItCannotUse) {
+  auto c = small_tank();
+  c.walls[0].johnson_jackson = SphWall::JohnsonJackson{0.5, 0.9};
+  EXPECT_THROW(SphSolver{c}, InputError);
+  auto k = kt_gas_box(0.2, "mu_i_switch");
+  k.domain.periodic = {true, false, false};
+  k.domain.lo.y = -0.02;
+  SphWall floor;
+  floor.name = "floor";
+  floor.lo = {0, -0.02, 0};
+  floor.hi = {0.06, 0, 0};
+  floor.johnson_jackson = SphWall::JohnsonJackson{0.5, 0.9};
+  k.walls.push_back(floor);
+  EXPECT_NO_THROW(SphSolver{k});
+  k.walls[0].slip_length = 0.01;
+  EXPECT_THROW(SphSolver{k}, Error);
+  k.walls[0].slip_length = 0.0;
+  k.walls[0].johnson_jackson->specularity = 1.5;
+  EXPECT_THROW(SphSolver{k}, Error);
+}
+
 // The solver evaluates the closures once per particle and step, at unit temperature, scaled by
 // Theta (P_s ~ Theta, mu_s ~ sqrt(Theta)), and the dense model's viscosity from that mu_s: each
 // particle's pressure and viscosity must be those of ktgf.hpp's functions at its state, in both
@@ -470,8 +535,9 @@ TEST(ContinuumInput, ErrorsNameLineKeyAndExpectation) {
   EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, slip: {length: 0.1}}")),
               ::testing::HasSubstr("continuum.walls[0].slip.length: unknown key"));
   EXPECT_THAT(error_of(with("max: [1, 0.1]}}", "max: [1, 0.1]}, slip: [0.1]}")),
-              ::testing::HasSubstr("continuum.walls[0].slip: expected no_slip, free_slip or "
-                                   "{slip_length: b}"));
+              ::testing::HasSubstr("continuum.walls[0].slip: expected no_slip, free_slip, "
+                                   "{slip_length: b} (partial slip, m) or {specularity: phi', "
+                                   "wall_restitution: e_w}"));
   // 3D: an initial angle needs the rotation's axis
   std::string three = R"(continuum:
   method: sph
@@ -557,6 +623,92 @@ TEST(ContinuumInput, ReadsKineticTheory) {
   EXPECT_THAT(error_of(plain), ::testing::HasSubstr("continuum.blocks[0].volume_fraction: a "
                                                     "block's volume fraction needs "
                                                     "kinetic_theory"));
+}
+
+// Johnson-Jackson walls: `slip: {specularity: phi', wall_restitution: e_w}`, kinetic theory only;
+// echoed into the resolved case and read back; bad input names file, line, column and key.
+TEST(ContinuumInput, ReadsJohnsonJacksonWalls) {
+  std::string text = kContinuumBlock;
+  text.insert(text.find("  time:"), R"(  kinetic_theory:
+    restitution: 0.8
+    grain_diameter: 1.0e-3
+    grain_density: 2500
+)");
+  text.replace(text.find("hydrostatic: true}"), 18, "volume_fraction: 0.3}");
+  const std::string floor = "max: [1, 0.1]}}";
+  text.replace(text.find(floor), floor.size(),
+               "max: [1, 0.1]}, slip: {specularity: 0.25, wall_restitution: 0.9}}");
+  const auto c = parse_text(text);
+  ASSERT_TRUE(c.sph.walls[0].johnson_jackson.has_value());
+  EXPECT_EQ(c.sph.walls[0].johnson_jackson->specularity, 0.25);
+  EXPECT_EQ(c.sph.walls[0].johnson_jackson->wall_restitution, 0.9);
+  EXPECT_FALSE(c.sph.walls[0].free_slip);
+  EXPECT_EQ(c.sph.walls[0].slip_length, 0.0);
+  // the resolved case holds it and loads back the same
+  const std::string echoed = echo_continuum_yaml(c, "test");
+  EXPECT_NE(echoed.find("slip: {specularity: 0.25, wall_restitution: 0.9}"), std::string::npos)
+      << echoed;
+  const auto root = YamlNode::parse_text(echoed, "resolved_case.yaml");
+  const auto again = parse_continuum(YamlMap(root).at("continuum"));
+  ASSERT_TRUE(again.sph.walls[0].johnson_jackson.has_value());
+  EXPECT_EQ(again.sph.walls[0].johnson_jackson->specularity, 0.25);
+  EXPECT_EQ(again.sph.walls[0].johnson_jackson->wall_restitution, 0.9);
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  EXPECT_THAT(error_of(with("specularity: 0.25", "specularity: 1.5")),
+              ::testing::HasSubstr("continuum.walls[0].slip.specularity: expected a number in "
+                                   "[0, 1]"));
+  EXPECT_THAT(error_of(with("wall_restitution: 0.9", "wall_restitution: -0.1")),
+              ::testing::HasSubstr("continuum.walls[0].slip.wall_restitution: expected a number "
+                                   "in [0, 1]"));
+  EXPECT_THAT(error_of(with(", wall_restitution: 0.9", "")),
+              ::testing::HasSubstr("continuum.walls[0].slip.wall_restitution"));
+  EXPECT_THAT(error_of(with("specularity: 0.25", "specularty: 0.25")),
+              ::testing::HasSubstr("continuum.walls[0].slip.specularty: unknown key"));
+  EXPECT_THAT(error_of(with("{specularity: 0.25", "{slip_length: 0.01, specularity: 0.25")),
+              ::testing::HasSubstr("continuum.walls[0].slip: either {slip_length: b} (Navier "
+                                   "slip) or {specularity: phi', wall_restitution: e_w}"));
+  // without kinetic theory: an error at the value, line 13 column 76 of the block's text
+  std::string plain = kContinuumBlock;
+  plain.replace(plain.find(floor), floor.size(),
+                "max: [1, 0.1]}, slip: {specularity: 0.25, wall_restitution: 0.9}}");
+  EXPECT_THAT(error_of(plain),
+              ::testing::HasSubstr("case.yaml:13:76: error: continuum.walls[0].slip.specularity: "
+                                   "the Johnson-Jackson wall condition (specularity, "
+                                   "wall_restitution) needs kinetic_theory"));
+}
+
+// The command line refuses a Johnson-Jackson wall without kinetic theory: exit code 2, the
+// message (file:line:column, key) on stderr, nothing written.
+TEST(ContinuumInput, JohnsonJacksonWallWithoutKineticTheoryExitsWithTwo) {
+  std::string text = read_text_file(std::filesystem::path(GF_SOURCE_DIR) / "cases" / "continuum" /
+                                    "paddle_mixer" / "case.yaml");
+  const std::string navier = "slip: {slip_length: 0.006}";
+  const auto at = text.find(navier);
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, navier.size(), "slip: {specularity: 0.5, wall_restitution: 0.9}");
+  const auto line =
+      1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n');
+  // (1-based, at the value of specularity)
+  const auto column = at - text.rfind('\n', at) + std::string("slip: {specularity: ").size();
+  test::TempDir dir;
+  const auto bad = dir.write("bad.yaml", text);
+  const std::string cmd = std::string(GF_BINARY) + " run " + bad.string() + " --output " +
+                          (dir.path() / "out").string() + " > " + (dir.path() / "log").string() +
+                          " 2>&1";
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  const std::string log = read_text_file(dir.path() / "log");
+  EXPECT_NE(log.find(fmt::format("bad.yaml:{}:{}: error: continuum.walls[", line, column)),
+            std::string::npos)
+      << log;
+  EXPECT_NE(log.find("].slip.specularity: the Johnson-Jackson wall condition"), std::string::npos)
+      << log;
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "out"));
 }
 
 TEST(ContinuumInput, ResolvedCaseLoadsBackTheSame) {

@@ -668,7 +668,12 @@ std::string echo_continuum_yaml(const ContinuumCase& c, std::string_view program
       if (w.rotation_center) key_vec(out, "rotation_center", *w.rotation_center, dim);
       key_number(out, "initial_angle", w.initial_angle);
       out << YAML::Key << "slip";
-      if (w.slip_length > 0.0 && !w.free_slip) {
+      if (w.johnson_jackson) {
+        out << YAML::Value << YAML::Flow << YAML::BeginMap;
+        key_number(out, "specularity", w.johnson_jackson->specularity);
+        key_number(out, "wall_restitution", w.johnson_jackson->wall_restitution);
+        out << YAML::EndMap;
+      } else if (w.slip_length > 0.0 && !w.free_slip) {
         out << YAML::Value << YAML::Flow << YAML::BeginMap;
         key_number(out, "slip_length", w.slip_length);
         out << YAML::EndMap;

@@ -295,14 +295,35 @@ ContinuumCase parse_continuum(const YamlNode& block) {
               "in 3D an initial_angle turns the wall about its angular_velocity, which is zero or "
               "not given");
       }
-      // slip: no_slip | free_slip | {slip_length: b} (partial, Navier)
+      // slip: no_slip | free_slip | {slip_length: b} (partial, Navier) |
+      // {specularity: phi', wall_restitution: e_w} (Johnson-Jackson, kinetic theory only)
       if (auto sl = w.find("slip")) {
         if (sl->is_map()) {
-          YamlMap ps(*sl, {"slip_length"});
-          wall.slip_length = ps.number("slip_length", Range::positive());
+          YamlMap ps(*sl, {"slip_length", "specularity", "wall_restitution"});
+          const bool jj = ps.has("specularity") || ps.has("wall_restitution");
+          if (jj && ps.has("slip_length"))
+            sl->fail(
+                "either {slip_length: b} (Navier slip) or {specularity: phi', wall_restitution: "
+                "e_w} (Johnson-Jackson), not both");
+          if (!jj) {
+            wall.slip_length = ps.number("slip_length", Range::positive());
+          } else {
+            if (!m.has("kinetic_theory"))
+              ps.at(ps.has("specularity") ? "specularity" : "wall_restitution")
+                  .fail(
+                      "the Johnson-Jackson wall condition (specularity, wall_restitution) needs "
+                      "kinetic_theory: it acts through the granular temperature (without it, "
+                      "give {slip_length: b})");
+            continuum::SphWall::JohnsonJackson j;
+            j.specularity = ps.number("specularity", {0.0, 1.0});
+            j.wall_restitution = ps.number("wall_restitution", {0.0, 1.0});
+            wall.johnson_jackson = j;
+          }
         } else {
           if (!sl->is_scalar())
-            sl->fail_expected("no_slip, free_slip or {slip_length: b} (partial slip, m)");
+            sl->fail_expected(
+                "no_slip, free_slip, {slip_length: b} (partial slip, m) or {specularity: phi', "
+                "wall_restitution: e_w} (Johnson-Jackson, kinetic theory)");
           wall.free_slip = sl->as_choice({"no_slip", "free_slip"}) == "free_slip";
         }
       }
