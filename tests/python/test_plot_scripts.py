@@ -29,7 +29,7 @@ Checks:
 - where BUILD_DIR/tests/gf_validation_tests exists (BUILD_DIR: the folder of GRAINFLOW_BINARY),
   the modes that run it: plot_cfd_dem.py BUILD_DIR, plot_drag.py, plot_fluid_fv.py and
   make_plots.py, plot_momentum_balance.py (seconds each on one core), plot_rheology_spheres.py
-  (45 s), plot_continuum.py (25 s).
+  (45 s), plot_continuum.py (25 s), plot_two_fluid.py (15 s).
 Every script is given --out (or its output folder) as a folder that does not exist yet, must
 exit 0 and write exactly the expected files, each a non-empty PNG; docs/validation (names, sizes,
 modification times) is the same afterwards. The scripts run at most os.cpu_count() at a time.
@@ -66,7 +66,9 @@ def snapshot(folder):
 
 
 def run(argv, cwd):
-    return subprocess.run(argv, capture_output=True, text=True, cwd=cwd, env=ENV, timeout=300)
+    # (the slowest, plot_continuum.py, takes ~2 min alone on one core; 10 min leaves room for a
+    # loaded machine)
+    return subprocess.run(argv, capture_output=True, text=True, cwd=cwd, env=ENV, timeout=600)
 
 
 def script(*args):
@@ -257,6 +259,9 @@ with tempfile.TemporaryDirectory() as TMP:
             ("plot_continuum.py BUILD_DIR",
              script(os.path.join(SCRIPTS, "plot_continuum.py"), "--out", out("continuum"), build),
              out("continuum"), ["continuum_sph.png"]),
+            ("plot_two_fluid.py BUILD_DIR",
+             script(os.path.join(SCRIPTS, "plot_two_fluid.py"), "--out", out("two_fluid"), build),
+             out("two_fluid"), ["two_fluid.png"]),
             ("make_plots.py BUILD_DIR",
              script(os.path.join(VALIDATION, "make_plots.py"), "--out", out("dem"), build),
              out("dem"), ["dem_chung_ooi_test1.png", "dem_restitution.png",

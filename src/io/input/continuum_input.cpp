@@ -54,7 +54,7 @@ KtgfInput read_ktgf_input(const YamlNode& block, const std::vector<std::string>&
   std::vector<ParamSpec> schema(set->params.begin(), set->params.end());
   schema.insert(schema.end(), radial->params.begin(), radial->params.end());
   for (const auto& p : schema) accepted.emplace_back(p.name);
-  k.check_keys(accepted, fmt::format("keys of the kinetic theory (closures '{}', radial "
+  k.check_keys(accepted, fmt::format("keys of kinetic_theory (closures '{}', radial "
                                      "distribution '{}')",
                                      r.closures, r.radial));
   r.params = read_schema_params(k, block, schema, fmt::format("KTGF closure set '{}'", r.closures));

@@ -11,27 +11,11 @@
 #include "continuum/ktgf.hpp"
 #include "continuum/rheology_registry.hpp"
 #include "core/error.hpp"
+#include "io/input/continuum_input.hpp"
 
 namespace gf::input {
 
 namespace {
-
-/// The parameters of a model's schema from map `m` (the node `node`): each in its range, every
-/// one without a default required ("[missing key] WHAT needs 'name' [unit]: description").
-std::map<std::string, double> read_schema_params(const YamlMap& m, const YamlNode& node,
-                                                 const std::vector<ParamSpec>& schema,
-                                                 const std::string& what) {
-  std::map<std::string, double> params;
-  for (const auto& p : schema) {
-    Range range{p.min, p.max, p.min_exclusive, false};
-    if (auto v = m.optional_number(p.name, range))
-      params[std::string(p.name)] = *v;
-    else if (!p.default_value)
-      node.fail(
-          fmt::format("[missing key] {} needs '{}' [{}]: {}", what, p.name, p.unit, p.description));
-  }
-  return params;
-}
 
 struct BoxRead {
   Vec3 lo, hi;
@@ -138,74 +122,22 @@ ContinuumCase parse_continuum(const YamlNode& block) {
   if (auto kn = m.find("kinetic_theory")) {
     // kinetic_theory: {closures, radial_distribution, restitution, grain_diameter,
     //                  grain_density, [packing_limit], initial_temperature, min_temperature,
-    //                  dense: {model, ...}}
-    const auto& kblock = *kn;
-    std::vector<std::string> accepted{"closures", "radial_distribution", "initial_temperature",
-                                      "min_temperature", "dense"};
-    YamlMap k(kblock);
-    c.ktgf_closures = k.has("closures") ? k.string("closures") : "lun";
-    c.ktgf_radial =
-        k.has("radial_distribution") ? k.string("radial_distribution") : "carnahan_starling";
-    const auto* set = continuum::find_ktgf_closure(c.ktgf_closures);
-    if (!set) {
-      std::vector<std::string> keys;
-      for (const auto& i : continuum::ktgf_closure_infos()) keys.emplace_back(i.key);
-      k.at("closures").fail_expected("a KTGF closure set: " + join(keys));
-    }
-    const auto* radial = continuum::find_radial_distribution(c.ktgf_radial);
-    if (!radial) {
-      std::vector<std::string> keys;
-      for (const auto& i : continuum::radial_distribution_infos()) keys.emplace_back(i.key);
-      k.at("radial_distribution").fail_expected("a radial distribution: " + join(keys));
-    }
-    std::vector<ParamSpec> schema(set->params.begin(), set->params.end());
-    schema.insert(schema.end(), radial->params.begin(), radial->params.end());
-    for (const auto& p : schema) accepted.emplace_back(p.name);
-    k.check_keys(accepted, fmt::format("keys of kinetic_theory (closures '{}', radial "
-                                       "distribution '{}')",
-                                       c.ktgf_closures, c.ktgf_radial));
-    c.ktgf_params = read_schema_params(k, kblock, schema,
-                                       fmt::format("KTGF closure set '{}'", c.ktgf_closures));
+    //                  dense: {model, ...}}; the dense regime: the rheology above a frictional
+    // packing limit (default) or Schaeffer's frictional viscosity with the Johnson-Jackson
+    // pressure
+    const KtgfInput in =
+        read_ktgf_input(*kn, {"initial_temperature", "min_temperature"}, "mu_i_switch", false);
+    c.ktgf_closures = in.closures;
+    c.ktgf_radial = in.radial;
+    c.ktgf_dense = in.dense;
+    c.ktgf_params = in.params;
+    c.ktgf_dense_params = in.dense_params;
     continuum::SphKineticTheory kt;
-    try {
-      kt.closures = continuum::prepare_ktgf(c.ktgf_closures, c.ktgf_params, c.ktgf_radial);
-    } catch (const InputError&) {
-      throw;
-    } catch (const Error& e) {
-      kblock.fail(e.what());
-    }
+    kt.closures = in.ktgf;
+    kt.dense = *in.frictional;
+    YamlMap k(*kn);
     kt.initial_temperature = k.number_or("initial_temperature", 0.0, Range::non_negative());
     kt.min_temperature = k.number_or("min_temperature", 1e-10, Range::positive());
-    // the dense regime: the rheology above a frictional packing limit (default) or Schaeffer's
-    // frictional viscosity with the Johnson-Jackson pressure
-    c.ktgf_dense = "mu_i_switch";
-    std::optional<YamlNode> dn = k.find("dense");
-    std::optional<YamlMap> d;
-    if (dn) {
-      d.emplace(*dn);
-      c.ktgf_dense = d->string("model");
-    }
-    const auto* dense = continuum::find_frictional_model(c.ktgf_dense);
-    if (!dense) {
-      std::vector<std::string> keys;
-      for (const auto& i : continuum::frictional_model_infos()) keys.emplace_back(i.key);
-      d->at("model").fail_expected("a dense-regime model: " + join(keys));
-    }
-    if (d) {
-      std::vector<std::string> dk{"model"};
-      for (const auto& p : dense->params) dk.emplace_back(p.name);
-      d->check_keys(dk, fmt::format("parameters of dense-regime model '{}'", c.ktgf_dense));
-      c.ktgf_dense_params =
-          read_schema_params(*d, *dn, {dense->params.begin(), dense->params.end()},
-                             fmt::format("dense-regime model '{}'", c.ktgf_dense));
-    }
-    try {
-      kt.dense = continuum::prepare_frictional(c.ktgf_dense, c.ktgf_dense_params);
-    } catch (const InputError&) {
-      throw;
-    } catch (const Error& e) {
-      (dn ? *dn : kblock).fail(e.what());
-    }
     s.kinetic_theory = kt;
   }
   {
@@ -331,10 +263,10 @@ ContinuumCase parse_continuum(const YamlNode& block) {
     }
   }
   if (auto on = m.find("output")) {
-    YamlMap o(*on, {"vtk_every", "series_every", "checkpoint_every"});
-    c.vtk_every = o.number_or("vtk_every", 0.0, Range::non_negative());
-    c.series_every = o.number_or("series_every", 0.0, Range::non_negative());
-    c.checkpoint_every = o.number_or("checkpoint_every", 0.0, Range::non_negative());
+    const OutputSchedule o = read_output_schedule(*on);
+    c.vtk_every = o.vtk_every;
+    c.series_every = o.series_every;
+    c.checkpoint_every = o.checkpoint_every;
   }
   if (!c.sound_speed_given) {
     // c0 = 10 sqrt(2 |g| H): ten times the speed of a free fall over the fluid's height H (its
