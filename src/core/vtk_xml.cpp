@@ -70,6 +70,22 @@ std::string AppendedArrays::tag(const Array& a) {
       a.type, xml_escape(a.name), a.n_components, a.offset);
 }
 
+void write_image_data(std::ostream& out, const std::array<int, 3>& n, const Vec3& origin,
+                      const Vec3& spacing, const AppendedArrays& arrays, const std::string& tags,
+                      const std::string& cell_attributes) {
+  const std::string extent = fmt::format("0 {} 0 {} 0 {}", n[0], n[1], n[2]);
+  out << file_open("ImageData")
+      << fmt::format(
+             "  <ImageData WholeExtent=\"{}\" Origin=\"{:.17g} {:.17g} {:.17g}\" "
+             "Spacing=\"{:.17g} {:.17g} {:.17g}\">\n",
+             extent, origin.x, origin.y, origin.z, spacing.x, spacing.y, spacing.z)
+      << fmt::format("    <Piece Extent=\"{}\">\n", extent) << "      <CellData" << cell_attributes
+      << ">\n"
+      << tags << "      </CellData>\n    </Piece>\n  </ImageData>\n";
+  arrays.write_appended(out);
+  out << "</VTKFile>\n";
+}
+
 void AppendedArrays::write_appended(std::ostream& out) const {
   out << "  <AppendedData encoding=\"raw\">\n   _";
   for (const Array& a : arrays_) {

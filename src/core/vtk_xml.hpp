@@ -6,6 +6,7 @@
 // layer that writes ParaView files shares one format.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <filesystem>
@@ -100,6 +101,14 @@ class AppendedArrays {
   std::deque<std::vector<std::int32_t>> owned_int32_;
   std::deque<std::vector<std::uint8_t>> owned_uint8_;
 };
+
+/// A whole ImageData file (.vti) of cell data: n cells per axis from `origin` [m] with `spacing`
+/// [m], the cell arrays `arrays` (each registered in the order of `tags`, which holds their
+/// DataArray tags one per line, each line indented and ended by the caller) and the attributes
+/// of <CellData> (e.g. ` Scalars="a" Vectors="u"`).
+void write_image_data(std::ostream& out, const std::array<int, 3>& n, const Vec3& origin,
+                      const Vec3& spacing, const AppendedArrays& arrays, const std::string& tags,
+                      const std::string& cell_attributes);
 
 /// A ParaView collection (.pvd) of time steps; the file is rewritten atomically on every add,
 /// so it is always complete and can be opened while the run goes on.

@@ -334,18 +334,9 @@ void CfdDemCoupling::write_vti(std::ostream& out) const {
   const std::string p_tag = vtk::AppendedArrays::tag(arrays.add("pressure", 1, fluid_->pressure()));
   const std::string u_tag =
       vtk::AppendedArrays::tag(arrays.add("velocity", std::span<const Vec3>(u)));
-  const std::string extent = fmt::format("0 {} 0 {} 0 {}", g.n[0], g.n[1], g.n[2]);
-  out << vtk::file_open("ImageData")
-      << fmt::format(
-             "  <ImageData WholeExtent=\"{}\" Origin=\"{:.17g} {:.17g} {:.17g}\" "
-             "Spacing=\"{:.17g} {:.17g} {:.17g}\">\n",
-             extent, g.lo.x, g.lo.y, g.lo.z, g.h.x, g.h.y, g.h.z)
-      << fmt::format("    <Piece Extent=\"{}\">\n", extent)
-      << "      <CellData Scalars=\"fluid_fraction\" Vectors=\"velocity\">\n"
-      << "        " << eps_tag << "\n        " << p_tag << "\n        " << u_tag << "\n"
-      << "      </CellData>\n    </Piece>\n  </ImageData>\n";
-  arrays.write_appended(out);
-  out << "</VTKFile>\n";
+  vtk::write_image_data(out, g.n, g.lo, g.h, arrays,
+                        "        " + eps_tag + "\n        " + p_tag + "\n        " + u_tag + "\n",
+                        " Scalars=\"fluid_fraction\" Vectors=\"velocity\"");
 }
 
 }  // namespace gf

@@ -151,18 +151,9 @@ void write_vti(const fs::path& path, const continuum::TwoFluidModel& m) {
           vtk::AppendedArrays::tag(arrays.add("solids_velocity", std::span<const Vec3>(us))) + "\n";
   tags += "        " +
           vtk::AppendedArrays::tag(arrays.add("fluid_velocity", std::span<const Vec3>(uf))) + "\n";
-  const std::string extent = fmt::format("0 {} 0 {} 0 {}", g.n[0], g.n[1], g.n[2]);
   write_atomically(path, [&](std::ostream& out) {
-    out << vtk::file_open("ImageData")
-        << fmt::format(
-               "  <ImageData WholeExtent=\"{}\" Origin=\"{:.17g} {:.17g} {:.17g}\" "
-               "Spacing=\"{:.17g} {:.17g} {:.17g}\">\n",
-               extent, g.lo.x, g.lo.y, g.lo.z, g.h.x, g.h.y, g.h.z)
-        << fmt::format("    <Piece Extent=\"{}\">\n", extent)
-        << "      <CellData Scalars=\"solids_fraction\" Vectors=\"solids_velocity\">\n"
-        << tags << "      </CellData>\n    </Piece>\n  </ImageData>\n";
-    arrays.write_appended(out);
-    out << "</VTKFile>\n";
+    vtk::write_image_data(out, g.n, g.lo, g.h, arrays, tags,
+                          " Scalars=\"solids_fraction\" Vectors=\"solids_velocity\"");
   });
 }
 
