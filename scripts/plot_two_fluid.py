@@ -7,9 +7,10 @@ Usage: /usr/bin/python3 scripts/plot_two_fluid.py [--out DIR] [BUILD_DIR]   (def
 Runs gf_validation_tests --gtest_filter='ValidationTwoFluid*' with GF_VALIDATION_OUT set and
 writes docs/validation/two_fluid.png: batch sedimentation (front against Kynch's line, with
 Richardson & Zaki's speed for comparison; the sediment's solids pressure against the buoyant
-weight above), the packed bed's pressure against Ergun, the fluidised bed's pressure drop against
-the weight of the mixture, homogeneous cooling against Haff's law and Couette flow (no-slip and
-Johnson-Jackson walls) against the kinetic-theory state. The errors in the titles are computed
+weight above), the packed bed's pressure against Ergun, the fluidised beds' pressure drops (a
+liquid-fluidised bed and a slugging gas-fluidised column) against the weight of the mixture,
+homogeneous cooling against Haff's law, Couette flow (no-slip and Johnson-Jackson walls) against
+the kinetic-theory state and a mu(I) layer on an incline against Bagnold's profile. The errors in the titles are computed
 here from the tests' CSV files, the way the tests compute them. With --out DIR, into DIR (created
 if missing) instead. Uses Debian's python3-numpy and python3-matplotlib."""
 import math
@@ -265,20 +266,44 @@ def fractions(ax, folder):
 def incline(ax, folder):
     d = load(folder, "two_fluid_incline")
     inside = d["y"] < 0.8 * 0.01
-    err = np.max(np.abs(d["u"][inside] - d["u_mu_i"][inside])) / d["u_mu_i"][inside][-1]
+    err = np.max(np.abs(d["u"][inside] - d["u_bagnold"][inside])) / d["u_bagnold"][inside][-1]
     ax.plot(d["u"], d["y"] * 1e3, "o", ms=3, label="grainflow (mu_i_switch)")
-    ax.plot(d["u_mu_i"], d["y"] * 1e3, "k-", lw=1, label="mu(I) at the model's pressure")
-    ax.plot(d["u_bagnold"], d["y"] * 1e3, "r--", lw=1, label="Bagnold (pressure = weight)")
+    ax.plot(d["u_bagnold"], d["y"] * 1e3, "k-", lw=1,
+            label="mu(I), Bagnold: normal stress = cos(theta) x weight")
+    ax.plot(d["u_mu_i"], d["y"] * 1e3, ":", color="0.5", lw=1,
+            label="mu(I) at the closure pressure alone (jitters +-1 %)")
     ax.set_ylim(0, 12)
+    ax.set_xlim(0, 1.3 * d["u_bagnold"].max())  # the empty faces above fall at metres per second
     ax.set_xlabel("u_s (m/s)")
     ax.set_ylabel("y (mm)")
     ax.set_title("Dense layer on a 25 deg incline, mu(I) regime switch:\n"
-                 f"max error {100 * err:.2f} % of u at 0.8 h (lower 80 % of the layer)", fontsize=9)
+                 f"max error {100 * err:.2f} % of Bagnold's u at 0.8 h (lower 80 % of the layer)",
+                 fontsize=9)
     ax.legend(fontsize=7)
 
 
+def gas_column(ax, folder):
+    d = load(folder, "two_fluid_gas_column")
+    t, dp, w, top = d["t"], d["pressure_drop"], d["mixture_weight"], d["bed_top"]
+    err = 100 * (dp.mean() / w.mean() - 1)
+    ax.plot(t, dp, "-", lw=0.6, label="grainflow: p(0) - p(top)")
+    running = np.cumsum(dp) / np.arange(1, len(dp) + 1)
+    ax.plot(t, running, "C3-", lw=1.2, label="its running mean")
+    ax.plot(t, w, "k--", label="weight of the mixture")
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("pressure drop (Pa)")
+    ax.set_title("Gas-fluidised column (0.5 mm glass in air, 2 U_mf; it slugs):\n"
+                 f"mean pressure drop over 0.5-2 s {err:+.2f} % of the weight", fontsize=9)
+    tw = ax.twinx()
+    tw.plot(t, top * 1e3, "C2-", lw=0.6, label="bed top (a = 0.2), right axis")
+    tw.set_ylabel("bed top (mm; packed 100 mm)", color="C2")
+    h1, l1 = ax.get_legend_handles_labels()
+    h2, l2 = tw.get_legend_handles_labels()
+    ax.legend(h1 + h2, l1 + l2, fontsize=7, loc="lower right")
+
+
 def plot(folder, out):
-    fig, axes = plt.subplots(3, 3, figsize=(16, 13.5))
+    fig, axes = plt.subplots(3, 4, figsize=(21, 13.5))
     ax = axes.ravel()
     sedimentation_front(ax[0], folder)
     sediment_profile(ax[1], folder)
@@ -289,7 +314,10 @@ def plot(folder, out):
     couette_velocity(ax[6], folder)
     couette_temperature(ax[7], folder)
     incline(ax[8], folder)
-    for a in ax:
+    gas_column(ax[9], folder)
+    for a in ax[10:]:
+        a.axis("off")
+    for a in ax[:10]:
         a.grid(alpha=0.3)
     fig.suptitle("Two-fluid model (KTGF solids in a fluid) against analytic references "
                  "(tests/validation/test_two_fluid_validation.cpp)")

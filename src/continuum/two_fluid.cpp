@@ -5,9 +5,9 @@
 // Stencils (docs/models/two_fluid.md): the solids velocity lives on the faces like the fluid's;
 // a, Theta, P_s, mu_s, lambda_s, beta at cell centres. Normal viscous stresses at cell centres,
 // shear stresses at cell edges with mu averaged over the edge's four cells, so div(tau) on a face
-// is a difference of stresses (the transposed gradient included). Convection of u_s in advective
-// form, first-order upwind (MFIX's default scheme; the solids momentum is rarely
-// convection-dominated where it matters, and upwinding keeps dense fronts free of overshoots).
+// is a difference of stresses (the transposed gradient included). Convection of u_s in flux
+// form less u_s times continuity, first-order upwind (MFIX's staggered scheme: only inflowing
+// mass changes a face's velocity; upwinding keeps dense fronts free of overshoots).
 // The volume-fraction flux is first-order upwind in a (bounded: a >= 0 for a solids Courant
 // number below 1 before the implicit pressure part). Values outside the grid across an axis
 // b != a come from the wall rule u_ghost - u_w = r (u_in - u_w) with r = -1 (no slip), +1 (free
@@ -32,6 +32,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 /// A cell holds solids (for the stencils at free surfaces) above this volume fraction.
 constexpr double kPresent = 1e-3;
+/// Floor of dP_s/da in the implicit solids pressure [Pa]: below it the increment is negligible.
+constexpr double kMinPressureSlope = 1e-6;
 
 int wrap(int i, int n) {
   i %= n;
@@ -77,7 +79,8 @@ TwoFluidModel::TwoFluidModel(const fluid::Grid& grid, TwoFluidSettings settings)
   source_.assign(nc, Vec3{});
   for (int a = 0; a < 3; ++a) {
     const std::int64_t nf = a < dim_ ? grid_.face_count(a) : 0;
-    for (auto* v : {&us_[a], &ustar_[a], &coef_[a], &vresp_[a], &resp_[a], &flux_[a]})
+    for (auto* v : {&us_[a], &ustar_[a], &coef_[a], &face_fraction_[a], &inertia_[a], &carried_[a],
+                    &flux_[a], &adv_flux_[a]})
       v->assign(nf, 0.0);
   }
   build_fraction_system();
@@ -179,6 +182,20 @@ double TwoFluidModel::wall_ratio(int b, int side, std::int64_t c) const {
 // Solids velocity component a at face coordinates q (faces along a, cells across), which may lie
 // one step outside the grid: wrapped on periodic axes, the boundary face along a, the wall rule
 // across a wall.
+std::int64_t TwoFluidModel::upwind_cell(int a, Index3 q, double u) const {
+  Index3 ql = q;
+  --ql[a];
+  const bool lower_inside = grid_.periodic[a] || q[a] > 0;
+  const bool upper_inside = grid_.periodic[a] || q[a] < grid_.n[a];
+  return u > 0 ? (lower_inside ? cell(ql) : cell(q)) : (upper_inside ? cell(q) : cell(ql));
+}
+
+double TwoFluidModel::advective_flux(int b, Index3 q) const {
+  for (int c = 0; c < dim_; ++c)
+    if (grid_.periodic[c]) q[c] = wrap(q[c], grid_.n[c]);
+  return adv_flux_[b][grid_.face_index(b, q[0], q[1], q[2])];
+}
+
 double TwoFluidModel::u_at(int a, Index3 q) const {
   for (int b = 0; b < dim_; ++b) {
     if (b == a) {
@@ -629,6 +646,11 @@ int TwoFluidModel::solids_predictor(double dt) {
     }
     return tr;
   };
+  for (int a = 0; a < dim_; ++a)
+    exec::parallel_for(grid_.face_count(a), [&](std::int64_t f) {
+      const double u = us_[a][f];
+      adv_flux_[a][f] = alpha_[upwind_cell(a, face_coords(a, f), u)] * u;
+    });
   int iterations = 0;
   for (int a = 0; a < dim_; ++a) {
     Momentum& mo = mom_[a];
@@ -653,35 +675,26 @@ int TwoFluidModel::solids_predictor(double dt) {
                     (lambda_[cl] - 2.0 / 3.0 * mu_[cl]) * (tr_l - daa_l)) /
                        h;
       double diag = m / dt + beta_f;
-      double adv = 0.0;
       const double u0 = us_[a][f];
       for (int b = 0; b < dim_; ++b) {
         Index3 up = q, dn = q;
         ++up[b];
         --dn[b];
-        double vb = u0;
         double k_up = 0.0, k_dn = 0.0;  // viscous link coefficients [kg/(m^3 s)]
+        double g_up = 0.0, g_dn = 0.0;  // solids mass fluxes through the volume's faces along b
         if (b == a) {
-          // No normal viscous stress in a surface cell (the cell between this face and the
-          // next along a, when the cell beyond holds no solids): the next face belongs to
-          // grains that are not there (above a bed it falls at the free-settling speed), and its
-          // pull loaded the bed (+6 % of the weight in a gas-fluidised column).
-          Index3 beyond_up = q, beyond_dn = ql;
-          ++beyond_up[a];
-          --beyond_dn[a];
-          const bool wall_up = !grid_.periodic[a] && beyond_up[a] >= grid_.n[a];
-          const bool wall_dn = !grid_.periodic[a] && beyond_dn[a] < 0;
-          if (wall_up || alpha_[cell(beyond_up)] > kPresent || !(alpha_[cr] > kPresent))
-            k_up = (4.0 / 3.0 * mu_[cr] + lambda_[cr]) / (h * h);
-          if (wall_dn || alpha_[cell(beyond_dn)] > kPresent || !(alpha_[cl] > kPresent))
-            k_dn = (4.0 / 3.0 * mu_[cl] + lambda_[cl]) / (h * h);
+          g_up = 0.5 * rho_s * (advective_flux(a, q) + advective_flux(a, up));
+          g_dn = 0.5 * rho_s * (advective_flux(a, ql) + advective_flux(a, q));
+          k_up = (4.0 / 3.0 * mu_[cr] + lambda_[cr]) / (h * h);
+          k_dn = (4.0 / 3.0 * mu_[cl] + lambda_[cl]) / (h * h);
         } else {
           Index3 lu = ql, ru = q, ld = ql, rd = q;
           ++lu[b];
           ++ru[b];
           --ld[b];
           --rd[b];
-          vb = 0.25 * (u_at(b, ql) + u_at(b, lu) + u_at(b, q) + u_at(b, ru));
+          g_up = 0.5 * rho_s * (advective_flux(b, lu) + advective_flux(b, ru));
+          g_dn = 0.5 * rho_s * (advective_flux(b, ql) + advective_flux(b, q));
           const double mu_up = cell_mean(mu_, ql, q, lu, ru);
           const double mu_dn = cell_mean(mu_, ql, q, ld, rd);
           k_up = mu_up / (grid_.h[b] * grid_.h[b]);
@@ -690,8 +703,20 @@ int TwoFluidModel::solids_predictor(double dt) {
           rhs += (mu_up * (u_at(b, ru) - u_at(b, lu)) - mu_dn * (u_at(b, q) - u_at(b, ql))) /
                  (h * grid_.h[b]);
         }
-        adv += vb > 0.0 ? vb * (u_at(a, q) - u_at(a, dn)) / grid_.h[b]
-                        : vb * (u_at(a, up) - u_at(a, q)) / grid_.h[b];
+        // Convection in the form m du/dt + sum_in G_in (u - u_in) / h (the conservative form less
+        // u times continuity): only what flows in changes u, in proportion to its mass. The
+        // form m (u . grad) u let the fall of empty faces above a bed (at the free-settling
+        // speed) pull on the surface face with the surface cell's whole mass; a gas-fluidised
+        // column's pressure drop came out 50-60 % above its weight. u of the face implicit, the
+        // inflow's explicit: positive for any mass flux.
+        if (g_up < 0.0) {
+          diag -= g_up / grid_.h[b];
+          rhs -= g_up * u_at(a, up) / grid_.h[b];
+        }
+        if (g_dn > 0.0) {
+          diag += g_dn / grid_.h[b];
+          rhs += g_dn * u_at(a, dn) / grid_.h[b];
+        }
         for (int side = 0; side < 2; ++side) {
           const double k = side == 0 ? k_dn : k_up;
           const Link& l = mo.links[static_cast<std::size_t>(r) * 2 * dim_ + 2 * b + side];
@@ -720,10 +745,11 @@ int TwoFluidModel::solids_predictor(double dt) {
         }
       }
       values[mo.diag_entry[r]] = diag;
-      mo.rhs[r] = rhs + m * (u0 / dt - adv);
+      mo.rhs[r] = rhs + m * u0 / dt;
       mo.x[r] = u0;
-      coef_[a][f] = 0.5 * (dps_[cl] + dps_[cr]) / (m / dt + beta_f);
-      vresp_[a][f] = am / (m / dt + beta_f);
+      coef_[a][f] = 1.0 / (m / dt + beta_f);
+      face_fraction_[a][f] = am;
+      inertia_[a][f] = m / dt;
     });
     mo.solver.matrix_changed();
     if (!mo.face_of_unknown.empty()) {
@@ -739,7 +765,8 @@ int TwoFluidModel::solids_predictor(double dt) {
       const FaceKind kind = face_kind(a, q[a]);
       if (kind == FaceKind::Interior) continue;
       coef_[a][f] = 0.0;
-      vresp_[a][f] = 0.0;
+      face_fraction_[a][f] = 0.0;
+      inertia_[a][f] = 0.0;
       ustar_[a][f] = 0.0;
       if (kind == FaceKind::Outlet) {
         Index3 in = q;
@@ -751,7 +778,9 @@ int TwoFluidModel::solids_predictor(double dt) {
         z[a] = 0;
         ustar_[a][f] = ustar_[a][grid_.face_index(a, z[0], z[1], z[2])];
         coef_[a][f] = coef_[a][grid_.face_index(a, z[0], z[1], z[2])];
-        vresp_[a][f] = vresp_[a][grid_.face_index(a, z[0], z[1], z[2])];
+        const std::int64_t fz = grid_.face_index(a, z[0], z[1], z[2]);
+        face_fraction_[a][f] = face_fraction_[a][fz];
+        inertia_[a][f] = inertia_[a][fz];
       }
     }
   }
@@ -809,30 +838,31 @@ void TwoFluidModel::build_fraction_system() {
 }
 
 // The solids flux through every face: first-order upwind a times u*, then the implicit solids
-// pressure: (1 - dt div(a_f c_f grad)) delta = -dt div(a u*), u~ = u* - c_f grad(delta),
-// F~ = a_up u* - a_f c_f grad(delta) (the flux that moves a by delta).
+// pressure. Its increment over the step, psi = (dP_s/da) delta per cell (delta = a~ - a^n),
+// pushes the faces by its gradient, u~ = u* - c_f grad(psi), c_f = 1 / (m/dt + beta_f), and the
+// flux F~ = a_up u* - a_f c_f grad(psi) must move a by delta = -dt div(F~):
+//   psi / (dP_s/da) - dt div(a_f c_f grad(psi)) = -dt div(a_up u*),
+// an SPD system for psi. The force is a gradient of a cell quantity, so over a column it sums to
+// its ends (the form (dP_s/da)_f grad(delta) of an earlier version did not: with dP_s/da varying
+// by orders of magnitude across a fluidised bed, it loaded the bed with a quarter of its weight
+// at dt = 5e-4 s).
 void TwoFluidModel::solids_pressure_step(double dt, TwoFluidReport& report) {
   const std::int64_t nc = grid_.cell_count();
   for (int a = 0; a < dim_; ++a)
     exec::parallel_for(grid_.face_count(a), [&](std::int64_t f) {
       const Index3 q = face_coords(a, f);
       const double u = ustar_[a][f];
-      Index3 ql = q;
-      --ql[a];
-      // Upwind cell; across an outlet the one inside.
-      const bool lower_inside = grid_.periodic[a] || q[a] > 0;
-      const bool upper_inside = grid_.periodic[a] || q[a] < grid_.n[a];
-      const std::int64_t up =
-          u > 0 ? (lower_inside ? cell(ql) : cell(q)) : (upper_inside ? cell(q) : cell(ql));
+      const std::int64_t up = upwind_cell(a, q, u);
       flux_[a][f] = alpha_[up] * u;
-      resp_[a][f] = alpha_[up] * vresp_[a][f];
+      carried_[a][f] = alpha_[up];
     });
   double* values = matrix_.valuePtr();
   exec::parallel_for(nc, [&](std::int64_t c) {
     const Row& row = rows_[c];
     zero_column(matrix_, static_cast<int>(c));
     const Index3 qc = grid_.cell_coords(c);
-    double div = 0.0, diag = 1.0;
+    // Where P_s does not depend on a (no grains, no fluctuations) psi is 0 to round-off.
+    double div = 0.0, diag = 1.0 / std::max(dps_[c], kMinPressureSlope);
     for (int b = 0; b < dim_; ++b)
       for (int side = 0; side < 2; ++side) {
         const std::int64_t f = row.face[2 * b + side];
@@ -868,12 +898,24 @@ void TwoFluidModel::solids_pressure_step(double dt, TwoFluidReport& report) {
       }
       us_[a][f] = u;
     });
-  for (std::int64_t c = 0; c < nc; ++c) delta_[c] = x_[c];
+  exec::parallel_for(nc, [&](std::int64_t c) {
+    const Index3 q = grid_.cell_coords(c);
+    double div = 0.0;
+    for (int b = 0; b < dim_; ++b) {
+      Index3 hi = q;
+      ++hi[b];
+      div += (flux_[b][grid_.face_index(b, hi[0], hi[1], hi[2])] -
+              flux_[b][grid_.face_index(b, q[0], q[1], q[2])]) /
+             grid_.h[b];
+    }
+    delta_[c] = -dt * div;
+  });
 }
 
 // The fluid step with the solids flux F~ sharing the pressure correction phi (mixture
-// continuity), then the solids' share of the correction: u_s = u~ - (a_f / (m/dt + beta))
-// grad(phi), F = F~ - a_up (a_f / (m/dt + beta)) grad(phi), and a^{n+1} = a^n - dt div(F).
+// continuity; both phases respond to grad(phi) with the drag between them implicit, see
+// VolumeAveragedNS::set_shared_phase), then the solids' share of the correction:
+// u_s = u~ - r_s grad(phi), F = F~ - a_up r_s grad(phi), and a^{n+1} = a^n - dt div(F).
 double TwoFluidModel::fluid_step(double dt, TwoFluidReport& report) {
   const std::int64_t nc = grid_.cell_count();
   for (std::int64_t c = 0; c < nc; ++c) {
@@ -881,40 +923,25 @@ double TwoFluidModel::fluid_step(double dt, TwoFluidReport& report) {
     eps_[c] = 1.0 - a;
     eps_rate_[c] = -delta_[c] / dt;
   }
-  // The fluid's drag source beta u_s: u_s of the cell from its faces, where a face toward a cell
-  // without solids (a free surface) is left out: it carries the velocity of grains that are not
-  // there (above a gas-fluidised bed a fall at metres per second), whose drag on the fluid raised
-  // the column's pressure drop by ~7 %. Inside the bulk the mean of the two faces, as the solids'
-  // face drag sees it.
+  // The fluid's drag source beta u_s with u_s of the cell the mean of its faces, so that the
+  // exchange summed over the faces is the one the solids' face drag sees.
   exec::parallel_for(nc, [&](std::int64_t c) {
-    const Index3 q = grid_.cell_coords(c);
-    Vec3 u{};
-    for (int a = 0; a < dim_; ++a) {
-      Index3 lo = q, hi = q, up = q;
-      --lo[a];
-      ++hi[a];
-      ++up[a];
-      auto material = [&](Index3 x) {
-        return (!grid_.periodic[a] && (x[a] < 0 || x[a] >= grid_.n[a])) ||
-               alpha_[cell(x)] > kPresent;
-      };
-      const double u_lo = us_[a][grid_.face_index(a, q[0], q[1], q[2])];
-      const double u_hi = us_[a][grid_.face_index(a, up[0], up[1], up[2])];
-      const bool m_lo = material(lo), m_hi = material(hi);
-      u[a] = m_lo == m_hi ? 0.5 * (u_lo + u_hi) : (m_lo ? u_lo : u_hi);
-    }
-    us_cell_[c] = u;
-    source_[c] = beta_[c] * u;
+    us_cell_[c] = solids_velocity(c);
+    source_[c] = beta_[c] * us_cell_[c];
   });
   fluid_.set_fluid_fraction(eps_, eps_rate_);
   fluid_.set_momentum_source(source_, beta_);
-  fluid_.set_shared_phase({flux_[0], flux_[1], flux_[2]}, {resp_[0], resp_[1], resp_[2]});
+  fluid_.set_shared_phase({{flux_[0], flux_[1], flux_[2]},
+                           {face_fraction_[0], face_fraction_[1], face_fraction_[2]},
+                           {carried_[0], carried_[1], carried_[2]},
+                           {inertia_[0], inertia_[1], inertia_[2]}});
   report.fluid = fluid_.step(dt);
   for (int a = 0; a < dim_; ++a) {
     const auto g = fluid_.correction_gradient(a);
+    const auto r = fluid_.shared_response(a);
     exec::parallel_for(grid_.face_count(a), [&](std::int64_t f) {
-      us_[a][f] -= vresp_[a][f] * g[f];
-      flux_[a][f] -= resp_[a][f] * g[f];
+      us_[a][f] -= r[f] * g[f];
+      flux_[a][f] -= carried_[a][f] * r[f] * g[f];
     });
   }
   double clipped = 0.0;

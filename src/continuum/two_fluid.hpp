@@ -31,17 +31,19 @@
 // One step (sec. "Algorithm" of docs/models/two_fluid.md):
 //   1. cell closures at t^n (g0, P_s, dP_s/da, mu_s, lambda_s, beta);
 //   2. solids momentum predictor on the faces: drag implicit in u_s (with the fluid velocity of
-//      t^n), the viscous terms of u_s itself implicit, the rest explicit: u*;
-//   3. solids continuity with the solids pressure implicit in a (the "implicit phase pressure"
-//      of OpenFOAM's twoPhaseEulerFoam; the solids volume-fraction correction of MFIX): the face
-//      velocity is u~ = u* - c_f grad(delta), delta = a~ - a^n, c_f = dt (dP_s/da)_f /
-//      (a_f rho_s + beta_f dt), so the stiff pressure near packing costs no time step (an SPD
-//      system for delta);
+//      t^n), the viscous terms of u_s itself implicit, convection in flux form (only inflowing
+//      mass changes a face's velocity), the rest explicit: u*;
+//   3. solids continuity with the solids pressure implicit (the "implicit phase pressure" of
+//      OpenFOAM's twoPhaseEulerFoam; the solids volume-fraction correction of MFIX): the change
+//      delta = a~ - a^n raises each cell's pressure by psi = (dP_s/da) delta, the faces move by
+//      u~ = u* - c_f grad(psi), c_f = 1 / (a_f rho_s / dt + beta_f), so the stiff pressure near
+//      packing costs no time step (an SPD system for psi; a gradient, so momentum is conserved);
 //   4. the fluid step of VolumeAveragedNS with the drag beta (u~ - u_f) implicit in u_f, whose
 //      pressure correction phi enforces the continuity of the mixture, div(eps u_f + F) = 0,
-//      with the solids flux F responding to phi as well (set_shared_phase): correcting the fluid
-//      alone made a packed sediment ring, the fluid forced to fill what the lagged solids left;
-//      then u_s = u~ - (a_f / (a_f rho_s / dt + beta_f)) grad(phi) and a^{n+1} = a^n - dt div(F);
+//      with the solids flux F responding to phi as well and both phases' responses coupled by
+//      the drag (set_shared_phase): correcting the fluid alone made a packed sediment ring, the
+//      fluid forced to fill what the lagged solids left; then u_s = u~ - r_s grad(phi) and
+//      a^{n+1} = a^n - dt div(F);
 //   5. Theta^{n+1}, algebraic or transported, with the new solids velocities.
 // The fluxes F of step 4 are the ones that move a, so the solids volume is conserved to
 // round-off (a closed box; the rare clip of a below 0 or above the packing limit is counted in
@@ -243,6 +245,11 @@ class TwoFluidModel {
   [[nodiscard]] double wall_ratio(int b, int side, std::int64_t cell) const;
   [[nodiscard]] Vec3 wall_velocity(int b, int side) const;
   [[nodiscard]] std::int64_t cell(Index3 c) const;
+  /// The cell upwind of the face at coordinates q (component a) for a velocity u; across an
+  /// outlet or a wall the one inside.
+  [[nodiscard]] std::int64_t upwind_cell(int a, Index3 q, double u) const;
+  /// adv_flux_ of component b at the face of cell coordinates q (wrapped across periodic axes).
+  [[nodiscard]] double advective_flux(int b, Index3 q) const;
   [[nodiscard]] double cell_mean(const std::vector<double>& f, Index3 c0, Index3 c1, Index3 c2,
                                  Index3 c3) const;
   void strain_rate(std::int64_t c, double& trace_d, double& dev_dd) const;
@@ -261,11 +268,12 @@ class TwoFluidModel {
   std::vector<double> alpha_, alpha_old_, theta_;      // cells
   std::vector<double> ps_, dps_, mu_, lambda_, beta_;  // cells, closures at t^n
   std::vector<double> us_[3], ustar_[3];               // faces: u_s, predictor u*
-  std::vector<double> coef_[3];   // faces: c_f = (dP_s/da)_f / (m/dt + beta), u per grad(delta)
-  std::vector<double> vresp_[3];  // faces: a_f / (m/dt + beta), u_s per grad(phi)
-  std::vector<double> flux_[3];   // faces: the solids volume flux F [m/s]
-  std::vector<double> resp_[3];   // faces: a_up a_f / (m/dt + beta), F per grad(phi)
-  std::vector<double> delta_;     // cells: a^{n+1} - a^n
+  std::vector<double> coef_[3];  // faces: c_f = 1 / (m/dt + beta), u per grad(psi)
+  std::vector<double> face_fraction_[3], inertia_[3];  // faces: a_f, a_f rho_s / dt (0: wall)
+  std::vector<double> flux_[3];                        // faces: the solids volume flux F [m/s]
+  std::vector<double> carried_[3];                     // faces: a_up, F per u_s
+  std::vector<double> adv_flux_[3];  // faces: a_up u_s of t^n [m/s], carries the momentum
+  std::vector<double> delta_;        // cells: a^{n+1} - a^n
   std::vector<Vec3> us_cell_, uf_cell_, source_;  // cells
   std::vector<double> eps_, eps_rate_;            // cells
 

@@ -89,8 +89,8 @@ VolumeAveragedNS::VolumeAveragedNS(const Grid& grid, FluidSettings settings)
   const auto nc = static_cast<std::size_t>(grid_.cell_count());
   for (int a = 0; a < dim_; ++a) {
     const auto nf = static_cast<std::size_t>(grid_.face_count(a));
-    for (auto* v :
-         {&u_[a], &u_old_[a], &u_new_[a], &conv_[a], &conv_old_[a], &a_face_[a], &flux_[a]})
+    for (auto* v : {&u_[a], &u_old_[a], &u_new_[a], &conv_[a], &conv_old_[a], &a_face_[a],
+                    &flux_[a], &fluid_response_[a], &shared_response_[a]})
       v->assign(nf, 0.0);
     eps_f_[a].assign(nf, 1.0);
   }
@@ -715,8 +715,8 @@ void VolumeAveragedNS::solve_pressure(StepReport& rep) {
           flux += std::abs(shared_flux_[a][fi]) / grid_.h[a];
         }
         if (!assemble) continue;
-        double k = eps_f * eps_f / a_face_[a][fi] / h2;
-        if (shared_) k += shared_response_[a][fi] / h2;
+        double k = eps_f * fluid_response_[a][fi] / h2;
+        if (shared_) k += shared_carried_[a][fi] * shared_response_[a][fi] / h2;
         const int entry = row.entry[2 * a + s];
         if (entry == PressureRow::kOutlet) {
           diag += 2.0 * k;
@@ -774,7 +774,7 @@ void VolumeAveragedNS::solve_pressure(StepReport& rep) {
     exec::parallel_for(static_cast<exec::index_t>(m.face_of_unknown.size()), [&](exec::index_t r) {
       const std::int64_t fi = m.face_of_unknown[r];
       u_new_[a][fi] -=
-          eps_f_[a][fi] / a_face_[a][fi] * face_gradient(a, fi, m.coords[r][a], phi_.data(), true);
+          fluid_response_[a][fi] * face_gradient(a, fi, m.coords[r][a], phi_.data(), true);
     });
   }
   refresh_boundary_faces(u_new_);
@@ -843,24 +843,58 @@ void VolumeAveragedNS::set_fluid_fraction(std::span<const double> eps,
   }
 }
 
-void VolumeAveragedNS::set_shared_phase(const std::array<std::span<const double>, 3>& flux,
-                                        const std::array<std::span<const double>, 3>& response) {
+void VolumeAveragedNS::set_shared_phase(const SharedPhase& phase) {
   bool any = false;
-  for (int a = 0; a < dim_; ++a) any = any || !flux[a].empty() || !response[a].empty();
+  for (int a = 0; a < dim_; ++a)
+    for (const auto* f : {&phase.flux, &phase.fraction, &phase.carried, &phase.inertia})
+      any = any || !(*f)[a].empty();
   shared_ = any;
   coefficients_dirty_ = true;  // the pressure matrix carries the response
   if (!any) return;
   for (int a = 0; a < dim_; ++a) {
     const auto nf = static_cast<std::size_t>(grid_.face_count(a));
-    REQUIRE(flux[a].size() == nf && response[a].size() == nf,
-            "fluid: set_shared_phase got {} and {} values for the {} faces normal to axis {}",
-            flux[a].size(), response[a].size(), nf, a);
-    shared_flux_[a].assign(flux[a].begin(), flux[a].end());
-    shared_response_[a].assign(response[a].begin(), response[a].end());
-    for (double c : shared_response_[a])
-      REQUIRE(c >= 0.0 && std::isfinite(c), "fluid: shared phase response {} must be >= 0", c);
+    REQUIRE(phase.flux[a].size() == nf && phase.fraction[a].size() == nf &&
+                phase.carried[a].size() == nf && phase.inertia[a].size() == nf,
+            "fluid: set_shared_phase got {}, {}, {} and {} values for the {} faces normal to "
+            "axis {}",
+            phase.flux[a].size(), phase.fraction[a].size(), phase.carried[a].size(),
+            phase.inertia[a].size(), nf, a);
+    shared_flux_[a].assign(phase.flux[a].begin(), phase.flux[a].end());
+    shared_fraction_[a].assign(phase.fraction[a].begin(), phase.fraction[a].end());
+    shared_carried_[a].assign(phase.carried[a].begin(), phase.carried[a].end());
+    shared_inertia_[a].assign(phase.inertia[a].begin(), phase.inertia[a].end());
+    for (std::size_t f = 0; f < nf; ++f)
+      REQUIRE(shared_fraction_[a][f] >= 0.0 && shared_fraction_[a][f] <= 1.0 &&
+                  shared_carried_[a][f] >= 0.0 && shared_carried_[a][f] <= 1.0 &&
+                  shared_inertia_[a][f] >= 0.0 && std::isfinite(shared_inertia_[a][f]),
+              "fluid: shared phase on face {} of axis {}: fraction {}, carried {} (both in "
+              "[0, 1]) and inertia {} (>= 0)",
+              f, a, shared_fraction_[a][f], shared_carried_[a][f], shared_inertia_[a][f]);
     grad_phi_[a].assign(nf, 0.0);
   }
+}
+
+// Velocity per grad(phi) of the fluid and of the shared phase on every face: the fluid alone
+// eps / A_f; with a shared phase the 2 x 2 system of set_shared_phase,
+//   du = -(eps A_s + K a) / D grad(phi),  du_s = -(a A_f + K eps) / D grad(phi),
+// D = A_s A_f - K^2 = inertia A_f + K eps rho c0 / dt > 0, A_s = inertia + K.
+void VolumeAveragedNS::update_responses() {
+  for (int a = 0; a < dim_; ++a)
+    exec::parallel_for(grid_.face_count(a), [&](exec::index_t fi) {
+      const double eps = eps_f_[a][fi], af = a_face_[a][fi];
+      const double in = shared_ ? shared_inertia_[a][fi] : 0.0;
+      if (in <= 0.0) {
+        fluid_response_[a][fi] = eps / af;
+        shared_response_[a][fi] = 0.0;
+        return;
+      }
+      const FaceCells& c = face_cells_[a][fi];
+      const double k = 0.5 * (drag_[c[0]] + drag_[c[1]]);
+      const double as = shared_fraction_[a][fi], big_s = in + k;
+      const double det = big_s * af - k * k;
+      fluid_response_[a][fi] = (eps * big_s + k * as) / det;
+      shared_response_[a][fi] = (as * af + k * eps) / det;
+    });
 }
 
 void VolumeAveragedNS::set_momentum_source(std::span<const Vec3> s_explicit,
@@ -980,7 +1014,10 @@ StepReport VolumeAveragedNS::step(double dt) {
     bdf = {(1 + 2 * w) / (1 + w), 1 + w, w * w / (1 + w), 1 + w, -w};
   }
   assemble_ = coefficients_dirty_ || dt != coef_dt_ || bdf[0] != coef_c0_;
-  if (assemble_) update_coefficients(dt, bdf[0]);
+  if (assemble_) {
+    update_coefficients(dt, bdf[0]);
+    update_responses();
+  }
   for (int a = 0; a < dim_; ++a) {
     exec::parallel_for(grid_.face_count(a),
                        [&](exec::index_t f) { flux_[a][f] = eps_f_[a][f] * u_[a][f]; });

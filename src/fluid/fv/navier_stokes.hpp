@@ -112,16 +112,31 @@ class VolumeAveragedNS {
   /// Particle momentum source S = s_explicit - k u per cell: s_explicit [N/m^3] and the drag
   /// coefficient k >= 0 [kg/(m^3 s)], which is treated implicitly (stable for any k dt / rho).
   void set_momentum_source(std::span<const Vec3> s_explicit, std::span<const double> k);
-  /// A second incompressible phase that shares the pressure (the solids of a two-fluid model):
-  /// its predicted volume flux per unit face area F* [m/s] and the response of that flux to the
-  /// pressure correction phi, F = F* - c grad(phi) with c [m^3 s/kg], on the faces normal to
-  /// each axis (the layout of face_velocity; c = 0 and F* = 0 on walls). While set, the pressure
-  /// correction enforces the continuity of the mixture, div(eps u + F) = 0, in place of
-  /// div(eps u) = -d eps/dt (the rate of set_fluid_fraction is then not used), so neither
-  /// phase can fill or empty a cell on its own; correction_gradient gives grad(phi) for the
-  /// caller's F. Spans of the face counts, or all empty to remove the phase.
-  void set_shared_phase(const std::array<std::span<const double>, 3>& flux,
-                        const std::array<std::span<const double>, 3>& response);
+  /// A second incompressible phase that shares the pressure (the solids of a two-fluid model),
+  /// per face normal to each axis (the layout of face_velocity; spans of the face counts):
+  struct SharedPhase {
+    std::array<std::span<const double>, 3> flux;      ///< its predicted volume flux F* [m/s]
+    std::array<std::span<const double>, 3> fraction;  ///< its volume fraction a at the face
+    /// how its flux follows its velocity: F = F* + carried du_s (the upwind fraction) [1]
+    std::array<std::span<const double>, 3> carried;
+    /// its momentum diagonal less the drag, a rho_s / dt [kg/(m^3 s)]; 0 where it has no
+    /// momentum equation (walls)
+    std::array<std::span<const double>, 3> inertia;
+  };
+  /// While set, the pressure correction phi enforces the continuity of the mixture,
+  /// div(eps u + F) = 0, in place of div(eps u) = -d eps/dt (the rate of set_fluid_fraction is
+  /// then not used), so neither phase can fill or empty a cell on its own. Both phases' face
+  /// momentum equations respond to grad(phi) together, coupled by the implicit drag K of
+  /// set_momentum_source (the same K acts on the second phase):
+  ///   A_f du - K du_s = -eps grad(phi),   (inertia + K) du_s - K du = -a grad(phi)
+  /// (A_f = eps rho c0 / dt + K): with a strong drag the two move together, as they do, and the
+  /// drag each phase feels after the correction is the one the other feels (correcting each on its
+  /// own let the fluid's share of the drag lag a step behind, which in a gas-fluidised bed loaded
+  /// the bed with 20-50 % more than its weight). correction_gradient and shared_response give the
+  /// caller du_s = -shared_response grad(phi). All spans empty removes the phase.
+  void set_shared_phase(const SharedPhase& phase);
+  /// Velocity response of the shared phase to grad(phi) [m^3 s/kg] of the last correction.
+  [[nodiscard]] std::span<const double> shared_response(int a) const { return shared_response_[a]; }
   /// grad(phi) [Pa/m] of the last step's pressure correction on the faces normal to axis a (on
   /// an outlet face from phi = 0 on the face; zero on walls and inlets), for a shared phase.
   [[nodiscard]] std::span<const double> correction_gradient(int a) const { return grad_phi_[a]; }
@@ -222,6 +237,7 @@ class VolumeAveragedNS {
   void build_pressure_system();
   void refresh_boundary_faces(std::vector<double> (&u)[3]) const;
   void update_coefficients(double dt, double c0);
+  void update_responses();  // fluid_response_, shared_response_ (after update_coefficients)
   void compute_convection(int a, std::vector<double>& out) const;
   StepReport solve_momentum(double dt, const std::array<double, 5>& bdf);
   void solve_pressure(StepReport& report);
@@ -266,7 +282,9 @@ class VolumeAveragedNS {
   std::vector<double> flux_[3];                     // eps u on faces at t^n (the convecting fluxes)
   std::vector<double> a_face_[3];  // eps rho c0/dt + K on faces: the predictor's diagonal
   bool shared_ = false;            // a second phase shares the pressure
-  std::vector<double> shared_flux_[3], shared_response_[3];  // faces: its F* and c
+  std::vector<double> shared_flux_[3], shared_fraction_[3], shared_carried_[3],
+      shared_inertia_[3];  // faces: the shared phase (SharedPhase)
+  std::vector<double> fluid_response_[3], shared_response_[3];  // faces: du per grad(phi)
   std::vector<double> grad_phi_[3];             // faces: grad(phi) of the last correction
   std::vector<FaceCells> face_cells_[3];        // per face (built once)
   std::array<std::int64_t, 3> face_stride_[3];  // face index step along each axis, per component
