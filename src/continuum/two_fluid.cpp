@@ -8,8 +8,9 @@
 // is a difference of stresses (the transposed gradient included). Convection of u_s in flux
 // form less u_s times continuity, first-order upwind (MFIX's staggered scheme: only inflowing
 // mass changes a face's velocity; upwinding keeps dense fronts free of overshoots).
-// The volume-fraction flux is first-order upwind in a (bounded: a >= 0 for a solids Courant
-// number below 1 before the implicit pressure part). Values outside the grid across an axis
+// The volume-fraction flux carries van Leer's limited face value of a, or the upwind cell's
+// (bounded: a >= 0 for a solids Courant number below 1/2, resp. 1, before the implicit pressure
+// part). Values outside the grid across an axis
 // b != a come from the wall rule u_ghost - u_w = r (u_in - u_w) with r = -1 (no slip), +1 (free
 // slip) or the Johnson-Jackson ratio, which makes the shear stress at the wall edge
 // mu (u_ghost - u_in) / h equal the condition's.
@@ -24,10 +25,14 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
+#include "fluid/fv/limiter.hpp"
 
 namespace gf::continuum {
 
 namespace {
+
+using fluid::entry_position;
+using fluid::zero_column;
 
 constexpr double kPi = 3.14159265358979323846;
 /// A cell holds solids (for the stencils at free surfaces) above this volume fraction.
@@ -40,26 +45,11 @@ int wrap(int i, int n) {
   return i < 0 ? i + n : i;
 }
 
-int entry_position(const fluid::SpdSolver::Matrix& m, int row, int col) {
-  const int* rows = m.innerIndexPtr();
-  for (int k = m.outerIndexPtr()[col]; k < m.outerIndexPtr()[col + 1]; ++k)
-    if (rows[k] == row) return k;
-  ASSERT(false);
-  return -1;
-}
-
 /// The seed's dense-regime pressure (Gomez Fino 2014, eq 14, after Josserand, Lagree & Lhuillier
 /// 2006): p0 ln((a_M - a_m) / (a_M - a)) for a > a_m, 0 below [Pa].
 double logarithmic_pressure(double a, const TwoFluidSettings::LogPressure& lp) {
   if (!(a > lp.min_fraction)) return 0.0;
   return lp.p0 * std::log((lp.max_fraction - lp.min_fraction) / (lp.max_fraction - a));
-}
-
-/// Zeroes column `col` of a compressed column-major matrix (its entries are then accumulated: on
-/// a periodic axis of two cells both neighbours are the same unknown, one entry).
-void zero_column(fluid::SpdSolver::Matrix& m, int col) {
-  double* v = m.valuePtr();
-  for (int k = m.outerIndexPtr()[col]; k < m.outerIndexPtr()[col + 1]; ++k) v[k] = 0.0;
 }
 
 }  // namespace
@@ -108,6 +98,9 @@ void TwoFluidModel::check_settings() {
           "two-fluid model: specularity coefficient {} outside [0, 1]", s_.specularity);
   REQUIRE(s_.wall_restitution >= 0 && s_.wall_restitution <= 1,
           "two-fluid model: wall restitution {} outside [0, 1]", s_.wall_restitution);
+  REQUIRE(s_.fraction_convection != fluid::Convection::Central,
+          "two-fluid model: the volume fraction's flux must be bounded (van Leer or upwind), not "
+          "central");
   REQUIRE(s_.max_courant > 0 && s_.max_courant <= 1,
           "two-fluid model: max_courant {} outside (0, 1]", s_.max_courant);
   mu_i_switch_ =
@@ -188,6 +181,24 @@ std::int64_t TwoFluidModel::upwind_cell(int a, Index3 q, double u) const {
   const bool lower_inside = grid_.periodic[a] || q[a] > 0;
   const bool upper_inside = grid_.periodic[a] || q[a] < grid_.n[a];
   return u > 0 ? (lower_inside ? cell(ql) : cell(q)) : (upper_inside ? cell(q) : cell(ql));
+}
+
+double TwoFluidModel::face_fraction(int a, Index3 q, double u) const {
+  const double up = alpha_[upwind_cell(a, q, u)];
+  if (s_.fraction_convection != fluid::Convection::VanLeer || u == 0.0) return up;
+  // Cells along a: upwind U, far upwind FU, downwind D (face q[a] lies between q[a] - 1 and q[a]).
+  const int iu = u > 0 ? q[a] - 1 : q[a], id = u > 0 ? q[a] : q[a] - 1;
+  const int ifu = u > 0 ? q[a] - 2 : q[a] + 1;
+  auto inside = [&](int i) { return grid_.periodic[a] || (i >= 0 && i < grid_.n[a]); };
+  if (!inside(iu) || !inside(id) || !inside(ifu)) return up;
+  Index3 cd = q, cfu = q;
+  cd[a] = id;
+  cfu[a] = ifu;
+  // Between the upwind and downwind values also in floating point (a trace of 1e-171 minus a
+  // rounding must not turn negative).
+  const double down = alpha_[cell(cd)];
+  return std::clamp(fluid::van_leer(alpha_[cell(cfu)], up, down), std::min(up, down),
+                    std::max(up, down));
 }
 
 double TwoFluidModel::advective_flux(int b, Index3 q) const {
@@ -649,7 +660,7 @@ int TwoFluidModel::solids_predictor(double dt) {
   for (int a = 0; a < dim_; ++a)
     exec::parallel_for(grid_.face_count(a), [&](std::int64_t f) {
       const double u = us_[a][f];
-      adv_flux_[a][f] = alpha_[upwind_cell(a, face_coords(a, f), u)] * u;
+      adv_flux_[a][f] = face_fraction(a, face_coords(a, f), u) * u;
     });
   int iterations = 0;
   for (int a = 0; a < dim_; ++a) {
@@ -852,9 +863,9 @@ void TwoFluidModel::solids_pressure_step(double dt, TwoFluidReport& report) {
     exec::parallel_for(grid_.face_count(a), [&](std::int64_t f) {
       const Index3 q = face_coords(a, f);
       const double u = ustar_[a][f];
-      const std::int64_t up = upwind_cell(a, q, u);
-      flux_[a][f] = alpha_[up] * u;
-      carried_[a][f] = alpha_[up];
+      const double af = face_fraction(a, q, u);
+      flux_[a][f] = af * u;
+      carried_[a][f] = af;
     });
   double* values = matrix_.valuePtr();
   exec::parallel_for(nc, [&](std::int64_t c) {

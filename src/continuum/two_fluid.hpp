@@ -118,7 +118,11 @@ struct TwoFluidSettings {
   double max_fraction = 0.0;
   double min_temperature = 1e-12;  ///< floor of Theta [m^2/s^2]
   double max_courant = 0.5;        ///< solids Courant limit of step()
-  double tolerance = 1e-12;        ///< relative residual of the volume-fraction solve
+  /// Face value of the volume fraction in its flux: VanLeer (second order where smooth, bounded
+  /// between the upwind and downwind cells: fronts and bubble edges stay sharp) or Upwind (first
+  /// order, smears a front over ~2 cells). Central is refused (unbounded).
+  fluid::Convection fraction_convection = fluid::Convection::VanLeer;
+  double tolerance = 1e-12;  ///< relative residual of the volume-fraction solve
 };
 
 /// What one step did.
@@ -248,6 +252,10 @@ class TwoFluidModel {
   /// The cell upwind of the face at coordinates q (component a) for a velocity u; across an
   /// outlet or a wall the one inside.
   [[nodiscard]] std::int64_t upwind_cell(int a, Index3 q, double u) const;
+  /// The volume fraction carried through the face at coordinates q (component a) by a velocity
+  /// u: the upwind cell's, or van Leer's limited value of the upwind, far-upwind and downwind
+  /// cells (settings' fraction_convection; the upwind cell's where one of them is missing).
+  [[nodiscard]] double face_fraction(int a, Index3 q, double u) const;
   /// adv_flux_ of component b at the face of cell coordinates q (wrapped across periodic axes).
   [[nodiscard]] double advective_flux(int b, Index3 q) const;
   [[nodiscard]] double cell_mean(const std::vector<double>& f, Index3 c0, Index3 c1, Index3 c2,

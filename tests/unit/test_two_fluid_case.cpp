@@ -152,6 +152,7 @@ TEST(TwoFluidInput, ErrorsNameLineKeyAndExpectation) {
       {"solids_fraction: 0.5", "solids_fraction: 0.7", "above the packing limit"},
       {"end: 1.0", "end: -1.0", "> 0"},
       {"vtk_every: 0.01", "vtk_evry: 0.01", "vtk_evry"},
+      {"  time: {end: 1.0", "  fraction_convection: central\n  time: {end: 1.0", "van_leer"},
   };
   for (const auto& b : bad) {
     const std::string e = error_of(replaced(kCase, b.from, b.to));

@@ -161,8 +161,8 @@ TEST(ValidationTwoFluid, BatchSedimentationFollowsKynch) {
   const double dps = ps[g.index(0, 0, 0)] - ps[g.index(0, 15, 0)];
   std::printf(
       "sediment: P_s(0) - P_s(15) %.4f Pa, buoyant weight between %.4f Pa (%+.3f %%), max "
-      "|u_s| %.2e m/s, a(floor) %.4f\n",
-      dps, w, 100 * (dps / w - 1), umax, m.solids_fraction()[0]);
+      "|u_s| %.2e m/s, a(floor) %.4f; clipped %.2e of the volume\n",
+      dps, w, 100 * (dps / w - 1), umax, m.solids_fraction()[0], clipped / v0);
   EXPECT_NEAR(dps / w, 1.0, 5e-3);
   EXPECT_LT(umax, 1e-5);
   {

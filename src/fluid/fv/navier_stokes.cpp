@@ -33,6 +33,7 @@
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
+#include "fluid/fv/limiter.hpp"
 
 namespace gf::fluid {
 
@@ -43,31 +44,9 @@ int wrap(int i, int n) {
   return i < 0 ? i + n : i;
 }
 
-/// Van Leer's limited face value from the far-upwind, upwind and downwind values: the upwind
-/// value plus the harmonic mean of the two slopes (zero at an extremum), i.e.
-/// phi_U + psi(r) (phi_D - phi_U) / 2 with psi(r) = (r + |r|) / (1 + |r|).
-double van_leer(double far_upwind, double upwind, double downwind) {
-  const double d0 = upwind - far_upwind, d1 = downwind - upwind;
-  return d0 * d1 > 0.0 ? upwind + d0 * d1 / (d0 + d1) : upwind;
-}
-
-/// Position of entry (row, col) in the values of a compressed column-major matrix whose pattern
-/// has it: found once, so that re-assembly writes the values directly.
-int entry_position(const SpdSolver::Matrix& m, int row, int col) {
-  const int* rows = m.innerIndexPtr();
-  for (int k = m.outerIndexPtr()[col]; k < m.outerIndexPtr()[col + 1]; ++k)
-    if (rows[k] == row) return k;
-  ASSERT(false);
-  return -1;
-}
-
 /// Adds v to entry (row, col) of a compressed column-major matrix whose pattern has it.
 void add_entry(SpdSolver::Matrix& m, int row, int col, double v) {
   m.valuePtr()[entry_position(m, row, col)] += v;
-}
-
-void zero_column(SpdSolver::Matrix& m, int col) {
-  for (int k = m.outerIndexPtr()[col]; k < m.outerIndexPtr()[col + 1]; ++k) m.valuePtr()[k] = 0.0;
 }
 
 }  // namespace

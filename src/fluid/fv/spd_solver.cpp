@@ -8,6 +8,19 @@
 
 namespace gf::fluid {
 
+int entry_position(const SpdSolver::Matrix& m, int row, int col) {
+  const int* rows = m.innerIndexPtr();
+  for (int k = m.outerIndexPtr()[col]; k < m.outerIndexPtr()[col + 1]; ++k)
+    if (rows[k] == row) return k;
+  ASSERT(false);
+  return -1;
+}
+
+void zero_column(SpdSolver::Matrix& m, int col) {
+  double* v = m.valuePtr();
+  for (int k = m.outerIndexPtr()[col]; k < m.outerIndexPtr()[col + 1]; ++k) v[k] = 0.0;
+}
+
 void SpdSolver::setup(LinearSolver method, const Matrix& a) {
   REQUIRE(method != LinearSolver::Auto, "SpdSolver::setup needs a resolved method");
   method_ = method;

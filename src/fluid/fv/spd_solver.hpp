@@ -59,4 +59,11 @@ class SpdSolver {
   Eigen::VectorXd r_, z_, p_, q_, tmp_;
 };
 
+/// Position of entry (row, col) in the values of a compressed column-major matrix whose pattern
+/// has it (found once, so that re-assembly writes the values directly).
+int entry_position(const SpdSolver::Matrix& m, int row, int col);
+/// Zeroes column `col` of a compressed column-major matrix (its entries are then accumulated: on
+/// a periodic axis of two cells both neighbours are the same unknown, one entry).
+void zero_column(SpdSolver::Matrix& m, int col);
+
 }  // namespace gf::fluid

@@ -16,6 +16,7 @@
 //                  superficial: true, jet: {from: 0.09, to: 0.11, velocity: [0, 3]}},
 //                  y_max: {type: outlet, pressure: 0}, x_max: {type: wall, solids: free_slip}}
 //     initial: {fluid_velocity: [0, 0.3], regions: [{box: {min, max}, solids_fraction: 0.55}]}
+//     fraction_convection: van_leer | upwind
 //     time: {end: 1.0, max_step: 1e-3, courant: 0.5}
 //     output: {vtk_every: 0.05, series_every: 0.005, checkpoint_every: 0.5}
 #include "io/input/parse_two_fluid.hpp"
@@ -42,7 +43,7 @@ const char* const kFaceNames[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", 
 TwoFluidCase parse_two_fluid(const YamlNode& block) {
   TwoFluidCase c;
   YamlMap m(block, {"dimension", "domain", "cells", "gravity", "fluid", "solids", "drag",
-                    "boundaries", "initial", "time", "output"});
+                    "boundaries", "initial", "time", "output", "fraction_convection"});
   const int dim = static_cast<int>(m.at("dimension").as_integer({2, 3}));
   auto& g = c.grid;
   auto& s = c.settings;
@@ -243,6 +244,10 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
                              kFaceNames[2 * a + 1]));
     }
   }
+  if (auto fc = m.find("fraction_convection"))
+    s.fraction_convection = fc->as_choice({"van_leer", "upwind"}) == "upwind"
+                                ? fluid::Convection::Upwind
+                                : fluid::Convection::VanLeer;
   {
     YamlMap t(m.at("time"), {"end", "max_step", "courant"});
     c.end_time = t.number("end", Range::positive());
@@ -368,6 +373,8 @@ std::string echo_two_fluid_yaml(const TwoFluidCase& c, const std::string& versio
     o << fmt::format(
         "      - {{box: {{min: {}, max: {}}}, solids_fraction: {:.17g}, solids_velocity: {}}}\n",
         vec(r.lo), vec(r.hi), r.solids_fraction, vec(r.solids_velocity));
+  o << fmt::format("  fraction_convection: {}\n",
+                   s.fraction_convection == fluid::Convection::Upwind ? "upwind" : "van_leer");
   o << fmt::format("  time: {{end: {:.17g}, max_step: {:.17g}, courant: {:.17g}}}\n", c.end_time,
                    c.max_step, s.max_courant);
   o << fmt::format(
