@@ -7,7 +7,9 @@
 //                  - rho (e1 C^n + e2 C^{n-1}) - eps grad p^n + eps rho g + S_explicit,
 //      a_f = eps rho c0 / dt + K, C = eps u . grad u (explicit, extrapolated to t^{n+1});
 //   2. correction: div(eps^2 / a_f grad phi) = div(eps u*) + d eps/dt,
-//                  u^{n+1} = u* - (eps / a_f) grad phi,  p^{n+1} = p^n + phi.
+//                  u^{n+1} = u* - (eps / a_f) grad phi,  p^{n+1} = p^n + phi
+//      (with a shared phase, set_shared_phase: continuity of the mixture, and both phases'
+//      responses to grad phi from their face momentum equations coupled by the drag K).
 // Why incremental pressure correction and not PISO: with the viscous and drag terms implicit
 // and convection explicit, the predictor is one SPD solve per component and the corrector one
 // SPD solve; PISO's second corrector would only update the off-diagonal (viscous) part of the
