@@ -201,6 +201,19 @@ double TwoFluidModel::face_fraction(int a, Index3 q, double u) const {
                     std::max(up, down));
 }
 
+double TwoFluidModel::flux_divergence(std::int64_t c) const {
+  const Index3 q = grid_.cell_coords(c);
+  double div = 0.0;
+  for (int b = 0; b < dim_; ++b) {
+    Index3 hi = q;
+    ++hi[b];
+    div += (flux_[b][grid_.face_index(b, hi[0], hi[1], hi[2])] -
+            flux_[b][grid_.face_index(b, q[0], q[1], q[2])]) /
+           grid_.h[b];
+  }
+  return div;
+}
+
 double TwoFluidModel::advective_flux(int b, Index3 q) const {
   for (int c = 0; c < dim_; ++c)
     if (grid_.periodic[c]) q[c] = wrap(q[c], grid_.n[c]);
@@ -909,18 +922,7 @@ void TwoFluidModel::solids_pressure_step(double dt, TwoFluidReport& report) {
       }
       us_[a][f] = u;
     });
-  exec::parallel_for(nc, [&](std::int64_t c) {
-    const Index3 q = grid_.cell_coords(c);
-    double div = 0.0;
-    for (int b = 0; b < dim_; ++b) {
-      Index3 hi = q;
-      ++hi[b];
-      div += (flux_[b][grid_.face_index(b, hi[0], hi[1], hi[2])] -
-              flux_[b][grid_.face_index(b, q[0], q[1], q[2])]) /
-             grid_.h[b];
-    }
-    delta_[c] = -dt * div;
-  });
+  exec::parallel_for(nc, [&](std::int64_t c) { delta_[c] = -dt * flux_divergence(c); });
 }
 
 // The fluid step with the solids flux F~ sharing the pressure correction phi (mixture
@@ -958,16 +960,7 @@ double TwoFluidModel::fluid_step(double dt, TwoFluidReport& report) {
   double clipped = 0.0;
   alpha_old_ = alpha_;
   for (std::int64_t c = 0; c < nc; ++c) {
-    const Index3 q = grid_.cell_coords(c);
-    double div = 0.0;
-    for (int b = 0; b < dim_; ++b) {
-      Index3 hi = q;
-      ++hi[b];
-      div += (flux_[b][grid_.face_index(b, hi[0], hi[1], hi[2])] -
-              flux_[b][grid_.face_index(b, q[0], q[1], q[2])]) /
-             grid_.h[b];
-    }
-    double a = alpha_[c] - dt * div;
+    double a = alpha_[c] - dt * flux_divergence(c);
     if (a < 0.0) {
       clipped -= a;
       a = 0.0;

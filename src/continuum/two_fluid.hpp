@@ -256,6 +256,8 @@ class TwoFluidModel {
   /// u: the upwind cell's, or van Leer's limited value of the upwind, far-upwind and downwind
   /// cells (settings' fraction_convection; the upwind cell's where one of them is missing).
   [[nodiscard]] double face_fraction(int a, Index3 q, double u) const;
+  /// div(flux_) of cell c [1/s].
+  [[nodiscard]] double flux_divergence(std::int64_t c) const;
   /// adv_flux_ of component b at the face of cell coordinates q (wrapped across periodic axes).
   [[nodiscard]] double advective_flux(int b, Index3 q) const;
   [[nodiscard]] double cell_mean(const std::vector<double>& f, Index3 c0, Index3 c1, Index3 c2,
