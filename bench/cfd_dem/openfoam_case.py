@@ -22,29 +22,16 @@ field trilinearly and holds the wall cells' values up to the walls: no wall valu
 
     openfoam_case.py FOLDER [--end 0.1]
 """
-import argparse, os
+import argparse, os, sys
 
-HEADER = """FoamFile
-{{
-    version     2.0;
-    format      ascii;
-    class       {cls};
-    object      {obj};
-}}
-"""
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+from openfoam_dict import OUTPUT_FORMAT, write  # noqa: E402
+
 
 LX, LY, LZ = 0.0504, 0.0126, 0.189
 CELLS = (8, 2, 30)
 SPACING, NX, NY, NZ = 0.0021, 24, 6, 21
 DT_FLUID = 2.5e-4
-
-
-def write(folder, path, cls, body):
-    full = os.path.join(folder, path)
-    os.makedirs(os.path.dirname(full), exist_ok=True)
-    with open(full, "w") as f:
-        f.write(HEADER.format(cls=cls, obj=os.path.basename(path)))
-        f.write(body)
 
 
 def make(folder, end):
@@ -57,14 +44,7 @@ endTime         {end};
 deltaT          {DT_FLUID};
 writeControl    runTime;
 writeInterval   {end};
-purgeWrite      0;
-writeFormat     ascii;
-writePrecision  8;
-writeCompression off;
-timeFormat      general;
-timePrecision   8;
-runTimeModifiable no;
-""")
+{OUTPUT_FORMAT}""")
     write(folder, "system/blockMeshDict", "dictionary", f"""
 vertices
 (

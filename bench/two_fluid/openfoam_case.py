@@ -50,22 +50,16 @@ file, so the two stay in step.
 
 Then, in FOLDER: blockMesh; topoSet; setFields; twoPhaseEulerFoam.
 """
-import argparse, os
+import argparse, os, sys
 
 import yaml
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
+sys.path.insert(0, os.path.dirname(HERE))
+from openfoam_dict import OUTPUT_FORMAT, vol_field_value, write  # noqa: E402
 CASE = os.path.join(ROOT, "cases/two_fluid/bubbling_bed/case.yaml")
 
-HEADER = """FoamFile
-{{
-    version     2.0;
-    format      ascii;
-    class       {cls};
-    object      {obj};
-}}
-"""
 
 
 def load(case_path=CASE):
@@ -105,14 +99,6 @@ def load(case_path=CASE):
         "closures": (s.get("closures"), s.get("radial_distribution"), s.get("temperature"),
                      dense.get("model"), c["drag"]["model"]),
     }
-
-
-def write(folder, path, cls, body):
-    full = os.path.join(folder, path)
-    os.makedirs(os.path.dirname(full), exist_ok=True)
-    with open(full, "w") as f:
-        f.write(HEADER.format(cls=cls, obj=os.path.basename(path)))
-        f.write(body)
 
 
 P_REF = 1e5  # OpenFOAM's absolute pressure at the outlet [Pa]; grainflow's is 0 (only p differences are compared)
@@ -187,20 +173,9 @@ mergePatchPairs ();
     else:
         stepping = (f"deltaT {min(max_dt, 1e-4)};\nadjustTimeStep yes;\nmaxCo {max_co};\n"
                     f"maxDeltaT {max_dt};\n")
-    row = lambda name: f"""    {name}
-    {{
-        type            volFieldValue;
-        libs            ("libfieldFunctionObjects.so");
-        writeControl    timeStep;
-        writeInterval   1;
-        writeFields     false;
-        log             false;
-        regionType      cellZone;
-        name            {name};
-        operation       volAverage;
-        fields          (p);
-    }}
-"""
+    def row(name):  # the volume average of p over a cell zone
+        return vol_field_value(name, f"cellZone;\n        name            {name}", "volAverage", "p")
+
     write(folder, "system/controlDict", "dictionary", f"""
 application     twoPhaseEulerFoam;
 startFrom       startTime;
@@ -209,28 +184,9 @@ stopAt          endTime;
 endTime         {end};
 {stepping}writeControl    adjustableRunTime;
 writeInterval   {write_every};
-purgeWrite      0;
-writeFormat     ascii;
-writePrecision  8;
-writeCompression off;
-timeFormat      general;
-timePrecision   8;
-runTimeModifiable no;
-functions
+{OUTPUT_FORMAT}functions
 {{
-{row("bottomRow")}{row("topRow")}    alphaMax
-    {{
-        type            volFieldValue;
-        libs            ("libfieldFunctionObjects.so");
-        writeControl    timeStep;
-        writeInterval   1;
-        writeFields     false;
-        log             false;
-        regionType      all;
-        operation       max;
-        fields          (alpha.particles);
-    }}
-}}
+{row("bottomRow")}{row("topRow")}{vol_field_value("alphaMax", "all", "max", "alpha.particles")}}}
 """)
     write(folder, "system/topoSetDict", "dictionary", f"""
 actions
