@@ -243,6 +243,37 @@ SphKineticTheory dem_grains(double e) {
   return kt;
 }
 
+/// The plane Couette box of the kinetic-theory tests: 2D, the dem_grains material at a = 0.1 in a
+/// layer of height h and width `width` (particle spacing dx, periodic along x) between plates of
+/// thickness 3 dx moving at -u and +u; sound speed 10 m/s (the dense packing's; the gas's own,
+/// 3 m/s here, is taken when larger). jj: the plates' Johnson-Jackson condition, if any.
+SphConfig couette_box(const SphKineticTheory& kt, double h, double width, double dx, double u,
+                      bool implicit, const SphWall::JohnsonJackson* jj = nullptr) {
+  const double d = 0.0053, a = 0.1, rho_s = 1395, th = 3 * dx;
+  SphConfig c;
+  c.dimension = 2;
+  c.domain.lo = {0, -th, 0};
+  c.domain.hi = {width, h + th, 0};
+  c.domain.periodic = {true, false, false};
+  c.spacing = dx;
+  c.density = 0.6 * rho_s;
+  c.sound_speed = 10;
+  c.rheology = prepare_rheology(
+      "mu_i", {{"grain_diameter", d}, {"grain_density", rho_s}, {"max_viscosity", 10}});
+  c.kinetic_theory = kt;
+  c.implicit_viscosity = implicit;
+  SphBlock b{{0, 0, 0}, {width, h, 0}, {}, false};
+  b.volume_fraction = a;
+  c.blocks.push_back(b);
+  c.walls.push_back(box_wall("bottom", {0, -th, 0}, {width, 0, 0}));
+  c.walls.back().velocity = {-u, 0, 0};
+  if (jj) c.walls.back().johnson_jackson = *jj;
+  c.walls.push_back(box_wall("top", {0, h, 0}, {width, h + th, 0}));
+  c.walls.back().velocity = {u, 0, 0};
+  if (jj) c.walls.back().johnson_jackson = *jj;
+  return c;
+}
+
 TEST(ValidationSphKineticTheory, HomogeneousCoolingFollowsHaff) {
   // A granular gas at rest (a = 0.1, e = 0.7, Theta0 = 1 m^2/s^2) in a periodic box, no gravity:
   // only the dissipation acts, and Theta(t) = Theta0 / (1 + t / tau)^2 (Haff 1983; tau = 35 ms
@@ -311,30 +342,11 @@ void run_ktgf_couette(bool implicit) {
   // (-33 %), fail.
   const double d = 0.0053, a = 0.1, rate = 100, h = 10 * d, u = 0.5 * rate * h;
   const int n = 20;
-  const double dx = h / n, th = 3 * dx, width = h;
+  const double dx = h / n, width = h;
   auto kt = dem_grains(0.95);
   const auto exact = ktgf_simple_shear(a, rate, kt.closures);
   kt.initial_temperature = 0.1 * exact.temperature;
-  SphConfig c;
-  c.dimension = 2;
-  c.domain.lo = {0, -th, 0};
-  c.domain.hi = {width, h + th, 0};
-  c.domain.periodic = {true, false, false};
-  c.spacing = dx;
-  c.density = 0.6 * 1395;
-  c.sound_speed = 10;  // the dense packing's; the gas's own (3 m/s here) is taken when larger
-  c.rheology = prepare_rheology(
-      "mu_i", {{"grain_diameter", d}, {"grain_density", 1395}, {"max_viscosity", 10}});
-  c.kinetic_theory = kt;
-  c.implicit_viscosity = implicit;
-  SphBlock b{{0, 0, 0}, {width, h, 0}, {}, false};
-  b.volume_fraction = a;
-  c.blocks.push_back(b);
-  c.walls.push_back(box_wall("bottom", {0, -th, 0}, {width, 0, 0}));
-  c.walls.back().velocity = {-u, 0, 0};
-  c.walls.push_back(box_wall("top", {0, h, 0}, {width, h + th, 0}));
-  c.walls.back().velocity = {u, 0, 0};
-  SphSolver s(c);
+  SphSolver s(couette_box(kt, h, width, dx, u, implicit));
   test::Dump dump(implicit ? "sph_ktgf_couette_implicit" : "sph_ktgf_couette",
                   "t,theta,pressure,shear_stress,a_min,a_max,theta_exact,p_exact,tau_exact");
   // Time averages over 0.5-1 s (the start's transient decays in about 0.2 s)
@@ -443,33 +455,12 @@ struct JjCouetteRun {
 /// with the Johnson-Jackson condition, n particles across, means over t_average .. t_end.
 JjCouetteRun run_jj_couette(double specularity, double wall_restitution, int n, double t_end,
                             double t_average, bool implicit = false) {
-  const double d = 0.0053, a = 0.1, rate = 100, h = 10 * d, u = 0.5 * rate * h, rho_s = 1395;
-  const double dx = h / n, th = 3 * dx, width = std::max(h, 8 * dx);
+  const double d = 0.0053, rate = 100, h = 10 * d, u = 0.5 * rate * h, rho_s = 1395;
+  const double dx = h / n, width = std::max(h, 8 * dx);
   auto kt = dem_grains(0.95);
   kt.initial_temperature = 0.37;  // a tenth of the no-slip steady state's
-  SphConfig c;
-  c.dimension = 2;
-  c.domain.lo = {0, -th, 0};
-  c.domain.hi = {width, h + th, 0};
-  c.domain.periodic = {true, false, false};
-  c.spacing = dx;
-  c.density = 0.6 * rho_s;
-  c.sound_speed = 10;
-  c.rheology = prepare_rheology(
-      "mu_i", {{"grain_diameter", d}, {"grain_density", rho_s}, {"max_viscosity", 10}});
-  c.kinetic_theory = kt;
-  c.implicit_viscosity = implicit;
-  SphBlock b{{0, 0, 0}, {width, h, 0}, {}, false};
-  b.volume_fraction = a;
-  c.blocks.push_back(b);
   const SphWall::JohnsonJackson jj{specularity, wall_restitution};
-  c.walls.push_back(box_wall("bottom", {0, -th, 0}, {width, 0, 0}));
-  c.walls.back().velocity = {-u, 0, 0};
-  c.walls.back().johnson_jackson = jj;
-  c.walls.push_back(box_wall("top", {0, h, 0}, {width, h + th, 0}));
-  c.walls.back().velocity = {u, 0, 0};
-  c.walls.back().johnson_jackson = jj;
-  SphSolver s(c);
+  SphSolver s(couette_box(kt, h, width, dx, u, implicit, &jj));
   PlateLayers layers;
   JjCouetteRun out;
   out.u_scale = u;
