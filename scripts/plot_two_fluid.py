@@ -10,7 +10,8 @@ Richardson & Zaki's speed for comparison; the sediment's solids pressure against
 weight above), the packed bed's pressure against Ergun, the fluidised beds' pressure drops (a
 liquid-fluidised bed and a slugging gas-fluidised column) against the weight of the mixture,
 homogeneous cooling against Haff's law, Couette flow (no-slip and Johnson-Jackson walls) against
-the kinetic-theory state and a mu(I) layer on an incline against Bagnold's profile. The errors in the titles are computed
+the kinetic-theory state, a mu(I) layer on an incline against Bagnold's profile and a
+liquid-fluidised bed with a particle pressure against the uniform expansion. The errors in the titles are computed
 here from the tests' CSV files, the way the tests compute them. With --out DIR, into DIR (created
 if missing) instead. Uses Debian's python3-numpy and python3-matplotlib."""
 import math
@@ -302,6 +303,42 @@ def gas_column(ax, folder):
     ax.legend(h1 + h2, l1 + l2, fontsize=7, loc="lower right")
 
 
+def liquid_bed(ax, folder):
+    """The liquid-fluidised bed with Gidaspow & Ettehadieh's particle pressure: the deviation
+    from the uniform expansion, and the decay per cell the linearised face balance predicts."""
+    a_eq, h_eq = expanded_height()
+
+    def excess(a):
+        u_mf = bisect(lambda u: ergun(A_BED, u) - A_BED * (RHO_S - RHO_F) * G, 0.0, 1.0)
+        return ergun(a, U_RATIO * u_mf) - a * (RHO_S - RHO_F) * G
+
+    slope = (excess(a_eq + 1e-6) - excess(a_eq - 1e-6)) / 2e-6
+    modulus = 10 ** (5.43 - 8.76 * (1 - a_eq))
+    parts = []
+    for name, style in (("2mm", "o-"), ("1mm", "s-")):
+        d = load(folder, "two_fluid_liquid_bed_" + name)
+        y, a = d["y"], d["alpha"]
+        h = y[1] - y[0]
+        bed = d["alpha_uniform"] > 0
+        dev = 100 * (a[bed] / a_eq - 1)
+        q = (slope * h + 2 * modulus) / (slope * h - 2 * modulus)
+        ax.plot(dev, y[bed] * 1e3, style, ms=3, lw=0.7, label=f"grainflow, h = {name[0]} mm")
+        # the envelope q^(j - j_top) through the cell below the surface cell
+        j = np.arange(bed.sum())
+        env = abs(dev[-2]) * q ** (j - (len(j) - 2))
+        ax.plot(env, y[bed] * 1e3, "k:", lw=0.8)
+        ax.plot(-env, y[bed] * 1e3, "k:", lw=0.8)
+        parts.append(f"{name[0]} mm: q = {q:.3f}")
+    ax.plot([], [], "k:", lw=0.8, label="decay q per cell, linearised face balance")
+    ax.axhline(h_eq * 1e3, color="C2", lw=0.8, ls="--", label=f"uniform height {h_eq * 1e3:.2f} mm")
+    ax.set_xlim(-12, 12)
+    ax.set_xlabel("a / a* - 1 (%)")
+    ax.set_ylabel("y (mm)")
+    ax.set_title(f"Liquid-fluidised bed, 2 U_mf, elastic modulus (G(a*) = {modulus:.2f} Pa):\n"
+                 f"deviation from a* = {a_eq:.4f} at 6 s; " + ", ".join(parts), fontsize=9)
+    ax.legend(fontsize=7, loc="lower left")
+
+
 def plot(folder, out):
     fig, axes = plt.subplots(3, 4, figsize=(21, 13.5))
     ax = axes.ravel()
@@ -315,9 +352,10 @@ def plot(folder, out):
     couette_temperature(ax[7], folder)
     incline(ax[8], folder)
     gas_column(ax[9], folder)
-    for a in ax[10:]:
+    liquid_bed(ax[10], folder)
+    for a in ax[11:]:
         a.axis("off")
-    for a in ax[:10]:
+    for a in ax[:11]:
         a.grid(alpha=0.3)
     fig.suptitle("Two-fluid model (KTGF solids in a fluid) against analytic references "
                  "(tests/validation/test_two_fluid_validation.cpp)")

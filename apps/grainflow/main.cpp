@@ -50,8 +50,7 @@ int list_models() {
   fmt::print("continuum rheologies (continuum.rheology.model):\n");
   for (const auto& m : gf::continuum::rheology_infos())
     fmt::print("  {:<16} {}\n", m.key, m.summary);
-  // Library only so far: no solver reads them yet (the two-fluid model will).
-  fmt::print("KTGF closure sets (library; no case-file key yet):\n");
+  fmt::print("KTGF closure sets (two_fluid.solids.closures, continuum.kinetic_theory):\n");
   for (const auto& m : gf::continuum::ktgf_closure_infos())
     fmt::print("  {:<16} {}\n", m.key, m.summary);
   fmt::print("KTGF radial distributions at contact g0:\n");
@@ -59,6 +58,9 @@ int list_models() {
     fmt::print("  {:<18} {}\n", m.key, m.summary);
   fmt::print("KTGF dense-region (frictional) models:\n");
   for (const auto& m : gf::continuum::frictional_model_infos())
+    fmt::print("  {:<26} {}\n", m.key, m.summary);
+  fmt::print("particle-pressure models (two_fluid.solids.particle_pressure.model):\n");
+  for (const auto& m : gf::continuum::particle_pressure_model_infos())
     fmt::print("  {:<26} {}\n", m.key, m.summary);
   fmt::print("\n`grainflow describe <key>` prints a model's equation, reference and parameters.\n");
   return 0;
@@ -83,13 +85,12 @@ int describe(const std::string& key) {
   const std::pair<const gf::continuum::KtgfInfo*, const char*> ktgf[] = {
       {gf::continuum::find_ktgf_closure(key), "KTGF closure set"},
       {gf::continuum::find_radial_distribution(key), "KTGF radial distribution at contact"},
-      {gf::continuum::find_frictional_model(key), "KTGF dense-region model"}};
+      {gf::continuum::find_frictional_model(key), "KTGF dense-region model"},
+      {gf::continuum::find_particle_pressure_model(key), "two-fluid particle-pressure model"}};
   for (const auto& [k, kind] : ktgf)
     if (k) {
-      fmt::print(
-          "{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters ({}; library only, no "
-          "case-file key yet):\n",
-          k->key, k->summary, k->equation, k->reference, kind);
+      fmt::print("{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters ({}):\n", k->key,
+                 k->summary, k->equation, k->reference, kind);
       if (k->params.empty())
         fmt::print("  (none)\n");
       else
@@ -105,6 +106,8 @@ int describe(const std::string& key) {
     for (const auto& i : gf::continuum::radial_distribution_infos())
       keys += fmt::format(" {}", i.key);
     for (const auto& i : gf::continuum::frictional_model_infos()) keys += fmt::format(" {}", i.key);
+    for (const auto& i : gf::continuum::particle_pressure_model_infos())
+      keys += fmt::format(" {}", i.key);
     fmt::print(stderr, "error: unknown model key '{}'; known keys:{}\n", key, keys);
     return kExitInput;
   }

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// KTGF registries (closure sets, radial distributions, frictional models) and homogeneous states.
+// KTGF registries (closure sets, g0, frictional and particle-pressure models), homogeneous states.
 #include "continuum/ktgf.hpp"
 
 #include <fmt/format.h>
@@ -73,6 +73,14 @@ const KtgfInfo* find_frictional_model(std::string_view key) {
   return find_in(infos, key);
 }
 
+std::vector<KtgfInfo> particle_pressure_model_infos() {
+  return infos_of(ParticlePressureModels{});
+}
+const KtgfInfo* find_particle_pressure_model(std::string_view key) {
+  static const std::vector<KtgfInfo> infos = particle_pressure_model_infos();
+  return find_in(infos, key);
+}
+
 KtgfParams prepare_ktgf(std::string_view key, const std::map<std::string, double>& params,
                         std::string_view radial) {
   const int idx = index_of_key(KtgfClosures{}, key);
@@ -108,6 +116,20 @@ FrictionalParams prepare_frictional(std::string_view key,
   dispatch_index(FrictionalModels{}, idx, [&]<class M>() { M::prepare(f, get); });
   f.model = idx;
   return f;
+}
+
+ParticlePressureParams prepare_particle_pressure(std::string_view key,
+                                                 const std::map<std::string, double>& params) {
+  const int idx = index_of_key(ParticlePressureModels{}, key);
+  REQUIRE(idx >= 0, "unknown particle-pressure model '{}' (known: {})", key,
+          keys_of(particle_pressure_model_infos()));
+  check_params(fmt::format("particle-pressure model '{}'", key),
+               find_particle_pressure_model(key)->params, params, true);
+  auto get = [&](std::string_view name) { return param_value(params, name); };
+  ParticlePressureParams p;
+  dispatch_index(ParticlePressureModels{}, idx, [&]<class M>() { M::prepare(p, get); });
+  p.model = idx;
+  return p;
 }
 
 KtgfShearState ktgf_simple_shear(double a, double shear_rate, const KtgfParams& p) {

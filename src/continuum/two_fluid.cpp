@@ -94,6 +94,9 @@ void TwoFluidModel::check_settings() {
           "Theta ~ 1/a^2 in dilute cells (use the transported temperature)",
           Syamlal::key);
   REQUIRE(s_.drag.law >= 0, "two-fluid model: no drag law (use cfd_dem::prepare_drag)");
+  REQUIRE(s_.particle_pressure.model < static_cast<int>(particle_pressure_model_infos().size()),
+          "two-fluid model: no particle-pressure model {} (use prepare_particle_pressure)",
+          s_.particle_pressure.model);
   REQUIRE(s_.specularity >= 0 && s_.specularity <= 1,
           "two-fluid model: specularity coefficient {} outside [0, 1]", s_.specularity);
   REQUIRE(s_.wall_restitution >= 0 && s_.wall_restitution <= 1,
@@ -348,6 +351,7 @@ TwoFluidModel::CellClosures TwoFluidModel::closures(double a, double theta, doub
       p += logarithmic_pressure(x, s_.log_pressure);
     else if (s_.frictional)
       p += johnson_jackson_pressure(x, s_.dense);
+    if (s_.particle_pressure.model >= 0) p += particle_pressure(x, s_.particle_pressure);
     return p;
   };
   r.g0 = radial_distribution(ac, k);

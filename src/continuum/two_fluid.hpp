@@ -13,13 +13,13 @@
 //                                          + eps rho_f g
 //
 // ("model A": both phases feel the shared pressure gradient in proportion to their fraction).
-// Closures: P_s = P_kt(a, Theta) + P_dense(a), tau_s = 2 mu_s D + (lambda_s - 2/3 mu_s) tr(D) I,
-// beta = a beta_p / V_p with beta_p the per-particle coefficient of a drag law of the registry
-// at the fluid fraction eps and the cell's slip. Dense regime (FrictionalModels):
-// schaeffer_johnson_jackson adds the Johnson-Jackson pressure and Schaeffer's viscosity to the
-// kinetic theory's (seed eqs 3, 6, 7); mu_i_switch is the seed's regime switch: above a
-// frictional limit the viscosity of the mu(I) rheology at the solids pressure (seed eqs 8-11),
-// with the seed's logarithmic pressure p0 ln((a_M - a_m) / (a_M - a)) (eq 14). The granular
+// Closures: P_s = P_kt(a, Theta) + P_dense(a) [+ P_e(a), a particle pressure], tau_s = 2 mu_s D +
+// (lambda_s - 2/3 mu_s) tr(D) I, beta = a beta_p / V_p with beta_p the per-particle coefficient of
+// a drag law of the registry at the fluid fraction eps and the cell's slip. Dense regime
+// (FrictionalModels): schaeffer_johnson_jackson adds the Johnson-Jackson pressure and Schaeffer's
+// viscosity to the kinetic theory's (seed eqs 3, 6, 7); mu_i_switch is the seed's regime switch:
+// above a frictional limit the viscosity of the mu(I) rheology at the solids pressure (seed eqs
+// 8-11), with the seed's logarithmic pressure p0 ln((a_M - a_m) / (a_M - a)) (eq 14). The granular
 // temperature is either algebraic, the local equilibrium of production and dissipation
 // (Syamlal, Rogers & O'Brien 1993, the MFIX theory guide; van Wachem et al. 2001)
 //   -P_kt tr(D) + 2 mu_kt D':D' + lambda_s tr(D)^2 = gamma_s + 3 beta Theta,
@@ -107,6 +107,11 @@ struct TwoFluidSettings {
     double min_fraction = 0.0;  ///< a_m [1]
     double max_fraction = 0.0;  ///< a_M [1]: the pressure diverges there
   } log_pressure;
+  /// Particle pressure added to P_s at every fraction (e.g. Gidaspow & Ettehadieh's elastic
+  /// modulus): model < 0 none. Where the grains barely fluctuate (liquid fluidisation) it is
+  /// what resists voidage disturbances below the dense regime. Not fluctuation energy: it stays
+  /// out of the granular energy balance, as the frictional pressure does.
+  ParticlePressureParams particle_pressure{-1};
   cfd_dem::DragParams drag;  ///< drag law (index in cfd_dem::DragLaws)
   std::array<SolidsWall, 6> solids_wall{SolidsWall::NoSlip, SolidsWall::NoSlip, SolidsWall::NoSlip,
                                         SolidsWall::NoSlip, SolidsWall::NoSlip, SolidsWall::NoSlip};
@@ -191,7 +196,7 @@ class TwoFluidModel {
   [[nodiscard]] std::span<const double> solids_fraction() const { return alpha_; }
   /// Granular temperature per cell [m^2/s^2].
   [[nodiscard]] std::span<const double> granular_temperature() const { return theta_; }
-  /// Solids pressure P_kt + P_f per cell at the last closure evaluation [Pa].
+  /// Solids pressure P_kt + P_dense (+ P_e) per cell at the last closure evaluation [Pa].
   [[nodiscard]] std::span<const double> solids_pressure() const { return ps_; }
   /// Effective solids shear viscosity per cell at the last closure evaluation [Pa s].
   [[nodiscard]] std::span<const double> solids_viscosity() const { return mu_; }

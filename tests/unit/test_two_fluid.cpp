@@ -94,6 +94,40 @@ TEST(TwoFluid, ClosuresAreTheRegistryModels) {
   EXPECT_NEAR(c.viscosity, mu, 1e-12 * mu);
 }
 
+// Gidaspow & Ettehadieh's particle pressure: its slope is the modulus G = 10^(b - c (1 - a)) Pa
+// (4.1 Pa at a = 0.45 with the published b = 5.43, c = 8.76: the eq.'s own numbers), its value the
+// integral of G from 0 (trapezoidal rule on 2e5 intervals: 1e-9), and the two-fluid model adds it
+// to the solids pressure but not to the kinetic pressure (it is no fluctuation energy).
+TEST(TwoFluid, ParticlePressureIsTheElasticModulusIntegral) {
+  const auto pe = prepare_particle_pressure("gidaspow_ettehadieh");
+  const auto modulus = [](double a) { return std::pow(10.0, 5.43 - 8.76 * (1.0 - a)); };
+  EXPECT_NEAR(modulus(0.45), 4.09, 0.01);
+  for (const double a : {0.05, 0.3, 0.45, 0.6}) {
+    const int n = 200000;
+    double integral = 0.5 * (modulus(0.0) + modulus(a));
+    for (int i = 1; i < n; ++i) integral += modulus(a * i / n);
+    integral *= a / n;
+    EXPECT_NEAR(particle_pressure(a, pe), integral, 1e-9 * integral) << a;
+    const double h = 1e-6;
+    EXPECT_NEAR((particle_pressure(a + h, pe) - particle_pressure(a - h, pe)) / (2 * h), modulus(a),
+                1e-6 * modulus(a))
+        << a;
+  }
+  EXPECT_EQ(particle_pressure(0.0, pe), 0.0);
+  TwoFluidSettings s = air_beads();
+  s.frictional = false;
+  periodic_x(s, 2);
+  const double a = 0.45, theta = 1e-4;
+  const auto without = TwoFluidModel(box(2, 4, 2e-3), s).closures(a, theta, 0.0, 0.0);
+  s.particle_pressure = pe;
+  const auto with = TwoFluidModel(box(2, 4, 2e-3), s).closures(a, theta, 0.0, 0.0);
+  EXPECT_NEAR(with.pressure - without.pressure, particle_pressure(a, pe), 1e-12);
+  EXPECT_DOUBLE_EQ(with.kinetic_pressure, without.kinetic_pressure);
+  EXPECT_NEAR(with.pressure_slope - without.pressure_slope, modulus(a), 1e-5 * modulus(a));
+  EXPECT_THROW(prepare_particle_pressure("elastic"), Error);
+  EXPECT_THROW(prepare_particle_pressure("gidaspow_ettehadieh", {{"exponent", -1.0}}), Error);
+}
+
 // The algebraic temperature balances production and dissipation, for shear, compression and
 // expansion, with and without gas damping; in pure shear it is ktgf_simple_shear's.
 TEST(TwoFluid, AlgebraicTemperatureBalance) {

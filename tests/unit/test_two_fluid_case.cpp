@@ -118,6 +118,30 @@ TEST(TwoFluidInput, ReadsTheBlock) {
     b1.name = mui.name;
     EXPECT_EQ(input::echo_two_fluid_yaml(b1, "test"), e1);
   }
+  // A particle pressure (elastic modulus): none by default; a model with its defaults filled in
+  // by the echo, which reads back.
+  EXPECT_LT(c.settings.particle_pressure.model, 0);
+  const auto pe =
+      parse_text(replaced(kCase, "    grain_density: 2500\n",
+                          "    grain_density: 2500\n"
+                          "    particle_pressure: {model: gidaspow_ettehadieh, exponent: 9.0}\n"));
+  EXPECT_EQ(pe.settings.particle_pressure.model, 0);
+  EXPECT_DOUBLE_EQ(pe.settings.particle_pressure.exponent, 9.0);
+  EXPECT_DOUBLE_EQ(pe.settings.particle_pressure.log10_modulus, 5.43);
+  {
+    const std::string e1 = input::echo_two_fluid_yaml(pe, "test");
+    EXPECT_THAT(e1, HasSubstr("particle_pressure: {model: gidaspow_ettehadieh, exponent: 9, "
+                              "log10_modulus: 5.4299999999999997}"));
+    const auto r1 = input::YamlNode::parse_text(e1, "echo.yaml");
+    input::YamlMap t1(r1, {"name", "two_fluid"});
+    auto b1 = input::parse_two_fluid(t1.at("two_fluid"));
+    b1.name = pe.name;
+    EXPECT_EQ(input::echo_two_fluid_yaml(b1, "test"), e1);
+  }
+  EXPECT_LT(parse_text(replaced(kCase, "    grain_density: 2500\n",
+                                "    grain_density: 2500\n    particle_pressure: none\n"))
+                .settings.particle_pressure.model,
+            0);
   // The echo reads back to the same case.
   const std::string echo = input::echo_two_fluid_yaml(c, "test");
   const auto root = input::YamlNode::parse_text(echo, "echo.yaml");
@@ -143,6 +167,14 @@ TEST(TwoFluidInput, ErrorsNameLineKeyAndExpectation) {
        "missing required key 'rheology'"},
       {"    grain_density: 2500\n", "    grain_density: 2500\n    rheology: {mu_s: 0.4}\n",
        "'rheology' belongs to the dense model 'mu_i_switch'"},
+      {"    grain_density: 2500\n",
+       "    grain_density: 2500\n    particle_pressure: {model: elastic}\n",
+       "a particle-pressure model: gidaspow_ettehadieh (or none)"},
+      {"    grain_density: 2500\n",
+       "    grain_density: 2500\n    particle_pressure: {model: gidaspow_ettehadieh, c: 8}\n",
+       "'c'"},
+      {"    grain_density: 2500\n", "    grain_density: 2500\n    particle_pressure: yes\n",
+       "none"},
       {"model: gidaspow", "model: ergun", "a drag law: schiller_naumann"},
       {"model: gidaspow", "model: gidaspow, switch_fractio: 0.8", "switch_fractio"},
       {"    x_max: {type: periodic}\n", "", "x_min and x_max must both be periodic"},

@@ -87,9 +87,9 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
   }
   {
     const auto sn = m.at("solids");
-    std::vector<std::string> extra{"temperature",   "initial_temperature", "max_fraction",
-                                   "specularity",   "wall_restitution",    "rheology",
-                                   "dense_pressure"};
+    std::vector<std::string> extra{"temperature",    "initial_temperature", "max_fraction",
+                                   "specularity",    "wall_restitution",    "rheology",
+                                   "dense_pressure", "particle_pressure"};
     const KtgfInput kt = read_ktgf_input(sn, extra, "schaeffer_johnson_jackson", true);
     c.closures = kt.closures;
     c.radial = kt.radial;
@@ -133,6 +133,27 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
       s.log_pressure.max_fraction = pm.number("max_fraction", {0.0, 1.0, true, true});
       if (!(s.log_pressure.max_fraction > s.log_pressure.min_fraction))
         pm.at("max_fraction").fail("expected max_fraction > min_fraction");
+    }
+    if (auto pn = sm.find("particle_pressure"); pn && !pn->is_scalar()) {
+      YamlMap pm(*pn);
+      c.particle_pressure = pm.string("model");
+      const auto* info = continuum::find_particle_pressure_model(c.particle_pressure);
+      if (!info) {
+        std::vector<std::string> keys;
+        for (const auto& i : continuum::particle_pressure_model_infos()) keys.emplace_back(i.key);
+        pm.at("model").fail_expected("a particle-pressure model: " + join(keys) + " (or none)");
+      }
+      std::vector<std::string> accepted{"model"};
+      for (const auto& p : info->params) accepted.emplace_back(p.name);
+      pm.check_keys(accepted,
+                    fmt::format("parameters of particle-pressure model '{}'", c.particle_pressure));
+      c.particle_pressure_params =
+          read_schema_params(pm, *pn, {info->params.begin(), info->params.end()},
+                             fmt::format("particle-pressure model '{}'", c.particle_pressure));
+      s.particle_pressure =
+          continuum::prepare_particle_pressure(c.particle_pressure, c.particle_pressure_params);
+    } else if (pn) {
+      pn->as_choice({"none"});
     }
     s.temperature = continuum::GranularTemperature::Algebraic;
     if (auto t = sm.find("temperature"))
@@ -324,6 +345,17 @@ std::string echo_two_fluid_yaml(const TwoFluidCase& c, const std::string& versio
         "max_fraction: {:.17g}}}",
         params(c.rheology_params).substr(2), s.log_pressure.p0, s.log_pressure.min_fraction,
         s.log_pressure.max_fraction);
+  std::string particle = "none";  // with its defaults filled in
+  if (const auto* info = continuum::find_particle_pressure_model(c.particle_pressure)) {
+    std::map<std::string, double> all;
+    for (const auto& p : info->params) {
+      const auto given = c.particle_pressure_params.find(std::string(p.name));
+      all[std::string(p.name)] =
+          given != c.particle_pressure_params.end() ? given->second : p.default_value.value_or(0);
+    }
+    particle = fmt::format("{{model: {}{}}}", c.particle_pressure, params(all));
+  }
+  o << ", particle_pressure: " << particle;
   o << fmt::format(
       ", temperature: {}, initial_temperature: {:.17g}, max_fraction: {:.17g}, specularity: "
       "{:.17g}, wall_restitution: {:.17g}}}\n",

@@ -22,6 +22,9 @@ struct TwoFluidCase {
   std::string closures, radial, dense, drag;
   std::map<std::string, double> ktgf_params, dense_params, drag_params;
   std::map<std::string, double> rheology_params;  ///< mu_i_switch: mu_s, mu_2, i0, max_viscosity
+  /// particle-pressure model key ("" none) and its parameters as given
+  std::string particle_pressure;
+  std::map<std::string, double> particle_pressure_params;
   /// A box of the initial state (later boxes override earlier ones where they overlap).
   struct Region {
     Vec3 lo, hi;
