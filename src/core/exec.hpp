@@ -39,27 +39,42 @@ inline int thread_id() {
 #endif
 }
 
+/// Loops of at most this many iterations run serially: a parallel region costs a few
+/// microseconds even when its `if` clause is false (libgomp starts a team of one and wakes its
+/// barrier with a futex system call: 5-6 us each, measured), which on small grids was ~10 % of
+/// a two-fluid step.
+inline constexpr index_t kMinParallel = 4096;
+
+/// True if a loop of n iterations (at least min_parallel) should start a parallel region.
+inline bool threaded(index_t n, index_t min_parallel = kMinParallel) {
+  return n > min_parallel && n_threads() > 1;
+}
+
 /// f(i) for i in [0, n); iterations must be independent.
 template <class F>
 void parallel_for(index_t n, F&& f) {
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) if (n > 4096)
-  for (index_t i = 0; i < n; ++i) f(i);
-#else
-  for (index_t i = 0; i < n; ++i) f(i);
+  if (threaded(n)) {
+#pragma omp parallel for schedule(static)
+    for (index_t i = 0; i < n; ++i) f(i);
+    return;
+  }
 #endif
+  for (index_t i = 0; i < n; ++i) f(i);
 }
 
 /// f(i) for i in [0, n) with dynamic scheduling (uneven work per iteration, e.g. slabs of
-/// particles); iterations must be independent. Always threaded when n > 1.
+/// particles); iterations must be independent. Threaded when n > 1.
 template <class F>
 void parallel_for_dynamic(index_t n, F&& f) {
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(dynamic, 1) if (n > 1)
-  for (index_t i = 0; i < n; ++i) f(i);
-#else
-  for (index_t i = 0; i < n; ++i) f(i);
+  if (threaded(n, 1)) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (index_t i = 0; i < n; ++i) f(i);
+    return;
+  }
 #endif
+  for (index_t i = 0; i < n; ++i) f(i);
 }
 
 /// True if pred(i) holds for some i in [0, n).
@@ -67,11 +82,13 @@ template <class P>
 bool parallel_any(index_t n, P&& pred) {
   bool any = false;
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) reduction(|| : any) if (n > 4096)
-  for (index_t i = 0; i < n; ++i) any = any || pred(i);
-#else
-  for (index_t i = 0; i < n && !any; ++i) any = pred(i);
+  if (threaded(n)) {
+#pragma omp parallel for schedule(static) reduction(|| : any)
+    for (index_t i = 0; i < n; ++i) any = any || pred(i);
+    return any;
+  }
 #endif
+  for (index_t i = 0; i < n && !any; ++i) any = pred(i);
   return any;
 }
 
@@ -79,26 +96,28 @@ bool parallel_any(index_t n, P&& pred) {
 template <class F>
 double parallel_max(index_t n, double init, F&& f) {
 #if defined(_OPENMP)
-#pragma omp parallel for schedule(static) reduction(max : init) if (n > 4096)
-  for (index_t i = 0; i < n; ++i) {
-    const double v = f(i);
-    init = v > init ? v : init;
-  }
-#else
-  for (index_t i = 0; i < n; ++i) {
-    const double v = f(i);
-    init = v > init ? v : init;
+  if (threaded(n)) {
+#pragma omp parallel for schedule(static) reduction(max : init)
+    for (index_t i = 0; i < n; ++i) {
+      const double v = f(i);
+      init = v > init ? v : init;
+    }
+    return init;
   }
 #endif
+  for (index_t i = 0; i < n; ++i) {
+    const double v = f(i);
+    init = v > init ? v : init;
+  }
   return init;
 }
 
 /// Sum of f(i) over [0, n), with a deterministic order for a given thread count; threaded when
 /// n > min_parallel (iterations that are themselves chunks of work take a smaller threshold).
 template <class T, class F>
-T parallel_sum(index_t n, T init, F&& f, index_t min_parallel = 4096) {
+T parallel_sum(index_t n, T init, F&& f, index_t min_parallel = kMinParallel) {
 #if defined(_OPENMP)
-  const int nt = n > min_parallel ? omp_get_max_threads() : 1;
+  const int nt = threaded(n, min_parallel) ? omp_get_max_threads() : 1;
   if (nt == 1) {
     for (index_t i = 0; i < n; ++i) init += f(i);
     return init;
