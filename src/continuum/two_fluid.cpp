@@ -61,7 +61,8 @@ TwoFluidModel::TwoFluidModel(const fluid::Grid& grid, TwoFluidSettings settings)
   alpha_.assign(nc, 0.0);
   alpha_old_.assign(nc, 0.0);
   theta_.assign(nc, s_.min_temperature);
-  for (auto* f : {&ps_, &dps_, &mu_, &lambda_, &beta_, &delta_, &eps_, &eps_rate_})
+  for (auto* f : {&ps_, &dps_, &mu_, &lambda_, &beta_, &delta_, &eps_, &eps_rate_, &trace_d_,
+                  &dev_dd_})
     f->assign(nc, 0.0);
   eps_.assign(nc, 1.0);
   us_cell_.assign(nc, Vec3{});
@@ -447,15 +448,19 @@ void TwoFluidModel::strain_rate(std::int64_t c, double& trace_d, double& dev_dd)
   dev_dd = std::max(dd - trace_d * trace_d / 3.0, 0.0);
 }
 
-void TwoFluidModel::evaluate_closures() {
+void TwoFluidModel::update_strain_rates() {
+  exec::parallel_for(grid_.cell_count(),
+                     [&](std::int64_t c) { strain_rate(c, trace_d_[c], dev_dd_[c]); });
+}
+
+void TwoFluidModel::evaluate_closures(bool strain_rates_current) {
   stale_ = false;
+  if (!strain_rates_current) update_strain_rates();
   fluid_.cell_velocities(uf_cell_);
   exec::parallel_for(grid_.cell_count(), [&](std::int64_t c) {
     us_cell_[c] = solids_velocity(c);
-    double tr = 0.0, dev = 0.0;
-    strain_rate(c, tr, dev);
-    const CellClosures r =
-        closures(alpha_[c], theta_[c], std::sqrt(2.0 * dev), norm(uf_cell_[c] - us_cell_[c]));
+    const CellClosures r = closures(alpha_[c], theta_[c], std::sqrt(2.0 * dev_dd_[c]),
+                                    norm(uf_cell_[c] - us_cell_[c]));
     ps_[c] = r.pressure;
     dps_[c] = r.pressure_slope;
     mu_[c] = r.viscosity;
@@ -465,11 +470,10 @@ void TwoFluidModel::evaluate_closures() {
 }
 
 void TwoFluidModel::update_temperature(double dt) {
+  update_strain_rates();
   if (s_.temperature == GranularTemperature::Algebraic) {
     exec::parallel_for(grid_.cell_count(), [&](std::int64_t c) {
-      double tr = 0.0, dev = 0.0;
-      strain_rate(c, tr, dev);
-      theta_[c] = algebraic_temperature(alpha_[c], tr, dev, beta_[c]);
+      theta_[c] = algebraic_temperature(alpha_[c], trace_d_[c], dev_dd_[c], beta_[c]);
     });
     return;
   }
@@ -495,8 +499,7 @@ void TwoFluidModel::transport_temperature(double dt) {
     const double a = std::min(alpha_[c], a_max_), a_old = std::min(alpha_old_[c], a_max_);
     const double th = theta_[c];
     const KtgfProperties p = ktgf_properties(std::max(a, 1e-300), 1.0, k);
-    double tr = 0.0, dev = 0.0;
-    strain_rate(c, tr, dev);
+    const double tr = trace_d_[c], dev = dev_dd_[c];
     const double sq = std::sqrt(th);
     double diag = 1.5 * rho_s * std::max(a, a_floor_) / dt + p.dissipation * sq + 3.0 * beta_[c];
     double rhs = 1.5 * rho_s * std::max(a_old, a_floor_) * th / dt +
@@ -1039,9 +1042,9 @@ TwoFluidReport TwoFluidModel::advance(double dt, int depth) {
   }
   solids_pressure_step(dt, report);
   report.clipped_volume = fluid_step(dt, report);
-  update_temperature(dt);
+  update_temperature(dt);  // finds the strain rates of t^{n+1}
   time_ += dt;
-  evaluate_closures();  // at t^{n+1}: for stable_dt() and the next step
+  evaluate_closures(true);  // at t^{n+1}: for stable_dt() and the next step
   return report;
 }
 

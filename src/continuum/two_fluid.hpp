@@ -230,7 +230,10 @@ class TwoFluidModel {
 
   void check_settings();
   void build_fraction_system();
-  void evaluate_closures();
+  /// The closures of every cell at the present state; strain_rates_current: trace_d_ and
+  /// dev_dd_ already hold its strain rates (update_temperature found them), else found here.
+  void evaluate_closures(bool strain_rates_current = false);
+  void update_strain_rates();  ///< trace_d_, dev_dd_ of every cell (strain_rate)
   struct Link {
     enum Kind : std::int8_t { None, Unknown, Known, Wall, Self } kind = None;
     int unknown = -1;        ///< Unknown: its index
@@ -282,6 +285,7 @@ class TwoFluidModel {
 
   std::vector<double> alpha_, alpha_old_, theta_;      // cells
   std::vector<double> ps_, dps_, mu_, lambda_, beta_;  // cells, closures at t^n
+  std::vector<double> trace_d_, dev_dd_;               // cells: tr D, D':D' of the last closures
   std::vector<double> us_[3], ustar_[3];               // faces: u_s, predictor u*
   std::vector<double> coef_[3];  // faces: c_f = 1 / (m/dt + beta), u per grad(psi)
   std::vector<double> face_fraction_[3], inertia_[3];  // faces: a_f, a_f rho_s / dt (0: wall)
