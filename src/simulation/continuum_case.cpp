@@ -19,6 +19,7 @@
 #include "io/input/echo.hpp"
 #include "io/restart/h5.hpp"
 #include "io/vtk/vtk.hpp"
+#include "simulation/output_clock.hpp"
 
 namespace gf {
 
@@ -309,22 +310,19 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
     write_sph_vtp(dir / name, s);
     pvd.add(s.time(), name);
   };
-  const double eps = 1e-12 * c.end_time;
-  double next_vtk = c.vtk_every > 0 ? c.vtk_every : c.end_time;
-  double next_series = c.series_every;
-  double next_checkpoint = c.checkpoint_every > 0 ? c.checkpoint_every : c.end_time * 2;
+  OutputClock clock(c.output, c.end_time);
   if (resume) {
-    next_vtk = resume->next_vtk;
-    next_series = resume->next_series;
-    next_checkpoint = resume->next_checkpoint;
+    clock.next_vtk = resume->next_vtk;
+    clock.next_series = resume->next_series;
+    clock.next_checkpoint = resume->next_checkpoint;
   }
   double last_vtk_time = resume ? resume->vtk_until : 0.0;
   auto checkpoint = [&](const fs::path& file) {
     ContinuumCheckpoint ck;
     ck.state = s.state();
-    ck.next_vtk = next_vtk;
-    ck.next_series = next_series;
-    ck.next_checkpoint = next_checkpoint;
+    ck.next_vtk = clock.next_vtk;
+    ck.next_series = clock.next_series;
+    ck.next_checkpoint = clock.next_checkpoint;
     ck.n_vtk = n_vtk;
     ck.vtk_until = last_vtk_time;
     save_continuum_checkpoint(file, ck);
@@ -341,13 +339,9 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
   // of 1e13 m/s at steps of 1e-25 s, never quite infinite): stop it as diverged.
   const double first_stable_step = s.stable_step();
   int sig = 0;
-  while (s.time() < c.end_time - eps) {
+  while (!clock.finished(s.time())) {
     if (opts.steps && s.steps() - first_step >= *opts.steps) break;
-    // land exactly on output times so that series are evenly spaced
-    double until = std::min(c.end_time, next_vtk);
-    if (c.series_every > 0) until = std::min(until, next_series);
-    if (c.checkpoint_every > 0) until = std::min(until, next_checkpoint);
-    s.step(until);
+    s.step(clock.until());  // lands exactly on output times: evenly spaced series
     if (s.n_fluid() == 0) throw Error("SPH: every fluid particle has left the domain");
     if (!std::isfinite(s.max_speed()))
       throw Error(
@@ -367,21 +361,14 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
           "times the sound speed {:.3g} m/s; raise sound_speed (to about ten times the largest "
           "expected speed) or lower time.cfl",
           s.time(), s.steps(), s.max_speed(), c.sph.sound_speed));
-    if (c.series_every <= 0 || s.time() >= next_series - eps) {
-      sample();
-      if (c.series_every > 0)
-        while (next_series <= s.time() + eps) next_series += c.series_every;
-    }
-    if (s.time() >= next_vtk - eps) {
+    if (clock.series_due(s.time())) sample();
+    if (clock.vtk_due(s.time())) {
       write_vtk();
       last_vtk_time = s.time();
       flush_series();
-      while (next_vtk <= s.time() + eps) next_vtk += c.vtk_every > 0 ? c.vtk_every : c.end_time;
     }
-    if (c.checkpoint_every > 0 && s.time() >= next_checkpoint - eps) {
-      while (next_checkpoint <= s.time() + eps) next_checkpoint += c.checkpoint_every;
+    if (clock.checkpoint_due(s.time()))
       checkpoint(dir / fmt::format("sph_checkpoint_{:09d}.h5", s.steps()));
-    }
     if ((sig = stop::requested()) != 0) break;
   }
   // (the checkpoint first: it records the schedule's files, not the one of a stop)

@@ -20,6 +20,7 @@
 #include "coupling/cfd_dem/drag_registry.hpp"
 #include "io/restart/h5.hpp"
 #include "io/vtk/vtk.hpp"
+#include "simulation/output_clock.hpp"
 
 namespace gf {
 
@@ -348,24 +349,21 @@ int run_two_fluid_case(const input::TwoFluidCase& c, const fs::path& default_dir
     write_vti(dir / name, m);
     pvd.add(m.time(), name);
   };
-  const double eps = 1e-12 * c.end_time;
-  double next_vtk = c.vtk_every > 0 ? c.vtk_every : c.end_time;
-  double next_series = c.series_every;
-  double next_checkpoint = c.checkpoint_every > 0 ? c.checkpoint_every : c.end_time * 2;
+  OutputClock clock(c.output, c.end_time);
   double last_vtk_time = resume ? resume->vtk_until : 0.0;
   if (resume) {
-    next_vtk = resume->next_vtk;
-    next_series = resume->next_series;
-    next_checkpoint = resume->next_checkpoint;
+    clock.next_vtk = resume->next_vtk;
+    clock.next_series = resume->next_series;
+    clock.next_checkpoint = resume->next_checkpoint;
   }
   auto checkpoint = [&](const fs::path& file) {
     Checkpoint ck;
     ck.state = m.state();
     ck.steps = steps;
     ck.clipped = clipped;
-    ck.next_vtk = next_vtk;
-    ck.next_series = next_series;
-    ck.next_checkpoint = next_checkpoint;
+    ck.next_vtk = clock.next_vtk;
+    ck.next_series = clock.next_series;
+    ck.next_checkpoint = clock.next_checkpoint;
     ck.vtk_until = last_vtk_time;
     ck.n_vtk = n_vtk;
     save_checkpoint(file, ck);
@@ -379,12 +377,9 @@ int run_two_fluid_case(const input::TwoFluidCase& c, const fs::path& default_dir
   flush_series();
   const std::int64_t first_step = steps;
   int sig = 0;
-  while (m.time() < c.end_time - eps) {
+  while (!clock.finished(m.time())) {
     if (opts.steps && steps - first_step >= *opts.steps) break;
-    double until = std::min(c.end_time, next_vtk);
-    if (c.series_every > 0) until = std::min(until, next_series);
-    if (c.checkpoint_every > 0) until = std::min(until, next_checkpoint);
-    const double dt = std::min({0.9 * m.stable_dt(), c.max_step, until - m.time()});
+    const double dt = std::min({0.9 * m.stable_dt(), c.max_step, clock.until() - m.time()});
     const auto r = m.step(dt);
     ++steps;
     last_dt = dt;
@@ -396,21 +391,14 @@ int run_two_fluid_case(const input::TwoFluidCase& c, const fs::path& default_dir
             fmt::format("two-fluid: the run diverged at t = {} s (step {}); lower "
                         "time.max_step or time.courant",
                         m.time(), steps));
-    if (c.series_every <= 0 || m.time() >= next_series - eps) {
-      sample();
-      if (c.series_every > 0)
-        while (next_series <= m.time() + eps) next_series += c.series_every;
-    }
-    if (m.time() >= next_vtk - eps) {
+    if (clock.series_due(m.time())) sample();
+    if (clock.vtk_due(m.time())) {
       write_vtk();
       last_vtk_time = m.time();
       flush_series();
-      while (next_vtk <= m.time() + eps) next_vtk += c.vtk_every > 0 ? c.vtk_every : c.end_time;
     }
-    if (c.checkpoint_every > 0 && m.time() >= next_checkpoint - eps) {
-      while (next_checkpoint <= m.time() + eps) next_checkpoint += c.checkpoint_every;
+    if (clock.checkpoint_due(m.time()))
       checkpoint(dir / fmt::format("two_fluid_checkpoint_{:09d}.h5", steps));
-    }
     if ((sig = stop::requested()) != 0) break;
   }
   checkpoint(dir / "two_fluid_checkpoint_final.h5");

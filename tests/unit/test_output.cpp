@@ -24,6 +24,7 @@
 #include "io/input/parse_case.hpp"
 #include "io/restart/h5.hpp"
 #include "io/vtk/vtk.hpp"
+#include "simulation/output_clock.hpp"
 #include "simulation/simulation.hpp"
 #include "temp_dir.hpp"
 #include "vtk_reader.hpp"
@@ -974,3 +975,37 @@ TEST(OutputSample, WritesShapeSampleForPythonReadback) {
     io::write_particles_csv(dir / fmt::format("particles_{:06d}.csv", step), s);
   }
 }
+
+namespace gf {
+namespace {
+
+// The continuum runs' output schedule: steps land on output times (until), each output falls
+// due once per period however the steps fall, 0 means every step / only at the end / never.
+TEST(OutputClock, LandsOnOutputTimesAndFallsDueOncePerPeriod) {
+  OutputClock clock({0.1, 0.025, 0.3}, 1.0);
+  EXPECT_DOUBLE_EQ(clock.until(), 0.025);
+  int series = 0, vtk = 0, checkpoints = 0;
+  double t = 0.0;
+  while (!clock.finished(t)) {
+    t = std::min(t + 0.0071, clock.until());  // steps that do not divide the periods
+    series += clock.series_due(t);
+    vtk += clock.vtk_due(t);
+    checkpoints += clock.checkpoint_due(t);
+  }
+  EXPECT_DOUBLE_EQ(t, 1.0);
+  EXPECT_EQ(series, 40);
+  EXPECT_EQ(vtk, 10);
+  EXPECT_EQ(checkpoints, 3);  // 0.3, 0.6, 0.9
+  // Zeros: a series row every step, a snapshot only at the end, no checkpoint.
+  OutputClock zero({0.0, 0.0, 0.0}, 2.0);
+  EXPECT_DOUBLE_EQ(zero.until(), 2.0);
+  EXPECT_TRUE(zero.series_due(0.5));
+  EXPECT_TRUE(zero.series_due(0.6));
+  EXPECT_FALSE(zero.vtk_due(1.9));
+  EXPECT_TRUE(zero.vtk_due(2.0 - 1e-13));  // within 1e-12 of the end time
+  EXPECT_FALSE(zero.checkpoint_due(2.0));
+  EXPECT_TRUE(zero.finished(2.0));
+}
+
+}  // namespace
+}  // namespace gf

@@ -685,9 +685,9 @@ std::string echo_continuum_yaml(const ContinuumCase& c, std::string_view program
     out << YAML::EndSeq;
   }
   out << YAML::Key << "output" << YAML::Value << YAML::Flow << YAML::BeginMap;
-  key_number(out, "vtk_every", c.vtk_every);
-  key_number(out, "series_every", c.series_every);
-  key_number(out, "checkpoint_every", c.checkpoint_every);
+  key_number(out, "vtk_every", c.output.vtk_every);
+  key_number(out, "series_every", c.output.series_every);
+  key_number(out, "checkpoint_every", c.output.checkpoint_every);
   out << YAML::EndMap << YAML::Comment("s; 0: first and last / every step / final only");
   out << YAML::EndMap;
   out << YAML::EndMap;

@@ -264,9 +264,7 @@ ContinuumCase parse_continuum(const YamlNode& block) {
   }
   if (auto on = m.find("output")) {
     const OutputSchedule o = read_output_schedule(*on);
-    c.vtk_every = o.vtk_every;
-    c.series_every = o.series_every;
-    c.checkpoint_every = o.checkpoint_every;
+    c.output = o;
   }
   if (!c.sound_speed_given) {
     // c0 = 10 sqrt(2 |g| H): ten times the speed of a free fall over the fluid's height H (its

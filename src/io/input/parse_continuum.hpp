@@ -7,6 +7,7 @@
 #include <string>
 
 #include "continuum/sph.hpp"
+#include "io/input/continuum_input.hpp"
 #include "io/input/yaml_reader.hpp"
 
 namespace gf::input {
@@ -22,10 +23,9 @@ struct ContinuumCase {
   /// and dense-regime model, and their parameters as given (no defaults)
   std::string ktgf_closures, ktgf_radial, ktgf_dense;
   std::map<std::string, double> ktgf_params, ktgf_dense_params;
-  double end_time = 0.0;           ///< [s]
-  double vtk_every = 0.0;          ///< [s]; 0: the first and last states only
-  double series_every = 0.0;       ///< [s]; 0: every step
-  double checkpoint_every = 0.0;   ///< [s]; 0: only sph_checkpoint_final.h5
+  double end_time = 0.0;  ///< [s]
+  /// [s] each; 0: the first and last states only, every step, only sph_checkpoint_final.h5
+  OutputSchedule output;
   bool sound_speed_given = false;  ///< false: c0 = 10 sqrt(2 |g| H), H the fluid's height
 };
 

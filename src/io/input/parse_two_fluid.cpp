@@ -292,9 +292,7 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
   }
   if (auto on = m.find("output")) {
     const OutputSchedule o = read_output_schedule(*on);
-    c.vtk_every = o.vtk_every;
-    c.series_every = o.series_every;
-    c.checkpoint_every = o.checkpoint_every;
+    c.output = o;
   }
   // The model's own checks (packing limits, periodic grid axes) with the block's location.
   try {
@@ -411,7 +409,7 @@ std::string echo_two_fluid_yaml(const TwoFluidCase& c, const std::string& versio
                    c.max_step, s.max_courant);
   o << fmt::format(
       "  output: {{vtk_every: {:.17g}, series_every: {:.17g}, checkpoint_every: {:.17g}}}\n",
-      c.vtk_every, c.series_every, c.checkpoint_every);
+      c.output.vtk_every, c.output.series_every, c.output.checkpoint_every);
   return o.str();
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "continuum/two_fluid.hpp"
+#include "io/input/continuum_input.hpp"
 #include "io/input/yaml_reader.hpp"
 
 namespace gf::input {
@@ -41,11 +42,10 @@ struct TwoFluidCase {
     Vec3 velocity{};
   };
   std::vector<Jet> jets;
-  double end_time = 0.0;          ///< [s]
-  double max_step = 0.0;          ///< [s]
-  double vtk_every = 0.0;         ///< [s]; 0: first and last states only
-  double series_every = 0.0;      ///< [s]; 0: every step
-  double checkpoint_every = 0.0;  ///< [s]; 0: only two_fluid_checkpoint_final.h5
+  double end_time = 0.0;  ///< [s]
+  double max_step = 0.0;  ///< [s]
+  /// [s] each; 0: first and last states only, every step, only two_fluid_checkpoint_final.h5
+  OutputSchedule output;
 };
 
 /// Parses the `two_fluid` block (the value under the key). Any error (unknown key, wrong type,
