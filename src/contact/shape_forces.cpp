@@ -27,7 +27,7 @@ std::int64_t touching_rows(const ParticleStore& p, const Domain& domain, const V
     std::int64_t touching = 0;
     for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
       const std::int32_t j = nb[k];
-      if (skip && skip->gap[k] - skip->moved[i] - skip->moved[j] > 0) {
+      if (skip && skip->gap[k] - skip->moved[i] - skip->moved[j] - skip->slide > 0) {
         miss(k);
         continue;
       }

@@ -134,11 +134,15 @@ GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t 
 /// their radii (m), and `moved[i]`, the largest displacement since that build of either end of
 /// grain i's axis (m). Every point of an axis moves by a convex combination of its ends' moves,
 /// so the axes of entry k are now at least gap[k] - moved[i] - moved[j] farther apart than the
-/// radii allow: apart when that is > 0. Exact (the same forces as testing every entry) as long
-/// as the images of a pair do not change between builds (no Lees-Edwards offset).
+/// radii allow: apart when that is > 0. Between Lees-Edwards images the images across the
+/// gradient boundary have also slid along the flow axis by `slide` (m) since the build, so the
+/// test is gap[k] - moved[i] - moved[j] - slide > 0: every image of the pair is then apart (each
+/// image's distance fell by at most the moves and the slide, and the build's gap is the smallest
+/// over the images). Exact: the same forces as testing every entry.
 struct PairSkip {
   const double* gap = nullptr;
   const double* moved = nullptr;
+  double slide = 0.0;
 };
 
 /// Force loop over the half Verlet list for a store with shapes (forces, torques at the

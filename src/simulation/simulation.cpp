@@ -589,10 +589,11 @@ Vec3 Simulation::fixed_group_torque() const {
 }
 
 void Simulation::build_pair_gaps() {
-  // Between Lees-Edwards images the image of a pair slides between builds: no skip there.
+  // Between Lees-Edwards images a pair's image slides until the next build: the force loop takes
+  // the slide since this offset off the gaps (PairSkip::slide).
   pair_gap_.clear();
   end_moved_.clear();
-  if (domain_.sheared()) return;
+  gap_offset_ = domain_.shear_offset;
   const auto& p = particles_;
   const auto off = nlist_.offsets();
   const auto nb = nlist_.neighbors();
@@ -754,7 +755,8 @@ void Simulation::compute_forces() {
       report = &sink;
     }
     // (Entries of a list restored from a checkpoint have no gaps until the next build.)
-    const contact::PairSkip skip{pair_gap_.data(), end_moved_.data()};
+    const contact::PairSkip skip{pair_gap_.data(), end_moved_.data(),
+                                 domain_.offset_change(gap_offset_)};
     const bool can_skip = pair_skip_active() && pair_gap_.size() == nlist_.neighbors().size() &&
                           end_moved_.size() == particles_.size();
     n_contacts_ =

@@ -123,7 +123,7 @@ class Simulation {
   analysis::RheologySample rheology_sample() const;
   /// For tests: whether the capsules' force loop may skip list entries that cannot touch
   /// (contact::PairSkip; on by default; the forces are the same either way), and whether it does
-  /// now (a list built by this run, no Lees-Edwards images).
+  /// now (capsules, a list built by this run).
   void use_pair_skip(bool on) { pair_skip_on_ = on; }
   bool pair_skip_active() const { return pair_skip_on_ && !pair_gap_.empty(); }
   /// Whether the next force stages record every touching grain pair and grain-wall contact
@@ -153,7 +153,7 @@ class Simulation {
   /// h u of every grain now when spherocylinders meet mesh walls (the wall list then lists
   /// triangles by their distance from the axes), else null.
   const Vec3* wall_half_axes();
-  /// pair_gap_ of the list just built (capsules; cleared between Lees-Edwards images).
+  /// pair_gap_ of the list just built (capsules), and the Lees-Edwards offset it was built at.
   void build_pair_gaps();
   /// Target force of servo wall w: pressure x the current area between its span walls, N.
   double servo_target_force(std::size_t w) const;
@@ -191,9 +191,11 @@ class Simulation {
   std::vector<Vec3> axis_ref_;   ///< h * axis of each grain at the last build (capsules)
   std::vector<Vec3> half_axes_;  ///< h * axis now, for the wall list (capsules with mesh walls)
   bool has_mesh_walls_ = false;
-  /// Capsules (no Lees-Edwards): per list entry, the axes' distance at the last build less the
-  /// radii; per grain, the largest move of an axis end since (contact::PairSkip). Empty: no skip.
+  /// Capsules: per list entry, the axes' distance at the last build less the radii; per grain,
+  /// the largest move of an axis end since (contact::PairSkip); the Lees-Edwards offset of that
+  /// build (m). Empty: no skip.
   std::vector<double> pair_gap_;
+  double gap_offset_ = 0.0;
   bool pair_skip_on_ = true;
   mutable std::vector<double> end_moved_;
   bool gear_ = false;  ///< integrator: gear5
