@@ -61,8 +61,8 @@ TwoFluidModel::TwoFluidModel(const fluid::Grid& grid, TwoFluidSettings settings)
   alpha_.assign(nc, 0.0);
   alpha_old_.assign(nc, 0.0);
   theta_.assign(nc, s_.min_temperature);
-  for (auto* f : {&ps_, &dps_, &mu_, &lambda_, &beta_, &delta_, &eps_, &eps_rate_, &trace_d_,
-                  &dev_dd_})
+  for (auto* f :
+       {&ps_, &dps_, &mu_, &lambda_, &beta_, &delta_, &eps_, &eps_rate_, &trace_d_, &dev_dd_})
     f->assign(nc, 0.0);
   eps_.assign(nc, 1.0);
   us_cell_.assign(nc, Vec3{});
