@@ -135,21 +135,8 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
         pm.at("max_fraction").fail("expected max_fraction > min_fraction");
     }
     if (auto pn = sm.find("particle_pressure"); pn && !pn->is_scalar()) {
-      YamlMap pm(*pn);
-      c.particle_pressure = pm.string("model");
-      const auto* info = continuum::find_particle_pressure_model(c.particle_pressure);
-      if (!info) {
-        std::vector<std::string> keys;
-        for (const auto& i : continuum::particle_pressure_model_infos()) keys.emplace_back(i.key);
-        pm.at("model").fail_expected("a particle-pressure model: " + join(keys) + " (or none)");
-      }
-      std::vector<std::string> accepted{"model"};
-      for (const auto& p : info->params) accepted.emplace_back(p.name);
-      pm.check_keys(accepted,
-                    fmt::format("parameters of particle-pressure model '{}'", c.particle_pressure));
-      c.particle_pressure_params =
-          read_schema_params(pm, *pn, {info->params.begin(), info->params.end()},
-                             fmt::format("particle-pressure model '{}'", c.particle_pressure));
+      std::tie(c.particle_pressure, std::ignore, c.particle_pressure_params) = read_model_block(
+          *pn, continuum::particle_pressure_model_infos(), "particle-pressure model", " (or none)");
       s.particle_pressure =
           continuum::prepare_particle_pressure(c.particle_pressure, c.particle_pressure_params);
     } else if (pn) {
@@ -176,20 +163,8 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
   }
   {
     const auto dn = m.at("drag");
-    YamlMap d(dn);
-    const auto model_node = d.at("model");
-    c.drag = model_node.as_string();
-    const auto* info = cfd_dem::find_drag(c.drag);
-    if (!info) {
-      std::vector<std::string> keys;
-      for (const auto& i : cfd_dem::drag_infos()) keys.emplace_back(i.key);
-      model_node.fail_expected("a drag law: " + join(keys));
-    }
-    std::vector<std::string> accepted{"model"};
-    for (const auto& p : info->params) accepted.emplace_back(p.name);
-    d.check_keys(accepted, fmt::format("parameters of drag law '{}'", c.drag));
-    c.drag_params = read_schema_params(d, dn, {info->params.begin(), info->params.end()},
-                                       fmt::format("drag law '{}'", c.drag));
+    std::tie(c.drag, std::ignore, c.drag_params) =
+        read_model_block(dn, cfd_dem::drag_infos(), "drag law");
     try {
       s.drag = cfd_dem::prepare_drag(c.drag, c.drag_params);
     } catch (const InputError&) {
