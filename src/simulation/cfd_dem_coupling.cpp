@@ -90,7 +90,7 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   dt_fluid_ = cp.interval * dem_dt;
   law_ = cfd_dem::drag_index(cp.drag);
   REQUIRE(law_ >= 0, "unknown drag law '{}'", cp.drag);
-  drag_params_ = cfd_dem::prepare_drag(cp.drag);
+  drag_params_ = cfd_dem::prepare_drag(cp.drag, cp.drag_params);
   ff_options_.scheme = cp.fluid_fraction == "centre" ? cfd_dem::DepositScheme::CentreInCell
                                                      : cfd_dem::DepositScheme::Divided;
   ff_options_.min_fraction = cp.min_fraction;

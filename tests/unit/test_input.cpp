@@ -1432,6 +1432,44 @@ TEST(InputCfdDem, BlocksParseWithDefaultsAndEchoBack) {
   EXPECT_EQ(cell_again.coupling->interpolation, "cell");
 }
 
+// The drag law as a block with its parameters (the two-fluid block's form), echoed with every
+// parameter at its value; a bare key gets the defaults; wrong parameters are located errors.
+TEST(InputCfdDem, DragBlockCarriesTheLawsParameters) {
+  auto with_drag = [](const std::string& drag) {
+    std::string blocks = good_fluid;
+    blocks.replace(blocks.find("gidaspow"), 8, drag);
+    return cfd_case(blocks);
+  };
+  const auto c =
+      input::load_case_text(with_drag("{model: gidaspow, switch_fraction: 0.6}"), "t.yaml");
+  ASSERT_TRUE(c.coupling);
+  EXPECT_EQ(c.coupling->drag, "gidaspow");
+  EXPECT_EQ(c.coupling->drag_params.at("switch_fraction"), 0.6);
+  const std::string echo = input::echo_yaml(c, "9");
+  EXPECT_NE(echo.find("drag: {model: gidaspow, switch_fraction: 0.6}"), std::string::npos) << echo;
+  TempDir dir;
+  const auto again = input::load_case(dir.write("echo.yaml", echo));
+  EXPECT_EQ(again.coupling->drag_params, c.coupling->drag_params);
+  // A bare key: no parameters given, the default echoed.
+  const auto bare = input::load_case_text(cfd_case(good_fluid), "t.yaml");
+  EXPECT_TRUE(bare.coupling->drag_params.empty());
+  EXPECT_NE(input::echo_yaml(bare, "9").find("drag: {model: gidaspow, switch_fraction: 0.8}"),
+            std::string::npos);
+  struct Bad {
+    std::string drag, expect;
+  };
+  for (const auto& b :
+       std::vector<Bad>{{"{model: gidaspow, switch_fraction: 1.5}", "switch_fraction"},
+                        {"{model: gidaspow, switch: 0.6}", "switch"},
+                        {"{model: wen_yu, switch_fraction: 0.6}", "switch_fraction"},
+                        {"{model: gidaspw}", "did you mean 'gidaspow'"},
+                        {"{switch_fraction: 0.6}", "model"}}) {
+    const std::string message = error_of(with_drag(b.drag));
+    EXPECT_NE(message.find("t.yaml:16:"), std::string::npos) << b.drag << ": " << message;
+    EXPECT_NE(message.find(b.expect), std::string::npos) << b.drag << ": " << message;
+  }
+}
+
 TEST(InputCfdDem, UnknownDragLawListsTheKeys) {
   std::string blocks = good_fluid;
   blocks.replace(blocks.find("gidaspow"), 8, "gidaspw");

@@ -277,10 +277,11 @@ struct Fluid {
 
 /// Particle-fluid coupling (docs/models/cfd_dem.md).
 struct Coupling {
-  std::string drag;                        ///< drag registry key (coupling/cfd_dem/drag_registry)
-  std::string fluid_fraction = "divided";  ///< centre | divided
-  int interval = 100;                      ///< DEM steps per fluid step
-  double min_fraction = 0.3;               ///< lower clamp of the fluid fraction
+  std::string drag;  ///< drag registry key (coupling/cfd_dem/drag_registry)
+  std::map<std::string, double> drag_params;  ///< the law's parameters as given (defaults: none)
+  std::string fluid_fraction = "divided";     ///< centre | divided
+  int interval = 100;                         ///< DEM steps per fluid step
+  double min_fraction = 0.3;                  ///< lower clamp of the fluid fraction
   /// d eps/dt in the fluid's continuity: "flux" (divergence of the grains' solid volume flux)
   /// or "difference" (change of the deposited eps over the fluid step)
   std::string fluid_fraction_rate = "flux";

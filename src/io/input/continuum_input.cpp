@@ -8,21 +8,6 @@
 
 namespace gf::input {
 
-std::map<std::string, double> read_schema_params(const YamlMap& m, const YamlNode& node,
-                                                 const std::vector<ParamSpec>& schema,
-                                                 const std::string& what) {
-  std::map<std::string, double> params;
-  for (const auto& p : schema) {
-    Range range{p.min, p.max, p.min_exclusive, false};
-    if (auto v = m.optional_number(p.name, range))
-      params[std::string(p.name)] = *v;
-    else if (!p.default_value)
-      node.fail(
-          fmt::format("[missing key] {} needs '{}' [{}]: {}", what, p.name, p.unit, p.description));
-  }
-  return params;
-}
-
 namespace {
 
 template <class Infos>

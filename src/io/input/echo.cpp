@@ -7,10 +7,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <optional>
+#include <span>
+#include <string>
 
 #include "contact/registry.hpp"
 #include "continuum/ktgf.hpp"
 #include "continuum/rheology_registry.hpp"
+#include "coupling/cfd_dem/drag_registry.hpp"
 #include "io/input/validate.hpp"
 #include "io/input/yaml_reader.hpp"
 
@@ -34,6 +39,17 @@ void emit_vec(YAML::Emitter& out, const Vec3& v, int dimension) {
 void key_number(YAML::Emitter& out, const char* key, double v) {
   out << YAML::Key << key << YAML::Value;
   emit_number(out, v);
+}
+
+/// A model's parameters in schema order, each as given or at its default (none: left out).
+void emit_schema_params(YAML::Emitter& out, std::span<const ParamSpec> schema,
+                        const std::map<std::string, double>& given) {
+  for (const auto& p : schema) {
+    const auto g = given.find(std::string(p.name));
+    const std::optional<double> v =
+        g != given.end() ? std::optional<double>(g->second) : p.default_value;
+    if (v) key_number(out, std::string(p.name).c_str(), *v);
+  }
 }
 
 void key_vec(YAML::Emitter& out, const char* key, const Vec3& v, int dimension) {
@@ -491,7 +507,11 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
   if (c.coupling) {
     const auto& cp = *c.coupling;
     out << YAML::Key << "coupling" << YAML::Value << YAML::Flow << YAML::BeginMap;
-    out << YAML::Key << "drag" << YAML::Value << cp.drag;
+    out << YAML::Key << "drag" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "model" << YAML::Value << cp.drag;
+    if (const auto* law = cfd_dem::find_drag(cp.drag))
+      emit_schema_params(out, law->params, cp.drag_params);
+    out << YAML::EndMap;
     out << YAML::Key << "fluid_fraction" << YAML::Value << cp.fluid_fraction;
     out << YAML::Key << "interval" << YAML::Value << cp.interval;
     key_number(out, "min_fraction", cp.min_fraction);
@@ -592,39 +612,24 @@ std::string echo_continuum_yaml(const ContinuumCase& c, std::string_view program
   out << YAML::Key << "rheology" << YAML::Value << YAML::Flow << YAML::BeginMap;
   out << YAML::Key << "model" << YAML::Value << c.rheology;
   if (const auto* info = continuum::find_rheology(c.rheology))
-    for (const auto& p : info->params) {
-      const auto given = c.rheology_params.find(std::string(p.name));
-      const std::optional<double> v =
-          given != c.rheology_params.end() ? std::optional<double>(given->second) : p.default_value;
-      if (v) key_number(out, std::string(p.name).c_str(), *v);
-    }
+    emit_schema_params(out, info->params, c.rheology_params);
   out << YAML::EndMap;
 
   if (s.kinetic_theory) {
-    // every parameter with its default filled in, from the schemas
-    auto emit_params = [&](std::span<const ParamSpec> schema,
-                           const std::map<std::string, double>& given) {
-      for (const auto& p : schema) {
-        const auto g = given.find(std::string(p.name));
-        const std::optional<double> v =
-            g != given.end() ? std::optional<double>(g->second) : p.default_value;
-        if (v) key_number(out, std::string(p.name).c_str(), *v);
-      }
-    };
     out << YAML::Key << "kinetic_theory" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "closures" << YAML::Value << c.ktgf_closures;
     out << YAML::Key << "radial_distribution" << YAML::Value << c.ktgf_radial;
     if (const auto* set = continuum::find_ktgf_closure(c.ktgf_closures))
-      emit_params(set->params, c.ktgf_params);
+      emit_schema_params(out, set->params, c.ktgf_params);
     if (const auto* radial = continuum::find_radial_distribution(c.ktgf_radial))
-      emit_params(radial->params, c.ktgf_params);
+      emit_schema_params(out, radial->params, c.ktgf_params);
     key_number(out, "initial_temperature", s.kinetic_theory->initial_temperature);
     key_number(out, "min_temperature", s.kinetic_theory->min_temperature);
     out << YAML::Comment("m^2/s^2");
     out << YAML::Key << "dense" << YAML::Value << YAML::Flow << YAML::BeginMap;
     out << YAML::Key << "model" << YAML::Value << c.ktgf_dense;
     if (const auto* dense = continuum::find_frictional_model(c.ktgf_dense))
-      emit_params(dense->params, c.ktgf_dense_params);
+      emit_schema_params(out, dense->params, c.ktgf_dense_params);
     out << YAML::EndMap;
     out << YAML::EndMap;
   }

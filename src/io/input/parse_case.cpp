@@ -17,6 +17,7 @@
 #include "contact/registry.hpp"
 #include "core/error.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
+#include "io/input/model_block.hpp"
 #include "io/input/stl.hpp"
 #include "io/input/validate.hpp"
 #include "io/input/yaml_reader.hpp"
@@ -411,15 +412,17 @@ void Reader::read_coupling(const YamlMap& root) {
                    "rate_relaxation", "pressure_gradient_force", "interpolation", "torque"});
   config::Coupling cp;
   cp.loc = cn->loc();
-  const YamlNode dn = cm.at("drag");
-  cp.drag = dn.as_string();
-  if (!cfd_dem::find_drag(cp.drag)) {
-    std::vector<std::string> keys;
-    for (const auto& d : cfd_dem::drag_infos()) keys.emplace_back(d.key);
-    std::string hint;
-    if (auto near = closest_match(cp.drag, keys))
-      hint = fmt::format(" (did you mean '{}'?)", *near);
-    dn.fail(fmt::format("unknown drag law '{}'{}; accepted: {}", cp.drag, hint, join(keys)));
+  {
+    const YamlNode dn = cm.at("drag");
+    std::tie(cp.drag, std::ignore, cp.drag_params) =
+        read_model_block(dn, cfd_dem::drag_infos(), "drag law");
+    try {
+      cfd_dem::prepare_drag(cp.drag, cp.drag_params);
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      dn.fail(e.what());
+    }
   }
   if (auto ff = cm.find("fluid_fraction")) cp.fluid_fraction = ff->as_choice({"centre", "divided"});
   if (auto in = cm.find("interval")) cp.interval = static_cast<int>(in->as_integer({1, 1e6}));

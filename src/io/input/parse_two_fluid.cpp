@@ -134,13 +134,12 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
       if (!(s.log_pressure.max_fraction > s.log_pressure.min_fraction))
         pm.at("max_fraction").fail("expected max_fraction > min_fraction");
     }
-    if (auto pn = sm.find("particle_pressure"); pn && !pn->is_scalar()) {
+    if (auto pn = sm.find("particle_pressure");
+        pn && !(pn->is_scalar() && pn->as_string() == "none")) {
       std::tie(c.particle_pressure, std::ignore, c.particle_pressure_params) = read_model_block(
           *pn, continuum::particle_pressure_model_infos(), "particle-pressure model", " (or none)");
       s.particle_pressure =
           continuum::prepare_particle_pressure(c.particle_pressure, c.particle_pressure_params);
-    } else if (pn) {
-      pn->as_choice({"none"});
     }
     s.temperature = continuum::GranularTemperature::Algebraic;
     if (auto t = sm.find("temperature"))
@@ -319,22 +318,18 @@ std::string echo_two_fluid_yaml(const TwoFluidCase& c, const std::string& versio
         params(c.rheology_params).substr(2), s.log_pressure.p0, s.log_pressure.min_fraction,
         s.log_pressure.max_fraction);
   std::string particle = "none";  // with its defaults filled in
-  if (const auto* info = continuum::find_particle_pressure_model(c.particle_pressure)) {
-    std::map<std::string, double> all;
-    for (const auto& p : info->params) {
-      const auto given = c.particle_pressure_params.find(std::string(p.name));
-      all[std::string(p.name)] =
-          given != c.particle_pressure_params.end() ? given->second : p.default_value.value_or(0);
-    }
-    particle = fmt::format("{{model: {}{}}}", c.particle_pressure, params(all));
-  }
+  if (const auto* info = continuum::find_particle_pressure_model(c.particle_pressure))
+    particle = fmt::format("{{model: {}{}}}", c.particle_pressure,
+                           params(with_defaults(info->params, c.particle_pressure_params)));
   o << ", particle_pressure: " << particle;
   o << fmt::format(
       ", temperature: {}, initial_temperature: {:.17g}, max_fraction: {:.17g}, specularity: "
       "{:.17g}, wall_restitution: {:.17g}}}\n",
       s.temperature == continuum::GranularTemperature::Algebraic ? "algebraic" : "transport",
       c.initial_temperature, s.max_fraction, s.specularity, s.wall_restitution);
-  o << fmt::format("  drag: {{model: {}{}}}\n  boundaries:\n", c.drag, params(c.drag_params));
+  const auto* law = cfd_dem::find_drag(c.drag);
+  o << fmt::format("  drag: {{model: {}{}}}\n  boundaries:\n", c.drag,
+                   params(law ? with_defaults(law->params, c.drag_params) : c.drag_params));
   for (int f = 0; f < 2 * dim; ++f) {
     const auto& b = s.fluid.boundary[f];
     o << "    " << kFaceNames[f] << ": ";
