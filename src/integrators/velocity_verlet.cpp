@@ -11,10 +11,11 @@ namespace {
 /// Half kick v += h f / m, omega += h torque / I (twice with `twice`: the deferred second half
 /// kick of the previous step, then this step's first), optionally followed by the drift
 /// x += dt v (Drift), the reset of f and torque (Reset) and the largest squared displacement
-/// from x_ref (Track), which the function returns (0 without Track).
+/// from x_ref (Track), which the function returns (0 without Track). `wrap_refs` (may be null)
+/// take each wrap's jump (DriftExtras::wrap_refs) before the displacement is measured.
 template <bool Drift, bool Reset, bool Track>
 double kick(ParticleStore& p, const Domain* domain, double h, double dt, const Vec3& g,
-            const Vec3* x_ref, bool twice = false) {
+            const Vec3* x_ref, bool twice = false, Vec3* wrap_refs = nullptr) {
   Vec3* x = p.x();
   Vec3* v = p.v();
   Vec3* w = p.omega();
@@ -38,7 +39,15 @@ double kick(ParticleStore& p, const Domain* domain, double h, double dt, const V
     }
     if constexpr (Drift) {
       x[i] += dt * v[i];
-      if (periodic) domain->wrap(x[i], &v[i]);
+      if (periodic) {
+        if (wrap_refs != nullptr) {
+          const Vec3 before = x[i];
+          domain->wrap(x[i], &v[i]);
+          if (x[i] != before) wrap_refs[i] += x[i] - before;
+        } else {
+          domain->wrap(x[i], &v[i]);
+        }
+      }
     }
   };
   const auto n = static_cast<exec::index_t>(p.size());
@@ -83,11 +92,12 @@ void VelocityVerlet::pre_force(ParticleStore& p, const Domain& domain, double dt
   const Vec3 g = extras->gravity ? *extras->gravity : Vec3{};
   const Vec3* ref = extras->x_ref;
   const bool two = extras->pending_kick;
+  Vec3* follow = extras->wrap_refs;
   extras->max_d2 = extras->gravity
-                       ? (ref ? kick<true, true, true>(p, &domain, h, dt, g, ref, two)
-                              : kick<true, true, false>(p, &domain, h, dt, g, ref, two))
-                       : (ref ? kick<true, false, true>(p, &domain, h, dt, g, ref, two)
-                              : kick<true, false, false>(p, &domain, h, dt, g, ref, two));
+                       ? (ref ? kick<true, true, true>(p, &domain, h, dt, g, ref, two, follow)
+                              : kick<true, true, false>(p, &domain, h, dt, g, ref, two, follow))
+                       : (ref ? kick<true, false, true>(p, &domain, h, dt, g, ref, two, follow)
+                              : kick<true, false, false>(p, &domain, h, dt, g, ref, two, follow));
 }
 
 void VelocityVerlet::post_force(ParticleStore& p, double dt) {

@@ -25,6 +25,11 @@ struct DriftExtras {
   const Vec3* x_ref = nullptr;    ///< reference positions (one per particle); null: no test
   bool pending_kick = false;      ///< complete the previous step's deferred post_force first
   double max_d2 = 0;              ///< out: the largest squared displacement, m^2
+  /// Reference positions (one per particle, may be x_ref's) moved by the jump of each grain's
+  /// wrap, so that a displacement measured from them is the grain's own also after it crossed a
+  /// Lees-Edwards boundary (whose shift is the offset at the crossing, not the current one);
+  /// null: left alone.
+  Vec3* wrap_refs = nullptr;
 };
 
 struct VelocityVerlet {

@@ -107,6 +107,13 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
       }
     }
   };
+  if (filter) {
+    build_filtered_rows(n, sorted, for_neighbours);
+    shear_offset_ref_ = domain.shear_offset;
+    refs_follow_wraps_ = follow_wraps_;
+    ++n_builds_;
+    return;
+  }
   // Pass 1 counts the row lengths into offsets_[i + 1], pass 2 fills the rows. The arrays are
   // sized exactly (no growth slack): memory per particle is one of issue 3's figures.
   offsets_.assign(n + 1, 0);
@@ -126,7 +133,43 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
                 neighbors_.begin() + offsets_[static_cast<std::size_t>(i) + 1]);
   });
   shear_offset_ref_ = domain.shear_offset;
+  refs_follow_wraps_ = follow_wraps_;
   ++n_builds_;
+}
+
+template <class ForNeighbours>
+void VerletList::build_filtered_rows(std::size_t n, bool sorted, ForNeighbours& for_neighbours) {
+  // With a filter (the capsules' axis test, a narrow phase) the candidates are not worth testing
+  // twice, as the count-then-fill passes of an unfiltered build do: one pass keeps what it
+  // accepts in a buffer per chunk of rows, then the rows are copied into the exact-size array.
+  // The buffers are gone before the histories are allocated, so the rebuild's peak is unchanged.
+  const auto total_rows = static_cast<exec::index_t>(n);
+  const exec::index_t n_chunks =
+      exec::threaded(total_rows) ? static_cast<exec::index_t>(8 * exec::n_threads()) : 1;
+  const exec::index_t rows_per_chunk =
+      (total_rows + n_chunks - 1) / std::max<exec::index_t>(n_chunks, 1);
+  std::vector<std::vector<std::int32_t>> chunk_rows(static_cast<std::size_t>(n_chunks));
+  offsets_.assign(n + 1, 0);
+  exec::parallel_for_dynamic(n_chunks, [&](exec::index_t c) {
+    auto& buf = chunk_rows[static_cast<std::size_t>(c)];
+    const exec::index_t first = c * rows_per_chunk;
+    const exec::index_t last = std::min(total_rows, first + rows_per_chunk);
+    for (exec::index_t i = first; i < last; ++i) {
+      const std::size_t begin = buf.size();
+      for_neighbours(static_cast<std::size_t>(i), [&](std::int32_t j) { buf.push_back(j); });
+      if (!sorted) std::sort(buf.begin() + static_cast<std::ptrdiff_t>(begin), buf.end());
+      offsets_[static_cast<std::size_t>(i) + 1] = static_cast<std::int64_t>(buf.size() - begin);
+    }
+  });
+  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] += offsets_[i];
+  neighbors_ = std::vector<std::int32_t>(static_cast<std::size_t>(offsets_[n]));
+  exec::parallel_for_dynamic(n_chunks, [&](exec::index_t c) {
+    auto& buf = chunk_rows[static_cast<std::size_t>(c)];
+    const exec::index_t first = std::min(total_rows, c * rows_per_chunk);
+    std::copy(buf.begin(), buf.end(),
+              neighbors_.begin() + offsets_[static_cast<std::size_t>(first)]);
+    release(buf);
+  });
 }
 
 void VerletList::keep_old_histories() {
@@ -230,6 +273,7 @@ void VerletList::restore(std::vector<std::int64_t> offsets, std::vector<std::int
   neighbors_ = std::move(neighbors);
   history_ = std::move(history);
   x_ref_ = std::move(x_ref);
+  refs_follow_wraps_ = false;  // (unless the checkpoint says so: set_refs_follow_wraps)
   skin_ = skin;
   n_builds_ = n_builds;
   slab_starts_ = std::move(slab_starts);

@@ -43,15 +43,28 @@ class VerletList {
   }
 
   /// How far a particle may move from its position at the last build before the list can miss
-  /// a pair: skin/2; with Lees-Edwards images, (skin - 3 |offset change|)/2, since a pair across
-  /// the gradient boundary also closes in by the change of the offset, and the displacement
-  /// measured through the boundary is off by up to that change (<= 0: rebuild now).
+  /// a pair: skin/2. With Lees-Edwards images a pair across the gradient boundary also closes in
+  /// by the change s of the offset: (skin - s)/2 when the reference positions follow the grains'
+  /// wraps (follow_wraps()), else (skin - 3 s)/2, since a grain that crossed the boundary at an
+  /// earlier offset is then measured through the current one, off by up to s (<= 0: rebuild now).
   double displacement_limit(const Domain& domain) const {
-    return 0.5 * (skin_ - 3.0 * domain.offset_change(shear_offset_ref_));
+    return 0.5 *
+           (skin_ - (refs_follow_wraps_ ? 1.0 : 3.0) * domain.offset_change(shear_offset_ref_));
   }
   /// Lees-Edwards offset at the last build (restart).
   double shear_offset_at_build() const { return shear_offset_ref_; }
   void set_shear_offset_at_build(double o) { shear_offset_ref_ = o; }
+
+  /// The owner promises to move each grain's reference position by the jump of every wrap of
+  /// that grain (VelocityVerlet's DriftExtras::wrap_refs), from the next build on: the
+  /// displacement measured from the reference is then the grain's own, also across the
+  /// Lees-Edwards boundary, and displacement_limit() need not allow for a crossing.
+  void set_follow_wraps(bool on) { follow_wraps_ = on; }
+  /// The reference positions, to be moved with the wraps (empty before the first build).
+  std::span<Vec3> follow_wraps() { return x_ref_; }
+  /// Whether the current reference positions have followed every wrap since the build (restart).
+  bool refs_follow_wraps() const { return refs_follow_wraps_; }
+  void set_refs_follow_wraps(bool on) { refs_follow_wraps_ = on; }
 
   std::size_t n_particles() const { return offsets_.empty() ? 0 : offsets_.size() - 1; }
   std::size_t n_pairs() const { return neighbors_.size(); }
@@ -84,11 +97,15 @@ class VerletList {
  private:
   void build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin,
                   bool sorted, const PairFilter& filter = {});
+  template <class ForNeighbours>
+  void build_filtered_rows(std::size_t n, bool sorted, ForNeighbours& for_neighbours);
   void keep_old_histories();
   void carry_history(std::span<const std::int64_t> perm);
 
   double skin_ = 0;
   double shear_offset_ref_ = 0;
+  bool follow_wraps_ = false;       // the owner moves the references with the wraps
+  bool refs_follow_wraps_ = false;  // ... and has done so since the last build
   std::int64_t n_builds_ = 0;
   std::vector<std::int64_t> offsets_;
   std::vector<std::int32_t> neighbors_;

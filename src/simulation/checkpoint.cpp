@@ -45,6 +45,8 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
     if (has_capsules_) h.write("neighbor/axis_reference", std::span<const Vec3>(axis_ref_));
     h.set_attribute("neighbor", "n_phases", static_cast<std::int64_t>(nlist_.n_phases()));
     h.set_attribute("neighbor", "shear_offset_at_build", nlist_.shear_offset_at_build());
+    h.set_attribute("neighbor", "refs_follow_wraps",
+                    static_cast<std::int64_t>(nlist_.refs_follow_wraps() ? 1 : 0));
 
     h.create_group("walls");
     const auto entries = wlist_.entries();
@@ -114,6 +116,7 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   particles_.resize(0);
   particles_.shrink_to_fit();
   nlist_ = VerletList{};
+  nlist_.set_follow_wraps(!gear_ && domain_.sheared());  // (as the constructor sets it)
   step_ = h.read_int_attribute("/", "step");
   skin_ = h.read_double_attribute("/", "skin");
   rng_.set_state(h.read_string_attribute("/", "rng_state"));
@@ -146,6 +149,9 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
                  static_cast<int>(h.read_int_attribute("neighbor", "n_phases")));
   if (h.has_attribute("neighbor", "shear_offset_at_build"))
     nlist_.set_shear_offset_at_build(h.read_double_attribute("neighbor", "shear_offset_at_build"));
+  // (older checkpoints: references measured through the current offset, the wider allowance)
+  if (h.has_attribute("neighbor", "refs_follow_wraps"))
+    nlist_.set_refs_follow_wraps(h.read_int_attribute("neighbor", "refs_follow_wraps") != 0);
   domain_.set_shear_time(time());
   // Capsule ends at the last build (older checkpoints: none, which forces a rebuild).
   axis_ref_.clear();

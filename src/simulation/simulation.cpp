@@ -121,6 +121,10 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
     domain_.shear_flow = 0;
     domain_.shear_velocity = cfg.shear->rate * (domain_.hi.z - domain_.lo.z);
   }
+  // Velocity Verlet moves the list's references with the wraps (step()); Gear's predictor wraps
+  // on its own (and is refused in Lees-Edwards boxes), and moving fixed grains are placed
+  // without it (also refused there): the allowance for crossings stays.
+  nlist_.set_follow_wraps(!gear_ && domain_.sheared());
   gravity_ = cfg.gravity;
   dt_ = cfg.time.step;
   std::uint64_t seed = 1;
@@ -805,6 +809,11 @@ void Simulation::step(bool defer_kick) {
     } else {
       // Grains without shapes: the drift also resets the forces and measures the displacements
       // for the list's rebuild test (two passes fewer). Rigid bodies read the torque after it.
+      // In a Lees-Edwards box the list's reference positions follow the wraps (see
+      // VerletList::set_follow_wraps).
+      const auto follow = nlist_.follow_wraps();
+      Vec3* wrap_refs =
+          domain_.sheared() && follow.size() == particles_.size() ? follow.data() : nullptr;
       if (!particles_.has_shapes()) {
         DriftExtras extras;
         extras.gravity = &gravity_;
@@ -812,12 +821,15 @@ void Simulation::step(bool defer_kick) {
         kick_pending_ = false;
         const auto ref = nlist_.reference_positions();
         if (ref.size() == particles_.size()) extras.x_ref = ref.data();
+        extras.wrap_refs = wrap_refs;
         VelocityVerlet::pre_force(particles_, domain_, dt_, &extras);
         forces_reset_ = true;
         drift_max_d2_ = extras.x_ref ? extras.max_d2 : -1;
       } else {
         complete_step();  // (never deferred with shapes; kept for safety)
-        VelocityVerlet::pre_force(particles_, domain_, dt_);
+        DriftExtras extras;
+        extras.wrap_refs = wrap_refs;
+        VelocityVerlet::pre_force(particles_, domain_, dt_, &extras);
       }
       RigidBodies::pre_force(particles_, dt_);
     }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/quaternion.hpp"
 #include "io/input/config.hpp"
 
 namespace gf::test {
@@ -189,6 +190,33 @@ inline config::ParticleGroup& add_fixed_sphere_layer(config::Case& c, const std:
   config::ParticleGroup& g = c.particles.back();
   g.fixed = true;
   return g;
+}
+
+/// A cube of side L between Lees-Edwards images (flow x, gradient z) sheared at `rate` 1/s, dt
+/// 1e-6 s, with the frictionless material of Mahajan et al.'s shear boxes ("pom": 1400 kg/m^3,
+/// Hooke k_n = 6e5 N/m, e = 0.7) and no grains yet.
+inline config::Case lees_edwards_box(double L, double rate) {
+  auto c = base_case(1e-6, 1.0, {0, 0, 0}, {L, L, L}, {true, true, true});
+  add_material(c, "pom", 1400, 1e7, 0.3);
+  add_contact(c, "pom", "pom", "hooke",
+              {{"stiffness", 6e5}, {"restitution", 0.7}, {"friction", 0.0}});
+  c.shear = config::Shear{};
+  c.shear->rate = rate;
+  c.shear->boundary = config::Shear::Boundary::LeesEdwards;
+  return c;
+}
+
+/// Rods of aspect ratio 4 (cap radius 1.5 mm) of material "pom" filling the whole box at volume
+/// fraction phi, aligned with x on a lattice of their own extents, with a random velocity kick.
+inline config::Fill& add_aligned_rods(config::Case& c, double phi, std::uint64_t seed,
+                                      double velocity_jitter) {
+  auto& f = add_capsule_fill(c, "pom", 0.0015, 4.0, c.domain.min, c.domain.max,
+                             config::Fill::Lattice::Cubic);
+  f.volume_fraction = phi;
+  f.orientation = quat_from_axis_angle({0, 1, 0}, 1.5707963267948966);  // e_z -> e_x
+  f.seed = seed;
+  f.velocity_jitter = velocity_jitter;
+  return f;
 }
 
 }  // namespace gf::test

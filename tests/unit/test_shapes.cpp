@@ -233,19 +233,8 @@ TEST(CapsulePairSkip, SameStateAsTestingEveryEntry) {
                        {{"particles[0].fill.volume_fraction", "0.4"}, {"time.step", "1.0e-6"}});
   expect_skip_changes_nothing(sheared, 3000, true);
 
-  auto le = test::base_case(1e-6, 1.0, {0, 0, 0}, {0.072, 0.072, 0.072}, {true, true, true});
-  test::add_material(le, "pom", 1400, 1e7, 0.3);
-  test::add_contact(le, "pom", "pom", "hooke",
-                    {{"stiffness", 6e5}, {"restitution", 0.7}, {"friction", 0.0}});
-  auto& f = test::add_capsule_fill(le, "pom", 0.0015, 4.0, {0, 0, 0}, {0.072, 0.072, 0.072},
-                                   config::Fill::Lattice::Cubic);
-  f.volume_fraction = 0.3;  // aligned along x on a lattice of the rods' extents, as the box case
-  f.orientation = quat_from_axis_angle({0, 1, 0}, 1.5707963267948966);  // e_z -> e_x
-  f.seed = 3;
-  f.velocity_jitter = 1.0;
-  le.shear = config::Shear{};
-  le.shear->rate = 200;
-  le.shear->boundary = config::Shear::Boundary::LeesEdwards;
+  auto le = test::lees_edwards_box(0.072, 200);
+  test::add_aligned_rods(le, 0.3, 3, 1.0);
   expect_skip_changes_nothing(le, 1500, true);
 }
 
@@ -256,17 +245,11 @@ TEST(CapsulePairSkip, SameStateAsTestingEveryEntry) {
 // build (checked: without PairSkip::slide the states differ); with it the run is the one that tests
 // every entry, bit for bit, and the rods do collide.
 TEST(CapsulePairSkip, LeesEdwardsImagesSlideIntoContact) {
-  auto c = test::base_case(1e-6, 1.0, {0, 0, 0}, {0.072, 0.072, 0.072}, {true, true, true});
-  test::add_material(c, "pom", 1400, 1e7, 0.3);
-  test::add_contact(c, "pom", "pom", "hooke",
-                    {{"stiffness", 6e5}, {"restitution", 0.7}, {"friction", 0.0}});
+  auto c = test::lees_edwards_box(0.072, 200);
   const Quat along_y = quat_from_axis_angle({1, 0, 0}, -1.5707963267948966);  // e_z -> e_y
   // (velocities that cancel the streaming profile the shear start adds: both rods at rest)
   test::add_capsules(c, "pom", 0.0015, 0.009, {{0.036, 0.036, 0.071}, {0.031, 0.036, 0.0015}},
                      {along_y, along_y}, {{-200 * 0.035, 0, 0}, {200 * 0.0345, 0, 0}});
-  c.shear = config::Shear{};
-  c.shear->rate = 200;
-  c.shear->boundary = config::Shear::Boundary::LeesEdwards;
   Simulation a(c), b(c);
   b.use_pair_skip(false);
   std::int64_t touched = 0;
