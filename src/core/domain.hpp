@@ -69,8 +69,14 @@ struct Domain {
     Vec3 d = a - b;
     if (shear_gradient >= 0) {
       const int s = shear_image(a, b);
-      d[shear_gradient] -= s * (hi[shear_gradient] - lo[shear_gradient]);
-      d[shear_flow] -= s * shear_offset;
+      if (s != 0) {
+        // Per component, not d[shear_gradient] (a runtime index puts d in memory, a store-load
+        // stall in the hottest loops); x - (0 + y) is x - y exactly, x - 0 is x.
+        const double dg = s * (hi[shear_gradient] - lo[shear_gradient]), df = s * shear_offset;
+        d.x -= (shear_gradient == 0 ? dg : 0.0) + (shear_flow == 0 ? df : 0.0);
+        d.y -= (shear_gradient == 1 ? dg : 0.0) + (shear_flow == 1 ? df : 0.0);
+        d.z -= (shear_gradient == 2 ? dg : 0.0) + (shear_flow == 2 ? df : 0.0);
+      }
     }
     return min_image(d);
   }
@@ -80,7 +86,8 @@ struct Domain {
   /// along the flow axis.
   GF_HOST_DEVICE void wrap(Vec3& p, Vec3* v = nullptr) const {
     const Vec3 L = length();
-    if (shear_gradient >= 0) {
+    if (shear_gradient >= 0 &&
+        (p[shear_gradient] < lo[shear_gradient] || p[shear_gradient] >= hi[shear_gradient])) {
       const int g = shear_gradient;
       const double n = std::floor((p[g] - lo[g]) / L[g]);  // images crossed upwards
       if (n != 0) {

@@ -27,12 +27,15 @@ double kick(ParticleStore& p, const Domain* domain, double h, double dt, const V
   const bool periodic =
       Drift && (domain->periodic[0] || domain->periodic[1] || domain->periodic[2]);
   auto one = [&](exec::index_t i) {
+    // (each factor once: the compiler cannot reuse it across the stores to v and w, which may
+    // alias m and in; the same values, so the same bits as dividing twice)
+    const double hm = h / m[i], hw = h / in[i];
     if (twice) {
-      v[i] += (h / m[i]) * f[i];
-      w[i] += (h / in[i]) * t[i];
+      v[i] += hm * f[i];
+      w[i] += hw * t[i];
     }
-    v[i] += (h / m[i]) * f[i];
-    w[i] += (h / in[i]) * t[i];
+    v[i] += hm * f[i];
+    w[i] += hw * t[i];
     if constexpr (Reset) {
       f[i] = m[i] * g;
       t[i] = {};
