@@ -185,26 +185,33 @@ def initial_state(phi: float, v_rms: float, seed: int) -> tuple[np.ndarray, np.n
 # ---------------------------------------------------------------------------------------------
 # Inputs
 # ---------------------------------------------------------------------------------------------
-def grainflow_case(name: str, steps: int, dt: float, sample_steps: int, window_start: float,
-                   particles: str) -> str:
+def grainflow_header(name: str, dt: float, end: float, box, particles: str) -> str:
+    """The grainflow case up to its particles: a periodic box of the benchmark's material and
+    contact law, no gravity; `particles` is the group's source (`file: ...` or positions)."""
     return f"""\
-# grainflow bench/shear/run.py: frictionless spheres sheared between Lees-Edwards images
 name: {name}
-time: {{step: {F(dt)}, end: {F(steps * dt)}}}
-domain: {{min: [0.0, 0.0, 0.0], max: [{F(BOX[0])}, {F(BOX[1])}, {F(BOX[2])}], periodic: [true, true, true]}}
+time: {{step: {F(dt)}, end: {F(end)}}}
+domain: {{min: [0.0, 0.0, 0.0], max: [{F(box[0])}, {F(box[1])}, {F(box[2])}], periodic: [true, true, true]}}
 gravity: [0.0, 0.0, 0.0]
 materials:
   grain: {{density: {F(DENSITY)}, youngs_modulus: 1.0e7, poisson_ratio: 0.3}}
 contacts:
   - {{between: [grain, grain], model: hooke, stiffness: {F(STIFFNESS)}, restitution: {F(RESTITUTION)}, friction: 0.0}}
 particles:
-  - {{shape: sphere, radius: {F(RADIUS)}, material: grain, file: {particles}}}
+  - {{shape: sphere, radius: {F(RADIUS)}, material: grain, {particles}}}
+"""
+
+
+def grainflow_case(name: str, steps: int, dt: float, sample_steps: int, window_start: float,
+                   particles: str) -> str:
+    return ("# grainflow bench/shear/run.py: frictionless spheres sheared between Lees-Edwards "
+            "images\n" + grainflow_header(name, dt, steps * dt, BOX, f"file: {particles}") + f"""\
 shear: {{rate: {F(RATE)}, boundary: lees_edwards, initial_profile: false}}
 analysis:
   rheology: {{every: {F(sample_steps * dt)}, bins: {BINS}, start: {F(window_start / RATE)}}}
 output:
   directory: out
-"""
+""")
 
 
 def particles_csv(x: np.ndarray, v: np.ndarray) -> str:
@@ -396,17 +403,10 @@ run {steps}
     if gf:
         wd = root / "collision" / "grainflow"
         wd.mkdir(parents=True, exist_ok=True)
-        (wd / "case.yaml").write_text(f"""\
-name: collision
-time: {{step: {F(dt)}, end: {F(end)}}}
-domain: {{min: [0.0, 0.0, 0.0], max: [0.05, 0.05, 0.05], periodic: [true, true, true]}}
-gravity: [0.0, 0.0, 0.0]
-materials:
-  grain: {{density: {F(DENSITY)}, youngs_modulus: 1.0e7, poisson_ratio: 0.3}}
-contacts:
-  - {{between: [grain, grain], model: hooke, stiffness: {F(STIFFNESS)}, restitution: {F(RESTITUTION)}, friction: 0.0}}
-particles:
-  - {{shape: sphere, radius: {F(RADIUS)}, material: grain, positions: [[{F(x1)}, 0.025, 0.025], [{F(x2)}, 0.025, 0.025]], velocities: [[{F(v0)}, 0.0, 0.0], [{F(-v0)}, 0.0, 0.0]]}}
+        pair = (f"positions: [[{F(x1)}, 0.025, 0.025], [{F(x2)}, 0.025, 0.025]], "
+                f"velocities: [[{F(v0)}, 0.0, 0.0], [{F(-v0)}, 0.0, 0.0]]")
+        (wd / "case.yaml").write_text(grainflow_header("collision", dt, end, (0.05, 0.05, 0.05),
+                                                       pair) + f"""\
 neighbor: {{skin: {F(skin)}}}
 output:
   directory: out
