@@ -138,7 +138,9 @@ GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t 
 /// gradient boundary have also slid along the flow axis by `slide` (m) since the build, so the
 /// test is gap[k] - moved[i] - moved[j] - slide > 0: every image of the pair is then apart (each
 /// image's distance fell by at most the moves and the slide, and the build's gap is the smallest
-/// over the images). Exact: the same forces as testing every entry.
+/// over the images). Exact: the same forces as testing every entry, given moves measured from
+/// references that followed the grains' wraps (VerletList::set_follow_wraps; through the current
+/// offset a grain that crossed the boundary would look up to `slide` nearer its reference).
 struct PairSkip {
   const double* gap = nullptr;
   const double* moved = nullptr;

@@ -109,29 +109,26 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
   };
   if (filter) {
     build_filtered_rows(n, sorted, for_neighbours);
-    shear_offset_ref_ = domain.shear_offset;
-    refs_follow_wraps_ = follow_wraps_;
-    ++n_builds_;
-    return;
+  } else {
+    // Pass 1 counts the row lengths into offsets_[i + 1], pass 2 fills the rows. The arrays are
+    // sized exactly (no growth slack): memory per particle is one of issue 3's figures.
+    offsets_.assign(n + 1, 0);
+    exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+      std::int64_t c = 0;
+      for_neighbours(static_cast<std::size_t>(i), [&](std::int32_t) { ++c; });
+      offsets_[static_cast<std::size_t>(i) + 1] = c;
+    });
+    for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] += offsets_[i];
+    neighbors_ = std::vector<std::int32_t>(static_cast<std::size_t>(offsets_[n]));
+    exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+      std::int64_t k = offsets_[static_cast<std::size_t>(i)];
+      for_neighbours(static_cast<std::size_t>(i),
+                     [&](std::int32_t j) { neighbors_[static_cast<std::size_t>(k++)] = j; });
+      if (!sorted)
+        std::sort(neighbors_.begin() + offsets_[static_cast<std::size_t>(i)],
+                  neighbors_.begin() + offsets_[static_cast<std::size_t>(i) + 1]);
+    });
   }
-  // Pass 1 counts the row lengths into offsets_[i + 1], pass 2 fills the rows. The arrays are
-  // sized exactly (no growth slack): memory per particle is one of issue 3's figures.
-  offsets_.assign(n + 1, 0);
-  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
-    std::int64_t c = 0;
-    for_neighbours(static_cast<std::size_t>(i), [&](std::int32_t) { ++c; });
-    offsets_[static_cast<std::size_t>(i) + 1] = c;
-  });
-  for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] += offsets_[i];
-  neighbors_ = std::vector<std::int32_t>(static_cast<std::size_t>(offsets_[n]));
-  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
-    std::int64_t k = offsets_[static_cast<std::size_t>(i)];
-    for_neighbours(static_cast<std::size_t>(i),
-                   [&](std::int32_t j) { neighbors_[static_cast<std::size_t>(k++)] = j; });
-    if (!sorted)
-      std::sort(neighbors_.begin() + offsets_[static_cast<std::size_t>(i)],
-                neighbors_.begin() + offsets_[static_cast<std::size_t>(i) + 1]);
-  });
   shear_offset_ref_ = domain.shear_offset;
   refs_follow_wraps_ = follow_wraps_;
   ++n_builds_;

@@ -60,6 +60,7 @@ class VerletList {
   /// displacement measured from the reference is then the grain's own, also across the
   /// Lees-Edwards boundary, and displacement_limit() need not allow for a crossing.
   void set_follow_wraps(bool on) { follow_wraps_ = on; }
+  bool follows_wraps() const { return follow_wraps_; }
   /// The reference positions, to be moved with the wraps (empty before the first build).
   std::span<Vec3> follow_wraps() { return x_ref_; }
   /// Whether the current reference positions have followed every wrap since the build (restart).

@@ -115,8 +115,9 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   // first, so that a restart holds one copy of the state at its peak, not two.
   particles_.resize(0);
   particles_.shrink_to_fit();
+  const bool follow = nlist_.follows_wraps();  // the case's policy (set by the constructor)
   nlist_ = VerletList{};
-  nlist_.set_follow_wraps(!gear_ && domain_.sheared());  // (as the constructor sets it)
+  nlist_.set_follow_wraps(follow);
   step_ = h.read_int_attribute("/", "step");
   skin_ = h.read_double_attribute("/", "skin");
   rng_.set_state(h.read_string_attribute("/", "rng_state"));
