@@ -486,11 +486,7 @@ def parse_args(argv=None):
     ap.add_argument("--grainflow", default=str(ROOT / "build" / "release" / "grainflow"))
     ap.add_argument("--lammps", default="/usr/bin/lmp")
     ap.add_argument("--liggghts", default="/usr/bin/liggghts")
-    ap.add_argument("--timeout", type=float, default=600.0, help="per process, s")
-    ap.add_argument("--keep", action="store_true", help="keep run folders under bench/runs/")
-    ap.add_argument("--results", default=str(BENCH / "RESULTS.md"))
-    ap.add_argument("--no-record", action="store_true")
-    ap.add_argument("--note", default="")
+    ts.add_run_args(ap)
     return ap.parse_args(argv)
 
 

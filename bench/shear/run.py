@@ -563,11 +563,7 @@ def parse_args(argv=None):
                     help="strain between samples, both codes (default %(default)s)")
     ap.add_argument("--grainflow", default=str(ROOT / "build" / "release" / "grainflow"))
     ap.add_argument("--lammps", default="/usr/bin/lmp")
-    ap.add_argument("--timeout", type=float, default=600.0, help="per process, s")
-    ap.add_argument("--keep", action="store_true", help="keep run folders under bench/runs/")
-    ap.add_argument("--results", default=str(BENCH / "RESULTS.md"))
-    ap.add_argument("--no-record", action="store_true", help="do not append to RESULTS.md")
-    ap.add_argument("--note", default="", help="free text added to the RESULTS.md section")
+    ts.add_run_args(ap)
     return ap.parse_args(argv)
 
 

@@ -628,7 +628,14 @@ def parse_args(argv=None):
                          "(at most --wait-max s)")
     ap.add_argument("--wait-max", type=float, default=900.0,
                     help="longest wait for --wait-quiet, s (default %(default)s)")
-    ap.add_argument("--timeout", type=float, default=3600.0,
+    add_run_args(ap, timeout=3600.0)
+    return ap.parse_args(argv)
+
+
+def add_run_args(ap, timeout: float = 600.0) -> None:
+    """The options every peer script shares: a per-process limit, keeping the run folders, and
+    where (and whether) the dated results section is recorded."""
+    ap.add_argument("--timeout", type=float, default=timeout,
                     help="per-process time limit in s (default %(default)s)")
     ap.add_argument("--keep", action="store_true",
                     help="keep the run folders under bench/runs/<timestamp>/")
@@ -636,7 +643,6 @@ def parse_args(argv=None):
                     help="file to append the dated section to (default bench/RESULTS.md)")
     ap.add_argument("--no-record", action="store_true", help="do not append to RESULTS.md")
     ap.add_argument("--note", default="", help="free text added to the RESULTS.md section")
-    return ap.parse_args(argv)
 
 
 def main(argv=None) -> int:
