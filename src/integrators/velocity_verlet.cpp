@@ -2,6 +2,8 @@
 // Velocity Verlet loops, run through core/exec.
 #include "integrators/velocity_verlet.hpp"
 
+#include <limits>
+
 #include "core/exec.hpp"
 
 namespace gf {
@@ -26,6 +28,20 @@ double kick(ParticleStore& p, const Domain* domain, double h, double dt, const V
   // Wrapping is a no-op without periodic axes; skipping it keeps the loop short.
   const bool periodic =
       Drift && (domain->periodic[0] || domain->periodic[1] || domain->periodic[2]);
+  // The faces a grain must cross to be wrapped (+-inf along the other axes): a grain inside
+  // them, nearly every grain in a step, skips the call.
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Vec3 face_lo{-inf, -inf, -inf}, face_hi{inf, inf, inf};
+  if (periodic) {
+    for (int k = 0; k < 3; ++k) {
+      if (domain->periodic[k]) {
+        face_lo[k] = domain->lo[k];
+        face_hi[k] = domain->hi[k];
+      }
+    }
+  }
+  // References that follow the wraps hold each grain's own displacement: no image to find.
+  const bool own_refs = wrap_refs != nullptr && wrap_refs == x_ref;
   auto one = [&](exec::index_t i) {
     // (each factor once: the compiler cannot reuse it across the stores to v and w, which may
     // alias m and in; the same values, so the same bits as dividing twice)
@@ -42,7 +58,9 @@ double kick(ParticleStore& p, const Domain* domain, double h, double dt, const V
     }
     if constexpr (Drift) {
       x[i] += dt * v[i];
-      if (periodic) {
+      const Vec3 xi = x[i];
+      if (periodic && (xi.x < face_lo.x || xi.x >= face_hi.x || xi.y < face_lo.y ||
+                       xi.y >= face_hi.y || xi.z < face_lo.z || xi.z >= face_hi.z)) {
         if (wrap_refs != nullptr) {
           const Vec3 before = x[i];
           domain->wrap(x[i], &v[i]);
@@ -58,7 +76,7 @@ double kick(ParticleStore& p, const Domain* domain, double h, double dt, const V
     if constexpr (Track) {
       return exec::parallel_max(n, 0.0, [&](exec::index_t i) {
         body(i);
-        return norm2(periodic ? domain->delta(x[i], x_ref[i]) : x[i] - x_ref[i]);
+        return norm2(periodic && !own_refs ? domain->delta(x[i], x_ref[i]) : x[i] - x_ref[i]);
       });
     } else {
       exec::parallel_for(n, body);  // no reduction where nothing is measured
