@@ -52,43 +52,77 @@ int CellList::cell_of(const Vec3& p) const {
 }
 
 int CellList::stencil(int c, int* out) const {
-  int cq[3];
+  int cq[3], stride[3];
   cq[axis_[0]] = c % nc_[axis_[0]];
   cq[axis_[1]] = (c / nc_[axis_[0]]) % nc_[axis_[1]];
   cq[axis_[2]] = c / (nc_[axis_[0]] * nc_[axis_[1]]);
-  const int g = domain_.shear_gradient, fl = domain_.shear_flow;
+  stride[axis_[0]] = 1;
+  stride[axis_[1]] = nc_[axis_[0]];
+  stride[axis_[2]] = nc_[axis_[0]] * nc_[axis_[1]];
+  // The neighbour layers first..first+count-1 along axis k as id offsets (layer x stride),
+  // folded into the box along periodic axes, dropped beyond the others.
+  auto layers = [&](int k, int first, int count, int* offset) {
+    int m = 0;
+    for (int q = first; q < first + count; ++q) {
+      int f = q;
+      if (f < 0 || f >= nc_[k]) {
+        if (!domain_.periodic[k]) continue;
+        f = ((f % nc_[k]) + nc_[k]) % nc_[k];
+      }
+      offset[m++] = f * stride[k];
+    }
+    return m;
+  };
+  // Inserts id in ascending order; skips a repeat (a periodic axis of fewer cells than the
+  // stencil is wide folds two layers onto one). Nearly always an append: the loops below run
+  // the slowest axis outermost.
+  int count = 0;
+  auto insert = [&](int id) {
+    int at = count;
+    while (at > 0 && out[at - 1] > id) --at;
+    if (at > 0 && out[at - 1] == id) return;
+    for (int k = count; k > at; --k) out[k] = out[k - 1];
+    out[at] = id;
+    ++count;
+  };
+  const int g = domain_.shear_gradient;
+  if (g < 0) {
+    int off[3][3], m[3];
+    for (int k = 0; k < 3; ++k) m[k] = layers(k, cq[k] - 1, 3, off[k]);
+    const int a0 = axis_[0], a1 = axis_[1], a2 = axis_[2];
+    for (int i2 = 0; i2 < m[a2]; ++i2)
+      for (int i1 = 0; i1 < m[a1]; ++i1)
+        for (int i0 = 0; i0 < m[a0]; ++i0) insert(off[a2][i2] + off[a1][i1] + off[a0][i0]);
+    return count;
+  }
   // Lees-Edwards: across the gradient boundary the neighbour layer is the image shifted by
   // +-offset along the flow axis, s cells. A point of cell q in the shifted image lies within
   // one cell edge of the cells floor(q -+ s) - 1 .. floor(q -+ s) + 2 (four, not three).
-  const double shift_cells = g >= 0 ? domain_.shear_offset * inv_size_[fl] : 0.0;
-  int top[3] = {1, 1, 1};
-  if (g >= 0) top[fl] = 2;
-  int count = 0;
-  int d[3];
-  for (d[2] = -1; d[2] <= top[2]; ++d[2])
-    for (d[1] = -1; d[1] <= top[1]; ++d[1])
-      for (d[0] = -1; d[0] <= top[0]; ++d[0]) {
-        int q[3] = {cq[0] + d[0], cq[1] + d[1], cq[2] + d[2]};
-        int across = 0;  // +1: the upper image along the gradient axis, -1: the lower one
-        if (g >= 0) across = q[g] >= nc_[g] ? 1 : (q[g] < 0 ? -1 : 0);
-        if (across != 0)
-          q[fl] = static_cast<int>(std::floor(cq[fl] - across * shift_cells)) + d[fl];
-        else if (g >= 0 && d[fl] == 2)
-          continue;
-        bool ok = true;
-        for (int k = 0; k < 3; ++k) {
-          if (q[k] < 0 || q[k] >= nc_[k]) {
-            if (!domain_.periodic[k]) {
-              ok = false;
-              break;
-            }
-            q[k] = ((q[k] % nc_[k]) + nc_[k]) % nc_[k];
-          }
-        }
-        if (!ok) continue;
-        const int id = index(q);
-        if (std::find(out, out + count, id) == out + count) out[count++] = id;
-      }
+  const int fl = domain_.shear_flow, o = 3 - g - fl;
+  const double shift_cells = domain_.shear_offset * inv_size_[fl];
+  int flow_off[4], other_off[3];
+  const int m_flow = layers(fl, cq[fl] - 1, 3, flow_off);
+  const int m_other = layers(o, cq[o] - 1, 3, other_off);
+  for (int qg = cq[g] - 1; qg <= cq[g] + 1; ++qg) {
+    const int across = qg >= nc_[g] ? 1 : (qg < 0 ? -1 : 0);
+    int base[1];
+    if (layers(g, qg, 1, base) == 0) continue;
+    int shifted[4];
+    const int* f_off = flow_off;
+    int m_f = m_flow;
+    if (across != 0) {
+      const int first = static_cast<int>(std::floor(cq[fl] - across * shift_cells)) - 1;
+      m_f = layers(fl, first, 4, shifted);
+      f_off = shifted;
+    }
+    // Ascending: the slower of the two in-layer axes outermost.
+    const bool flow_slower = stride[fl] > stride[o];
+    const int* outer = flow_slower ? f_off : other_off;
+    const int* inner = flow_slower ? other_off : f_off;
+    const int m_outer = flow_slower ? m_f : m_other, m_inner = flow_slower ? m_other : m_f;
+    for (int a = 0; a < m_outer; ++a)
+      for (int b = 0; b < m_inner; ++b) insert(base[0] + outer[a] + inner[b]);
+  }
   return count;
 }
 

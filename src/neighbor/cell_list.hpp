@@ -29,8 +29,8 @@ class CellList {
   int cell_of(const Vec3& p) const;
   /// Cell of particle i as binned by the last build.
   int cell_of_particle(std::size_t i) const { return cell_[i]; }
-  /// Distinct neighbour cells of cell c (itself included), periodic images folded: at most 27,
-  /// or 36 across a Lees-Edwards boundary.
+  /// Distinct neighbour cells of cell c (itself included), periodic images folded, in ascending
+  /// order: at most 27, or 36 across a Lees-Edwards boundary.
   int stencil(int c, int* out36) const;
   const std::array<int, 3>& dims() const { return nc_; }
   int slab_axis() const { return axis_[2]; }

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "neighbor/brute_force.hpp"
+#include "neighbor/cell_list.hpp"
 #include "neighbor/verlet_list.hpp"
 
 using namespace gf;
@@ -71,6 +72,89 @@ TEST(Neighbor, SmallPeriodicBoxWithFewCells) {
   VerletList l;
   l.build(d, c.x.data(), c.r.data(), c.x.size(), 0.01);
   EXPECT_EQ(list_pairs(l), brute_force_pairs(d, c.x.data(), c.r.data(), c.x.size(), 0.01));
+}
+
+// The cell stencil against geometry: every cell with an image (periodic, Lees-Edwards shifted)
+// closer than the cutoff to cell c must be in c's stencil, which is ascending and without
+// repeats, for grids of 1-5 cells per axis (folds onto the same cell), with and without
+// periodicity, and Lees-Edwards offsets across the flow axis's range.
+TEST(Neighbor, CellStencilHoldsEveryCellWithinTheCutoff) {
+  struct Setup {
+    std::array<bool, 3> periodic;
+    int gradient;  // -1: no Lees-Edwards
+  };
+  const std::vector<Setup> setups{{{false, false, false}, -1},
+                                  {{true, true, true}, -1},
+                                  {{true, false, true}, -1},
+                                  {{true, true, true}, 2},
+                                  {{false, true, true}, 2}};
+  const double cutoff = 1.0;
+  int checked = 0;
+  for (const Setup& su : setups)
+    for (int nx = 1; nx <= 5; ++nx)
+      for (int nz = 1; nz <= 5; nz += 2)
+        for (double frac : {0.0, 0.13, -0.37, 0.49}) {
+          // Cells of edge >= cutoff: the grid has floor(L / cutoff) cells per axis.
+          Domain d{{0, 0, 0}, {nx * 1.1, 3.3, nz * 1.05}, su.periodic};
+          if (su.gradient >= 0) {
+            if (!su.periodic[0]) continue;
+            d.shear_gradient = su.gradient;
+            d.shear_flow = 0;
+            d.shear_offset = frac * d.length().x;
+          } else if (frac != 0.0) {
+            continue;
+          }
+          CellList cells;
+          const Vec3 one{0.5, 0.5, 0.5};
+          cells.build(d, &one, 1, cutoff);
+          const auto n = cells.dims();
+          const Vec3 L = d.length();
+          const Vec3 h{L.x / n[0], L.y / n[1], L.z / n[2]};
+          for (int c = 0; c < cells.n_cells(); ++c) {
+            int st[36];
+            const int ns = cells.stencil(c, st);
+            ASSERT_LE(ns, su.gradient >= 0 ? 36 : 27);
+            for (int k = 1; k < ns; ++k) ASSERT_LT(st[k - 1], st[k]) << "cell " << c;
+            // The cell's box from a point inside it.
+            auto box_lo = [&](int cell) {
+              for (int ix = 0; ix < n[0]; ++ix)
+                for (int iy = 0; iy < n[1]; ++iy)
+                  for (int iz = 0; iz < n[2]; ++iz) {
+                    const Vec3 lo{ix * h.x, iy * h.y, iz * h.z};
+                    if (cells.cell_of(lo + 0.5 * h) == cell) return lo;
+                  }
+              return Vec3{-1, -1, -1};
+            };
+            const Vec3 a = box_lo(c);
+            for (int e = 0; e < cells.n_cells(); ++e) {
+              const Vec3 b0 = box_lo(e);
+              bool near = false;
+              for (int sx = -2; sx <= 2 && !near; ++sx)
+                for (int sy = -1; sy <= 1 && !near; ++sy)
+                  for (int sz = -1; sz <= 1 && !near; ++sz) {
+                    if ((sx != 0 && !d.periodic[0]) || (sy != 0 && !d.periodic[1]) ||
+                        (sz != 0 && !d.periodic[2]))
+                      continue;
+                    Vec3 b{b0.x + sx * L.x, b0.y + sy * L.y, b0.z + sz * L.z};
+                    if (d.shear_gradient == 2) b.x += sz * d.shear_offset;
+                    double gap2 = 0;
+                    for (int k = 0; k < 3; ++k) {
+                      const double gap =
+                          std::max({0.0, b[k] - (a[k] + h[k]), a[k] - (b[k] + h[k])});
+                      gap2 += gap * gap;
+                    }
+                    near = gap2 < 0.999 * cutoff * cutoff;
+                  }
+              if (near) {
+                ASSERT_TRUE(std::binary_search(st, st + ns, e))
+                    << "cell " << e << " near cell " << c << ", grid " << n[0] << "x" << n[1] << "x"
+                    << n[2] << ", offset " << d.shear_offset;
+              }
+              ++checked;
+            }
+          }
+        }
+  EXPECT_GT(checked, 10000);
 }
 
 TEST(Neighbor, ParticlesOutsideNonPeriodicBoundsAreFound) {
