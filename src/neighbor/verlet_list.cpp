@@ -90,15 +90,25 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
                   : cells_.cell_of_particle(i);
   };
   // Visits the neighbours j > i of i in ascending order when sorted (stencil cells ascending).
-  auto for_neighbours = [&](std::size_t i, auto&& emit) {
-    int stencil[36];
-    const int ns = cells_.stencil(cell_of(i), stencil);  // ascending
+  // `memo` keeps the stencil of the last cell visited: in a sorted store the rows of one cell
+  // follow each other, so a cell's stencil is found once, not once per grain.
+  auto for_neighbours = [&](std::size_t i, StencilMemo& memo, auto&& emit) {
+    const int c = cell_of(i);
+    if (c != memo.cell) {
+      memo.n = cells_.stencil(c, memo.cells);  // ascending
+      memo.cell = c;
+    }
     const Vec3 xi = x[i];
     const double ri = r[i] + skin;
-    for (int s = 0; s < ns; ++s) {
-      for (std::int64_t k = cells_.begin(stencil[s]); k < cells_.begin(stencil[s] + 1); ++k) {
+    const auto first_j = static_cast<std::int64_t>(i) + 1;
+    for (int s = 0; s < memo.n; ++s) {
+      const std::int64_t end = cells_.begin(memo.cells[s] + 1);
+      // Sorted: the members are the index range itself, so j > i starts at i + 1.
+      for (std::int64_t k = sorted ? std::max(cells_.begin(memo.cells[s]), first_j)
+                                   : cells_.begin(memo.cells[s]);
+           k < end; ++k) {
         const std::int32_t j = member(k);
-        if (static_cast<std::size_t>(j) <= i) continue;
+        if (!sorted && static_cast<std::size_t>(j) <= i) continue;
         const double cut = ri + r[j];
         if (norm2(domain.delta(xi, x[j])) < cut * cut &&
             (!filter || filter(static_cast<std::int32_t>(i), j)))
@@ -106,39 +116,20 @@ void VerletList::build_rows(const Domain& domain, const Vec3* x, const double* r
       }
     }
   };
-  if (filter) {
-    build_filtered_rows(n, sorted, for_neighbours);
-  } else {
-    // Pass 1 counts the row lengths into offsets_[i + 1], pass 2 fills the rows. The arrays are
-    // sized exactly (no growth slack): memory per particle is one of issue 3's figures.
-    offsets_.assign(n + 1, 0);
-    exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
-      std::int64_t c = 0;
-      for_neighbours(static_cast<std::size_t>(i), [&](std::int32_t) { ++c; });
-      offsets_[static_cast<std::size_t>(i) + 1] = c;
-    });
-    for (std::size_t i = 0; i < n; ++i) offsets_[i + 1] += offsets_[i];
-    neighbors_ = std::vector<std::int32_t>(static_cast<std::size_t>(offsets_[n]));
-    exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
-      std::int64_t k = offsets_[static_cast<std::size_t>(i)];
-      for_neighbours(static_cast<std::size_t>(i),
-                     [&](std::int32_t j) { neighbors_[static_cast<std::size_t>(k++)] = j; });
-      if (!sorted)
-        std::sort(neighbors_.begin() + offsets_[static_cast<std::size_t>(i)],
-                  neighbors_.begin() + offsets_[static_cast<std::size_t>(i) + 1]);
-    });
-  }
+  build_rows_in_chunks(n, sorted, for_neighbours);
   shear_offset_ref_ = domain.shear_offset;
   refs_follow_wraps_ = follow_wraps_;
   ++n_builds_;
 }
 
 template <class ForNeighbours>
-void VerletList::build_filtered_rows(std::size_t n, bool sorted, ForNeighbours& for_neighbours) {
-  // With a filter (the capsules' axis test, a narrow phase) the candidates are not worth testing
-  // twice, as the count-then-fill passes of an unfiltered build do: one pass keeps what it
-  // accepts in a buffer per chunk of rows, then the rows are copied into the exact-size array.
-  // The buffers are gone before the histories are allocated, so the rebuild's peak is unchanged.
+void VerletList::build_rows_in_chunks(std::size_t n, bool sorted, ForNeighbours& for_neighbours) {
+  // One pass keeps each row in a buffer per chunk of rows, then the rows are copied into the
+  // exact-size array (no growth slack: memory per particle is one of issue 3's figures). A
+  // count-then-fill pair of passes would search every stencil twice, and with a filter (the
+  // capsules' axis test, a narrow phase) test every candidate twice. The buffers (at most
+  // 8 bytes per pair with their growth) are gone before the histories (24 bytes per pair) are
+  // allocated, so the rebuild's peak is unchanged.
   const auto total_rows = static_cast<exec::index_t>(n);
   const exec::index_t n_chunks =
       exec::threaded(total_rows) ? static_cast<exec::index_t>(8 * exec::n_threads()) : 1;
@@ -150,9 +141,10 @@ void VerletList::build_filtered_rows(std::size_t n, bool sorted, ForNeighbours& 
     auto& buf = chunk_rows[static_cast<std::size_t>(c)];
     const exec::index_t first = c * rows_per_chunk;
     const exec::index_t last = std::min(total_rows, first + rows_per_chunk);
+    StencilMemo memo;
     for (exec::index_t i = first; i < last; ++i) {
       const std::size_t begin = buf.size();
-      for_neighbours(static_cast<std::size_t>(i), [&](std::int32_t j) { buf.push_back(j); });
+      for_neighbours(static_cast<std::size_t>(i), memo, [&](std::int32_t j) { buf.push_back(j); });
       if (!sorted) std::sort(buf.begin() + static_cast<std::ptrdiff_t>(begin), buf.end());
       offsets_[static_cast<std::size_t>(i) + 1] = static_cast<std::int64_t>(buf.size() - begin);
     }

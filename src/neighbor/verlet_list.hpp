@@ -98,8 +98,14 @@ class VerletList {
  private:
   void build_rows(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin,
                   bool sorted, const PairFilter& filter = {});
+  /// The stencil of the cell whose rows are being built (one per chunk of rows).
+  struct StencilMemo {
+    int cell = -1;
+    int n = 0;
+    int cells[36];
+  };
   template <class ForNeighbours>
-  void build_filtered_rows(std::size_t n, bool sorted, ForNeighbours& for_neighbours);
+  void build_rows_in_chunks(std::size_t n, bool sorted, ForNeighbours& for_neighbours);
   void keep_old_histories();
   void carry_history(std::span<const std::int64_t> perm);
 
