@@ -561,6 +561,9 @@ def parse_args(argv=None):
                          "(default %(default)s)")
     ap.add_argument("--sample-strain", type=float, default=0.01,
                     help="strain between samples, both codes (default %(default)s)")
+    ap.add_argument("--box-scale", type=float, default=1.0,
+                    help="multiplies each edge of the box (2: 8 times the grains; default "
+                         "%(default)s)")
     ap.add_argument("--grainflow", default=str(ROOT / "build" / "release" / "grainflow"))
     ap.add_argument("--lammps", default="/usr/bin/lmp")
     ts.add_run_args(ap)
@@ -582,7 +585,12 @@ def machine() -> str:
 
 
 def main(argv=None) -> int:
+    global BOX, VOLUME
     a = parse_args(argv)
+    if a.box_scale <= 0:
+        sys.exit(f"--box-scale {a.box_scale:g}: must be positive")
+    BOX = tuple(a.box_scale * L for L in BOX)
+    VOLUME = BOX[0] * BOX[1] * BOX[2]
     phis = [float(s) for s in a.phis.split(",") if s.strip()]
     gf, lmp = ts.resolve_exe(a.grainflow), ts.resolve_exe(a.lammps)
     if not Path("/usr/bin/time").exists():
