@@ -103,6 +103,7 @@ int CellList::stencil(int c, int* out) const {
   int flow_off[4], other_off[3];
   const int m_flow = layers(fl, cq[fl] - 1, 3, flow_off);
   const int m_other = layers(o, cq[o] - 1, 3, other_off);
+  const bool flow_slower = stride[fl] > stride[o];  // ascending: the slower in-layer axis outside
   for (int qg = cq[g] - 1; qg <= cq[g] + 1; ++qg) {
     const int across = qg >= nc_[g] ? 1 : (qg < 0 ? -1 : 0);
     int base[1];
@@ -115,8 +116,6 @@ int CellList::stencil(int c, int* out) const {
       m_f = layers(fl, first, 4, shifted);
       f_off = shifted;
     }
-    // Ascending: the slower of the two in-layer axes outermost.
-    const bool flow_slower = stride[fl] > stride[o];
     const int* outer = flow_slower ? f_off : other_off;
     const int* inner = flow_slower ? other_off : f_off;
     const int m_outer = flow_slower ? m_f : m_other, m_inner = flow_slower ? m_other : m_f;
