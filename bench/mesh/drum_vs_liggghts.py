@@ -68,9 +68,12 @@ def _load(name: str, path: Path):
     return mod
 
 
-# Measurement helpers (time -v, load sampling, CPU share) shared with the sphere benchmark;
-# the drum's triangles from the script that wrote cases/dem/drum_lifters/drum.stl.
-ts = _load("_ts_run", BENCH / "terrain_settling" / "run.py")
+# Measurement helpers (time -v, load sampling, CPU share) shared with the sphere benchmark
+# (bench/ is a package, the scripts run as files, so its root goes on the path); the drum's
+# triangles from the script that wrote cases/dem/drum_lifters/drum.stl.
+sys.path.append(str(ROOT))
+from bench.terrain_settling import run as ts  # noqa: E402
+
 stl = _load("_make_drum_stl", ROOT / "scripts" / "make_drum_stl.py")
 F, run_timed, lscpu_model, _tail, LOOP_RE = ts.F, ts.run_timed, ts.lscpu_model, ts._tail, ts.LOOP_RE
 

@@ -45,7 +45,6 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
-import importlib.util
 import json
 import math
 import os
@@ -61,11 +60,11 @@ HERE = Path(__file__).resolve().parent
 BENCH = HERE.parent
 ROOT = BENCH.parent
 
-# Measurement helpers (time -v, load sampling, CPU share) shared with the sphere benchmark.
-_spec = importlib.util.spec_from_file_location("_ts_run", BENCH / "terrain_settling" / "run.py")
-ts = importlib.util.module_from_spec(_spec)
-sys.modules[_spec.name] = ts  # dataclasses look their module up there
-_spec.loader.exec_module(ts)
+# Measurement helpers (time -v, load sampling, CPU share) shared with the sphere benchmark:
+# bench/ is a package, the scripts run as files, so its root goes on the path.
+sys.path.append(str(ROOT))
+from bench.terrain_settling import run as ts  # noqa: E402
+
 F, run_timed, lscpu_model, _tail = ts.F, ts.run_timed, ts.lscpu_model, ts._tail
 
 # ---------------------------------------------------------------------------------------------

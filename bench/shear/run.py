@@ -44,7 +44,7 @@ What is timed: the time loop only, N x steps / loop seconds = particle-steps/s: 
 rheology sampling), LAMMPS' "Loop time of X on 1 procs for N steps" (everything in the loop,
 sampling included). Each phi runs --repeats times (one seed each), LAMMPS then grainflow, with the
 load average during each run and the CPU share each process got (helpers of
-bench/terrain_settling/run.py, loaded as bench/shapes/peers.py does).
+bench/terrain_settling/run.py, imported from the package bench/).
 
 Physics cross-check, so that the timing compares the same physics: both codes sample every
 --sample-strain of strain (the same steps) and the script averages over the same strain window
@@ -87,7 +87,6 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
-import importlib.util
 import json
 import math
 import os
@@ -104,12 +103,11 @@ HERE = Path(__file__).resolve().parent
 BENCH = HERE.parent
 ROOT = BENCH.parent
 
-# Measurement helpers (time -v, load sampling, CPU share, results section) shared with the
-# sphere benchmark.
-_spec = importlib.util.spec_from_file_location("_ts_run", BENCH / "terrain_settling" / "run.py")
-ts = importlib.util.module_from_spec(_spec)
-sys.modules[_spec.name] = ts  # dataclasses look their module up there
-_spec.loader.exec_module(ts)
+# Measurement helpers (time -v, load sampling, CPU share, results section) shared with the sphere benchmark:
+# bench/ is a package, the scripts run as files, so its root goes on the path.
+sys.path.append(str(ROOT))
+from bench.terrain_settling import run as ts  # noqa: E402
+
 F, run_timed, lscpu_model, _tail = ts.F, ts.run_timed, ts.lscpu_model, ts._tail
 
 # ---------------------------------------------------------------------------------------------
