@@ -40,10 +40,11 @@ class Reader {
  public:
   explicit Reader(std::string file) : file_(std::move(file)) {}
 
-  [[noreturn]] void fail(const YAML::Node& at, const std::string& path,
-                         const std::string& expected) const {
-    std::string found = "nothing";
-    if (at.IsDefined() && !at.IsNull()) {
+  /// `found` overrides the description of the node (e.g. "edges 0 and 2 crossing").
+  [[noreturn]] void fail(const YAML::Node& at, const std::string& path, const std::string& expected,
+                         const std::string& found_text = {}) const {
+    std::string found = found_text.empty() ? "nothing" : found_text;
+    if (found_text.empty() && at.IsDefined() && !at.IsNull()) {
       if (at.IsScalar())
         found = "'" + at.Scalar() + "'";
       else if (at.IsSequence())
@@ -170,6 +171,245 @@ TimeFunctionSpec parse_time_function(const Reader& r, const YAML::Node& n,
   return f;
 }
 
+// ---- Geometry checks of the domain, bodies, refinement boxes and probes --------------------
+//
+// CGAL's constrained triangulation (mesh_cgal.cpp) needs simple, non-degenerate loops that do
+// not meet: a repeated vertex crashes it, crossing loops make it throw, a zero-area body leaves
+// no cells. So the case file is checked here, where an error can name the YAML node.
+//
+// Plain double predicates suffice: every verdict compares a distance (the area: with a strip tol
+// wide) with a tolerance tol = 1e-12 x the outline's size (the larger of its extent and its
+// largest coordinate, since differences of coordinates carry rounding of the latter's magnitude).
+// Distances in doubles err by ~1e-16 of that size, four orders below tol, so rounding cannot turn
+// "apart" into "touching" or back; geometry within tol of touching is refused as touching (a gap
+// that thin could not be meshed anyway). The sign tests in segment_distance only decide a proper
+// crossing, whose distance is 0 up to rounding either way.
+
+std::string point_text(Vec2 p) {
+  return fmt::format("[{}, {}]", p.x, p.y);
+}
+
+/// (a - o) x (b - o): > 0 when o, a, b turn counter-clockwise.
+double cross(Vec2 o, Vec2 a, Vec2 b) {
+  return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+double distance(Vec2 a, Vec2 b) {
+  return std::hypot(a.x - b.x, a.y - b.y);
+}
+
+double point_segment_distance(Vec2 p, Vec2 a, Vec2 b) {
+  const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy;
+  const double t = l2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / l2, 0.0, 1.0) : 0.0;
+  return std::hypot(p.x - a.x - t * dx, p.y - a.y - t * dy);
+}
+
+/// Distance between the segments ab and cd: 0 when they cross, else the smallest distance of an
+/// endpoint to the other segment (which is where two disjoint segments come closest; segments
+/// that touch or overlap collinearly have an endpoint on the other one).
+double segment_distance(Vec2 a, Vec2 b, Vec2 c, Vec2 d) {
+  const double c1 = cross(a, b, c), c2 = cross(a, b, d), c3 = cross(c, d, a), c4 = cross(c, d, b);
+  if (((c1 > 0 && c2 < 0) || (c1 < 0 && c2 > 0)) && ((c3 > 0 && c4 < 0) || (c3 < 0 && c4 > 0)))
+    return 0.0;
+  return std::min({point_segment_distance(c, a, b), point_segment_distance(d, a, b),
+                   point_segment_distance(a, c, d), point_segment_distance(b, c, d)});
+}
+
+/// Distance from p to the closed polygonal ring `v` (its edges).
+double ring_distance(Vec2 p, const std::vector<Vec2>& v) {
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < v.size(); ++k)
+    d = std::min(d, point_segment_distance(p, v[k], v[(k + 1) % v.size()]));
+  return d;
+}
+
+/// Crossing-number test (either orientation); meaningful for p farther than tol from the ring.
+bool inside_ring(Vec2 p, const std::vector<Vec2>& v) {
+  bool in = false;
+  for (std::size_t i = 0, j = v.size() - 1; i < v.size(); j = i++)
+    if ((v[i].y > p.y) != (v[j].y > p.y) &&
+        p.x < (v[j].x - v[i].x) * (p.y - v[i].y) / (v[j].y - v[i].y) + v[i].x)
+      in = !in;
+  return in;
+}
+
+/// p lies in the open region bounded by the ring, farther than tol from it.
+bool strictly_inside(Vec2 p, const std::vector<Vec2>& v, double tol) {
+  return ring_distance(p, v) > tol && inside_ring(p, v);
+}
+
+/// The closed ring of an outline or polygon body (`node` its YAML list, `path` its key path):
+/// consecutive vertices distinct (the last joins back to the first, so it must not repeat it),
+/// a non-zero area, and simple: no two edges cross or touch, except adjacent edges at their
+/// shared vertex, and those must not fold back onto each other. Either orientation is accepted
+/// (the mesher and the boundary normals do not depend on it).
+void check_ring(const Reader& r, const YAML::Node& node, const std::string& path,
+                const std::vector<Vec2>& v, double tol) {
+  const std::size_t n = v.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t j = (i + 1) % n;
+    if (distance(v[i], v[j]) > tol) continue;
+    if (j == 0)
+      r.fail(node[n - 1], fmt::format("{}[{}]", path, n - 1),
+             fmt::format("a last vertex other than the first: the ring closes itself (the last "
+                         "edge joins vertex {} back to vertex 0), so the first vertex must not be "
+                         "repeated",
+                         n - 1),
+             point_text(v[i]) + ", the same point as vertex 0");
+    r.fail(node[j], fmt::format("{}[{}]", path, j),
+           fmt::format("a vertex distinct from the one before it (vertex {})", i),
+           point_text(v[j]) + " again");
+  }
+  // Signed area (shoelace about vertex 0, which keeps the rounding to the ring's own size),
+  // compared with the area of a strip tol wide along the ring's extent.
+  double area2 = 0.0, extent = 0.0;
+  for (std::size_t i = 1; i + 1 < n; ++i) area2 += cross(v[0], v[i], v[i + 1]);
+  for (std::size_t i = 1; i < n; ++i) extent = std::max(extent, distance(v[0], v[i]));
+  if (std::abs(0.5 * area2) <= tol * extent)
+    r.fail(node, path, "a polygon enclosing a non-zero area",
+           fmt::format("{} vertices enclosing none (all on one line, or loops of opposite sense "
+                       "that cancel)",
+                       n));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j) {
+      const Vec2 a = v[i], b = v[(i + 1) % n], c = v[j], d = v[(j + 1) % n];
+      bool bad = false, adjacent = true;
+      if (j == i + 1)  // shared vertex b == c: they overlap iff a or d lies on the other edge
+        bad = point_segment_distance(d, a, b) <= tol || point_segment_distance(a, c, d) <= tol;
+      else if (i == 0 && j == n - 1)  // shared vertex a == d
+        bad = point_segment_distance(c, a, b) <= tol || point_segment_distance(b, c, d) <= tol;
+      else {
+        adjacent = false;
+        bad = segment_distance(a, b, c, d) <= tol;
+      }
+      if (bad)
+        r.fail(node, path,
+               "a simple polygon: no two edges crossing or touching (edge k joins vertex k and "
+               "k + 1, the last edge joins back to vertex 0)",
+               fmt::format("edges {} ({} to {}) and {} ({} to {}) {}", i, point_text(a),
+                           point_text(b), j, point_text(c), point_text(d),
+                           adjacent ? "folding back onto each other" : "crossing or touching"));
+    }
+}
+
+/// Why bodies a and b (a before b in the list) are not disjoint, or "" when they are: circles and
+/// polygons must not overlap, touch, or contain one another.
+std::string body_overlap(const BodyShape& a, const BodyShape& b, double tol) {
+  using Kind = BodyShape::Kind;
+  if (a.kind == Kind::Circle && b.kind == Kind::Circle) {
+    const double d = distance(a.centre, b.centre);
+    if (d <= a.radius + b.radius + tol)
+      return fmt::format(
+          "its centre {:.6g} m from the other's, within the sum of the radii, {:.6g} m", d,
+          a.radius + b.radius);
+    return {};
+  }
+  if (a.kind == Kind::Circle || b.kind == Kind::Circle) {
+    const BodyShape& c = a.kind == Kind::Circle ? a : b;
+    const BodyShape& p = a.kind == Kind::Circle ? b : a;
+    const bool own = &c == &b;  // the circle is b, the body the message is about
+    const char* circle = own ? "its circle" : "the other's circle";
+    const char* polygon = own ? "the other's polygon" : "its polygon";
+    if (strictly_inside(c.centre, p.vertices, tol))
+      return fmt::format("{} centred inside {}", circle, polygon);
+    const double d = ring_distance(c.centre, p.vertices);
+    if (d <= c.radius + tol)
+      return fmt::format("{} (radius {} m) reaching {}, {:.6g} m from the centre", circle, c.radius,
+                         polygon, d);
+    return {};
+  }
+  const auto& u = a.vertices;
+  const auto& v = b.vertices;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (std::size_t k = 0; k < u.size(); ++k)
+      if (segment_distance(v[i], v[(i + 1) % v.size()], u[k], u[(k + 1) % u.size()]) <= tol)
+        return fmt::format("its edge {} crossing or touching the other's edge {}", i, k);
+  // no edges meet: one polygon inside the other, or apart
+  if (inside_ring(v[0], u)) return "its polygon inside the other";
+  if (inside_ring(u[0], v)) return "the other polygon inside its own";
+  return {};
+}
+
+/// The bodies (`bodies` their YAML list) of a parsed block: polygons simple (check_ring), every
+/// body strictly inside the outline, bodies pairwise disjoint, names unique.
+void check_bodies(const Reader& r, const YAML::Node& bodies, const std::string& bp,
+                  const FemCaseConfig& cfg, double tol) {
+  const auto& outline = cfg.mesh.outline;
+  const auto& shapes = cfg.mesh.bodies;
+  for (std::size_t j = 0; j < shapes.size(); ++j) {
+    const auto& s = shapes[j];
+    const YAML::Node b = bodies[j];
+    const std::string p = fmt::format("{}[{}]", bp, j);
+    if (s.kind == BodyShape::Kind::Circle) {
+      if (!strictly_inside(s.centre, outline, tol))
+        r.fail(b["circle"]["centre"], p + ".circle.centre",
+               "a centre inside the domain outline (bodies are holes in the fluid)",
+               point_text(s.centre));
+      const double d = ring_distance(s.centre, outline);
+      if (d <= s.radius + tol)
+        r.fail(b["circle"]["radius"], p + ".circle.radius",
+               fmt::format("a radius below {:.6g} m, the distance from the centre to the domain "
+                           "outline (a body lies strictly inside it)",
+                           d));
+    } else {
+      const auto& v = s.vertices;
+      check_ring(r, b["polygon"], p + ".polygon", v, tol);
+      for (std::size_t k = 0; k < v.size(); ++k)
+        if (!strictly_inside(v[k], outline, tol))
+          r.fail(b["polygon"][k], fmt::format("{}.polygon[{}]", p, k),
+                 "a vertex inside the domain outline (a body lies strictly inside it)",
+                 point_text(v[k]));
+      for (std::size_t k = 0; k < v.size(); ++k)
+        for (std::size_t m = 0; m < outline.size(); ++m)
+          if (segment_distance(v[k], v[(k + 1) % v.size()], outline[m],
+                               outline[(m + 1) % outline.size()]) <= tol)
+            r.fail(b["polygon"], p + ".polygon",
+                   "a polygon inside the domain outline (a body lies strictly inside it)",
+                   fmt::format("its edge {} crossing or touching outline edge {}", k, m));
+    }
+    for (std::size_t i = 0; i < j; ++i)
+      if (const auto why = body_overlap(shapes[i], s, tol); !why.empty())
+        r.fail(b, p,
+               fmt::format("a body clear of {}[{}] ('{}'): bodies must not overlap or touch", bp, i,
+                           cfg.body_names[i]),
+               why);
+  }
+  // Names head the columns of fem_forces.csv. Unnamed bodies are called body<index>, which a
+  // given name may take too.
+  for (std::size_t j = 0; j < shapes.size(); ++j)
+    for (std::size_t i = 0; i < j; ++i) {
+      if (cfg.body_names[i] != cfg.body_names[j]) continue;
+      const bool named_j = bodies[j]["name"].IsDefined();
+      const std::size_t at = named_j ? j : i, other = named_j ? i : j;
+      r.fail(bodies[at]["name"], fmt::format("{}[{}].name", bp, at),
+             fmt::format("a name no other body has ({}[{}] is called '{}' too{})", bp, other,
+                         cfg.body_names[other],
+                         bodies[other]["name"].IsDefined() ? "" : ", the name of an unnamed body"));
+    }
+}
+
+/// Probes must lie in the fluid: inside the outline and outside every body, boundaries included
+/// (a probe on a body's surface, as in the Schaefer-Turek cases, reads the wall pressure).
+void check_probes(const Reader& r, const YAML::Node& probes, const std::string& pp,
+                  const FemCaseConfig& cfg, double tol) {
+  for (std::size_t k = 0; k < cfg.output.probes.size(); ++k) {
+    const Vec2 q = cfg.output.probes[k];
+    const std::string p = fmt::format("{}[{}]", pp, k);
+    if (ring_distance(q, cfg.mesh.outline) > tol && !inside_ring(q, cfg.mesh.outline))
+      r.fail(probes[k], p, "a point inside the domain outline (a probe samples the fluid)",
+             point_text(q));
+    for (std::size_t j = 0; j < cfg.mesh.bodies.size(); ++j) {
+      const auto& b = cfg.mesh.bodies[j];
+      const bool in = b.kind == BodyShape::Kind::Circle ? distance(q, b.centre) < b.radius - tol
+                                                        : strictly_inside(q, b.vertices, tol);
+      if (in)
+        r.fail(probes[k], p,
+               fmt::format("a point in the fluid, not inside body {} ('{}')", j, cfg.body_names[j]),
+               point_text(q));
+    }
+  }
+}
+
 }  // namespace
 
 FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) {
@@ -189,7 +429,21 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   const auto dom = r.need(block, "domain", root);
   const std::string dp = root + ".domain";
   r.keys(dom, dp, {"outline", "boundaries"});
-  cfg.mesh.outline = r.points(r.need(dom, "outline", dp), dp + ".outline", 3);
+  const auto outline = r.need(dom, "outline", dp);
+  cfg.mesh.outline = r.points(outline, dp + ".outline", 3);
+  // Length tolerance of the geometry checks (see check_ring): 1e-12 of the outline's size.
+  const double tol = [&] {
+    double lo_x = 1e300, hi_x = -1e300, lo_y = 1e300, hi_y = -1e300, coord = 0;
+    for (const auto& v : cfg.mesh.outline) {
+      lo_x = std::min(lo_x, v.x);
+      hi_x = std::max(hi_x, v.x);
+      lo_y = std::min(lo_y, v.y);
+      hi_y = std::max(hi_y, v.y);
+      coord = std::max({coord, std::abs(v.x), std::abs(v.y)});
+    }
+    return 1e-12 * std::max({hi_x - lo_x, hi_y - lo_y, coord});
+  }();
+  check_ring(r, outline, dp + ".outline", cfg.mesh.outline, tol);
   const std::size_t ne = cfg.mesh.outline.size();
   cfg.outline_bc.assign(ne, OutlineBc{});
   cfg.inflow_time.assign(ne, TimeFunctionSpec{});
@@ -244,6 +498,7 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
       r.keys(b, p, {"name", "circle", "polygon", "centre", "velocity", "angular_velocity"});
       BodyShape s;
       const auto name = b["name"];
+      if (name.IsDefined() && !name.IsScalar()) r.fail(name, p + ".name", "a name (text)");
       cfg.body_names.push_back(name.IsDefined() && name.IsScalar() ? name.Scalar()
                                                                    : fmt::format("body{}", i));
       if (b["circle"].IsDefined() == b["polygon"].IsDefined())
@@ -272,6 +527,7 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
       cfg.mesh.bodies.push_back(s);
       cfg.body_motion.push_back(m);
     }
+    check_bodies(r, bodies, bp, cfg, tol);
   }
 
   const auto mesh = r.need(block, "mesh", root);
@@ -290,6 +546,11 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
       SizeBox sb{r.vec2(r.need(boxes[i], "min", p), p + ".min"),
                  r.vec2(r.need(boxes[i], "max", p), p + ".max"),
                  r.number(r.need(boxes[i], "h", p), p + ".h", 0, 1e30, true)};
+      if (!(sb.max.x > sb.min.x && sb.max.y > sb.min.y))
+        r.fail(boxes[i]["max"], p + ".max",
+               fmt::format("a corner above and to the right of min {} (x and y both larger)",
+                           point_text(sb.min)),
+               point_text(sb.max));
       cfg.mesh.boxes.push_back(sb);
     }
   }
@@ -361,7 +622,10 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
     cfg.output.vtk_every = r.number_or(out, "vtk_every", op, 0.0, 0, 1e30);
     cfg.output.csv_every = r.number_or(out, "csv_every", op, 0.0, 0, 1e30);
     cfg.output.checkpoint_every = r.number_or(out, "checkpoint_every", op, 0.0, 0, 1e30);
-    if (out["probes"].IsDefined()) cfg.output.probes = r.points(out["probes"], op + ".probes", 1);
+    if (out["probes"].IsDefined()) {
+      cfg.output.probes = r.points(out["probes"], op + ".probes", 1);
+      check_probes(r, out["probes"], op + ".probes", cfg, tol);
+    }
     if (const auto c = out["coefficients"]; c.IsDefined()) {
       r.keys(c, op + ".coefficients", {"velocity", "length"});
       cfg.output.coef_velocity = r.number(r.need(c, "velocity", op + ".coefficients"),
