@@ -23,6 +23,7 @@
 #include "core/log.hpp"
 #include "core/stop.hpp"
 #include "core/version.hpp"
+#include "coupling/cfd_dem/drag_registry.hpp"
 #include "io/input/parse_case.hpp"
 #include "io/input/validate.hpp"
 #include "simulation/continuum_case.hpp"
@@ -45,8 +46,12 @@ std::string param_range(const gf::ParamSpec& p) {
 int list_models() {
   fmt::print("contact models (contacts[].model):\n");
   for (const auto& m : gf::contact::model_infos()) fmt::print("  {:<16} {}\n", m.key, m.summary);
-  fmt::print("integrators (integrator):\n  {:<16} {}\n", "velocity_verlet",
-             "velocity Verlet for translation and rotation (second order, symplectic)");
+  fmt::print("integrators (integrator):\n  {:<16} {}\n  {:<16} {}\n", "velocity_verlet",
+             "velocity Verlet for translation and rotation (second order, symplectic)", "gear5",
+             "Gear predictor-corrector with 6 values, translation and rotation (spheres, disks, "
+             "polygons)");
+  fmt::print("drag laws (coupling.drag, two_fluid drag):\n");
+  for (const auto& d : gf::cfd_dem::drag_infos()) fmt::print("  {:<18} {}\n", d.key, d.summary);
   fmt::print("continuum rheologies (continuum.rheology.model):\n");
   for (const auto& m : gf::continuum::rheology_infos())
     fmt::print("  {:<16} {}\n", m.key, m.summary);
@@ -74,43 +79,9 @@ void print_params(std::span<const gf::ParamSpec> params) {
                param_range(p), p.description);
 }
 
-int describe(const std::string& key) {
-  if (const auto* r = gf::continuum::find_rheology(key)) {
-    fmt::print(
-        "{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters (in continuum.rheology):\n",
-        r->key, r->summary, r->equation, r->reference);
-    print_params(r->params);
-    return 0;
-  }
-  const std::pair<const gf::continuum::KtgfInfo*, const char*> ktgf[] = {
-      {gf::continuum::find_ktgf_closure(key), "KTGF closure set"},
-      {gf::continuum::find_radial_distribution(key), "KTGF radial distribution at contact"},
-      {gf::continuum::find_frictional_model(key), "KTGF dense-region model"},
-      {gf::continuum::find_particle_pressure_model(key), "two-fluid particle-pressure model"}};
-  for (const auto& [k, kind] : ktgf)
-    if (k) {
-      fmt::print("{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters ({}):\n", k->key,
-                 k->summary, k->equation, k->reference, kind);
-      if (k->params.empty())
-        fmt::print("  (none)\n");
-      else
-        print_params(k->params);
-      return 0;
-    }
-  const auto* m = gf::contact::find_model(key);
-  if (!m) {
-    std::string keys;
-    for (const auto& i : gf::contact::model_infos()) keys += fmt::format(" {}", i.key);
-    for (const auto& i : gf::continuum::rheology_infos()) keys += fmt::format(" {}", i.key);
-    for (const auto& i : gf::continuum::ktgf_closure_infos()) keys += fmt::format(" {}", i.key);
-    for (const auto& i : gf::continuum::radial_distribution_infos())
-      keys += fmt::format(" {}", i.key);
-    for (const auto& i : gf::continuum::frictional_model_infos()) keys += fmt::format(" {}", i.key);
-    for (const auto& i : gf::continuum::particle_pressure_model_infos())
-      keys += fmt::format(" {}", i.key);
-    fmt::print(stderr, "error: unknown model key '{}'; known keys:{}\n", key, keys);
-    return kExitInput;
-  }
+void describe_contact_model(const gf::contact::ModelInfo& mi) {
+  const auto* m = &mi;
+  const std::string_view key = m->key;
   fmt::print(
       "{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters (per material pair, in "
       "contacts[]):\n",
@@ -130,7 +101,65 @@ int describe(const std::string& key) {
   fmt::print(
       "\nper-material parameters (materials:): density [kg/m^3], youngs_modulus [Pa], "
       "poisson_ratio [1]\n");
-  return 0;
+}
+
+int describe(const std::string& key) {
+  // One key may name models of several kinds (gidaspow: a KTGF closure set and a drag law):
+  // each is printed.
+  int found = 0;
+  auto next = [&found] {
+    if (found++ > 0) fmt::print("\n----------------------------------------\n\n");
+  };
+  if (const auto* r = gf::continuum::find_rheology(key)) {
+    next();
+    fmt::print(
+        "{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters (in continuum.rheology):\n",
+        r->key, r->summary, r->equation, r->reference);
+    print_params(r->params);
+  }
+  const std::pair<const gf::continuum::KtgfInfo*, const char*> ktgf[] = {
+      {gf::continuum::find_ktgf_closure(key), "KTGF closure set"},
+      {gf::continuum::find_radial_distribution(key), "KTGF radial distribution at contact"},
+      {gf::continuum::find_frictional_model(key), "KTGF dense-region model"},
+      {gf::continuum::find_particle_pressure_model(key), "two-fluid particle-pressure model"}};
+  for (const auto& [k, kind] : ktgf)
+    if (k) {
+      next();
+      fmt::print("{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters ({}):\n", k->key,
+                 k->summary, k->equation, k->reference, kind);
+      if (k->params.empty())
+        fmt::print("  (none)\n");
+      else
+        print_params(k->params);
+    }
+  if (const auto* d = gf::cfd_dem::find_drag(key)) {
+    next();
+    fmt::print(
+        "{} — drag law: {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nvalidity:\n  {}\n\n"
+        "parameters (in coupling.drag):\n",
+        d->key, d->summary, d->equation, d->reference, d->validity);
+    if (d->params.empty())
+      fmt::print("  (none)\n");
+    else
+      print_params(d->params);
+  }
+  if (const auto* m = gf::contact::find_model(key)) {
+    next();
+    describe_contact_model(*m);
+  }
+  if (found > 0) return 0;
+  std::string keys;
+  for (const auto& i : gf::contact::model_infos()) keys += fmt::format(" {}", i.key);
+  for (const auto& i : gf::continuum::rheology_infos()) keys += fmt::format(" {}", i.key);
+  for (const auto& i : gf::continuum::ktgf_closure_infos()) keys += fmt::format(" {}", i.key);
+  for (const auto& i : gf::continuum::radial_distribution_infos())
+    keys += fmt::format(" {}", i.key);
+  for (const auto& i : gf::continuum::frictional_model_infos()) keys += fmt::format(" {}", i.key);
+  for (const auto& i : gf::continuum::particle_pressure_model_infos())
+    keys += fmt::format(" {}", i.key);
+  for (const auto& i : gf::cfd_dem::drag_infos()) keys += fmt::format(" {}", i.key);
+  fmt::print(stderr, "error: unknown model key '{}'; known keys:{}\n", key, keys);
+  return kExitInput;
 }
 
 std::vector<gf::input::Override> overrides(const std::vector<std::string>& sets) {
@@ -298,6 +327,7 @@ int main(int argc, char** argv) {
     if (*run) {
       gf::exec::set_threads(threads);  // 0: OMP_NUM_THREADS, else all cores
       opts.output = output;
+      opts.case_file = run_file;
       if (opts.append && output.empty() && !restart.empty())
         opts.output = std::filesystem::path(restart).parent_path();
       if (steps >= 0) opts.steps = steps;

@@ -2,6 +2,7 @@
 // ParticleStore: the field table and the generic column operations.
 #include "particles/particle_store.hpp"
 
+#include <cmath>
 #include <numbers>
 
 #include "core/error.hpp"
@@ -152,6 +153,21 @@ std::size_t ParticleStore::bytes() const {
         },
         c);
   return b;
+}
+
+std::optional<std::size_t> first_non_finite_grain(const ParticleStore& p) {
+  const Vec3* x = p.x();
+  const Vec3* v = p.v();
+  const Vec3* w = p.omega();
+  // (one pass summing 0 * each component: a sum that is NaN holds a NaN or an infinity)
+  double probe = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    probe += 0.0 * (x[i].x + x[i].y + x[i].z + v[i].x + v[i].y + v[i].z + w[i].x + w[i].y + w[i].z);
+  if (probe == 0.0) return std::nullopt;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (const Vec3* a : {x, v, w})
+      if (!std::isfinite(a[i].x) || !std::isfinite(a[i].y) || !std::isfinite(a[i].z)) return i;
+  return std::nullopt;  // (not reached)
 }
 
 }  // namespace gf

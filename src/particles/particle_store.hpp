@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <variant>
@@ -189,5 +190,9 @@ class ParticleStore {
   int fixed_q0_field_ = -1;          ///< index of `fixed_q0` (with shapes), -1 without
   std::vector<PolygonShape> polygons_;
 };
+
+/// Index of the first grain whose position, velocity or angular velocity has a component that
+/// is NaN or infinite (a diverged run, a damaged checkpoint); nullopt when all are finite.
+std::optional<std::size_t> first_non_finite_grain(const ParticleStore& p);
 
 }  // namespace gf

@@ -129,6 +129,12 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
                              ? h.read_double_attribute("/", "wall_seconds")
                              : std::numeric_limits<double>::quiet_NaN();
   io::load_particles(h, particles_);
+  // (HDF5 checks the datasets' checksums; files of builds before them are checked here)
+  if (const auto bad = first_non_finite_grain(particles_))
+    throw InputError(fmt::format(
+        "{}: grain {} has a non-finite position, velocity or spin: the checkpoint is damaged, or "
+        "the run that wrote it had diverged",
+        file.string(), particles_.id()[*bad]));
   if (const std::int32_t* fixed = particles_.fixed()) {
     // Grains of moving fixed groups follow motion k of this case (its k-th moving group): a
     // checkpoint whose grains name a motion the case does not have was written by another case.

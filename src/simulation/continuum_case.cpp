@@ -239,7 +239,7 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
   auto s = build_solver(c);
   std::optional<ContinuumCheckpoint> resume;
   if (opts.restart) {
-    resume = load_continuum_checkpoint(*opts.restart);
+    resume = load_restart(*opts.restart, load_continuum_checkpoint);
     try {
       s.restore(resume->state);
     } catch (const InputError& e) {
@@ -271,7 +271,7 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
          }))
       series << line << '\n';
   }
-  if (!append) prepare_output_dir(dir, opts.overwrite);
+  OutputFolder folder(dir, opts);
   write_atomically(dir / "resolved_case.yaml",
                    [&](std::ostream& o) { o << input::echo_continuum_yaml(c, version_string); });
   log::info("continuum (SPH) run: {} fluid and {} wall particles, output in '{}'", s.n_fluid(),
@@ -400,6 +400,7 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
         "SPH run stopped by {}: outputs up to the last step and sph_checkpoint_final.h5 "
         "written in '{}'",
         stop::signal_name(sig), dir.string());
+  folder.commit();
   return sig;
 }
 

@@ -20,6 +20,8 @@ namespace fs = std::filesystem;
 std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& output_dir,
                                                 const std::vector<input::Override>& overrides) {
   YAML::Node doc;
+  if (fs::is_directory(file))
+    throw InputError(fmt::format("{}: error: a folder, not a case file", file.string()));
   try {
     doc = YAML::LoadFile(file.string());
   } catch (const YAML::BadFile&) {
@@ -140,8 +142,8 @@ int run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
   // Read before the output folder is prepared: --overwrite may empty the folder it lies in.
   check_append(dir, opts);
   std::optional<fem::FemCheckpoint> resume;
-  if (opts.restart) resume = load_fem_checkpoint(*opts.restart);
-  if (!opts.append) prepare_output_dir(dir, opts.overwrite);
+  if (opts.restart) resume = load_restart(*opts.restart, load_fem_checkpoint);
+  OutputFolder folder(dir, opts);
   log::info("fluid_fem run, output in '{}'", dir.string());
   fem::FemCheckpointIo io;
   io.save = save_fem_checkpoint;
@@ -155,6 +157,7 @@ int run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
   if (sig)
     log::warn("fluid_fem run stopped by {}: outputs up to the last step written in '{}'",
               stop::signal_name(sig), dir.string());
+  folder.commit();
   return sig;
 }
 

@@ -46,23 +46,6 @@ std::int64_t peak_rss_bytes() {
 
 }  // namespace
 
-/// Refuses to reuse a non-empty folder unless asked; creates it.
-void prepare_output_dir(const fs::path& dir, bool overwrite) {
-  if (fs::exists(dir)) {
-    if (!fs::is_directory(dir))
-      throw InputError(fmt::format("output path '{}' exists and is not a folder", dir.string()));
-    if (!fs::is_empty(dir)) {
-      if (!overwrite)
-        throw InputError(fmt::format(
-            "output folder '{}' exists and is not empty; choose another with --output, or "
-            "pass --overwrite to replace it",
-            dir.string()));
-      for (const auto& e : fs::directory_iterator(dir)) fs::remove_all(e.path());
-    }
-  }
-  fs::create_directories(dir);
-}
-
 namespace {
 
 /// --append continues series.csv, whose columns must stay, and rheology.csv, whose samples the
@@ -119,8 +102,8 @@ RunSummary Simulation::run(const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? cfg_.output.directory : opts.output;
   check_append(dir, opts);
   if (opts.append) check_append_schedule(dir, cfg_);
-  if (opts.restart) load_checkpoint(*opts.restart);
-  if (!opts.append) prepare_output_dir(dir, opts.overwrite);
+  if (opts.restart) load_restart(*opts.restart, [this](const fs::path& f) { load_checkpoint(f); });
+  OutputFolder folder(dir, opts);
   // --append: the outputs continue from the checkpoint's time; what the earlier run wrote after
   // it is dropped (rows, data sets) or rewritten when reached again (files named by the step).
   const std::optional<double> resume_time =
@@ -169,9 +152,23 @@ RunSummary Simulation::run(const RunOptions& opts) {
 
   auto last_flush = StageTimers::clock::now();
   // `sampled`: the step just taken ended on a rheology sample.
+  // A run that diverged stops with an error before it writes non-finite numbers (or a
+  // checkpoint of them): the grains are checked before every output and every 1000 steps.
+  auto check_finite = [&] {
+    if (const auto bad = first_non_finite_grain(particles_))
+      throw Error(fmt::format(
+          "the run diverged at t = {} s (step {}): grain {} has a non-finite position, velocity "
+          "or spin (a time step too long for the contact stiffness, or an overlap too deep at "
+          "the start?); nothing of this step was written",
+          time(), step_, particles_.id()[*bad]));
+  };
   auto write_outputs = [&](bool sampled) {
     StageTimers::Scope timer(timers_, Stage::Output);
     const double t = time();
+    if (due(step_, vtk_every) || due(step_, csv_every) || due(step_, contacts_every) ||
+        due(step_, contacts_vtk_every) || (series && due(step_, series_every)) ||
+        due(step_, ckpt_every) || sampled || step_ % 1000 == 0)
+      check_finite();
     if (due(step_, vtk_every)) {
       const std::string pf = fmt::format("particles_{:09d}.vtp", step_);
       io::write_particles_vtp(dir / pf, particles_);
@@ -270,6 +267,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
       dir / (stop_signal ? fmt::format("checkpoint_{:09d}.h5", step_) : "checkpoint_final.h5");
   {
     StageTimers::Scope timer(timers_, Stage::Output);
+    check_finite();
     if (series && !due(step_, series_every)) {
       series->append(time(), series_row(columns));
     }
@@ -319,6 +317,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
   ++runs_before_;
   wall_seconds_before_ += wall;
   run_started_.reset();
+  folder.commit();  // (the log lines below cannot fail the run)
 
   log::info("timing summary ({} steps, {} thread{}):", steps, exec::n_threads(),
             exec::n_threads() > 1 ? "s" : "");

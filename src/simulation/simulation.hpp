@@ -23,6 +23,7 @@
 #include "particles/material.hpp"
 #include "particles/particle_store.hpp"
 #include "simulation/cfd_dem_coupling.hpp"
+#include "simulation/output_folder.hpp"
 
 namespace gf {
 
@@ -35,6 +36,8 @@ struct RunOptions {
   bool append = false;
   std::optional<std::int64_t> steps;  ///< run this many steps instead of up to time.end
   bool quiet = false;                 ///< no progress output
+  /// The case file, if any: --overwrite refuses a folder that holds it.
+  std::filesystem::path case_file;
 };
 
 /// Summary of a finished run (also written as summary.json).
@@ -49,10 +52,6 @@ struct RunSummary {
   int stop_signal = 0;
   std::filesystem::path checkpoint;  ///< the checkpoint written at the run's last step
 };
-
-/// Creates an output folder; a non-empty one is refused (InputError) unless `overwrite`, in
-/// which case its contents are removed. Shared by DEM and FEM runs.
-void prepare_output_dir(const std::filesystem::path& dir, bool overwrite);
 
 /// With opts.append: a checkpoint must be given, --overwrite not, and `dir` must exist
 /// (InputError otherwise); without, nothing. Shared by DEM and FEM runs.

@@ -298,7 +298,7 @@ int run_two_fluid_case(const input::TwoFluidCase& c, const fs::path& default_dir
   std::optional<Checkpoint> resume;
   std::int64_t steps = 0;
   if (opts.restart) {
-    resume = load_checkpoint(*opts.restart, m);
+    resume = load_restart(*opts.restart, [&](const fs::path& f) { return load_checkpoint(f, m); });
     try {
       m.restore(resume->state);
     } catch (const Error& e) {
@@ -320,7 +320,7 @@ int run_two_fluid_case(const input::TwoFluidCase& c, const fs::path& default_dir
                              [until](double t) { return t <= until * (1 + 1e-8) + 1e-300; }))
       series << line << '\n';
   }
-  if (!append) prepare_output_dir(dir, opts.overwrite);
+  OutputFolder folder(dir, opts);
   write_atomically(dir / "resolved_case.yaml",
                    [&](std::ostream& o) { o << input::echo_two_fluid_yaml(c, version_string); });
   log::info("two-fluid run: {} cells, output in '{}'", c.grid.cell_count(), dir.string());
@@ -428,6 +428,7 @@ int run_two_fluid_case(const input::TwoFluidCase& c, const fs::path& default_dir
         "two-fluid run stopped by {}: outputs up to the last step and "
         "two_fluid_checkpoint_final.h5 written in '{}'",
         stop::signal_name(sig), dir.string());
+  folder.commit();
   return sig;
 }
 

@@ -49,6 +49,7 @@ def run(*args):
 
 
 GF = os.path.abspath(sys.argv[1])
+SOURCE = os.path.abspath(sys.argv[2])
 with tempfile.TemporaryDirectory() as TMP:
     case = os.path.join(TMP, "case.yaml")
     with open(case, "w") as f:
@@ -293,5 +294,66 @@ with tempfile.TemporaryDirectory() as TMP:
     r = run("check", fem_case, "--set", "fluid_fem.fluid.viscosity=0.001")
     check(r.returncode == 0 and "Reynolds number" in r.stdout and " 33.33 " in r.stdout,
           f"check of a fluid_fem case derives Re = U D / nu: {r.stdout}")
+
+    # A run that fails after it has started writing leaves an earlier output folder as it was,
+    # with --overwrite and with --append; what it wrote goes to <folder>.failed-<time>. (The
+    # fluidized bed with a fluid step 200 DEM steps long stops at its first fluid step with a
+    # Courant number above 1: a failure mid-run, after the folder was prepared.)
+    bed = os.path.join(SOURCE, "cases", "cfd_dem", "fluidized_bed", "case.yaml")
+
+    def snapshot(d):
+        out = {}
+        for root, _, files in os.walk(d):
+            for f in files:
+                p = os.path.join(root, f)
+                out[os.path.relpath(p, d)] = open(p, "rb").read()
+        return out
+
+    r = run("run", bed, "--output", "bed", "--quiet", "--threads", "1", "--steps", "20")
+    check(r.returncode == 0, f"fluidized bed, 20 steps: {r.stderr}")
+    earlier = snapshot(os.path.join(TMP, "bed"))
+    for extra in (["--overwrite"],
+                  ["--restart", os.path.join(TMP, "bed", "checkpoint_final.h5"), "--append"]):
+        r = run("run", bed, "--output", "bed", "--quiet", "--threads", "1", "--steps", "400",
+                "--set", "coupling.interval=200", *extra)
+        failed = glob.glob(os.path.join(TMP, "bed.failed-*"))
+        check(r.returncode == 1 and "Courant" in r.stderr, f"{extra[-1]}: the run fails: {r.stderr}")
+        check(snapshot(os.path.join(TMP, "bed")) == earlier,
+              f"{extra[-1]}: a failed run leaves the earlier folder as it was")
+        check(len(failed) == 1 and os.path.exists(os.path.join(failed[0], "series.csv")) and
+              "the run failed" in r.stderr and not os.path.exists(os.path.join(TMP, ".bed.grainflow-earlier")),
+              f"{extra[-1]}: its own files are kept aside and said where: {failed} {r.stderr}")
+        for f in failed:
+            subprocess.run(["rm", "-rf", f])
+    # A folder left set aside by a killed run is not run over.
+    os.mkdir(os.path.join(TMP, ".bed.grainflow-earlier"))
+    r = run("run", bed, "--output", "bed", "--quiet", "--steps", "2", "--overwrite")
+    check(r.returncode == 2 and ".bed.grainflow-earlier" in r.stderr and
+          snapshot(os.path.join(TMP, "bed")) == earlier, f"set-aside files are not lost: {r.stderr}")
+    os.rmdir(os.path.join(TMP, ".bed.grainflow-earlier"))
+    # --overwrite replaces only an output folder, and never one that holds the case file.
+    own = os.path.join(TMP, "own")
+    os.mkdir(own)
+    with open(os.path.join(own, "case.yaml"), "w") as f:
+        f.write(CASE)
+    with open(os.path.join(own, "notes.txt"), "w") as f:
+        f.write("keep")
+    r = subprocess.run([GF, "run", "case.yaml", "-o", ".", "--overwrite", "--steps", "2"], cwd=own,
+                       capture_output=True, text=True)
+    check(r.returncode == 2 and "holds the case file" in r.stderr and
+          sorted(os.listdir(own)) == ["case.yaml", "notes.txt"], f"-o . --overwrite refused: {r.stderr}")
+    r = run("run", case, "-o", "own", "--overwrite", "--steps", "2")
+    check(r.returncode == 2 and "holds no grainflow output" in r.stderr and
+          sorted(os.listdir(own)) == ["case.yaml", "notes.txt"], f"a foreign folder is refused: {r.stderr}")
+    # A damaged checkpoint is refused (HDF5's checksums), exit 2, nothing written.
+    damaged = os.path.join(TMP, "damaged.h5")
+    data = bytearray(open(os.path.join(TMP, "full", "checkpoint_000001000.h5"), "rb").read())
+    at = len(data) * 15 // 100
+    data[at:at + 4096] = b"\xff" * 4096
+    open(damaged, "wb").write(bytes(data))
+    r = run("run", case, "--output", "from_damaged", "--quiet", "--restart", damaged)
+    check(r.returncode == 2 and "--restart" in r.stderr and "damaged" in r.stderr and
+          not os.path.exists(os.path.join(TMP, "from_damaged")),
+          f"a damaged checkpoint is refused: {r.returncode} {r.stderr}")
 
 check.exit()
