@@ -304,7 +304,13 @@ void Simulation::build_particles() {
         place.kind = RadiusDistribution::Kind::Fixed;
         place.value = builder.placement_radius();
       }
-      const auto spheres = generate_fill(spec, place, rng, placed);
+      const auto spheres = [&] {
+        try {
+          return generate_fill(spec, place, rng, placed);
+        } catch (const InputError& e) {  // (the fill's own message, at the fill's place)
+          throw InputError(fmt::format("{}: {}", where(g.fill->loc), e.what()));
+        }
+      }();
       if (spheres.empty())
         throw InputError(fmt::format("{}: the fill region holds no grain of bounding radius {} m",
                                      where(g.loc), place.largest()));

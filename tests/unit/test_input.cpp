@@ -1646,3 +1646,111 @@ TEST(InputMesh, AsciiAndBinaryStlGiveTheSameSurface) {
     EXPECT_NEAR(sim.walls()[0].force.z, -9.81 * sim.particles().mass()[0], 1e-6) << file;
   }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Checks added after an audit of bad input (2026-12-03): each refused with file, line, key.
+
+namespace {
+
+/// The message of the InputError thrown by loading and validating the shipped case `rel` (under
+/// cases/) with overrides, or "" if none.
+std::string case_error(const std::string& rel, const std::vector<input::Override>& sets) {
+  try {
+    input::validate(input::load_case(fs::path(GF_SOURCE_DIR) / "cases" / rel, sets));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(InputAudit, MoreThan1e15StepsAreRefused) {
+  // (a step of 1e-320 s used to overflow the step count that check prints)
+  std::string text = minimal_case;
+  text.replace(text.find("step: 1.0e-5"), 12, "step: 1.0e-17");
+  const auto m = error_of(text);
+  EXPECT_NE(m.find("t.yaml:1:"), std::string::npos) << m;
+  EXPECT_NE(m.find("time.step"), std::string::npos) << m;
+  EXPECT_NE(m.find("more than 1e15 steps"), std::string::npos) << m;
+  text = minimal_case;
+  text.replace(text.find("step: 1.0e-5"), 12, "step: 1.0e-15");  // 1e14 steps: allowed
+  EXPECT_EQ(error_of(text), "");
+}
+
+TEST(InputAudit, OverrideErrorsNameTheOptionNotAPlaceInTheFile) {
+  const auto m = case_error("dem/terrain_settling/case.yaml", {{"time.end", "abc"}});
+  EXPECT_NE(m.find("case.yaml (--set time.end=abc): error: time.end: "), std::string::npos) << m;
+  // ... also for a key inside an overridden map; the file's own keys keep their lines.
+  const auto n =
+      case_error("dem/terrain_settling/case.yaml", {{"time", "{step: 1.0e-5, end: -1}"}});
+  EXPECT_NE(n.find("(--set time={step: 1.0e-5, end: -1}): error: time.end"), std::string::npos)
+      << n;
+  const auto k = case_error("dem/terrain_settling/case.yaml",
+                            {{"time.end", "1"}, {"output.series.every", "1.0e-9"}});
+  EXPECT_NE(k.find("output.series.every"), std::string::npos) << k;
+  EXPECT_NE(k.find("--set output.series.every=1.0e-9"), std::string::npos) << k;
+  EXPECT_EQ(k.find("--set time.end"), std::string::npos) << k;
+}
+
+TEST(InputAudit, AFluidWithoutOutletMustLetOutWhatItLetsIn) {
+  // The fluidized bed's zmax is its pressure outlet: a no-slip lid leaves the inlet's flow
+  // nowhere to go (the pressure solve used to stop at the first fluid step, exit 1).
+  const auto m =
+      case_error("cfd_dem/fluidized_bed/case.yaml", {{"fluid.boundary.zmax", "no_slip"}});
+  EXPECT_NE(m.find("case.yaml:"), std::string::npos) << m;
+  EXPECT_NE(m.find("fluid.boundary: the fluid has no pressure_outlet face"), std::string::npos)
+      << m;
+  // Inflow through zmin and the same outflow through zmax (an inlet with a negative speed)
+  // balance: accepted.
+  EXPECT_EQ(case_error("cfd_dem/fluidized_bed/case.yaml",
+                       {{"fluid.boundary.zmax", "{velocity_inlet: [0, 0, 0.03]}"},
+                        {"fluid.boundary.zmin", "{velocity_inlet: [0, 0, 0.03]}"}}),
+            "");
+}
+
+TEST(InputAudit, SweepValuesMustDifferAsTheirRunsFoldersDo) {
+  const auto m = case_error("rheology/shear_box_rods/case.yaml",
+                            {{"sweep.volume_fraction", "[0.45, 0.2, 0.45]"}});
+  EXPECT_NE(m.find("sweep.volume_fraction[2]"), std::string::npos) << m;
+  EXPECT_NE(m.find("item 0 is 0.45"), std::string::npos) << m;
+  const auto r =
+      case_error("rheology/shear_box_rods/case.yaml", {{"sweep.shear_rate", "[100, 100.0000001]"}});
+  EXPECT_NE(r.find("sweep.shear_rate[1]"), std::string::npos) << r;
+  EXPECT_EQ(case_error("rheology/shear_box_rods/case.yaml", {{"sweep.shear_rate", "[10, 100]"}}),
+            "");
+}
+
+TEST(InputAudit, AServoSpanIsTwoDifferentParallelWalls) {
+  const auto m =
+      case_error("dem2d/biaxial/case.yaml", {{"walls[3].servo.span", "[[right, right]]"}});
+  EXPECT_NE(m.find("walls[3].servo.span[0]"), std::string::npos) << m;
+  EXPECT_NE(m.find("two different walls"), std::string::npos) << m;
+  const auto n =
+      case_error("dem2d/biaxial/case.yaml", {{"walls[3].servo.span", "[[left, floor]]"}});
+  EXPECT_NE(n.find("walls[3].servo.span[0]"), std::string::npos) << n;
+  EXPECT_NE(n.find("two parallel plane walls"), std::string::npos) << n;
+  EXPECT_EQ(case_error("dem2d/biaxial/case.yaml", {}), "");
+}
+
+TEST(InputAudit, ARandomFillAskingMoreThanTheRegionHoldsIsRefused) {
+  const std::string fill = header_3d + R"(particles:
+  - radius: 0.005
+    material: glass
+    fill: {box: {min: [0, 0, 0], max: [0.1, 0.1, 0.1]}, lattice: random, count: 3000}
+)";
+  const auto m = error_of(fill);  // 3000 spheres of 5 mm: a solid fraction of 1.57
+  EXPECT_NE(m.find("t.yaml:10:"), std::string::npos) << m;
+  EXPECT_NE(m.find("particles[0].fill"), std::string::npos) << m;
+  EXPECT_NE(m.find("solid volume fraction of 1.57"), std::string::npos) << m;
+}
+
+TEST(InputAudit, AFolderIsNotACaseFile) {
+  try {
+    input::load_case(fs::path(GF_SOURCE_DIR) / "cases");
+    ADD_FAILURE() << "a folder was read as a case";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a folder, not a case file"), std::string::npos)
+        << e.what();
+  }
+}

@@ -78,6 +78,11 @@ struct Reader {
   std::vector<std::pair<std::string, config::SourceLoc>> wall_material_refs;
   std::vector<std::pair<std::string, config::SourceLoc>>
       servo_span_refs;  ///< wall names in servo spans
+  struct SpanPair {
+    std::string a, b;
+    config::SourceLoc loc;
+  };
+  std::vector<SpanPair> servo_span_pairs;  ///< the pairs themselves
 
   std::vector<std::string> material_names() const {
     std::vector<std::string> out;
@@ -143,6 +148,8 @@ struct Reader {
   void read_fluid(const YamlMap& root);
   void read_coupling(const YamlMap& root);
   void check_pairs() const;
+  /// time.end / time.step fits the step counters (InputError at `step` otherwise).
+  void check_step_count(const YamlNode& step) const;
 };
 
 void Reader::read_time(const YamlMap& root) {
@@ -160,6 +167,16 @@ void Reader::read_time(const YamlMap& root) {
   c.time.end = t.number("end", Range::positive());
   if (c.time.end < c.time.step)
     t.at("end").fail_expected(fmt::format("a number >= time.step ({})", number_text(c.time.step)));
+  check_step_count(t.at("step"));
+}
+
+void Reader::check_step_count(const YamlNode& step) const {
+  // (step counts are 64-bit integers; 1e15 steps would take years on any machine)
+  if (c.time.end / c.time.step > 1e15)
+    step.fail_expected(
+        fmt::format("a time step >= time.end / 1e15 = {} s (more than 1e15 steps "
+                    "otherwise)",
+                    number_text(c.time.end / 1e15)));
 }
 
 void Reader::read_shear(const YamlMap& root) {
@@ -182,6 +199,7 @@ void Reader::read_shear(const YamlMap& root) {
     if (c.time.end < c.time.step)
       st->fail_expected(fmt::format("a strain >= shear.rate x time.step ({})",
                                     number_text(sh.rate * c.time.step)));
+    check_step_count(YamlMap(root.at("time")).at("step"));
   }
   const auto& per = c.domain.periodic;
   if (sh.boundary == config::Shear::Boundary::Walls) {
@@ -273,6 +291,23 @@ void Reader::read_analysis(const YamlMap& root) {
   }
 }
 
+namespace {
+
+/// A sweep's runs are named by their values printed with 6 significant digits (sweep.cpp:
+/// phi_%g_rate_%g): the value just added (the list's last) must differ from the earlier ones in
+/// that form, else two runs would share a folder.
+void require_new_sweep_value(const YamlNode& item, const std::vector<double>& values) {
+  const std::string name = fmt::format("{:g}", values.back());
+  for (std::size_t k = 0; k + 1 < values.size(); ++k)
+    if (fmt::format("{:g}", values[k]) == name)
+      item.fail_expected(fmt::format(
+          "a value not in the list before (item {} is {}; the runs are named by their values to "
+          "6 digits)",
+          k, number_text(values[k])));
+}
+
+}  // namespace
+
 void Reader::read_sweep(const YamlMap& root) {
   auto sn = root.find("sweep");
   if (!sn) return;
@@ -290,12 +325,16 @@ void Reader::read_sweep(const YamlMap& root) {
           fmt::format("a volume-fraction sweep needs exactly one fill with volume_fraction, "
                       "found {}",
                       fills));
-    for (const auto& item : v->as_list(1))
+    for (const auto& item : v->as_list(1)) {
       sw.volume_fractions.push_back(item.as_number(Range{0.0, 0.74, true, false}));
+      require_new_sweep_value(item, sw.volume_fractions);
+    }
   }
   if (auto v = sm.find("shear_rate"))
-    for (const auto& item : v->as_list(1))
+    for (const auto& item : v->as_list(1)) {
       sw.shear_rates.push_back(item.as_number(Range::positive()));
+      require_new_sweep_value(item, sw.shear_rates);
+    }
   if (sw.volume_fractions.empty() && sw.shear_rates.empty())
     sn->fail("a sweep needs a list volume_fraction: [...] or shear_rate: [...] (or both)");
   if (auto pn = sm.find("processes")) sw.processes = static_cast<int>(pn->as_integer({1, 1024}));
@@ -374,6 +413,28 @@ void Reader::read_fluid(const YamlMap& root) {
                                        "xyz"[face / 2], faces[face]));
       f.boundary[face] = b;
     }
+    // Incompressible: without a pressure outlet, what the inlets push in has nowhere to go (the
+    // pressure solve would stop at the first fluid step). Flux in through each inlet: its
+    // velocity's component along the face's inward normal times the face's area.
+    bool outlet = false;
+    double net = 0.0, scale = 0.0;
+    const Vec3 size = c.domain.max - c.domain.min;
+    for (int face = 0; face < 6; ++face) {
+      const auto& b = f.boundary[face];
+      outlet = outlet || b.kind == config::FluidBoundary::Kind::PressureOutlet;
+      if (b.kind != config::FluidBoundary::Kind::VelocityInlet) continue;
+      const int a = face / 2;
+      const double area = size[(a + 1) % 3] * size[(a + 2) % 3];
+      const double flux = (face % 2 == 0 ? 1.0 : -1.0) * b.velocity[a] * area;
+      net += flux;
+      scale += std::abs(flux);
+    }
+    if (!outlet && std::abs(net) > 1e-12 * scale)
+      bn->fail(fmt::format(
+          "the fluid has no pressure_outlet face, so the velocity inlets must let in as much as "
+          "they let out, but they give a net inflow of {:.4g} m^3/s: make a face "
+          "{{pressure_outlet: p}}",
+          net));
   }
   if (c.shear && c.shear->boundary == config::Shear::Boundary::LeesEdwards)
     fn->fail(
@@ -1396,6 +1457,9 @@ void Reader::read_walls(const YamlMap& root) {
       for (const auto& pr : pairs) {
         const auto pair = pr.as_list(2);
         if (pair.size() != 2) pr.fail_expected("a pair of wall names [a, b]");
+        if (pair[0].as_string() == pair[1].as_string())
+          pr.fail_expected("two different walls [a, b] (the span is the distance between them)");
+        servo_span_pairs.push_back({pair[0].as_string(), pair[1].as_string(), pr.loc()});
         servo.spans.push_back({pair[0].as_string(), pair[1].as_string()});
         servo_span_refs.push_back({pair[0].as_string(), pair[0].loc()});
         servo_span_refs.push_back({pair[1].as_string(), pair[1].loc()});
@@ -1412,6 +1476,19 @@ void Reader::read_walls(const YamlMap& root) {
       throw_input_error(loc, fmt::format("expected the name of a plane wall of this case, found "
                                          "'{}'",
                                          name));
+  }
+  // ... and parallel ones: the span is the distance between two parallel planes.
+  for (const auto& [a, b, loc] : servo_span_pairs) {
+    auto normal = [&](const std::string& name) {
+      return std::find_if(c.walls.begin(), c.walls.end(),
+                          [&](const config::Wall& w) { return w.name == name; })
+          ->normal;
+    };
+    const Vec3 na = normal(a), nb = normal(b);
+    if (norm(cross(na, nb)) > 1e-9 * norm(na) * norm(nb))
+      throw_input_error(loc, fmt::format("expected two parallel plane walls, found '{}' (normal "
+                                         "[{}, {}, {}]) and '{}' (normal [{}, {}, {}])",
+                                         a, na.x, na.y, na.z, b, nb.x, nb.y, nb.z));
   }
 }
 
@@ -1583,7 +1660,7 @@ void Reader::check_pairs() const {
 config::Case parse(const YamlNode& root, const fs::path& file) {
   config::Case c;
   c.file = file;
-  Reader r{file.parent_path(), c, {}, {}, {}, {}};
+  Reader r{file.parent_path(), c, {}, {}, {}, {}, {}};
   YamlMap rm(root, {"name", "dimension", "time", "domain", "gravity", "integrator", "materials",
                     "contacts", "particles", "walls", "output", "neighbor", "shear", "analysis",
                     "sweep", "fluid", "coupling"});
@@ -1738,6 +1815,7 @@ void apply_overrides(const YAML::Node& root, const std::vector<Override>& overri
               for (const char* other : group)
                 if (other != key && node[other]) node.remove(other);
           node[key] = value_node(o);
+          note_override(o.path, fmt::format("{}={}", o.path, o.value));
           break;
         }
         if (!node[key]) node[key] = YAML::Node(YAML::NodeType::Map);
@@ -1762,6 +1840,7 @@ void apply_overrides(const YAML::Node& root, const std::vector<Override>& overri
         done += fmt::format("[{}]", i);
         if (rest.empty() && idx.empty()) {
           node[static_cast<std::size_t>(i)] = value_node(o);
+          note_override(o.path, fmt::format("{}={}", o.path, o.value));
           break;
         }
         YAML::Node child = node[static_cast<std::size_t>(i)];

@@ -798,6 +798,11 @@ void Validator::estimate_counts() {
             fmt::format("particles[{}]: solid {} fraction asked of the random fill", g,
                         dim_ == 2 ? "area" : "volume"),
             fmt::format("{:.3f}", fraction));
+        if (fraction >= 1.0)
+          throw_input_error(at(f.loc, fmt::format("particles[{}].fill", g)),
+                            fmt::format("expected grains that fit in the region without "
+                                        "overlapping, found a solid {} fraction of {:.3g} asked",
+                                        dim_ == 2 ? "area" : "volume", fraction));
         if (fraction > usual)
           report_.warnings.push_back(
               fmt::format("particles[{}]: a random fill rarely exceeds a solid fraction of about "

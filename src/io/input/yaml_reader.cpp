@@ -16,14 +16,35 @@ namespace gf::input {
 
 namespace {
 
+/// The overrides (--set) applied to the document being read: key path and "path=value" text.
+/// Cleared when a document is parsed, filled by note_override.
+thread_local std::vector<std::pair<std::string, std::string>> g_overrides;
+
+/// The override that gave the node at `path`, if any: its own key or a key inside its value.
+const std::string* override_at(const std::string& path) {
+  for (const auto& [p, text] : g_overrides)
+    if (path == p || (path.size() > p.size() && path.compare(0, p.size(), p) == 0 &&
+                      (path[p.size()] == '.' || path[p.size()] == '[')))
+      return &text;
+  return nullptr;
+}
+
 config::SourceLoc make_loc(const std::string& file, const YAML::Mark& m, const std::string& path) {
   config::SourceLoc loc;
   loc.file = file;
+  loc.key_path = path;
+  // A value given by --set was parsed from its own one-line text, so its positions are in that
+  // line (0): it is named by the option instead of a place in the file. (Under an overridden
+  // key no node of the file is left.)
+  if (!m.is_null() && m.line == 0)
+    if (const std::string* text = override_at(path)) {
+      loc.file = fmt::format("{} (--set {})", file, *text);
+      return loc;
+    }
   if (!m.is_null() && m.line >= 0) {
     loc.line = m.line + 1;
     loc.column = m.column + 1;
   }
-  loc.key_path = path;
   return loc;
 }
 
@@ -143,18 +164,24 @@ YamlNode::YamlNode(YAML::Node node, std::string path, std::shared_ptr<const std:
 
 YamlNode YamlNode::parse_file(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
-  if (!in) {
+  if (!in || std::filesystem::is_directory(file)) {
     config::SourceLoc loc;
     loc.file = file.string();
-    throw_input_error(
-        loc, std::filesystem::exists(file) ? "cannot read the case file" : "case file not found");
+    throw_input_error(loc, std::filesystem::is_directory(file) ? "a folder, not a case file"
+                           : std::filesystem::exists(file)     ? "cannot read the case file"
+                                                               : "case file not found");
   }
   std::ostringstream s;
   s << in.rdbuf();
   return parse_text(s.str(), file.string());
 }
 
+void note_override(std::string path, std::string text) {
+  g_overrides.emplace_back(std::move(path), std::move(text));
+}
+
 YamlNode YamlNode::parse_text(const std::string& text, const std::string& file_label) {
+  g_overrides.clear();
   auto file = std::make_shared<const std::string>(file_label);
   std::vector<YAML::Node> docs;
   try {

@@ -25,6 +25,11 @@
 
 namespace gf::input {
 
+/// Records that an override (--set `text`, "path=value") replaced the value at key path `path`
+/// of the document parsed last: errors at it, or inside it, then name the option, not a place
+/// in the file (whose positions the value does not have). Forgotten at the next parse.
+void note_override(std::string path, std::string text);
+
 /// "FILE:LINE:COLUMN: error: KEY.PATH: MESSAGE"; LINE / COLUMN / KEY.PATH are left out when
 /// unknown.
 std::string format_error(const config::SourceLoc& loc, std::string_view message);
