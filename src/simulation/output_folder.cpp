@@ -98,12 +98,24 @@ bool check_output_dir(const fs::path& dir, bool overwrite, const fs::path& case_
   return true;
 }
 
+/// Creates the folder; one that cannot be made (a path under a file, a read-only or special
+/// file system) is the user's bad --output: InputError, exit status 2.
+void create_output_dir(const fs::path& dir) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec)
+    throw InputError(
+        fmt::format("output folder '{}' cannot be created: {}; choose another with "
+                    "--output",
+                    dir.string(), ec.message()));
+}
+
 }  // namespace
 
 void prepare_output_dir(const fs::path& dir, bool overwrite, const fs::path& case_file) {
   if (check_output_dir(dir, overwrite, case_file))
     for (const auto& e : fs::directory_iterator(dir)) fs::remove_all(e.path());
-  fs::create_directories(dir);
+  create_output_dir(dir);
 }
 
 OutputFolder::OutputFolder(const fs::path& dir, const RunOptions& opts) : dir_(dir) {
@@ -119,7 +131,7 @@ OutputFolder::OutputFolder(const fs::path& dir, const RunOptions& opts) : dir_(d
   }
   if (!opts.append) check_output_dir(dir, opts.overwrite, opts.case_file);
   if (!keep) {
-    if (!opts.append) fs::create_directories(dir);
+    if (!opts.append) create_output_dir(dir);
     return;
   }
   std::vector<fs::path> moved;

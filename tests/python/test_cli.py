@@ -345,6 +345,9 @@ with tempfile.TemporaryDirectory() as TMP:
     r = run("run", case, "-o", "own", "--overwrite", "--steps", "2")
     check(r.returncode == 2 and "holds no grainflow output" in r.stderr and
           sorted(os.listdir(own)) == ["case.yaml", "notes.txt"], f"a foreign folder is refused: {r.stderr}")
+    # An output folder that cannot be made is bad input too.
+    r = run("run", case, "--output", "/proc/grainflow_cannot_be_here", "--quiet", "--steps", "2")
+    check(r.returncode == 2 and "cannot be created" in r.stderr, f"an impossible --output: {r.stderr}")
     # A damaged checkpoint is refused (HDF5's checksums), exit 2, nothing written.
     damaged = os.path.join(TMP, "damaged.h5")
     data = bytearray(open(os.path.join(TMP, "full", "checkpoint_000001000.h5"), "rb").read())
