@@ -196,6 +196,23 @@ TEST(TwoFluidInput, ErrorsNameLineKeyAndExpectation) {
 // A run writes its series, ParaView series, summary and checkpoints; a run continued from a
 // checkpoint (in a fresh folder, and appended in the first run's folder) ends in the same state,
 // bit for bit, and the appended series equals the straight one.
+TEST(TwoFluidInput, InletsWithoutAnOutletAreRefused) {
+  // The gas pushed in has nowhere to go: the pressure solve used to stop at the first step
+  // (exit 1) after `check` had passed.
+  const auto m = error_of(replaced(kCase, "y_max: {type: outlet}", "y_max: {type: wall}"));
+  EXPECT_THAT(m, HasSubstr("case.yaml:14:"));  // (the block's first face)
+  EXPECT_THAT(m, HasSubstr("two_fluid.boundaries: no face is an outlet"));
+  EXPECT_THAT(m, HasSubstr("push in"));
+  // A jet alone counts too (base velocity 0), and an inlet drawing out at the top balancing the
+  // bottom's inflow is accepted (whether it balances is the case's own business).
+  EXPECT_THAT(error_of(replaced(replaced(kCase, "y_max: {type: outlet}", "y_max: {type: wall}"),
+                                "velocity: [0, 0.4], jet", "velocity: [0, 0], jet")),
+              HasSubstr("push in"));
+  EXPECT_EQ(error_of(replaced(kCase, "y_max: {type: outlet}",
+                              "y_max: {type: inlet, velocity: [0, 0.4]}")),
+            "");
+}
+
 TEST(TwoFluidCase, RunsAndContinuesBitIdentically) {
   test::TempDir tmp;
   const auto c = parse_text(kCase);

@@ -231,6 +231,29 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
             fluid::BoundaryCondition::pressure_outlet(fm.number_or("pressure", 0.0));
       }
     }
+    // Incompressible gas: without an outlet the inlets must not all push in (or all draw
+    // out), or the pressure solve stops at the first step. (Whether inlets of both senses
+    // balance depends on the fluid fraction at interstitial ones: not judged here.)
+    bool outlet = false, in = false, out = false;
+    for (int f = 0; f < 2 * dim; ++f) {
+      const auto& bc = s.fluid.boundary[f];
+      if (bc.kind == fluid::BcKind::PressureOutlet) outlet = true;
+      if (bc.kind != fluid::BcKind::VelocityInlet) continue;
+      const double sign = f % 2 == 0 ? 1.0 : -1.0;  // inward normal along the face's axis
+      auto sense = [&](double normal_velocity) {
+        in = in || sign * normal_velocity > 0;
+        out = out || sign * normal_velocity < 0;
+      };
+      // (a profile: its value at the face's two ends, away from a jet in its middle)
+      for (const Vec3& at : {lo, hi}) sense((bc.profile ? bc.profile(at) : bc.velocity)[f / 2]);
+      for (const auto& jet : c.jets)
+        if (jet.face == f) sense(jet.velocity[f / 2]);
+    }
+    if (!outlet && in != out)
+      bn->fail(
+          fmt::format("no face is an outlet (type: outlet), so the gas the inlets {} has "
+                      "nowhere to {}",
+                      in ? "push in" : "draw out", in ? "go" : "come from"));
     for (int a = 0; a < dim; ++a) {
       const bool p0 = s.fluid.boundary[2 * a].kind == fluid::BcKind::Periodic;
       const bool p1 = s.fluid.boundary[2 * a + 1].kind == fluid::BcKind::Periodic;
