@@ -72,6 +72,10 @@ int list_models() {
 }
 
 void print_params(std::span<const gf::ParamSpec> params) {
+  if (params.empty()) {
+    fmt::print("  (none)\n");
+    return;
+  }
   fmt::print("  {:<28} {:<6} {:<10} {:<16} {}\n", "name", "unit", "default", "range", "meaning");
   for (const auto& p : params)
     fmt::print("  {:<28} {:<6} {:<10} {:<16} {}\n", p.name, p.unit,
@@ -127,10 +131,7 @@ int describe(const std::string& key) {
       next();
       fmt::print("{} — {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nparameters ({}):\n", k->key,
                  k->summary, k->equation, k->reference, kind);
-      if (k->params.empty())
-        fmt::print("  (none)\n");
-      else
-        print_params(k->params);
+      print_params(k->params);
     }
   if (const auto* d = gf::cfd_dem::find_drag(key)) {
     next();
@@ -138,10 +139,7 @@ int describe(const std::string& key) {
         "{} — drag law: {}\n\nequation:\n  {}\n\nreference:\n  {}\n\nvalidity:\n  {}\n\n"
         "parameters (in coupling.drag):\n",
         d->key, d->summary, d->equation, d->reference, d->validity);
-    if (d->params.empty())
-      fmt::print("  (none)\n");
-    else
-      print_params(d->params);
+    print_params(d->params);
   }
   if (const auto* m = gf::contact::find_model(key)) {
     next();
