@@ -22,8 +22,8 @@ namespace {
 
 /// Files that every kind of run writes into its folder at its start or end (DEM, CFD-DEM and
 /// rheology runs, SPH, two-fluid, fluid_fem, the sweep runner's table).
-constexpr std::array kRunFiles = {"resolved_case.yaml", "summary.json", "sweep.csv",
-                                  "fem_forces.csv", "fem_summary.txt"};
+constexpr std::array kRunFiles = {"resolved_case.yaml", "summary.json",   "sweep.csv",
+                                  "sweep_plan.txt",     "fem_forces.csv", "fem_summary.txt"};
 
 bool holds_run_file(const fs::path& dir) {
   for (const char* f : kRunFiles)

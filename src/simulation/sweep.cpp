@@ -26,6 +26,7 @@
 #include "core/files.hpp"
 #include "core/log.hpp"
 #include "core/stop.hpp"
+#include "io/input/echo.hpp"
 #include "io/input/validate.hpp"
 #include "simulation/rheology_output.hpp"
 #include "simulation/simulation.hpp"
@@ -100,6 +101,69 @@ std::optional<fs::path> newest_checkpoint(const fs::path& dir) {
       best = e.path();
   }
   return best;
+}
+
+/// The plan of a sweep, as lines: its runs, then the resolved case (with the --set overrides)
+/// that every run starts from, without comment lines (which name the program version and file).
+/// `--continue` carries on a sweep only if its plan is this one's.
+std::vector<std::string> sweep_plan(const config::Case& c, const std::vector<SweepPoint>& points) {
+  std::vector<std::string> lines{
+      "# grainflow sweep plan: `grainflow sweep --continue` carries on "
+      "only the sweep this file describes"};
+  std::string runs = "runs:";
+  for (const auto& p : points) runs += " " + p.name;
+  lines.push_back(runs);
+  lines.emplace_back("case:");
+  std::istringstream echo(input::echo_yaml(c, ""));
+  for (std::string l; std::getline(echo, l);)
+    if (!l.empty() && l.front() != '#') lines.push_back("  " + l);
+  return lines;
+}
+
+constexpr const char* kPlanFile = "sweep_plan.txt";
+
+/// Refuses to continue the sweep in `dir` when its plan (written when it started) differs from
+/// `plan`: its table would mix two sweeps, or drop the runs of the first. Names the first
+/// difference. A folder of a build before the plan file gets it now, with a warning.
+void check_sweep_plan(const fs::path& dir, const std::vector<std::string>& plan) {
+  const fs::path file = dir / kPlanFile;
+  if (!fs::exists(file)) {
+    log::warn(
+        "sweep --continue: '{}' has no {} (a sweep of an earlier build): it is not checked that "
+        "its runs and case are this sweep's",
+        dir.string(), kPlanFile);
+    return;
+  }
+  std::vector<std::string> had;
+  std::istringstream in(read_text_file(file));
+  for (std::string l; std::getline(in, l);) had.push_back(l);
+  const auto differ = std::mismatch(plan.begin(), plan.end(), had.begin(), had.end());
+  if (differ.first == plan.end() && differ.second == had.end()) return;
+  // A differing line with the lines it sits under (smaller indentation), e.g.
+  // "contacts: > - between: [rod, rod] > restitution: 0.7".
+  auto with_parents = [](const std::vector<std::string>& lines, std::size_t i) {
+    if (i >= lines.size()) return std::string("(nothing)");
+    auto indent = [](const std::string& l) { return l.find_first_not_of(' '); };
+    std::string out = lines[i].substr(std::min(indent(lines[i]), lines[i].size()));
+    for (std::size_t k = i, level = indent(lines[i]); k-- > 0 && level > 2;)
+      if (indent(lines[k]) < level) {
+        level = indent(lines[k]);
+        out = lines[k].substr(level) + " > " + out;
+      }
+    return out;
+  };
+  const std::string now = with_parents(plan, differ.first - plan.begin());
+  const std::string then = with_parents(had, differ.second - had.begin());
+  const bool runs = now.starts_with("runs:") || then.starts_with("runs:");
+  throw InputError(fmt::format(
+      "sweep --continue: '{}' holds another sweep; continuing it would {} ({}, line {}):\n"
+      "  that sweep: {}\n  this one:   {}\n"
+      "continue it with the case and --set values it started with, or start this sweep in "
+      "another folder (-o)",
+      dir.string(),
+      runs ? "leave runs of the two out of one table or mix them"
+           : "mix runs of two different cases in one table",
+      file.string(), (differ.second - had.begin()) + 1, then, now));
 }
 
 }  // namespace
@@ -267,14 +331,19 @@ int run_sweep(const fs::path& case_file, const config::Case& c, const SweepOptio
   // Every run's case is valid before the first one starts (warnings are each run's own, in its
   // log).
   check_sweep_points(case_file, c, opts.overrides);
+  const auto plan = sweep_plan(c, points);
   const fs::path dir = opts.output.empty() ? c.output.directory : opts.output;
   if (opts.resume) {
     if (opts.overwrite) throw InputError("sweep: --continue and --overwrite exclude each other");
     if (!fs::is_directory(dir))
       throw InputError(fmt::format("sweep --continue: no sweep folder '{}'", dir.string()));
+    check_sweep_plan(dir, plan);
   } else {
     prepare_output_dir(dir, opts.overwrite);
   }
+  write_atomically(dir / kPlanFile, [&](std::ostream& o) {
+    for (const auto& l : plan) o << l << "\n";
+  });
   int procs = opts.processes > 0 ? opts.processes : c.sweep->processes;
   if (procs <= 0) procs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   log::info("sweep: {} runs, {} at a time, output in '{}'", points.size(), procs, dir.string());

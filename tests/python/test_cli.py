@@ -204,6 +204,17 @@ with tempfile.TemporaryDirectory() as TMP:
                         "--set", "sweep.shear_rate=[100]"], cwd=TMP, capture_output=True, text=True)
     check(r.returncode == 0 and r.stderr.count("finished before; kept") == 3,
           f"a finished sweep continued again runs nothing: {r.stderr}")
+    # ... but --continue with other lists or another case would drop runs from the table or mix
+    # two sweeps in it: refused (exit 2) naming the difference, the table left as it was.
+    table_before = open(os.path.join(TMP, "sweep", "sweep.csv")).read()
+    for sets, what in ((["sweep.volume_fraction=[0.1, 0.3]", "sweep.shear_rate=[100]"], "runs: "),
+                       (["sweep.volume_fraction=[0.1,0.2,0.3]", "sweep.shear_rate=[100]",
+                         "contacts[0].friction=0.3"], "friction: 0.3")):
+        r = subprocess.run([GF, "sweep", rods, "-o", "sweep", "--no-plots", "--continue"] +
+                           [a for s in sets for a in ("--set", s)], cwd=TMP, capture_output=True, text=True)
+        check(r.returncode == 2 and "holds another sweep" in r.stderr and what in r.stderr and
+              open(os.path.join(TMP, "sweep", "sweep.csv")).read() == table_before,
+              f"sweep --continue of another sweep is refused ({what}): {r.returncode} {r.stderr}")
 
     # A sweep killed outright (SIGKILL: no chance to pass anything on) does not leave its runs
     # going on alone: the kernel signals each one, and it stops with its outputs and a
