@@ -1026,10 +1026,11 @@ TwoFluidReport TwoFluidModel::advance(double dt, int depth) {
   report.momentum_iterations = solids_predictor(dt);
   report.solids_courant = dt * max_outflow_rate(ustar_);
   if (report.solids_courant > s_.max_courant) {
-    REQUIRE(depth < 20,
-            "two-fluid model: solids Courant number {:.3g} at t = {:.6g} s even with a step of "
-            "{} s (solids velocity diverges)",
-            report.solids_courant, time_, dt);
+    if (depth >= 20)  // a run's stop, not a program error: no source location
+      throw Error(fmt::format(
+          "two-fluid model: solids Courant number {:.3g} at t = {:.6g} s even with a step of "
+          "{} s (solids velocity diverges)",
+          report.solids_courant, time_, dt));
     TwoFluidReport first = advance(0.5 * dt, depth + 1);
     const TwoFluidReport second = advance(0.5 * dt, depth + 1);
     first.momentum_iterations += second.momentum_iterations;

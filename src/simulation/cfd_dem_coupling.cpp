@@ -127,6 +127,22 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
 }
 
 void CfdDemCoupling::fluid_step(ParticleStore& particles) {
+  // The fluid's convection is explicit: a step above its Courant limit is a run that has to
+  // stop, said in the case's terms (the fluid step is coupling.interval DEM steps), before any
+  // state changes (a NaN Courant number too).
+  if (const double courant = fluid_->max_cfl(dt_fluid_);
+      !(courant <= fluid_->settings().max_courant)) {
+    if (!std::isfinite(courant))
+      throw Error("CFD-DEM: the fluid velocity is not finite: the coupled run has diverged");
+    const auto most = static_cast<long long>(static_cast<double>(interval_) *
+                                             fluid_->settings().max_courant / courant);
+    throw Error(fmt::format(
+        "CFD-DEM: the fluid step of {:g} s (coupling.interval = {} DEM steps) gives a Courant "
+        "number {:.3g} above {} (the fluid's convection is explicit): {}",
+        dt_fluid_, interval_, courant, fluid_->settings().max_courant,
+        most >= 1 ? fmt::format("lower coupling.interval to {} or less", most)
+                  : std::string("lower time.step")));
+  }
   const auto t0 = Clock::now();
   const cfd_dem::ParticleGeometry geo = cfd_dem::geometry_of(particles, geo_buffers_);
   const std::size_t n = geo.size();

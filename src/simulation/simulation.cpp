@@ -873,7 +873,15 @@ void Simulation::step(bool defer_kick) {
   }
   // The next fluid step, from the grains at the end of this step (the fluid leads the DEM by
   // one interval: explicit sub-cycling, docs/models/cfd_dem.md).
-  if (cfd_ && cfd_->due(step_)) cfd_->fluid_step(particles_);
+  if (cfd_ && cfd_->due(step_)) {
+    try {
+      cfd_->fluid_step(particles_);
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      throw Error(fmt::format("at t = {:.6g} s (step {}): {}", time(), step_, e.what()));
+    }
+  }
 }
 
 bool Simulation::write_contacts_csv(const std::filesystem::path& dir) const {

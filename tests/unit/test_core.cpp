@@ -5,6 +5,7 @@
 #include <csignal>
 
 #include "core/domain.hpp"
+#include "core/error.hpp"
 #include "core/registry.hpp"
 #include "core/stop.hpp"
 #include "core/vec3.hpp"
@@ -15,6 +16,19 @@ TEST(Vec3, CrossAndDot) {
   const Vec3 a{1, 0, 0}, b{0, 1, 0};
   EXPECT_EQ(cross(a, b), (Vec3{0, 0, 1}));
   EXPECT_DOUBLE_EQ(dot(a + b, a + b), 2.0);
+}
+
+// A failed REQUIRE names its check and its source file relative to the project, not the path
+// of the machine the program was built on.
+TEST(Require, NamesTheCheckAndTheSourceFileInTheProject) {
+  const int n = 3;
+  try {
+    REQUIRE(n < 2, "n is {}", n);
+    FAIL() << "REQUIRE did not throw";
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind("n is 3 (check 'n < 2' failed at tests/unit/test_core.cpp:", 0), 0u) << m;
+  }
 }
 
 TEST(Domain, MinimumImageAndWrap) {

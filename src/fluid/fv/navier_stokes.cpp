@@ -981,10 +981,12 @@ void VolumeAveragedNS::restore(const State& st) {
 StepReport VolumeAveragedNS::step(double dt) {
   REQUIRE(dt > 0.0 && std::isfinite(dt), "fluid: time step must be positive, got {} s", dt);
   const double courant = max_cfl(dt);
-  REQUIRE(courant <= s_.max_courant,
-          "fluid: dt = {} s gives a Courant number {:.3g} above max_courant = {} (convection is "
-          "explicit); use dt <= {:.3g} s",
-          dt, courant, s_.max_courant, dt * s_.max_courant / courant);
+  // A run's stop (NaN included), not a program error: no source location.
+  if (!(courant <= s_.max_courant))
+    throw Error(fmt::format(
+        "fluid: dt = {} s gives a Courant number {:.3g} above max_courant = {} (convection is "
+        "explicit); use dt <= {:.3g} s",
+        dt, courant, s_.max_courant, dt * s_.max_courant / courant));
   refresh_boundary_faces(u_);
   // BDF1 / variable-step BDF2: du/dt ~ (c0 u^{n+1} - c1 u^n + c2 u^{n-1}) / dt, convection
   // extrapolated to t^{n+1} as e1 C^n + e2 C^{n-1}.
