@@ -359,12 +359,19 @@ NewtonReport NavierStokes::newton(const NewtonOptions& opt) {
     for (int i = 0; i < n_dofs_; ++i) rhs[i] = -residual_[i];
     lu_.solve(rhs.data(), dx.data());
     double du = 0, umax = 0;
-    for (int i = 0; i < n_dofs_; ++i) x_[i] += dx[i];
+    bool finite = true;
+    for (int i = 0; i < n_dofs_; ++i) {
+      x_[i] += dx[i];
+      finite = finite && std::isfinite(x_[i]);
+    }
     for (int i = 0; i < 2 * n2_; ++i) {
       du = std::max(du, std::abs(dx[i]));
       umax = std::max(umax, std::abs(x_[i]));
     }
-    const double update = du / std::max(umax, 1e-300);
+    // (std::max passes over NaN: an iterate of NaN velocities had an update of 0 and counted as
+    // converged; any non-finite unknown, pressures included, fails the iteration)
+    const double update =
+        finite ? du / std::max(umax, 1e-300) : std::numeric_limits<double>::quiet_NaN();
     rep.iterations = it + 1;
     rep.last_update = update;
     if (!std::isfinite(update)) break;
@@ -757,7 +764,13 @@ NewtonReport solve_steady_nested(NavierStokes& ns, const NewtonOptions& opt, dou
   coarse_pb.spec.h_max *= coarsen;
   coarse_pb.spec.h_body *= coarsen;
   for (auto& b : coarse_pb.spec.boxes) b.h *= coarsen;
-  coarse_pb.mesh = build_mesh(coarse_pb.spec);
+  // The coarse mesh only gives a first guess: where the geometry cannot be meshed that coarsely
+  // (a gap that its curved cells would fold over), Newton starts from the given state instead.
+  try {
+    coarse_pb.mesh = build_mesh(coarse_pb.spec);
+  } catch (const Error&) {
+    return ns.solve_steady(opt);
+  }
   NavierStokes coarse(std::move(coarse_pb));
   coarse.set_time(ns.time());
   NewtonOptions co = opt;

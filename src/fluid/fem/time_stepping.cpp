@@ -2,6 +2,8 @@
 // Fixed / adaptive BDF time loop with step rejection on Newton failure or error estimate.
 #include "fluid/fem/time_stepping.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -24,6 +26,12 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
   int order = tc.variable_order ? 1 : tc.order;  // the order aimed at
   int same_order_steps = 0, error_rejections = 0;
   const double dt_config = dt;
+  // The smallest step a failed Newton solve may be retried with: time.adaptive.dt_min, and for
+  // fixed steps five quarterings of the step asked for (1/1024 of it). Fixed steps cut to get
+  // past a hard stretch grow back to the step asked for (x2, x1.5 at BDF3, per accepted step, as
+  // the adaptive control does); they used to stay cut for the rest of the run, down to 1e-9 s,
+  // so that a run that could not take its step crawled on instead of failing.
+  const double dt_floor = tc.adaptive ? tc.dt_min : std::max(tc.dt_min, dt_config / 1024.0);
   if (loop && loop->dt > 0) {  // continue a run (checkpoint)
     // The controller's step, unless the case now asks for another initial / fixed step.
     if (loop->dt_config == dt_config) dt = loop->dt;
@@ -54,7 +62,15 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
       ns.reject_step();
       ++st.rejected;
       dt = 0.25 * h;
-      REQUIRE(dt >= tc.dt_min, "Newton failed at t = {} s even with step {} s", t, h);
+      if (dt < dt_floor)
+        throw StepFailure(fmt::format(
+            "Newton's method failed on the step from t = {} s even with the step cut to {:.3g} s "
+            "(the smallest step allowed is {:.3g} s): {}",
+            t, h, dt_floor,
+            std::isfinite(r.newton.last_update)
+                ? fmt::format("no convergence in {} iterations (last relative update {:.3g})",
+                              r.newton.iterations, r.newton.last_update)
+                : std::string("the velocity or pressure became non-finite")));
       continue;
     }
     double fac = factor(r.error, k);
@@ -67,7 +83,11 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
         error_rejections = 0;
       }
       dt = h * std::max(0.2, fac);
-      REQUIRE(dt >= tc.dt_min, "step size {} s below dt_min at t = {} s", dt, t);
+      if (dt < tc.dt_min)
+        throw StepFailure(
+            fmt::format("the error estimate asks for a step of {:.3g} s from t = {} s, below "
+                        "time.adaptive.dt_min = {:.3g} s",
+                        dt, t, tc.dt_min));
       continue;
     }
     error_rejections = 0;
@@ -92,7 +112,10 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
     }
     // Step growth bounded for zero-stability of variable-step BDF: ratios below 1 + sqrt(2)
     // for BDF2, about 1.5 for BDF3 (Calvo, Grande & Grigorieff, Numer. Math. 57, 1990).
-    if (tc.adaptive) dt = std::min(tc.dt_max, h * std::clamp(fac, 0.2, order >= 3 ? 1.5 : 2.0));
+    if (tc.adaptive)
+      dt = std::min(tc.dt_max, h * std::clamp(fac, 0.2, order >= 3 ? 1.5 : 2.0));
+    else if (dt < dt_config)
+      dt = std::min(dt_config, dt * (order >= 3 ? 1.5 : 2.0));
     keep_state();  // the observer may checkpoint: the controller is ready for the next step
     if (observe) observe(ns, h);
   }

@@ -22,6 +22,7 @@
 #include <functional>
 #include <limits>
 
+#include "core/error.hpp"
 #include "fluid/fem/navier_stokes.hpp"
 
 namespace gf::fem {
@@ -53,8 +54,18 @@ struct TimeLoopState {
   int same_order_steps = 0, error_rejections = 0;
 };
 
+/// The time loop cannot go on: Newton's method failed (its iterate not finite, or not
+/// converging) or the error estimate stayed too large even at the smallest step allowed
+/// (TimeControl::dt_min). The solver is left at the last accepted step.
+class StepFailure : public Error {
+ public:
+  using Error::Error;
+};
+
 /// Integrates from ns.time() to tc.t_end; calls observe after every accepted step (when *loop,
-/// if given, already holds the controller's choice for the next step). Ends early,
+/// if given, already holds the controller's choice for the next step); a step whose Newton solve
+/// fails is retried with a quarter of the step, down to tc.dt_min (fixed steps: also at least
+/// 1/1024 of tc.dt; they grow back to tc.dt after), else StepFailure is thrown. Ends early,
 /// after a step, when SIGINT / SIGTERM asked the program to stop (TimeStats::stop_signal).
 /// With `loop`, the controller starts from *loop (unless its dt is 0) and leaves its state there.
 TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions& opt,
