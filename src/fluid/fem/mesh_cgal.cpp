@@ -15,6 +15,7 @@
 
 #include "core/error.hpp"
 #include "fluid/fem/mesh.hpp"
+#include "fluid/fem/p2_element.hpp"
 
 namespace gf::fem {
 
@@ -54,6 +55,38 @@ double dist_to_body(const BodyShape& b, Vec2 p) {
   for (std::size_t i = 0; i < n; ++i)
     d = std::min(d, dist_to_segment(p, b.vertices[i], b.vertices[(i + 1) % n]));
   return d;
+}
+
+/// A point strictly inside a simple polygon (either orientation), also a thin or non-convex
+/// one: at the leftmost vertex v (a convex one) with neighbours a and b, the centroid of the
+/// triangle a v b when no other vertex lies in it, else the midpoint of v and the vertex in it
+/// farthest from the line ab (the segment between them is a diagonal of the polygon).
+Vec2 interior_point(const std::vector<Vec2>& poly) {
+  const std::size_t n = poly.size();
+  std::size_t iv = 0;
+  for (std::size_t i = 1; i < n; ++i)
+    if (poly[i].x < poly[iv].x || (poly[i].x == poly[iv].x && poly[i].y < poly[iv].y)) iv = i;
+  const std::size_t ia = (iv + n - 1) % n, ib = (iv + 1) % n;
+  const Vec2 a = poly[ia], v = poly[iv], b = poly[ib];
+  auto side = [](Vec2 o, Vec2 p, Vec2 q) {
+    return (p.x - o.x) * (q.y - o.y) - (p.y - o.y) * (q.x - o.x);
+  };
+  const double turn = side(a, v, b);  // the sign of the triangle a v b
+  double farthest = -1.0;
+  std::size_t iq = n;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i == ia || i == iv || i == ib) continue;
+    const Vec2 p = poly[i];
+    const bool in =
+        side(a, v, p) * turn >= 0 && side(v, b, p) * turn >= 0 && side(b, a, p) * turn >= 0;
+    const double d = std::abs(side(a, b, p));
+    if (in && d > farthest) {
+      farthest = d;
+      iq = i;
+    }
+  }
+  if (iq == n) return {(a.x + v.x + b.x) / 3.0, (a.y + v.y + b.y) / 3.0};
+  return {0.5 * (v.x + poly[iq].x), 0.5 * (v.y + poly[iq].y)};
 }
 
 int circle_segments(const BodyShape& b, double h) {
@@ -136,6 +169,11 @@ double mesh_size_at(const MeshSpec& spec, Vec2 p) {
   return h;
 }
 
+namespace {
+void triangulate(const MeshSpec& spec, Cdt& cdt, std::vector<Point>& seeds);
+Mesh finish_mesh(const MeshSpec& spec, Cdt& cdt);
+}  // namespace
+
 Mesh build_mesh(const MeshSpec& spec) {
   if (spec.outline.size() < 3)
     throw InputError("fluid_fem mesh: the outline needs at least 3 vertices");
@@ -164,6 +202,30 @@ Mesh build_mesh(const MeshSpec& spec) {
   }
 
   Cdt cdt;
+  std::vector<Point> seeds;
+  // CGAL's own failures (constraints that cross, a precondition of the refinement) carry its
+  // source file and line; they become an error that says what failed in words. (Release builds
+  // check few CGAL preconditions: the case reader refuses the geometries known to break it.)
+  try {
+    triangulate(spec, cdt, seeds);
+  } catch (const CGAL::Failure_exception& e) {
+    throw InputError(fmt::format(
+        "fluid_fem mesh: CGAL could not mesh the domain ({}{}{}): check that the outline and "
+        "bodies are simple polygons that neither cross nor nearly touch",
+        e.message(), e.message().empty() ? "" : ": ", e.expression()));
+  } catch (const Cdt::Intersection_of_constraints_exception&) {
+    throw InputError(
+        "fluid_fem mesh: CGAL could not mesh the domain: two boundary edges (of the outline or "
+        "bodies) cross");
+  }
+  return finish_mesh(spec, cdt);
+}
+
+namespace {
+
+/// The constrained triangulation of the outline and bodies, refined to the size field (seeds:
+/// one point inside every body, whose region is left out).
+void triangulate(const MeshSpec& spec, Cdt& cdt, std::vector<Point>& seeds) {
   auto add_loop = [&cdt](const std::vector<Vec2>& loop) {
     std::vector<Cdt::Vertex_handle> vh;
     for (const auto& p : loop) vh.push_back(cdt.insert(Point(p.x, p.y)));
@@ -171,7 +233,6 @@ Mesh build_mesh(const MeshSpec& spec) {
       cdt.insert_constraint(vh[i], vh[(i + 1) % vh.size()]);
   };
   add_loop(spec.outline);
-  std::vector<Point> seeds;
   for (const auto& b : spec.bodies) {
     std::vector<Vec2> loop;
     if (b.kind == BodyShape::Kind::Circle) {
@@ -195,14 +256,7 @@ Mesh build_mesh(const MeshSpec& spec) {
         c.x += p.x / n;
         c.y += p.y / n;
       }
-      if (!inside_polygon(c, b.vertices)) {  // non-convex: nudge inwards from an edge midpoint
-        const Vec2 p = b.vertices[0], q = b.vertices[1];
-        const double l = std::hypot(q.x - p.x, q.y - p.y);
-        c = {0.5 * (p.x + q.x) - 1e-3 * (q.y - p.y) / l * l,
-             0.5 * (p.y + q.y) + 1e-3 * (q.x - p.x) / l * l};
-        if (!inside_polygon(c, b.vertices))
-          c = {0.5 * (p.x + q.x) + 1e-3 * (q.y - p.y), 0.5 * (p.y + q.y) - 1e-3 * (q.x - p.x)};
-      }
+      if (!inside_polygon(c, b.vertices)) c = interior_point(b.vertices);  // non-convex
       seeds.emplace_back(c.x, c.y);
     }
     add_loop(loop);
@@ -211,7 +265,50 @@ Mesh build_mesh(const MeshSpec& spec) {
   const double s = std::sin(spec.min_angle_deg * std::numbers::pi / 180.0);
   GradedCriteria criteria(&spec, s * s);
   CGAL::refine_Delaunay_mesh_2(cdt, seeds.begin(), seeds.end(), criteria, false);
+}
 
+/// Area of a closed ring [m^2] (either orientation).
+double ring_area(const std::vector<Vec2>& v) {
+  double a2 = 0.0;
+  for (std::size_t i = 1; i + 1 < v.size(); ++i)
+    a2 += (v[i].x - v[0].x) * (v[i + 1].y - v[0].y) - (v[i].y - v[0].y) * (v[i + 1].x - v[0].x);
+  return 0.5 * std::abs(a2);
+}
+
+/// A mesh the solver can use: cells, none folded over (det J > 0 at every quadrature point; the
+/// cells are counter-clockwise), and covering the fluid region (not a body's inside instead).
+void check_mesh(const MeshSpec& spec, const Mesh& mesh) {
+  if (mesh.cells.empty())
+    throw InputError("fluid_fem mesh: the mesh has no cells (no fluid left between the bodies?)");
+  const p2::Quadrature7 rule;
+  for (const auto& cell : mesh.cells) {
+    std::array<Vec2, 6> x;
+    for (int k = 0; k < 6; ++k) x[k] = mesh.nodes[cell[k]];
+    for (int q = 0; q < rule.n; ++q) {
+      double phi[6], gx[6], gy[6];
+      if (!(p2::gradients(x, rule.xi[q], rule.eta[q], phi, gx, gy) > 0))
+        throw InputError(fmt::format(
+            "fluid_fem mesh: a cell near [{:.6g}, {:.6g}] folds over once its vertices are moved "
+            "onto a circular body: a gap there narrower than the mesh size; lower mesh.h_body",
+            x[0].x, x[0].y));
+    }
+  }
+  double fluid = ring_area(spec.outline);
+  for (const auto& b : spec.bodies)
+    fluid -= b.kind == BodyShape::Kind::Circle ? std::numbers::pi * b.radius * b.radius
+                                               : ring_area(b.vertices);
+  const double area = mesh_area(mesh);
+  // (curved cells make the circles' area exact but for ~(h / r)^4; 1e-3 is far above that and
+  // far below any region meshed or left out by mistake)
+  if (!(std::abs(area - fluid) <= 1e-3 * ring_area(spec.outline)))
+    throw Error(fmt::format(
+        "fluid_fem mesh: the mesh covers {:.6g} m^2 where the fluid covers {:.6g} m^2 (a body's "
+        "inside meshed, or fluid left out)",
+        area, fluid));
+}
+
+/// The mesh with P2 nodes and classified boundary edges from the refined triangulation.
+Mesh finish_mesh(const MeshSpec& spec, Cdt& cdt) {
   Mesh mesh;
   for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) v->info() = -1;
   std::vector<std::array<int, 3>> tris;
@@ -306,7 +403,10 @@ Mesh build_mesh(const MeshSpec& spec) {
          b.centre.y + (p.y - b.centre.y) * b.radius / r};
     mesh.curved[e.cell] = 1;
   }
+  check_mesh(spec, mesh);
   return mesh;
 }
+
+}  // namespace
 
 }  // namespace gf::fem
