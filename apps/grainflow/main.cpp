@@ -171,6 +171,7 @@ int check(const std::string& file, const std::vector<std::string>& sets) {
   if (const auto fem_cfg = gf::load_fem_case(file, fem_dir, overrides(sets))) {
     fmt::print("{}: OK (fluid_fem case)\n", file);
     for (const auto& [k, v] : gf::fem::describe_case(*fem_cfg)) fmt::print("  {:<40} {}\n", k, v);
+    for (const auto& w : fem_cfg->warnings) fmt::print("warning: {}\n", w);
     return 0;
   }
   if (const auto cc = gf::load_continuum_case(file, fem_dir, overrides(sets))) {

@@ -6,11 +6,14 @@
 #include <yaml-cpp/yaml.h>
 
 #include <limits>
+#include <memory>
 
 #include "core/error.hpp"
+#include "core/files.hpp"
 #include "core/log.hpp"
 #include "core/stop.hpp"
 #include "core/version.hpp"
+#include "io/input/yaml_reader.hpp"
 #include "io/restart/h5.hpp"
 
 namespace gf {
@@ -19,40 +22,31 @@ namespace fs = std::filesystem;
 
 std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& output_dir,
                                                 const std::vector<input::Override>& overrides) {
-  YAML::Node doc;
-  if (fs::is_directory(file))
-    throw InputError(fmt::format("{}: error: a folder, not a case file", file.string()));
-  try {
-    doc = YAML::LoadFile(file.string());
-  } catch (const YAML::BadFile&) {
-    throw InputError(fmt::format("{}: error: cannot open the case file", file.string()));
-  } catch (const YAML::Exception& e) {
-    throw InputError(fmt::format("{}:{}:{}: error: YAML syntax: {}", file.string(), e.mark.line + 1,
-                                 e.mark.column + 1, e.msg));
-  }
-  if (!doc.IsMap() || !doc["fluid_fem"]) return std::nullopt;
-  input::apply_overrides(doc, overrides, file);
-  for (const auto& kv : doc) {
-    const auto key = kv.first.as<std::string>();
-    if (key != "name" && key != "fluid_fem" && key != "output") {
-      const auto m = kv.first.Mark();
-      throw InputError(fmt::format(
-          "{}:{}:{}: error: {}: unknown key in a fluid_fem case; expected one of: name, "
-          "fluid_fem, output",
-          file.string(), m.line + 1, m.column + 1, key));
-    }
-  }
+  // The shared reader: YAML syntax errors, and --set values located as in every other case
+  // ("case.yaml (--set KEY=VALUE): error: ..."), which positions in the file cannot tell.
+  const auto root = input::YamlNode::parse_file(file);
+  if (!root.is_map() || !root.raw()["fluid_fem"]) return std::nullopt;
+  input::apply_overrides(root.raw(), overrides, file);
+  const input::YamlMap top(root, {"name", "fluid_fem", "output"});
   output_dir = fs::path("out") / file.parent_path().filename();
-  if (const auto out = doc["output"]) {
-    const auto m = out.Mark();
-    if (!out.IsMap() || out.size() != 1 || !out["directory"] || !out["directory"].IsScalar())
-      throw InputError(
-          fmt::format("{}:{}:{}: error: output: expected {{directory: FOLDER}} in a fluid_fem case "
-                      "(the FEM outputs are configured in fluid_fem.output)",
-                      file.string(), m.line + 1, m.column + 1));
-    output_dir = out["directory"].as<std::string>();
+  if (const auto out = top.find("output")) {
+    if (!out->is_map() || out->raw().size() != 1 || !out->raw()["directory"] ||
+        !out->raw()["directory"].IsScalar())
+      out->fail_expected(
+          "{directory: FOLDER} in a fluid_fem case (the FEM outputs are configured in "
+          "fluid_fem.output)");
+    output_dir = input::YamlMap(*out, {"directory"}).string("directory");
   }
-  return fem::parse_fluid_fem(doc["fluid_fem"], file.string());
+  const auto name = std::make_shared<const std::string>(file.string());
+  const fem::ErrorText text = [name](const YAML::Node& at, const YAML::Mark& key_mark,
+                                     const std::string& path, const std::string& message) {
+    const input::YamlNode node(at, path, name, key_mark);
+    return input::format_error(key_mark.is_null() ? node.loc() : node.key_loc(), message);
+  };
+  auto cfg = fem::parse_fluid_fem(top.at("fluid_fem").raw(), file.string(), text);
+  cfg.name = top.has("name") ? top.string("name") : file.parent_path().filename().string();
+  cfg.output_directory = output_dir.string();
+  return cfg;
 }
 
 void save_fem_checkpoint(const fs::path& file, const fem::FemCheckpoint& c) {
@@ -145,6 +139,9 @@ int run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
   if (opts.restart) resume = load_restart(*opts.restart, load_fem_checkpoint);
   OutputFolder folder(dir, opts);
   log::info("fluid_fem run, output in '{}'", dir.string());
+  for (const auto& w : cfg.warnings) log::warn("{}", w);
+  write_atomically(dir / "resolved_case.yaml",
+                   [&](std::ostream& o) { o << fem::echo_fluid_fem_yaml(cfg, version_string); });
   fem::FemCheckpointIo io;
   io.save = save_fem_checkpoint;
   io.append = opts.append;

@@ -405,3 +405,51 @@ TEST(FemFlow, NestedIterationMatchesNewton) {
   EXPECT_NEAR(fb / fa, 1.0, 1e-9);
   EXPECT_LE(b.lu().n_factorizations(), 2);
 }
+
+// An iterate with non-finite unknowns is a failed Newton solve. (std::max passes over NaN: a
+// step whose update was NaN everywhere had a relative update of 0 and counted as converged, so
+// a diverging run went on writing rows of nan.) The chord method's kept factors turn a NaN body
+// velocity into NaN updates without a new factorisation.
+TEST(FemFlow, NewtonRefusesANonFiniteIterate) {
+  FlowProblem pb;
+  pb.spec.outline = {{-0.3, -0.3}, {0.3, -0.3}, {0.3, 0.3}, {-0.3, 0.3}};
+  BodyShape c;
+  c.radius = 0.1;
+  pb.spec.bodies = {c};
+  pb.spec.h_body = 0.05;
+  pb.spec.h_max = 0.1;
+  pb.mesh = build_mesh(pb.spec);
+  pb.viscosity = 0.1;
+  pb.outline_bc.assign(4, OutlineBc{});
+  pb.body_motion = {BodyMotion{{0, 0}, 1.0}};
+  NavierStokes ns(std::move(pb));
+  NewtonOptions opt;
+  opt.reuse_factorization = true;
+  ASSERT_TRUE(ns.solve_steady(opt).converged);
+  ns.set_body_motion(0, BodyMotion{{std::numeric_limits<double>::quiet_NaN(), 0}, 1.0});
+  const auto rep = ns.solve_steady(opt);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_TRUE(std::isnan(rep.last_update)) << rep.last_update;
+}
+
+// A thin non-convex body whose vertex mean lies outside it, and next to it the midpoint of its
+// first edge nudged either way by 1e-3 of that edge (the seed of its region before) too: the
+// mesh leaves its inside out and covers the fluid, area for area.
+TEST(FemMesh, ThinNonConvexBodyIsLeftOut) {
+  MeshSpec spec;
+  spec.outline = {{0, 0}, {1, 0}, {1, 0.6}, {0, 0.6}};
+  BodyShape v;  // a chevron with arms 2e-4 thick, opening to the right
+  v.kind = BodyShape::Kind::Polygon;
+  v.vertices = {{0.2, 0.3},          {0.6, 0.5},    {0.6, 0.5002},
+                {0.2 - 0.0002, 0.3}, {0.6, 0.0998}, {0.6, 0.1}};
+  spec.bodies = {v};
+  spec.h_body = 0.02;
+  spec.h_max = 0.1;
+  const Mesh m = build_mesh(spec);
+  double body = 0;  // shoelace
+  for (std::size_t i = 0; i < v.vertices.size(); ++i) {
+    const auto a = v.vertices[i], b = v.vertices[(i + 1) % v.vertices.size()];
+    body += 0.5 * (a.x * b.y - b.x * a.y);
+  }
+  EXPECT_NEAR(mesh_area(m), 0.6 - std::abs(body), 1e-9);
+}

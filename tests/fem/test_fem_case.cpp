@@ -396,3 +396,179 @@ TEST(FemCaseGeometry, ShippedCasesPass) {
   }
   EXPECT_GE(n, 4);
 }
+
+// ---- The resolved case, body names, narrow gaps, mesher failures, divergence ------------------
+
+namespace {
+
+/// The warnings of the case `yaml` (which must parse).
+std::vector<std::string> warnings_of(const std::string& yaml) {
+  return parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml").warnings;
+}
+
+}  // namespace
+
+// The echo of the resolved case reads back to the same case: echoing that again gives the same
+// text, for steady and unsteady cases, adaptive and variable-order steps, every time function,
+// boxes, probes and coefficients. Defaults are written out.
+TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
+  const std::string adaptive = replaced(
+      replaced(kGood, "scheme: bdf2, step: 0.05, end: 0.2",
+               "scheme: auto, step: 0.01, end: 0.2, initial: steady, adaptive: {rtol: "
+               "1.0e-3}"),
+      "grading: 0.3", "grading: 0.3, boxes: [{min: [0.2, 0.1], max: [0.8, 0.3], h: 0.05}]");
+  const std::string sine = replaced(kGood, "type: ramp, duration: 0.1", "type: sine, period: 0.3");
+  const std::string steady = replaced(
+      replaced(kGood, "mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2", "mode: steady"),
+      "u_max: 0.5,", "u_max: 0.5, profile: uniform,");
+  const std::string unnamed = replaced(kGood, "name: tri, ", "");
+  for (const auto& yaml : {std::string(kGood), adaptive, sine, steady, unnamed}) {
+    auto cfg = parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml");
+    cfg.name = "channel";
+    cfg.output_directory = "out/channel";
+    const std::string echo = echo_fluid_fem_yaml(cfg, "9.9.9");
+    EXPECT_EQ(echo.rfind("# grainflow 9.9.9: resolved configuration of case.yaml", 0), 0u) << echo;
+    const YAML::Node doc = YAML::Load(echo);
+    EXPECT_EQ(doc["name"].as<std::string>(), "channel");
+    EXPECT_EQ(doc["output"]["directory"].as<std::string>(), "out/channel");
+    auto back = parse_fluid_fem(doc["fluid_fem"], "resolved_case.yaml");
+    back.name = cfg.name;
+    back.output_directory = cfg.output_directory;
+    back.file = cfg.file;
+    EXPECT_EQ(echo_fluid_fem_yaml(back, "9.9.9"), echo) << echo;
+    EXPECT_EQ(back.steady, cfg.steady);
+    EXPECT_EQ(back.time.variable_order, cfg.time.variable_order);
+    EXPECT_EQ(back.initial_steady, cfg.initial_steady);
+    EXPECT_EQ(back.body_names, cfg.body_names);
+    EXPECT_EQ(back.mesh.boxes.size(), cfg.mesh.boxes.size());
+    EXPECT_EQ(back.output.probes.size(), cfg.output.probes.size());
+    EXPECT_EQ(back.newton.reuse_factorization, cfg.newton.reuse_factorization);
+    EXPECT_EQ(back.outline_bc[3].parabolic, cfg.outline_bc[3].parabolic);
+    EXPECT_EQ(back.inflow_time[3].kind, cfg.inflow_time[3].kind);
+    EXPECT_EQ(back.inflow_time[3](0.07), cfg.inflow_time[3](0.07));
+    EXPECT_EQ(mesh_hash(build_mesh(back.mesh)), mesh_hash(build_mesh(cfg.mesh)));
+    // defaults are filled in
+    EXPECT_NE(echo.find("min_angle: 25"), std::string::npos) << echo;
+    EXPECT_NE(echo.find("max_iterations: 25"), std::string::npos) << echo;
+  }
+}
+
+// Body names head the columns NAME.fx, ... of fem_forces.csv: a comma, quote, newline (or any
+// character but letters, digits, '_' and '-', or a leading digit) is refused where it is written.
+TEST(FemCase, BodyNamesThatWouldBreakTheCsvAreRefused) {
+  for (const auto& [name, found] :
+       std::vector<std::pair<std::string, std::string>>{{"\"a,b\"", "'a,b'"},
+                                                        {"'say \"hi\"'", "'say \"hi\"'"},
+                                                        {"\"two\\nlines\"", "'two\\nlines'"},
+                                                        {"\"\"", "''"},
+                                                        {"2nd", "'2nd'"},
+                                                        {"a b", "'a b'"}}) {
+    const auto e = error_of(replaced(kGood, "name: tri", "name: " + name));
+    EXPECT_NE(e.find("case.yaml:11:"), std::string::npos) << e;
+    EXPECT_NE(e.find("error: fluid_fem.bodies[1].name: expected a name of letters, digits, '_' "
+                     "and '-', starting with a letter or '_'"),
+              std::string::npos)
+        << e;
+    EXPECT_NE(e.find("found " + found), std::string::npos) << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+  EXPECT_EQ(error_of(replaced(kGood, "name: tri", "name: _tri-2")), "no error");
+}
+
+// A body closer to another body or to the outline than 0.1 x the mesh size there is refused at
+// its line; closer than the mesh size (but not 0.1 x) it is a warning. kGood: h_body 0.03, the
+// disk (r 0.05) at y = 0.2 in a channel 0.4 high.
+TEST(FemCaseGeometry, GapsNarrowerThanTheMeshAreRefusedOrWarnedOf) {
+  EXPECT_TRUE(warnings_of(kGood).empty());
+  // 0.002 m from the top wall: under 0.1 x 0.03
+  expect_error(
+      replaced(kGood, "centre: [0.3, 0.2], radius: 0.05", "centre: [0.3, 0.348], radius: 0.05"), 10,
+      "fluid_fem.bodies[0]",
+      {"clear of the domain outline by at least 0.1 x the mesh size there, 0.03",
+       "found a gap of 0.002 m"});
+  // 0.01 m from the top wall: a warning naming the body and the gap
+  const auto w = warnings_of(
+      replaced(kGood, "centre: [0.3, 0.2], radius: 0.05", "centre: [0.3, 0.34], radius: 0.05"));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("case.yaml:10: fluid_fem.bodies[0] ('disk'): the gap of 0.01 m to the domain "
+                      "outline"),
+            std::string::npos)
+      << w[0];
+  // between two bodies: the triangle's left corner (0.6, 0.15) 0.001 m from a disk
+  expect_error(with_body("{name: near, circle: {centre: [0.549, 0.15], radius: 0.05}}"), 12,
+               "fluid_fem.bodies[2]",
+               {"clear of fluid_fem.bodies[1] ('tri')", "found a gap of 0.001 m"});
+  // a refinement box over the gap resolves it: neither error nor warning
+  EXPECT_TRUE(warnings_of(replaced(replaced(kGood, "centre: [0.3, 0.2], radius: 0.05",
+                                            "centre: [0.3, 0.34], radius: 0.05"),
+                                   "grading: 0.3",
+                                   "grading: 0.3, boxes: [{min: [0.2, 0.3], max: [0.4, 0.4], h: "
+                                   "0.004}]"))
+                  .empty());
+}
+
+TEST(FemCaseGeometry, RefinementBoxFinerThanTheBoundIsRefused) {
+  // (h: 1e-9 in a 1 m domain asked for ~1e17 cells: the mesher ran out of memory)
+  expect_error(replaced(kGood, "grading: 0.3",
+                        "grading: 0.3, boxes: [{min: [0.2, 0.1], max: [0.8, 0.3], h: 1.0e-9}]"),
+               12, "fluid_fem.mesh.boxes[0].h", {"domain size / 1e4"});
+}
+
+// What the mesher cannot mesh is an InputError naming the case file and the geometry's keys,
+// not CGAL's own exception (that named a CGAL header and exited with status 1).
+TEST(FemCaseGeometry, MesherFailuresNameTheCase) {
+  auto cfg = parse_fluid_fem(YAML::Load(kGood)["fluid_fem"], "case.yaml");
+  cfg.mesh.outline = {{0, 0}, {1, 0.4}, {1, 0}, {0, 0.4}};  // a bow tie: its edges cross
+  cfg.mesh.bodies.clear();
+  cfg.body_names.clear();
+  cfg.body_motion.clear();
+  try {
+    describe_case(cfg);
+    ADD_FAILURE() << "no error";
+  } catch (const gf::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.rfind("case.yaml: error: fluid_fem.domain.outline / fluid_fem.bodies / "
+                      "fluid_fem.mesh: the fluid region cannot be meshed: ",
+                      0),
+              0u)
+        << m;
+    EXPECT_NE(m.find("cross"), std::string::npos) << m;
+    EXPECT_EQ(m.find("CGAL ERROR"), std::string::npos) << m;
+  }
+}
+
+// A run that blows up (inflow 1e6 m/s from t = 0, steps of 1 s, Re ~ 1e11) stops with a gf::Error
+// (exit status 1, not 2) that names the time and the step; fem_forces.csv and fem_probes.csv
+// hold no row of the failed step, and no non-finite number. (Before: Newton counted an iterate
+// of NaN velocities as converged, std::max passing over NaN, and the run wrote rows of nan.)
+TEST(FemCase, DivergingRunStopsBeforeWritingNonFiniteNumbers) {
+  const auto cfg = parse_fluid_fem(
+      YAML::Load(replaced(replaced(replaced(replaced(kGood, "u_max: 0.5", "u_max: 1.0e6"),
+                                            ", time_function: {type: ramp, duration: 0.1}", ""),
+                                   "viscosity: 0.01", "viscosity: 1.0e-6"),
+                          "step: 0.05, end: 0.2", "step: 1.0, end: 20.0"))["fluid_fem"],
+      "case.yaml");
+  const gf::test::TempDir tmp;
+  std::string message = "no error";
+  try {
+    run_fluid_fem(cfg, tmp.path());
+  } catch (const gf::InputError& e) {
+    message = std::string("an InputError: ") + e.what();
+  } catch (const gf::Error& e) {
+    message = e.what();
+  }
+  std::printf("%s\n", message.c_str());
+  EXPECT_NE(message.find("fluid_fem: the run diverged at t = "), std::string::npos) << message;
+  EXPECT_NE(message.find("(step "), std::string::npos) << message;
+  for (const char* f : {"fem_forces.csv", "fem_probes.csv"}) {
+    std::ifstream in(tmp.path() / f);
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      std::string low = line;
+      std::transform(low.begin(), low.end(), low.begin(), ::tolower);
+      EXPECT_EQ(low.find("nan"), std::string::npos) << f << ": " << line;
+      EXPECT_EQ(low.find("inf"), std::string::npos) << f << ": " << line;
+    }
+  }
+}

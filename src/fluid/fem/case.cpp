@@ -33,16 +33,42 @@ double TimeFunctionSpec::operator()(double t) const {
   return 1.0;
 }
 
+bool is_body_name(const std::string& name) {
+  auto letter = [](char ch) { return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z'); };
+  return !name.empty() && (letter(name[0]) || name[0] == '_') &&
+         std::all_of(name.begin(), name.end(), [&](char ch) {
+           return letter(ch) || (ch >= '0' && ch <= '9') || ch == '_' || ch == '-';
+         });
+}
+
 namespace {
 
-/// Strict reader: every error names file:line:column, key path, expected and found.
+/// "FILE:LINE:COLUMN: error: KEY.PATH: MESSAGE" at the key (when key_mark is not null) or the
+/// node: the wording of errors when the caller gives no ErrorText.
+ErrorText plain_error_text(const std::string& file) {
+  return [file](const YAML::Node& at, const YAML::Mark& key_mark, const std::string& path,
+                const std::string& message) {
+    const YAML::Mark mk = !key_mark.is_null() ? key_mark
+                          : at.IsDefined()    ? at.Mark()
+                                              : YAML::Mark::null_mark();
+    const std::string where =
+        mk.line >= 0 ? fmt::format("{}:{}:{}", file, mk.line + 1, mk.column + 1) : file;
+    return fmt::format("{}: error: {}: {}", where, path, message);
+  };
+}
+
+/// Strict reader: every error names file:line:column (or the --set option that gave the value),
+/// key path, expected and found.
 class Reader {
  public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
+  Reader(const std::string& file, ErrorText text)
+      : text_(text ? std::move(text) : plain_error_text(file)) {}
 
-  /// `found` overrides the description of the node (e.g. "edges 0 and 2 crossing").
+  /// `found` overrides the description of the node (e.g. "edges 0 and 2 crossing"); `key_mark`:
+  /// the error is about the key there (an unknown key), not about its value.
   [[noreturn]] void fail(const YAML::Node& at, const std::string& path, const std::string& expected,
-                         const std::string& found_text = {}) const {
+                         const std::string& found_text = {},
+                         const YAML::Mark& key_mark = YAML::Mark::null_mark()) const {
     std::string found = found_text.empty() ? "nothing" : found_text;
     if (found_text.empty() && at.IsDefined() && !at.IsNull()) {
       if (at.IsScalar())
@@ -52,10 +78,8 @@ class Reader {
       else if (at.IsMap())
         found = "a map";
     }
-    const auto mk = at.Mark();
-    const int line = mk.line >= 0 ? mk.line + 1 : 0, col = mk.column >= 0 ? mk.column + 1 : 0;
-    throw InputError(fmt::format("{}:{}:{}: {}: expected {}, found {}", file_, line, col, path,
-                                 expected, found));
+    throw InputError(
+        text_(at, key_mark, path, fmt::format("expected {}, found {}", expected, found)));
   }
 
   void keys(const YAML::Node& n, const std::string& path,
@@ -66,7 +90,8 @@ class Reader {
       if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return k == a; })) {
         std::string list;
         for (const char* a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
-        fail(kv.first, path + "." + k, "one of the keys {" + list + "}");
+        fail(kv.second, path + "." + k, "one of the keys {" + list + "}", "'" + k + "'",
+             kv.first.Mark());
       }
     }
   }
@@ -74,12 +99,9 @@ class Reader {
   /// A child that must exist (fails at the parent's position when missing).
   YAML::Node need(const YAML::Node& parent, const std::string& key, const std::string& path) const {
     const YAML::Node n = parent[key];
-    if (!n.IsDefined()) {
-      const auto mk = parent.Mark();
-      throw InputError(
-          fmt::format("{}:{}:{}: {}.{}: expected a value (required key), found nothing", file_,
-                      mk.line + 1, mk.column + 1, path, key));
-    }
+    if (!n.IsDefined())
+      throw InputError(text_(parent, YAML::Mark::null_mark(), path + "." + key,
+                             "expected a value (required key), found nothing"));
     return n;
   }
 
@@ -152,8 +174,28 @@ class Reader {
   }
 
  private:
-  std::string file_;
+  ErrorText text_;
 };
+
+/// `text` with control characters escaped (\n, \t, \xNN), cut to 60 characters: a value
+/// quoted in a one-line message.
+std::string printable(const std::string& text) {
+  std::string out;
+  for (const char ch : text) {
+    const auto u = static_cast<unsigned char>(ch);
+    if (ch == '\n')
+      out += "\\n";
+    else if (ch == '\r')
+      out += "\\r";
+    else if (ch == '\t')
+      out += "\\t";
+    else if (u < 0x20 || u == 0x7f)
+      out += fmt::format("\\x{:02x}", u);
+    else
+      out += ch;
+  }
+  return out.size() > 60 ? out.substr(0, 57) + "..." : out;
+}
 
 TimeFunctionSpec parse_time_function(const Reader& r, const YAML::Node& n,
                                      const std::string& path) {
@@ -330,6 +372,119 @@ std::string body_overlap(const BodyShape& a, const BodyShape& b, double tol) {
   return {};
 }
 
+// ---- Gaps narrower than the mesh ----------------------------------------------------------
+//
+// A gap between two bodies, or a body and the outline, narrower than the mesh size there (h_body,
+// or a refinement box's h) is meshed all the same: Delaunay refinement puts cells as small as the
+// gap into it, about one across. Decided:
+// - below 0.1 x the size there it is an error. The mesher then makes cells over ten times finer
+//   than asked for along the whole narrow stretch (their number grows as 1 / gap, unbounded as
+//   the gap closes; near 1e-12 of the domain, CGAL's inexact constructions misplace points); and
+//   a circle's vertices, meshed on chords and then moved onto the circle by up to the sagitta
+//   (at most ~0.05 x the edge length, 16 or more edges per circle), can fold the cells of a gap
+//   of that order inside out. Nothing the run would then report could be trusted, and the fix
+//   (a smaller h_body or a box over the gap, or a wider gap) is the user's, so the case is
+//   refused before anything is written, at the body's place in the file.
+// - between 0.1 and 1 x the size it is a warning (grainflow check, and the log of a run): the mesh
+//   is sound and the lubrication flow in the gap is a parabola that P2 velocities hold exactly,
+//   but only about one cell spans it, so the force there is coarse. Refusing it would refuse
+//   cases whose gap flow does not matter.
+
+/// A gap between two boundaries: its width [m] and the point halfway across it.
+struct Gap {
+  double width = std::numeric_limits<double>::infinity();
+  Vec2 middle;
+};
+
+Vec2 closest_on_segment(Vec2 p, Vec2 a, Vec2 b) {
+  const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy;
+  const double t = l2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / l2, 0.0, 1.0) : 0.0;
+  return {a.x + t * dx, a.y + t * dy};
+}
+
+Gap point_gap(Vec2 p, Vec2 q) {
+  return {distance(p, q), {0.5 * (p.x + q.x), 0.5 * (p.y + q.y)}};
+}
+
+/// Between two rings that do not meet (the closest pair has an endpoint of an edge).
+Gap ring_gap(const std::vector<Vec2>& u, const std::vector<Vec2>& v) {
+  Gap g;
+  auto keep = [&g](const Gap& c) {
+    if (c.width < g.width) g = c;
+  };
+  for (std::size_t i = 0; i < u.size(); ++i)
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      const Vec2 a = u[i], b = u[(i + 1) % u.size()], c = v[k], d = v[(k + 1) % v.size()];
+      keep(point_gap(a, closest_on_segment(a, c, d)));
+      keep(point_gap(c, closest_on_segment(c, a, b)));
+    }
+  return g;
+}
+
+/// Between a circle and a ring outside it (or around it).
+Gap circle_ring_gap(const BodyShape& c, const std::vector<Vec2>& v) {
+  Vec2 q;
+  double d = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const Vec2 p = closest_on_segment(c.centre, v[k], v[(k + 1) % v.size()]);
+    if (distance(c.centre, p) < d) {
+      d = distance(c.centre, p);
+      q = p;
+    }
+  }
+  const double w = d - c.radius, f = d > 0 ? (c.radius + 0.5 * w) / d : 0.0;
+  return {w, {c.centre.x + f * (q.x - c.centre.x), c.centre.y + f * (q.y - c.centre.y)}};
+}
+
+Gap body_gap(const BodyShape& a, const BodyShape& b) {
+  using Kind = BodyShape::Kind;
+  if (a.kind == Kind::Circle && b.kind == Kind::Circle) {
+    const double d = distance(a.centre, b.centre), w = d - a.radius - b.radius;
+    const double f = d > 0 ? (a.radius + 0.5 * w) / d : 0.0;
+    return {
+        w,
+        {a.centre.x + f * (b.centre.x - a.centre.x), a.centre.y + f * (b.centre.y - a.centre.y)}};
+  }
+  if (a.kind == Kind::Circle) return circle_ring_gap(a, b.vertices);
+  if (b.kind == Kind::Circle) return circle_ring_gap(b, a.vertices);
+  return ring_gap(a.vertices, b.vertices);
+}
+
+/// Every body's gaps to the outline and to the bodies before it against the mesh size halfway
+/// across (see above): an error below 0.1 x that size, a warning (cfg.warnings) below it.
+void check_gaps(const Reader& r, const YAML::Node& bodies, const std::string& bp,
+                FemCaseConfig& cfg) {
+  const auto& shapes = cfg.mesh.bodies;
+  for (std::size_t j = 0; j < shapes.size(); ++j) {
+    const std::string p = fmt::format("{}[{}]", bp, j);
+    auto judge = [&](const Gap& g, const std::string& other) {
+      const double h = mesh_size_at(cfg.mesh, g.middle);
+      if (g.width >= h) return;
+      if (g.width < 0.1 * h)
+        r.fail(
+            bodies[j], p,
+            fmt::format("a body clear of {} by at least 0.1 x the mesh size there, {:.6g} m "
+                        "(a narrower gap needs cells over ten times finer than asked for, "
+                        "and curved cells on a circle may fold over); lower mesh.h_body, add "
+                        "a mesh.boxes entry over the gap with h <= 10 x its width, or widen it",
+                        other, h),
+            fmt::format("a gap of {:.6g} m at [{:.6g}, {:.6g}]", g.width, g.middle.x, g.middle.y));
+      const auto mk = bodies[j].Mark();
+      cfg.warnings.push_back(fmt::format(
+          "{}:{}: {} ('{}'): the gap of {:.6g} m to {} at [{:.6g}, {:.6g}] is narrower than the "
+          "mesh size there, {:.6g} m: about one cell spans it and the flow in it is coarsely "
+          "resolved; lower mesh.h_body (or a box's h) to a fraction of the gap",
+          cfg.file, mk.line + 1, p, cfg.body_names[j], g.width, other, g.middle.x, g.middle.y, h));
+    };
+    const auto& s = shapes[j];
+    judge(s.kind == BodyShape::Kind::Circle ? circle_ring_gap(s, cfg.mesh.outline)
+                                            : ring_gap(s.vertices, cfg.mesh.outline),
+          "the domain outline");
+    for (std::size_t i = 0; i < j; ++i)
+      judge(body_gap(shapes[i], s), fmt::format("{}[{}] ('{}')", bp, i, cfg.body_names[i]));
+  }
+}
+
 /// The bodies (`bodies` their YAML list) of a parsed block: polygons simple (check_ring), every
 /// body strictly inside the outline, bodies pairwise disjoint, names unique.
 void check_bodies(const Reader& r, const YAML::Node& bodies, const std::string& bp,
@@ -412,8 +567,9 @@ void check_probes(const Reader& r, const YAML::Node& probes, const std::string& 
 
 }  // namespace
 
-FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) {
-  const Reader r(file);
+FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
+                              const ErrorText& error_text) {
+  const Reader r(file, error_text);
   const std::string root = "fluid_fem";
   FemCaseConfig cfg;
   cfg.file = file;
@@ -499,6 +655,14 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
       BodyShape s;
       const auto name = b["name"];
       if (name.IsDefined() && !name.IsScalar()) r.fail(name, p + ".name", "a name (text)");
+      // Refused rather than quoted in the CSV header: a column NAME.fx must read back the same
+      // in every CSV reader, including a split on commas, and in the shell; the rule is the one
+      // of wall names (DEM cases).
+      if (name.IsDefined() && !is_body_name(name.Scalar()))
+        r.fail(name, p + ".name",
+               "a name of letters, digits, '_' and '-', starting with a letter or '_' (it heads "
+               "the columns NAME.fx, NAME.fy, ... of fem_forces.csv)",
+               "'" + printable(name.Scalar()) + "'");
       cfg.body_names.push_back(name.IsDefined() && name.IsScalar() ? name.Scalar()
                                                                    : fmt::format("body{}", i));
       if (b["circle"].IsDefined() == b["polygon"].IsDefined())
@@ -568,6 +732,13 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
     r.fail(mesh["h_body"].IsDefined() ? mesh["h_body"] : mesh["h_max"], mp + ".h_body",
            fmt::format("a size >= domain size / 1e4 = {} m (more than ~1e8 cells otherwise)",
                        max_size / 1e4));
+  for (std::size_t i = 0; i < cfg.mesh.boxes.size(); ++i)  // the same bound in a box
+    if (max_size > 0 && max_size / cfg.mesh.boxes[i].h > 1e4)
+      r.fail(mesh["boxes"][i]["h"], fmt::format("{}.boxes[{}].h", mp, i),
+             fmt::format("a size >= domain size / 1e4 = {} m (more than ~1e8 cells otherwise)",
+                         max_size / 1e4));
+  if (const auto bodies = block["bodies"]; bodies.IsDefined())
+    check_gaps(r, bodies, root + ".bodies", cfg);
 
   const auto time = r.need(block, "time", root);
   const std::string tp = root + ".time";
@@ -637,6 +808,195 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file) 
   return cfg;
 }
 
+namespace {
+
+/// Shortest text that reads back to the same double.
+std::string num(double v) {
+  return fmt::format("{}", v);
+}
+
+void emit_point(YAML::Emitter& out, Vec2 p) {
+  out << YAML::Flow << YAML::BeginSeq << num(p.x) << num(p.y) << YAML::EndSeq;
+}
+
+void emit_points(YAML::Emitter& out, const std::vector<Vec2>& v) {
+  out << YAML::Flow << YAML::BeginSeq;
+  for (const auto& p : v) emit_point(out, p);
+  out << YAML::EndSeq;
+}
+
+}  // namespace
+
+std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& program_version) {
+  YAML::Emitter out;
+  out.SetIndent(2);
+  auto key = [&out](const char* k) -> YAML::Emitter& {
+    return out << YAML::Key << k << YAML::Value;
+  };
+  out << YAML::BeginMap;
+  if (!cfg.name.empty()) key("name") << cfg.name;
+  key("fluid_fem") << YAML::BeginMap;
+  key("fluid") << YAML::Flow << YAML::BeginMap;
+  key("density") << num(cfg.density);
+  key("viscosity") << num(cfg.viscosity);
+  out << YAML::EndMap << YAML::Comment("kg/m^3, kinematic m^2/s");
+
+  key("domain") << YAML::BeginMap;
+  key("outline");
+  emit_points(out, cfg.mesh.outline);
+  key("boundaries") << YAML::BeginSeq;  // one entry per outline edge
+  for (std::size_t k = 0; k < cfg.outline_bc.size(); ++k) {
+    const auto& bc = cfg.outline_bc[k];
+    out << YAML::Flow << YAML::BeginMap;
+    key("edges") << YAML::Flow << YAML::BeginSeq << k << YAML::EndSeq;
+    key("type") << (bc.kind == OutlineBcKind::Wall     ? "wall"
+                    : bc.kind == OutlineBcKind::Inflow ? "inflow"
+                                                       : "outflow");
+    if (bc.kind == OutlineBcKind::Inflow) {
+      key("profile") << (bc.parabolic ? "parabolic" : "uniform");
+      key("u_max") << num(bc.u_max);
+      const auto& f = cfg.inflow_time[k];
+      key("time_function") << YAML::Flow << YAML::BeginMap;
+      switch (f.kind) {
+        case TimeFunctionSpec::Kind::Constant:
+          key("type") << "constant";
+          break;
+        case TimeFunctionSpec::Kind::Sine:
+          key("type") << "sine";
+          key("period") << num(f.period);
+          break;
+        case TimeFunctionSpec::Kind::Ramp:
+          key("type") << "ramp";
+          key("duration") << num(f.duration);
+          break;
+      }
+      out << YAML::EndMap;
+    }
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq << YAML::EndMap;
+
+  if (!cfg.mesh.bodies.empty()) {
+    key("bodies") << YAML::BeginSeq;
+    for (std::size_t j = 0; j < cfg.mesh.bodies.size(); ++j) {
+      const auto& b = cfg.mesh.bodies[j];
+      out << YAML::Flow << YAML::BeginMap;
+      key("name") << cfg.body_names[j];
+      if (b.kind == BodyShape::Kind::Circle) {
+        key("circle") << YAML::Flow << YAML::BeginMap;
+        key("centre");
+        emit_point(out, b.centre);
+        key("radius") << num(b.radius);
+        out << YAML::EndMap;
+      } else {
+        key("polygon");
+        emit_points(out, b.vertices);
+        key("centre");
+        emit_point(out, b.centre);
+      }
+      key("velocity");
+      emit_point(out, cfg.body_motion[j].velocity);
+      key("angular_velocity") << num(cfg.body_motion[j].angular_velocity);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
+
+  key("mesh") << YAML::Flow << YAML::BeginMap;
+  key("h_max") << num(cfg.mesh.h_max);
+  key("h_body") << num(cfg.mesh.h_body);
+  key("grading") << num(cfg.mesh.grading);
+  key("min_angle") << num(cfg.mesh.min_angle_deg);
+  key("boxes") << YAML::Flow << YAML::BeginSeq;
+  for (const auto& b : cfg.mesh.boxes) {
+    out << YAML::Flow << YAML::BeginMap;
+    key("min");
+    emit_point(out, b.min);
+    key("max");
+    emit_point(out, b.max);
+    key("h") << num(b.h);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndSeq << YAML::EndMap;
+
+  key("time") << YAML::Flow << YAML::BeginMap;
+  const auto& t = cfg.time;
+  if (cfg.steady) {
+    key("mode") << "steady";
+  } else {
+    key("mode") << "unsteady";
+    key("scheme") << (t.variable_order ? std::string("auto") : fmt::format("bdf{}", t.order));
+    key("step") << num(t.dt);
+    key("end") << num(t.t_end);
+    key("initial") << (cfg.initial_steady ? "steady" : "rest");
+    if (t.adaptive) {
+      key("adaptive") << YAML::Flow << YAML::BeginMap;
+      key("rtol") << num(t.rtol);
+      key("atol") << num(t.atol);
+      key("dt_max") << num(t.dt_max);
+      key("dt_min") << num(t.dt_min);
+      out << YAML::EndMap;
+    }
+  }
+  out << YAML::EndMap;
+
+  key("newton") << YAML::Flow << YAML::BeginMap;
+  key("tolerance") << num(cfg.newton.tolerance);
+  key("max_iterations") << cfg.newton.max_iterations;
+  key("picard_iterations") << cfg.newton.picard_iterations;
+  key("reuse_factorization") << cfg.newton.reuse_factorization;
+  key("nested") << cfg.newton_nested;
+  out << YAML::EndMap;
+
+  key("output") << YAML::BeginMap;
+  const auto& o = cfg.output;
+  key("vtk_every") << num(o.vtk_every);
+  key("csv_every") << num(o.csv_every);
+  key("checkpoint_every") << num(o.checkpoint_every);
+  if (!o.probes.empty()) {
+    key("probes");
+    emit_points(out, o.probes);
+  }
+  if (o.coef_velocity > 0) {
+    key("coefficients") << YAML::Flow << YAML::BeginMap;
+    key("velocity") << num(o.coef_velocity);
+    key("length") << num(o.coef_length);
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  out << YAML::EndMap;  // fluid_fem
+
+  if (!cfg.output_directory.empty()) {
+    key("output") << YAML::Flow << YAML::BeginMap;
+    key("directory") << cfg.output_directory;
+    out << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  return fmt::format(
+      "# grainflow {}: resolved configuration of {} (defaults filled in; SI units)\n{}\n",
+      program_version, cfg.file, out.c_str());
+}
+
+Mesh build_case_mesh(const FemCaseConfig& cfg) {
+  // The case reader refuses the geometries known to break the mesher; what still fails is named
+  // by the keys that make the geometry, without a line (no single one is at fault).
+  auto refuse = [&cfg](const std::string& why) {
+    std::string text = why;
+    if (text.rfind("fluid_fem mesh: ", 0) == 0) text = text.substr(16);
+    return InputError(fmt::format(
+        "{}: error: fluid_fem.domain.outline / fluid_fem.bodies / fluid_fem.mesh: the fluid "
+        "region cannot be meshed: {}",
+        cfg.file, text));
+  };
+  try {
+    return build_mesh(cfg.mesh);
+  } catch (const std::bad_alloc&) {
+    throw refuse("its mesh does not fit in memory (raise mesh.h_max, mesh.h_body or the boxes' h)");
+  } catch (const std::exception& e) {
+    throw refuse(e.what());
+  }
+}
+
 std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConfig& cfg) {
   std::vector<std::pair<std::string, std::string>> rows;
   auto row = [&rows](std::string label, std::string value) {
@@ -655,7 +1015,7 @@ std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConf
   }
   row("bodies",
       fmt::format("{}{}", cfg.mesh.bodies.size(), names.empty() ? "" : " (" + names + ")"));
-  const Mesh mesh = build_mesh(cfg.mesh);
+  const Mesh mesh = build_case_mesh(cfg);
   row("mesh: cells, P2 nodes, unknowns", fmt::format("{}, {}, {}", mesh.n_cells(), mesh.n_nodes(),
                                                      2 * mesh.n_nodes() + mesh.n_vertices));
   row("mesh sizes h_body, h_max (m)", fmt::format("{:g}, {:g}", cfg.mesh.h_body, cfg.mesh.h_max));
@@ -721,7 +1081,7 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
   std::filesystem::create_directories(output_dir);
   FlowProblem pb;
   pb.spec = cfg.mesh;
-  pb.mesh = build_mesh(pb.spec);
+  pb.mesh = build_case_mesh(cfg);
   pb.density = cfg.density;
   pb.viscosity = cfg.viscosity;
   pb.outline_bc = cfg.outline_bc;
@@ -800,6 +1160,21 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     write_atomically(output_dir / "fem_forces.csv", [&](std::ostream& os) { os << forces.str(); });
     write_atomically(output_dir / "fem_probes.csv", [&](std::ostream& os) { os << probes.str(); });
   };
+  // The divergence watchdog: what of a state is not finite ("" when all is), checked before
+  // anything of it is written. (Newton's method refuses a non-finite iterate, so a step that
+  // blows up is retried with smaller steps and fails as StepFailure; this catches the rest,
+  // e.g. forces that overflow.)
+  auto non_finite = [&](const NavierStokes& s) -> std::string {
+    for (const double v : s.solution())
+      if (!std::isfinite(v)) return "the velocity or pressure";
+    const auto fr = s.reaction_forces();
+    const auto fs = s.stress_forces();
+    for (std::size_t j = 0; j < nb; ++j)
+      for (const double v :
+           {fr[j].force.x, fr[j].force.y, fr[j].torque, fs[j].force.x, fs[j].force.y})
+        if (!std::isfinite(v)) return fmt::format("the force on body '{}'", cfg.body_names[j]);
+    return {};
+  };
   auto write_fields = [&](const NavierStokes& s) {
     const std::string name = fmt::format("fem_fields_{:05d}.vtu", fields_written());
     write_vtu(output_dir / name, s);
@@ -826,6 +1201,8 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
   int stop_signal = 0;
   if (cfg.steady) {
     summary = solve_steady("steady");
+    if (const auto bad = non_finite(ns); !bad.empty())
+      throw Error(fmt::format("fluid_fem: the steady solution diverged: {} is not finite", bad));
     record(ns, 0.0);
     write_fields(ns);
   } else {
@@ -870,26 +1247,44 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     };
     TimeControl tc = cfg.time;
     tc.max_steps = max_steps;
-    const auto st = integrate(
-        ns, tc, cfg.newton,
-        [&](const NavierStokes& s, double h) {
-          ++steps;
-          const double eps = 1e-9 * h;
-          if (s.time() >= next_csv - eps) {
-            record(s, h);
-            next_csv = s.time() + cfg.output.csv_every;
-          }
-          if (cfg.output.vtk_every > 0 && s.time() >= next_vtk - eps) {
-            write_fields(s);
-            advance(next_vtk, cfg.output.vtk_every, s.time());
-          }
-          if (cfg.output.checkpoint_every > 0 && s.time() >= next_ckpt - eps &&
-              s.time() < cfg.time.t_end - eps) {
-            advance(next_ckpt, cfg.output.checkpoint_every, s.time());
-            checkpoint(fmt::format("fem_checkpoint_{:07d}.h5", steps));
-          }
-        },
-        &loop);
+    // A run that diverges stops with an error (exit status 1) naming the time and the step; the
+    // series are written up to the last good step (into the folder a failed run leaves, see
+    // simulation/output_folder.hpp), nothing of the failed step.
+    auto diverged = [&](const std::string& why) {
+      flush();
+      return Error(fmt::format(
+          "fluid_fem: the run diverged at t = {:.9g} s (step {}): {}; nothing of that step was "
+          "written. Try a smaller time.step (or adaptive steps, time.adaptive), a finer mesh, "
+          "or a slower inflow",
+          ns.time(), steps + 1, why));
+    };
+    TimeStats st;
+    try {
+      st = integrate(
+          ns, tc, cfg.newton,
+          [&](const NavierStokes& s, double h) {
+            if (const auto bad = non_finite(s); !bad.empty())
+              throw diverged(bad + " is not finite");
+            ++steps;
+            const double eps = 1e-9 * h;
+            if (s.time() >= next_csv - eps) {
+              record(s, h);
+              next_csv = s.time() + cfg.output.csv_every;
+            }
+            if (cfg.output.vtk_every > 0 && s.time() >= next_vtk - eps) {
+              write_fields(s);
+              advance(next_vtk, cfg.output.vtk_every, s.time());
+            }
+            if (cfg.output.checkpoint_every > 0 && s.time() >= next_ckpt - eps &&
+                s.time() < cfg.time.t_end - eps) {
+              advance(next_ckpt, cfg.output.checkpoint_every, s.time());
+              checkpoint(fmt::format("fem_checkpoint_{:07d}.h5", steps));
+            }
+          },
+          &loop);
+    } catch (const StepFailure& e) {
+      throw diverged(e.what());
+    }
     // The last state is always written out; the checkpoint comes first, so that it does not
     // count that data set as one of the schedule's (unless the schedule just wrote it): a run
     // continued in place (--append) drops it and numbers its next file as a run never stopped.

@@ -40,6 +40,8 @@ struct FemOutputConfig {
 /// Everything the `fluid_fem:` block defines (units SI).
 struct FemCaseConfig {
   std::string file;  ///< case file, for messages
+  std::string name;  ///< the case's `name` (top level; for the echo of the resolved case)
+  std::string output_directory;  ///< the case's `output.directory` (top level) [path]
   MeshSpec mesh;
   double density = 1.0;     ///< [kg/m^3]
   double viscosity = 1e-3;  ///< kinematic [m^2/s]
@@ -55,12 +57,38 @@ struct FemCaseConfig {
   NewtonOptions newton;
   bool newton_nested = true;  ///< steady solves: start from a coarser mesh's solution
   FemOutputConfig output;
+  /// What the case asks that works but gives poor results (e.g. a gap between bodies narrower
+  /// than the mesh size there), for `grainflow check` and the start of a run.
+  std::vector<std::string> warnings;
 };
+
+/// Words and places an error of the block: (the YAML node it is about, the mark of its key when
+/// the error is about the key itself, else a null mark, its key path, the message "expected ...,
+/// found ...") -> the whole text of the gf::InputError. The case loader passes the shared
+/// reader's (io/input: it names a --set option instead of a place in the file for an
+/// overridden value); without one it is "FILE:LINE:COLUMN: error: KEY.PATH: MESSAGE".
+using ErrorText = std::function<std::string(const YAML::Node& at, const YAML::Mark& key_mark,
+                                            const std::string& path, const std::string& message)>;
 
 /// Parses the `fluid_fem` block (the node under the key, not the document root). Any error
 /// (unknown key, wrong type, value out of range, missing key) throws gf::InputError with
-/// file:line:column, the key path, what was expected and what was found.
-FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file);
+/// file:line:column, the key path, what was expected and what was found (worded by `error_text`
+/// when given).
+FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
+                              const ErrorText& error_text = {});
+
+/// YAML text of the resolved case (a whole case file: `name`, the `fluid_fem` block with every
+/// default filled in, `output.directory`), opening with a comment naming the program version and
+/// the case file. Reading it back gives the same FemCaseConfig.
+std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& program_version);
+
+/// Whether `name` may name a body: it heads the columns NAME.fx, ... of fem_forces.csv, so it is
+/// made of letters, digits, '_' and '-' and starts with a letter or '_' (the rule of wall names).
+bool is_body_name(const std::string& name);
+
+/// build_mesh(cfg.mesh) with its failures worded for the user: a geometry the mesher cannot
+/// mesh (CGAL's errors included) is a gf::InputError naming the case file and its keys.
+Mesh build_case_mesh(const FemCaseConfig& cfg);
 
 /// Derived numbers of a case for `grainflow check` (label, value), meshing it to count cells
 /// and unknowns: the inflow's mean speed U, the largest body's size D, Re = U D / nu, and for
