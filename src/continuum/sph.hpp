@@ -216,6 +216,9 @@ struct SphParticles {
   /// granular temperature Theta, the velocity variance per component [m^2/s^2] (kinetic
   /// theory; otherwise 0)
   std::vector<double> theta;
+  /// implicit viscosity: the velocity change of the particle's last viscous solve [m/s], which
+  /// starts the next solve (walls and explicit viscosity: 0)
+  std::vector<Vec3> dv_viscous;
   std::size_t size() const { return x.size(); }
 };
 
@@ -265,6 +268,13 @@ class SphSolver {
   double stable_step() const;
   /// BiCGSTAB iterations of the last implicit viscous solve (last component).
   int viscous_iterations() const { return last_viscous_iterations_; }
+  /// Mean BiCGSTAB iterations per velocity component of this run's implicit viscous solves
+  /// (since the start or the restore; 0 without any).
+  double mean_viscous_iterations() const {
+    return viscous_solves_ > 0 ? static_cast<double>(viscous_iterations_total_) /
+                                     static_cast<double>(viscous_solves_)
+                               : 0.0;
+  }
   /// Largest fluid speed [m/s] (infinite once the run has diverged).
   double max_speed() const { return v_max_; }
   std::size_t n_fluid() const { return n_fluid_; }
@@ -434,6 +444,7 @@ class SphSolver {
   double kt_sound_max_ = 0.0;                   ///< largest sound speed of the granular gas [m/s]
   double kt_diffusivity_max_ = 0.0;  ///< largest of eta / rho and kappa / (3/2 rho) [m^2/s]
   int last_viscous_iterations_ = 0;
+  std::int64_t viscous_iterations_total_ = 0, viscous_solves_ = 0;
   std::vector<std::vector<Eigen::Triplet<double>>> visc_rows_;  ///< implicit step, per row
   std::vector<Eigen::Triplet<double>> visc_triplets_;
   double t_ = 0.0, dt_last_ = 0.0;

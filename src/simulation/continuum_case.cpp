@@ -182,6 +182,7 @@ void save_continuum_checkpoint(const fs::path& file, const ContinuumCheckpoint& 
     h.write("particles/v_ghost", std::span<const Vec3>(p.v_ghost));
     h.write("particles/wall_index", std::span<const std::int32_t>(p.wall_index));
     h.write("particles/theta", std::span<const double>(p.theta));
+    h.write("particles/dv_viscous", std::span<const Vec3>(p.dv_viscous));
     h.write("particles/x_built", std::span<const Vec3>(st.x_built));
   });
 }
@@ -225,6 +226,10 @@ ContinuumCheckpoint load_continuum_checkpoint(const fs::path& file) {
   // (checkpoints written before kinetic theory have no temperatures: a liquid's are 0)
   p.theta = h.exists("particles/theta") ? h.read_double("particles/theta")
                                         : std::vector<double>(p.wall_index.size(), 0.0);
+  // (nor the last viscous changes, from which the implicit viscous solves start: zero, as in the
+  // builds that started them from the velocities alone)
+  p.dv_viscous = h.exists("particles/dv_viscous") ? h.read_vec3("particles/dv_viscous")
+                                                  : std::vector<Vec3>(p.wall_index.size(), Vec3{});
   st.x_built = h.read_vec3("particles/x_built");
   return c;
 }
@@ -394,7 +399,13 @@ int run_continuum_case(const input::ContinuumCase& c, const fs::path& default_di
   sum << fmt::format("kinetic energy {:.9g} J\nmax density error {:.4g}\n", sm.kinetic_energy,
                      sm.max_density_error);
   write_atomically(dir / "sph_summary.txt", [&](std::ostream& os) { os << sum.str(); });
-  log::info("SPH run done: t = {:.6g} s, {} steps, {:.1f} s wall", s.time(), run_steps, wall);
+  if (c.sph.implicit_viscosity)
+    log::info(
+        "SPH run done: t = {:.6g} s, {} steps, {:.1f} s wall; implicit viscous solves: {:.1f} "
+        "BiCGSTAB iterations per component",
+        s.time(), run_steps, wall, s.mean_viscous_iterations());
+  else
+    log::info("SPH run done: t = {:.6g} s, {} steps, {:.1f} s wall", s.time(), run_steps, wall);
   if (sig)
     log::warn(
         "SPH run stopped by {}: outputs up to the last step and sph_checkpoint_final.h5 "
