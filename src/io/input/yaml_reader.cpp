@@ -66,8 +66,22 @@ std::optional<double> parse_double(std::string_view text) {
   return v;
 }
 
-bool is_quoted(const YAML::Node& n) {
-  return n.Tag() == "!";
+/// The tag a value was given as written: "" when none (a plain scalar: "?"), "!" for a quoted
+/// scalar, "!!str" for tag:yaml.org,2002:str (`density: !!str 2500`), "!local" as is.
+std::string given_tag(const YAML::Node& n) {
+  const std::string& t = n.Tag();
+  if (t.empty() || t == "?") return "";
+  constexpr std::string_view core = "tag:yaml.org,2002:";
+  if (t.compare(0, core.size(), core) == 0) return "!!" + t.substr(core.size());
+  return t;
+}
+
+/// Whether a scalar may be read as the type whose YAML tag is `type` ("!!int", "!!float",
+/// "!!bool"): it is plain or carries one of `types`. A quoted scalar or one tagged otherwise
+/// (`!!str 2500`) was explicitly made something else, so it is not read as a number.
+bool readable_as(const YAML::Node& n, std::initializer_list<std::string_view> types) {
+  const std::string tag = given_tag(n);
+  return tag.empty() || std::find(types.begin(), types.end(), tag) != types.end();
 }
 
 std::size_t edit_distance(std::string_view a, std::string_view b) {
@@ -218,7 +232,11 @@ std::string YamlNode::found() const {
   if (node_.IsScalar()) {
     std::string s = node_.Scalar();
     if (s.size() > 60) s = s.substr(0, 57) + "...";
-    return fmt::format("'{}'{}", s, is_quoted(node_) ? " (a quoted string)" : "");
+    const std::string tag = given_tag(node_);
+    return fmt::format("'{}'{}", s,
+                       tag.empty()  ? ""
+                       : tag == "!" ? " (a quoted string)"
+                                    : fmt::format(" (tagged {})", tag));
   }
   if (node_.IsSequence()) {
     const std::size_t n = node_.size();
@@ -245,7 +263,7 @@ void YamlNode::fail_expected(std::string_view what) const {
 double YamlNode::as_number(const Range& range) const {
   const std::string desc = range.describe();
   const std::string what = desc.empty() ? "a number" : fmt::format("a number {}", desc);
-  if (!node_.IsScalar() || is_quoted(node_)) fail_expected(what);
+  if (!node_.IsScalar() || !readable_as(node_, {"!!float", "!!int"})) fail_expected(what);
   const auto v = parse_double(node_.Scalar());
   if (!v) fail_expected(what);
   if (!std::isfinite(*v)) fail_expected(desc.empty() ? "a finite number" : what);
@@ -256,7 +274,7 @@ double YamlNode::as_number(const Range& range) const {
 std::int64_t YamlNode::as_integer(const Range& range) const {
   const std::string desc = range.describe();
   const std::string what = desc.empty() ? "an integer" : fmt::format("an integer {}", desc);
-  if (!node_.IsScalar() || is_quoted(node_)) fail_expected(what);
+  if (!node_.IsScalar() || !readable_as(node_, {"!!int", "!!float"})) fail_expected(what);
   std::string_view text = node_.Scalar();
   if (!text.empty() && text.front() == '+') text.remove_prefix(1);
   std::int64_t i = 0;
@@ -273,7 +291,7 @@ std::int64_t YamlNode::as_integer(const Range& range) const {
 }
 
 bool YamlNode::as_bool() const {
-  if (node_.IsScalar() && !is_quoted(node_)) {
+  if (node_.IsScalar() && readable_as(node_, {"!!bool"})) {
     const std::string& s = node_.Scalar();
     if (s == "true" || s == "True" || s == "TRUE") return true;
     if (s == "false" || s == "False" || s == "FALSE") return false;

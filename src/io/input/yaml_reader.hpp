@@ -93,11 +93,13 @@ class YamlNode {
   /// Throws "PATH: expected WHAT, found ..." at this value.
   [[noreturn]] void fail_expected(std::string_view what) const;
 
-  /// A finite number within `range` (quoted strings are not numbers).
+  /// A finite number within `range`. Quoted strings and values tagged as anything but a number
+  /// (`!!str 2500`) are not numbers; `!!float` and `!!int` are accepted.
   double as_number(const Range& range = {}) const;
-  /// An integer (written as 12, 1e5 or 100000.0) within `range`.
+  /// An integer (written as 12, 1e5 or 100000.0) within `range`; tags as for as_number.
   std::int64_t as_integer(const Range& range = {}) const;
-  /// true or false (the YAML 1.1 forms yes/no/on/off are refused as ambiguous).
+  /// true or false (the YAML 1.1 forms yes/no/on/off are refused as ambiguous; so are quoted
+  /// values and tags other than `!!bool`).
   bool as_bool() const;
   /// A scalar as text.
   std::string as_string() const;

@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Unit tests of the input layer's limits: memory estimates (grains, lattice sites, neighbour
+// cells, SPH particles, two-fluid and CFD-DEM cells), absurd STL scales, SPH wall thickness,
+// two-fluid initial regions outside the domain, and YAML values tagged as strings.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "core/error.hpp"
+#include "io/input/parse_case.hpp"
+#include "io/input/parse_continuum.hpp"
+#include "io/input/parse_two_fluid.hpp"
+#include "io/input/validate.hpp"
+#include "io/input/yaml_reader.hpp"
+#include "temp_dir.hpp"
+
+namespace fs = std::filesystem;
+using namespace gf;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+namespace {
+
+/// `text` with its first `from` replaced by `to` (a test failure when there is none).
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+/// The message of the InputError thrown by loading and validating a DEM case, or "".
+std::string dem_error(const std::string& text, const fs::path& file = "t.yaml") {
+  try {
+    input::validate(input::load_case_text(text, file));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// A 3D DEM case in a box of edge `edge` m holding one group of glass spheres of radius
+/// `radius` m with the fill (or explicit positions) `group`.
+std::string dem_case(const std::string& group, double edge = 10, double radius = 0.002) {
+  return fmt::format(R"(time: {{step: 1.0e-5, end: 0.1}}
+domain: {{min: [0, 0, 0], max: [{0}, {0}, {0}]}}
+materials:
+  glass: {{density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}}
+contacts:
+  - {{between: [glass, glass], model: hertz_mindlin, restitution: 0.5}}
+particles:
+  - shape: sphere
+    radius: {1}
+    material: glass
+    {2}
+)",
+                     edge, radius, group);
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// YAML tags
+
+TEST(InputLimits, ValuesTaggedAsStringsAreNotNumbers) {
+  const std::string base = dem_case("positions: [[0.05, 0.05, 0.05]]", 0.1, 0.002);
+  EXPECT_EQ(dem_error(base), "");
+  std::string m = dem_error(replaced(base, "density: 2500", "density: !!str 2500"));
+  EXPECT_THAT(m, HasSubstr("t.yaml:4:"));
+  EXPECT_THAT(m, HasSubstr("error: materials.glass.density: expected a number > 0, found '2500' "
+                           "(tagged !!str)"));
+  // the number tags are numbers
+  EXPECT_EQ(dem_error(replaced(base, "density: 2500", "density: !!float 2500")), "");
+  EXPECT_EQ(dem_error(replaced(base, "density: 2500", "density: !!int 2500")), "");
+  // an integer, a boolean, a local tag
+  m = dem_error(replaced(base, "positions: [[0.05, 0.05, 0.05]]",
+                         "fill: {box: {min: [0, 0, 0], max: [0.1, 0.1, 0.1]}, count: !!str 5}"));
+  EXPECT_THAT(m, HasSubstr("particles[0].fill.count: expected an integer >= 1, found '5' "
+                           "(tagged !!str)"));
+  m = dem_error(replaced(base, "domain: {min: [0, 0, 0], max: [0.1, 0.1, 0.1]}",
+                         "domain: {min: [0, 0, 0], max: [0.1, 0.1, 0.1], periodic: [!!str true, "
+                         "false, false]}"));
+  EXPECT_THAT(m, HasSubstr("domain.periodic[0]: expected true or false, found 'true' (tagged "
+                           "!!str)"));
+  m = dem_error(replaced(base, "density: 2500", "density: !mine 2500"));
+  EXPECT_THAT(m, HasSubstr("found '2500' (tagged !mine)"));
+  // quoted: as before
+  m = dem_error(replaced(base, "density: 2500", "density: '2500'"));
+  EXPECT_THAT(m, HasSubstr("found '2500' (a quoted string)"));
+}
