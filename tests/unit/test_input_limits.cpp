@@ -64,6 +64,34 @@ particles:
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
+// STL meshes
+
+TEST(InputLimits, AbsurdMeshScaleIsRefusedAtTheKey) {
+  test::TempDir dir;
+  const fs::path stl = fs::path(GF_SOURCE_DIR) / "tests" / "data" / "stl" / "unit_cube_ascii.stl";
+  auto with_mesh = [&](const std::string& mesh) {
+    return dem_case("positions: [[0.5, 0.5, 0.5]]", 1, 0.01) +
+           fmt::format("walls:\n  - {{name: bin, material: glass, mesh: {{file: {}{}}}}}\n",
+                       stl.string(), mesh);
+  };
+  const fs::path file = dir / "case.yaml";
+  EXPECT_EQ(dem_error(with_mesh(""), file), "");
+  EXPECT_EQ(dem_error(with_mesh(", scale: 2"), file), "");
+  std::string m = dem_error(with_mesh(", scale: 1e200"), file);
+  EXPECT_THAT(m, HasSubstr("walls[0].mesh.scale: expected a scale that gives a mesh of about the "
+                           "domain's size"));
+  EXPECT_THAT(m, HasSubstr("case.yaml:13:"));
+  m = dem_error(with_mesh(", scale: 1e-200"), file);
+  EXPECT_THAT(m, HasSubstr("walls[0].mesh.scale: expected a scale"));
+  m = dem_error(with_mesh(", offset: [1e300, 0, 0]"), file);
+  EXPECT_THAT(m, HasSubstr("walls[0].mesh.offset: expected a mesh near the domain"));
+  // beyond doubles
+  m = dem_error(with_mesh(", scale: 1e308, offset: [1e308, 0, 0]"), file);
+  EXPECT_THAT(m, HasSubstr("walls[0].mesh.scale: expected a scale and offset that keep the "
+                           "mesh's coordinates finite"));
+}
+
+// ---------------------------------------------------------------------------------------------
 // YAML tags
 
 TEST(InputLimits, ValuesTaggedAsStringsAreNotNumbers) {

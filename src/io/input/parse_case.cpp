@@ -9,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -136,6 +137,8 @@ struct Reader {
                                config::Explicit& ex);
   void read_walls(const YamlMap& root);
   void read_mesh_wall(const YamlNode& node, config::Wall& w) const;
+  /// Refuses a scaled mesh whose coordinates are not finite or absurd next to the domain.
+  void check_mesh_size(const YamlMap& mm, const config::Wall& w) const;
   config::Motion read_motion(const YamlNode& node);
   void read_output(const YamlMap& root);
   std::optional<config::OutputEvery> read_interval(const YamlMap& m, bool off_allowed) const;
@@ -1353,8 +1356,50 @@ void Reader::read_mesh_wall(const YamlNode& node, config::Wall& w) const {
   }
   w.mesh_points.reserve(stl.points.size());
   for (const auto& p : stl.points) w.mesh_points.push_back(w.mesh_scale * p + w.mesh_offset);
+  check_mesh_size(mm, w);
   w.mesh_triangles = std::move(stl.triangles);
   w.mesh_dropped = stl.dropped;
+}
+
+// A scaled mesh far larger or smaller than the domain, or far away from it, is a scale or an
+// offset meant for other units (or a typo): its coordinates overflow, or the distances the
+// contact search takes between them lose every digit (1e200 m squared is inf). Refused at
+// `scale` (the size) or `offset` (the place) when beyond 1e6 times the domain's diagonal, or
+// under 1e-6 of it.
+void Reader::check_mesh_size(const YamlMap& mm, const config::Wall& w) const {
+  const double size = norm(c.domain.max - c.domain.min);
+  const YamlNode scale = mm.find("scale") ? mm.at("scale") : mm.at("file");
+  const YamlNode place = mm.find("offset") ? mm.at("offset") : scale;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Vec3 lo{inf, inf, inf}, hi{-inf, -inf, -inf};
+  for (const auto& p : w.mesh_points) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      (mm.find("scale") ? scale : place)
+          .fail(fmt::format("expected a scale and offset that keep the mesh's coordinates finite, "
+                            "found a vertex at {} m (scale {})",
+                            text(p), number_text(w.mesh_scale)));
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+  }
+  // (the largest extent and distance along an axis: a norm of 1e200 m would overflow)
+  const Vec3 centre = 0.5 * (c.domain.min + c.domain.max);
+  double span = 0, away = 0;
+  for (int k = 0; k < 3; ++k) {
+    span = std::max(span, hi[k] - lo[k]);
+    away = std::max({away, std::abs(lo[k] - centre[k]), std::abs(hi[k] - centre[k])});
+  }
+  if (!(span <= 1e6 * size) || !(span >= 1e-6 * size))
+    scale.fail(fmt::format(
+        "expected a scale that gives a mesh of about the domain's size ({:.3g} m across), found "
+        "one {:.3g} m across (scale {}; a file in millimetres needs scale: 0.001)",
+        size, span, number_text(w.mesh_scale)));
+  if (!(away <= 1e6 * size))
+    place.fail(fmt::format(
+        "expected a mesh near the domain ({:.3g} m across), found it {:.3g} m from the domain's "
+        "centre (bounds {} - {})",
+        size, away, text(lo), text(hi)));
 }
 
 void Reader::read_walls(const YamlMap& root) {
