@@ -64,6 +64,70 @@ particles:
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
+// SPH
+
+namespace {
+
+const char* const kSph = R"(continuum:
+  method: sph
+  dimension: 2
+  domain: {min: [0, 0], max: [1, 1]}
+  gravity: [0, -9.81]
+  spacing: 0.01
+  density: 1000
+  rheology: {model: newtonian, viscosity: 1.0e-3}
+  time: {end: 0.1}
+  blocks:
+    - {box: {min: [0.1, 0.1], max: [0.5, 0.5]}}
+  walls:
+    - {name: floor, box: {min: [0, 0], max: [1, 0.05]}}
+    - {name: post, cylinder: {center: [0.7, 0.5], radius: 0.1, thickness: 0.04}}
+)";
+
+input::ContinuumCase parse_sph(const std::string& text) {
+  const auto root = input::YamlNode::parse_text(text, "case.yaml");
+  return input::parse_continuum(input::YamlMap(root, {"continuum"}).at("continuum"));
+}
+
+std::string sph_error(const std::string& text) {
+  try {
+    parse_sph(text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(InputLimits, SphWallThicknessMustHoldAParticleLayer) {
+  const std::string wall = "radius: 0.1, thickness: 0.04}";
+  for (const char* t : {"0", "-0.01"}) {
+    const std::string m =
+        sph_error(replaced(kSph, wall, fmt::format("radius: 0.1, thickness: {}}}", t)));
+    EXPECT_THAT(m, HasSubstr("continuum.walls[1].cylinder.thickness: expected a thickness > 0 m "
+                             "(leave thickness out for a solid disk)"))
+        << t;
+  }
+  // thinner than one spacing: gaps in the shell
+  std::string m = sph_error(replaced(kSph, wall, "radius: 0.1, thickness: 0.005}"));
+  EXPECT_THAT(m, HasSubstr("continuum.walls[1].cylinder.thickness: expected a wall at least one "
+                           "particle spacing (0.01 m) thick"));
+  // thinner than the kernel's reach 2h = 0.026 m: a warning
+  const auto thin = parse_sph(replaced(kSph, wall, "radius: 0.1, thickness: 0.015}"));
+  ASSERT_EQ(thin.warnings.size(), 1u);
+  EXPECT_THAT(thin.warnings[0], HasSubstr("continuum.walls[1].cylinder.thickness: a wall 0.015 m "
+                                          "thick is thinner than the kernel's reach 2h = 0.026 m"));
+  EXPECT_TRUE(parse_sph(kSph).warnings.empty());
+  // without thickness: solid
+  EXPECT_EQ(parse_sph(replaced(kSph, ", thickness: 0.04}", "}")).sph.walls[1].thickness, 0.0);
+  // a fluid block's annulus too must be > 0 when given
+  m = sph_error(replaced(kSph, "{box: {min: [0.1, 0.1], max: [0.5, 0.5]}}",
+                         "{cylinder: {center: [0.3, 0.3], radius: 0.1, thickness: 0}}"));
+  EXPECT_THAT(m, HasSubstr("continuum.blocks[0].cylinder.thickness: expected a thickness > 0 m"));
+}
+
+// ---------------------------------------------------------------------------------------------
 // STL meshes
 
 TEST(InputLimits, AbsurdMeshScaleIsRefusedAtTheKey) {

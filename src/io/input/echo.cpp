@@ -555,13 +555,14 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
 
 namespace {
 
-/// A continuum cylinder (a wall or a block) as its YAML map.
+/// A continuum cylinder (a wall or a block) as its YAML map; a solid one (thickness 0) without
+/// `thickness`, which is > 0 when given.
 void emit_sph_cylinder(YAML::Emitter& out, const Vec3& center, const Vec3& axis, double radius,
                        double length, double thickness, int dim) {
   out << YAML::Key << "cylinder" << YAML::Value << YAML::Flow << YAML::BeginMap;
   key_vec(out, "center", center, dim);
   key_number(out, "radius", radius);
-  key_number(out, "thickness", thickness);
+  if (thickness > 0) key_number(out, "thickness", thickness);
   if (dim == 3) {
     key_vec(out, "axis", axis, 3);
     key_number(out, "length", length);

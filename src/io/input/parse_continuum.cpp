@@ -11,6 +11,7 @@
 #include "continuum/ktgf.hpp"
 #include "continuum/rheology_registry.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "io/input/continuum_input.hpp"
 
 namespace gf::input {
@@ -35,15 +36,34 @@ struct CylinderRead {
   double radius = 0, length = 0, thickness = 0;
 };
 
-/// {center, radius, thickness} (3D: also axis and length).
-CylinderRead read_cylinder(const YamlNode& n, int dim) {
+/// {center, radius, thickness} (3D: also axis and length). A thickness given is > 0 (without
+/// it the cylinder is solid). A wall's shell (`dx` > 0: the spacing, `reach` the kernel's support
+/// 2h) is at least one particle layer dx thick, or it would have gaps for the fluid to pass;
+/// thinner than 2h it adds a warning to `warnings`: fluid next to it sees past its last layer.
+CylinderRead read_cylinder(const YamlNode& n, int dim, double dx = 0, double reach = 0,
+                           std::vector<std::string>* warnings = nullptr) {
   YamlMap cy(n, dim == 2
                     ? std::vector<std::string>{"center", "radius", "thickness"}
                     : std::vector<std::string>{"center", "radius", "thickness", "axis", "length"});
   CylinderRead c;
   c.center = cy.at("center").as_vec(dim);
   c.radius = cy.number("radius", Range::positive());
-  c.thickness = cy.number_or("thickness", 0.0, Range::non_negative());
+  if (auto t = cy.find("thickness")) {
+    c.thickness = t->as_number();
+    if (!(c.thickness > 0))
+      t->fail_expected(fmt::format("a thickness > 0 m (leave thickness out for a solid {})",
+                                   dim == 2 ? "disk" : "cylinder"));
+    if (dx > 0 && c.thickness < c.radius && c.thickness < dx * (1 - 1e-9))
+      t->fail_expected(fmt::format(
+          "a wall at least one particle spacing ({} m) thick, or its shell has gaps the fluid "
+          "passes through (give 2h = 2 x smoothing_ratio x spacing = {:.3g} m or more)",
+          number_text(dx), reach));
+    if (warnings && c.thickness < c.radius && c.thickness < reach * (1 - 1e-9))
+      warnings->push_back(
+          fmt::format("{}: a wall {} m thick is thinner than the kernel's reach 2h = {:.3g} m (2 "
+                      "x smoothing_ratio x spacing): fluid next to it sees past its last layer",
+                      t->path(), number_text(c.thickness), reach));
+  }
   if (dim == 3) {
     c.axis = cy.at("axis").as_direction(3);
     c.length = cy.number("length", Range::positive());
@@ -199,7 +219,8 @@ ContinuumCase parse_continuum(const YamlNode& block) {
         wall.hi = box.hi;
       } else {
         wall.shape = continuum::SphWall::Shape::Cylinder;
-        const auto cy = read_cylinder(w.at("cylinder"), dim);
+        const double reach = 2.0 * s.smoothing_ratio * s.spacing;
+        const auto cy = read_cylinder(w.at("cylinder"), dim, s.spacing, reach, &c.warnings);
         wall.center = cy.center;
         wall.axis = cy.axis;
         wall.radius = cy.radius;
@@ -262,6 +283,7 @@ ContinuumCase parse_continuum(const YamlNode& block) {
       s.walls.push_back(wall);
     }
   }
+  for (const auto& w : c.warnings) log::warn("{}", w);
   if (auto on = m.find("output")) {
     const OutputSchedule o = read_output_schedule(*on);
     c.output = o;

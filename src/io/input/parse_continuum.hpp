@@ -5,6 +5,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 #include "continuum/sph.hpp"
 #include "io/input/continuum_input.hpp"
@@ -27,6 +28,9 @@ struct ContinuumCase {
   /// [s] each; 0: the first and last states only, every step, only sph_checkpoint_final.h5
   OutputSchedule output;
   bool sound_speed_given = false;  ///< false: c0 = 10 sqrt(2 |g| H), H the fluid's height
+  /// Allowed but probably not meant (also logged as warnings when parsed): thin walls, a case
+  /// that needs more than half the memory.
+  std::vector<std::string> warnings;
 };
 
 /// Parses the `continuum` block `block` (the value under the key). Any error (unknown key, wrong
