@@ -128,6 +128,56 @@ TEST(InputLimits, SphWallThicknessMustHoldAParticleLayer) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Two-fluid
+
+namespace {
+
+const char* const kTwoFluid = R"(two_fluid:
+  dimension: 2
+  domain: {min: [0, 0], max: [0.04, 0.08]}
+  cells: [8, 16]
+  gravity: [0, -9.81]
+  fluid: {density: 1.2, viscosity: 1.8e-5}
+  solids: {closures: syamlal, restitution: 0.9, grain_diameter: 5.0e-4, grain_density: 2500}
+  drag: {model: gidaspow}
+  boundaries:
+    y_min: {type: inlet, velocity: [0, 0.4]}
+    y_max: {type: outlet}
+  initial:
+    regions:
+      - {box: {min: [0, 0], max: [0.04, 0.03]}, solids_fraction: 0.5}
+  time: {end: 1.0}
+)";
+
+std::string two_fluid_error(const std::string& text) {
+  try {
+    const auto root = input::YamlNode::parse_text(text, "case.yaml");
+    input::parse_two_fluid(input::YamlMap(root, {"two_fluid"}).at("two_fluid"));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(InputLimits, TwoFluidRegionOutsideTheDomainIsRefused) {
+  const std::string region = "{box: {min: [0, 0], max: [0.04, 0.03]}";
+  std::string m = two_fluid_error(replaced(kTwoFluid, region, "{box: {min: [5, 5], max: [6, 6]}"));
+  EXPECT_THAT(m, HasSubstr("case.yaml:14:15: error: two_fluid.initial.regions[0].box: expected a "
+                           "region holding at least one cell centre"));
+  EXPECT_THAT(m, HasSubstr("lies outside the domain"));
+  // a sliver between two rows of cell centres (5 mm cells, centres at 2.5 mm, 7.5 mm, ...)
+  m = two_fluid_error(replaced(kTwoFluid, region, "{box: {min: [0, 0.003], max: [0.04, 0.007]}"));
+  EXPECT_THAT(m, HasSubstr("lies between cell centres"));
+  m = two_fluid_error(replaced(kTwoFluid, region, "{box: {min: [0, 0.03], max: [0.04, 0]}"));
+  EXPECT_THAT(m, HasSubstr("regions[0].box: expected max > min along every axis"));
+  // reaching past the domain is fine: "everything below 3 cm"
+  EXPECT_EQ(two_fluid_error(replaced(kTwoFluid, region, "{box: {min: [-1, -1], max: [1, 0.03]}")),
+            "");
+}
+
+// ---------------------------------------------------------------------------------------------
 // STL meshes
 
 TEST(InputLimits, AbsurdMeshScaleIsRefusedAtTheKey) {

@@ -23,6 +23,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -37,6 +38,42 @@ namespace gf::input {
 namespace {
 
 const char* const kFaceNames[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+
+/// An initial region sets the cells whose centres it holds (boundaries included; a region may
+/// reach past the domain, e.g. to say "everything below y = 0.1"). One with max <= min, or one
+/// that holds no cell centre (outside the domain, or a sliver between centres) would set
+/// nothing: refused at `box`.
+void check_region(const YamlNode& box, const TwoFluidCase::Region& r, const fluid::Grid& g) {
+  std::string vlo, vhi, dlo, dhi;
+  for (int k = 0; k < g.dimension; ++k) {
+    const char* sep = k ? ", " : "";
+    vlo += fmt::format("{}{}", sep, number_text(r.lo[k]));
+    vhi += fmt::format("{}{}", sep, number_text(r.hi[k]));
+    dlo += fmt::format("{}{}", sep, number_text(g.lo[k]));
+    dhi +=
+        fmt::format("{}{}", sep, number_text(g.lo[k] + g.n[static_cast<std::size_t>(k)] * g.h[k]));
+  }
+  for (int k = 0; k < g.dimension; ++k)
+    if (!(r.hi[k] > r.lo[k]))
+      box.fail(
+          fmt::format("expected max > min along every axis, found min [{}], max [{}]", vlo, vhi));
+  for (int k = 0; k < g.dimension; ++k) {
+    // cell i's centre: lo + (i + 1/2) h; those in [r.lo, r.hi]
+    const double tol = 1e-9;
+    const double first = std::max(0.0, std::ceil((r.lo[k] - g.lo[k]) / g.h[k] - 0.5 - tol));
+    const double last = std::min(static_cast<double>(g.n[static_cast<std::size_t>(k)] - 1),
+                                 std::floor((r.hi[k] - g.lo[k]) / g.h[k] - 0.5 + tol));
+    if (first > last)
+      box.fail(fmt::format(
+          "expected a region holding at least one cell centre, found min [{}], max [{}], which "
+          "{} (domain [{}] - [{}], cells {} m wide along {}): it would set nothing",
+          vlo, vhi,
+          r.hi[k] < g.lo[k] || r.lo[k] > g.lo[k] + g.n[static_cast<std::size_t>(k)] * g.h[k]
+              ? "lies outside the domain"
+              : "lies between cell centres",
+          dlo, dhi, number_text(g.h[k]), "xyz"[k]));
+  }
+}
 
 }  // namespace
 
@@ -282,6 +319,7 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
         TwoFluidCase::Region reg;
         reg.lo = bm.at("min").as_vec(dim);
         reg.hi = bm.at("max").as_vec(dim);
+        check_region(rm.at("box"), reg, g);
         reg.solids_fraction = rm.number("solids_fraction", {0.0, 1.0, false, true});
         if (rm.find("solids_velocity")) reg.solids_velocity = rm.at("solids_velocity").as_vec(dim);
         c.initial.push_back(reg);
