@@ -8,9 +8,11 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "core/error.hpp"
+#include "io/input/memory_budget.hpp"
 #include "io/input/parse_case.hpp"
 #include "io/input/parse_continuum.hpp"
 #include "io/input/parse_two_fluid.hpp"
@@ -24,6 +26,29 @@ using ::testing::HasSubstr;
 using ::testing::Not;
 
 namespace {
+
+/// Sets GRAINFLOW_MEMORY_LIMIT for the scope (unset: removes it), then restores it.
+class MemoryLimit {
+ public:
+  explicit MemoryLimit(const char* value) {
+    if (const char* old = std::getenv("GRAINFLOW_MEMORY_LIMIT")) old_ = old;
+    if (value)
+      setenv("GRAINFLOW_MEMORY_LIMIT", value, 1);
+    else
+      unsetenv("GRAINFLOW_MEMORY_LIMIT");
+  }
+  ~MemoryLimit() {
+    if (old_)
+      setenv("GRAINFLOW_MEMORY_LIMIT", old_->c_str(), 1);
+    else
+      unsetenv("GRAINFLOW_MEMORY_LIMIT");
+  }
+  MemoryLimit(const MemoryLimit&) = delete;
+  MemoryLimit& operator=(const MemoryLimit&) = delete;
+
+ private:
+  std::optional<std::string> old_;
+};
 
 /// `text` with its first `from` replaced by `to` (a test failure when there is none).
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
@@ -64,6 +89,135 @@ particles:
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
+// The memory limit itself
+
+TEST(InputLimits, MemoryLimitIsThePhysicalMemoryUnlessTheVariableSetsIt) {
+  {
+    MemoryLimit unset(nullptr);
+    EXPECT_GT(input::physical_memory_bytes(), 1e8);
+    EXPECT_EQ(input::memory_limit_bytes(), input::physical_memory_bytes());
+  }
+  {
+    MemoryLimit limit("16G");
+    EXPECT_EQ(input::memory_limit_bytes(), 16e9);
+  }
+  {
+    MemoryLimit limit("2GiB");
+    EXPECT_EQ(input::memory_limit_bytes(), 2.0 * 1024 * 1024 * 1024);
+  }
+  {
+    MemoryLimit limit("8e9");
+    EXPECT_EQ(input::memory_limit_bytes(), 8e9);
+  }
+  {
+    MemoryLimit limit("512MB");
+    EXPECT_EQ(input::memory_limit_bytes(), 512e6);
+  }
+  for (const char* bad : {"lots", "16Q", "-1G", "0"}) {
+    MemoryLimit limit(bad);
+    try {
+      input::memory_limit_bytes();
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const InputError& e) {
+      EXPECT_THAT(e.what(), HasSubstr("GRAINFLOW_MEMORY_LIMIT")) << bad;
+      EXPECT_THAT(e.what(), HasSubstr(fmt::format("found '{}'", bad)));
+    }
+  }
+  EXPECT_EQ(input::bytes_text(4e11), "400 GB");
+  EXPECT_EQ(input::bytes_text(1.5e6), "1.5 MB");
+}
+
+// ---------------------------------------------------------------------------------------------
+// DEM fills
+
+TEST(InputLimits, RandomFillOfABillionGrainsIsRefusedAtCount) {
+  MemoryLimit limit("16G");
+  // (5 mm spheres at 1e9 take 3 % of the 1000 m^3 box: the fill itself is possible)
+  const std::string m = dem_error(
+      dem_case("fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}, lattice: random, count: 1e9}"));
+  EXPECT_THAT(m, HasSubstr("t.yaml:11:"));
+  EXPECT_THAT(m, HasSubstr("particles[0].fill.count: 1e+09 grains need about 400 GB of memory"));
+  EXPECT_THAT(m, HasSubstr("GRAINFLOW_MEMORY_LIMIT sets is 16 GB"));
+}
+
+TEST(InputLimits, LatticeFillOfBillionsOfSitesIsRefusedAtSpacingOrRegion) {
+  MemoryLimit limit("16G");
+  // 10 m / 4.04 mm: ~2475^3 = 1.5e10 sites
+  std::string m = dem_error(dem_case("fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}}"));
+  EXPECT_THAT(m, HasSubstr("particles[0].fill.box:"));
+  EXPECT_THAT(m, HasSubstr("32-bit"));
+  // 1e9 sites: within the indices, beyond memory
+  m = dem_error(
+      dem_case("fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}, lattice: cubic, spacing: 0.01}"));
+  EXPECT_THAT(m, HasSubstr("particles[0].fill.spacing: 1e+09 grains need about 400 GB"));
+  // with a count that caps it, the count is the culprit
+  m = dem_error(dem_case(
+      "fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}, spacing: 0.01, count: 500000000}"));
+  EXPECT_THAT(m, HasSubstr("particles[0].fill.count: 5e+08 grains need about 200 GB"));
+  // a volume fraction lists every site of the lattice before it picks its grains
+  m = dem_error(dem_case(
+      "fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}, spacing: 0.01, volume_fraction: 1e-3}"));
+  EXPECT_THAT(m, HasSubstr("particles[0].fill.volume_fraction:"));
+  EXPECT_THAT(m, HasSubstr("(and the 1e+09 lattice sites they are picked from)"));
+}
+
+TEST(InputLimits, MoreGrainsThan32BitIndicesAreRefused) {
+  MemoryLimit limit("1000T");  // memory is not the limit here
+  const std::string m = dem_error(dem_case(
+      "fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}, lattice: random, count: 3e9}", 10, 0.0005));
+  EXPECT_THAT(m, HasSubstr("particles[0].fill.count: expected at most 2147483647 grains"));
+  EXPECT_THAT(m, HasSubstr("found 3e+09"));
+}
+
+TEST(InputLimits, NeighbourGridOfAHugeDomainIsCounted) {
+  // 10 m box, 2 mm grains: the grid is capped at 1024^3 cells of 16 B, 17 GB
+  const std::string ten = dem_case("positions: [[1, 1, 1]]");
+  {
+    MemoryLimit limit("8G");
+    const std::string m = dem_error(ten);
+    EXPECT_THAT(m, HasSubstr("t.yaml:2:"));
+    EXPECT_THAT(m, HasSubstr("domain: the neighbour search's 1073741824 cells"));
+    EXPECT_THAT(m, HasSubstr("need about 17.2 GB"));
+  }
+  {
+    MemoryLimit limit("20G");  // above half: allowed, with a warning
+    const auto report = input::validate(input::load_case_text(ten, "t.yaml"));
+    ASSERT_EQ(report.warnings.size(), 1u);
+    EXPECT_THAT(report.warnings[0], HasSubstr("domain: "));
+    EXPECT_THAT(report.warnings[0], HasSubstr("more than half"));
+  }
+  {
+    MemoryLimit limit("100G");
+    const auto report = input::validate(input::load_case_text(ten, "t.yaml"));
+    EXPECT_TRUE(report.warnings.empty());
+  }
+}
+
+TEST(InputLimits, PartsThatFitAloneAreRefusedTogether) {
+  MemoryLimit limit("20G");
+  // 3e7 grains (12 GB) and the 10 m box's neighbour grid (17 GB)
+  const std::string m = dem_error(
+      dem_case("fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}, lattice: random, count: 3e7}"));
+  EXPECT_THAT(m, HasSubstr("domain: "));
+  EXPECT_THAT(m, HasSubstr("together, need about 29.2 GB"));
+}
+
+TEST(InputLimits, CfdDemFluidCellsAreCounted) {
+  MemoryLimit limit("16G");
+  const std::string text = dem_case("positions: [[0.05, 0.05, 0.05]]", 0.1, 0.002) +
+                           R"(fluid:
+  density: 1000
+  viscosity: 1.0e-3
+  cells: [4096, 4096, 1]
+  boundary: {zmin: {velocity_inlet: [0, 0, 0.01]}, zmax: {pressure_outlet: 0}}
+coupling: {drag: gidaspow}
+)";
+  const std::string m = dem_error(text);
+  EXPECT_THAT(m, HasSubstr("t.yaml:15:"));
+  EXPECT_THAT(m, HasSubstr("fluid.cells: 16777216 fluid cells need about 36.9 GB"));
+}
+
+// ---------------------------------------------------------------------------------------------
 // SPH
 
 namespace {
@@ -99,6 +253,20 @@ std::string sph_error(const std::string& text) {
 }
 
 }  // namespace
+
+TEST(InputLimits, SphSpacingOfAMicronInAMetreIsRefused) {
+  MemoryLimit limit("16G");
+  EXPECT_EQ(sph_error(kSph), "");
+  // 20 um: ~5.8e8 particles in the blocks and walls
+  std::string m = sph_error(replaced(kSph, "spacing: 0.01", "spacing: 2.0e-5"));
+  EXPECT_THAT(m, HasSubstr("case.yaml:6:12: error: continuum.spacing: about 5."));
+  EXPECT_THAT(m, HasSubstr("particles (blocks and walls at spacing 2e-05 m)"));
+  EXPECT_THAT(m, HasSubstr("GB of memory; the limit GRAINFLOW_MEMORY_LIMIT sets is 16 GB"));
+  // 1 um: 2.3e11 (1.6e11 in the block alone), beyond 32-bit indices
+  m = sph_error(replaced(kSph, "spacing: 0.01", "spacing: 1.0e-6"));
+  EXPECT_THAT(m, HasSubstr("continuum.spacing: expected at most 2147483647 particles"));
+  EXPECT_THAT(m, HasSubstr("found about 2.3e+11"));
+}
 
 TEST(InputLimits, SphWallThicknessMustHoldAParticleLayer) {
   const std::string wall = "radius: 0.1, thickness: 0.04}";
@@ -160,6 +328,14 @@ std::string two_fluid_error(const std::string& text) {
 }
 
 }  // namespace
+
+TEST(InputLimits, TwoFluidGridOfAbsurdSizeIsRefusedBeforeItIsBuilt) {
+  MemoryLimit limit("16G");
+  EXPECT_EQ(two_fluid_error(kTwoFluid), "");
+  // (1e5 x 2e5 = 2e10 cells: an attempt to build them would throw std::bad_alloc)
+  const std::string m = two_fluid_error(replaced(kTwoFluid, "cells: [8, 16]", "cells: [1e5, 1e5]"));
+  EXPECT_THAT(m, HasSubstr("case.yaml:4:10: error: two_fluid.cells: 1e+10 cells need about 42 TB"));
+}
 
 TEST(InputLimits, TwoFluidRegionOutsideTheDomainIsRefused) {
   const std::string region = "{box: {min: [0, 0], max: [0.04, 0.03]}";

@@ -102,6 +102,9 @@ struct Fill {
   /// {axis: [...]}` in 3D, the rotation taking e_z to the axis, or `{angle: a}` in 2D).
   std::optional<Quat> orientation;
   SourceLoc loc;  ///< the `fill:` block, for messages
+  /// Where the keys that set the number of grains are (empty when not given): `count` or
+  /// `volume_fraction`, `spacing`, and the region (`box` / `cylinder`), for the memory check.
+  SourceLoc count_loc, spacing_loc, region_loc;
 };
 
 /// Explicit particles; vectors have one entry per particle (velocities etc. may be empty = zero).
@@ -273,6 +276,7 @@ struct Fluid {
   Vec3 initial_velocity;                ///< m/s
   std::string convection = "van_leer";  ///< van_leer | central | upwind
   SourceLoc loc;
+  SourceLoc cells_loc;  ///< the value of `cells`
 };
 
 /// Particle-fluid coupling (docs/models/cfd_dem.md).

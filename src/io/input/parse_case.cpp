@@ -356,6 +356,7 @@ void Reader::read_fluid(const YamlMap& root) {
   f.density = fm.number("density", Range::positive());
   f.viscosity = fm.number("viscosity", Range::positive());
   const YamlNode cn = fm.at("cells");
+  f.cells_loc = cn.loc();
   if (!cn.is_list() || cn.raw().size() != 3)
     cn.fail_expected("a list of 3 cell counts [nx, ny, nz]");
   const auto items = cn.as_list();
@@ -689,6 +690,7 @@ config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup
                     "velocity", "velocity_jitter", "max_attempts", "orientation"});
   f.loc = node.loc();
   const std::string region = fm.exactly_one_of({"box", "cylinder"});
+  f.region_loc = fm.at(region).key_loc();
   if (region == "box") {
     YamlMap bm(fm.at("box"), {"min", "max"});
     f.region.kind = config::Region::Kind::Box;
@@ -722,6 +724,7 @@ config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup
     const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
     const double min_spacing = 2 * bounding_radius(g, g.radius.largest());
     f.spacing = s->as_number(Range::positive());
+    f.spacing_loc = s->loc();
     if (*f.spacing < min_spacing)
       s->fail_expected(
           round ? fmt::format("a spacing >= 2 x the largest radius ({} m) so that grains do not "
@@ -735,8 +738,10 @@ config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup
     if (fm.has("volume_fraction"))
       n->fail("give either 'count' or 'volume_fraction' (the count then follows from it)");
     f.count = n->as_integer(Range::at_least(1));
+    f.count_loc = n->loc();
   } else if (auto vf = fm.find("volume_fraction")) {
     f.volume_fraction = vf->as_number(Range{0.0, 0.74, true, false});
+    f.count_loc = vf->loc();
     if (g.radius.kind != config::SizeDistribution::Kind::Fixed)
       vf->fail(
           "'volume_fraction' needs grains of one size (a fixed radius); give 'count' for a "

@@ -7,12 +7,14 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 
 #include "continuum/ktgf.hpp"
 #include "continuum/rheology_registry.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
 #include "io/input/continuum_input.hpp"
+#include "io/input/memory_budget.hpp"
 
 namespace gf::input {
 
@@ -69,6 +71,60 @@ CylinderRead read_cylinder(const YamlNode& n, int dim, double dx = 0, double rea
     c.length = cy.number("length", Range::positive());
   }
   return c;
+}
+
+/// Lattice points of spacing dx in a box, as the solver's box_lattice: floor(L / dx) per axis.
+double box_points(const Vec3& lo, const Vec3& hi, int dim, double dx) {
+  double n = 1;
+  for (int k = 0; k < dim; ++k) n *= std::max(1.0, std::floor((hi[k] - lo[k]) / dx + 1e-6));
+  return n;
+}
+
+/// Lattice points of spacing dx in a cylinder (2D: a disk) or its shell `thickness` deep: its
+/// area (times its length in 3D) over dx^dim, at least 1.
+double cylinder_points(double radius, double length, double thickness, int dim, double dx) {
+  const double inner = thickness > 0 && thickness < radius ? radius - thickness : 0.0;
+  const double area = std::numbers::pi * (radius * radius - inner * inner) / (dx * dx);
+  return std::max(1.0, area * (dim == 3 ? std::max(1.0, std::floor(length / dx + 1e-6)) : 1.0));
+}
+
+/// An estimated count to 3 digits ("5.75e+08", "1.2e+04"), or "more than 1e308".
+std::string count_text(double n) {
+  return std::isfinite(n) ? fmt::format("{:.3g}", n) : std::string("more than 1e308");
+}
+
+/// Refuses (at `spacing`) a lattice of more particles than memory or 32-bit indices hold:
+/// the blocks' and walls' lattice points, and the neighbour search's grid over the domain
+/// (cells of the cut-off 2h, at most 1024 per axis); above half the memory: a warning.
+void check_sph_memory(ContinuumCase& c, const YamlNode& spacing) {
+  const auto& s = c.sph;
+  const int dim = s.dimension;
+  const double dx = s.spacing;
+  double n = 0;
+  for (const auto& b : s.blocks)
+    n += b.shape == continuum::SphBlock::Shape::Box
+             ? box_points(b.lo, b.hi, dim, dx)
+             : cylinder_points(b.radius, b.length, b.thickness, dim, dx);
+  for (const auto& w : s.walls)
+    n += w.shape == continuum::SphWall::Shape::Box
+             ? box_points(w.lo, w.hi, dim, dx)
+             : cylinder_points(w.radius, w.length, w.thickness, dim, dx);
+  const std::string at_spacing = fmt::format("at spacing {} m", number_text(dx));
+  if (!(n <= kMaxIndexed))
+    spacing.fail(
+        fmt::format("expected at most {:.0f} particles (the neighbour search indexes "
+                    "them with 32-bit integers), found about {} in the blocks and "
+                    "walls {}",
+                    kMaxIndexed, count_text(n), at_spacing));
+  const double cells =
+      neighbour_cells(s.domain.hi - s.domain.lo, 2.0 * s.smoothing_ratio * dx, dim);
+  const double bytes = n * kBytesPerSphParticle + cells * kBytesPerNeighbourCell;
+  if (auto w = check_memory_use(
+          spacing.loc(),
+          fmt::format("about {} particles (blocks and walls {}) and {} neighbour cells",
+                      count_text(n), at_spacing, count_text(cells)),
+          bytes))
+    c.warnings.push_back(*w);
 }
 
 }  // namespace
@@ -283,6 +339,7 @@ ContinuumCase parse_continuum(const YamlNode& block) {
       s.walls.push_back(wall);
     }
   }
+  check_sph_memory(c, m.at("spacing"));
   for (const auto& w : c.warnings) log::warn("{}", w);
   if (auto on = m.find("output")) {
     const OutputSchedule o = read_output_schedule(*on);

@@ -30,8 +30,10 @@
 #include "continuum/ktgf.hpp"
 #include "continuum/rheology_registry.hpp"
 #include "core/error.hpp"
+#include "core/log.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
 #include "io/input/continuum_input.hpp"
+#include "io/input/memory_budget.hpp"
 
 namespace gf::input {
 
@@ -100,9 +102,16 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
     const auto items = cn.as_list();
     if (static_cast<int>(items.size()) != dim)
       cn.fail_expected(fmt::format("a list of {} cell counts (one per axis)", dim));
-    for (int k = 0; k < dim; ++k)
+    double cells = 1;
+    for (int k = 0; k < dim; ++k) {
       g.n[static_cast<std::size_t>(k)] =
           static_cast<int>(items[static_cast<std::size_t>(k)].as_integer({1, 1e5}));
+      cells *= g.n[static_cast<std::size_t>(k)];
+    }
+    // Before anything is allocated (the model probe below builds the whole grid).
+    if (auto w = check_memory_use(cn.loc(), fmt::format("{} cells", number_text(cells)),
+                                  cells * kBytesPerTwoFluidCell))
+      c.warnings.push_back(*w);
     g.lo = lo;
     for (int k = 0; k < dim; ++k) g.h[k] = (hi[k] - lo[k]) / g.n[static_cast<std::size_t>(k)];
     if (dim == 2) {
@@ -329,6 +338,7 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
     const OutputSchedule o = read_output_schedule(*on);
     c.output = o;
   }
+  for (const auto& w : c.warnings) log::warn("{}", w);
   // The model's own checks (packing limits, periodic grid axes) with the block's location.
   try {
     continuum::TwoFluidModel probe(g, s);

@@ -46,6 +46,9 @@ struct TwoFluidCase {
   double max_step = 0.0;  ///< [s]
   /// [s] each; 0: first and last states only, every step, only two_fluid_checkpoint_final.h5
   OutputSchedule output;
+  /// Allowed but probably not meant (also logged as warnings when parsed): a grid that needs
+  /// more than half the memory.
+  std::vector<std::string> warnings;
 };
 
 /// Parses the `two_fluid` block (the value under the key). Any error (unknown key, wrong type,

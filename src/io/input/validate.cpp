@@ -18,6 +18,7 @@
 #include "contact/geometry/polygon2d.hpp"
 #include "contact/registry.hpp"
 #include "core/error.hpp"
+#include "io/input/memory_budget.hpp"
 #include "io/input/yaml_reader.hpp"
 
 namespace gf::input {
@@ -137,7 +138,8 @@ std::int64_t volume_fraction_count(const config::Fill& f, const config::Particle
   if (!f.volume_fraction) return f.count.value_or(0);
   const double n = *f.volume_fraction * region_measure(f.region, dimension) /
                    grain_measure(g, g.radius.largest());
-  return std::max<std::int64_t>(1, std::llround(n));
+  // (capped where llround would overflow; memory_budget refuses far fewer grains)
+  return std::max<std::int64_t>(1, std::llround(std::min(n, 1e18)));
 }
 
 namespace {
@@ -240,6 +242,11 @@ class Validator {
   void check_overlaps(const std::vector<Placed>& all);
   void check_periodic() const;
   void estimate_counts();
+  /// Refuses (InputError) the grains of a fill that cannot fit in memory or in 32-bit indices;
+  /// records them for check_memory. `est`: its grains; `sites`: the lattice sites it lists.
+  void check_fill_memory(std::size_t g, const config::Fill& f, double est, double sites);
+  /// The whole case's memory (grains, neighbour grid, fluid cells) against the machine's.
+  void check_memory();
   void check_time_step();
   void check_output();
   void check_fluid();
@@ -257,6 +264,14 @@ class Validator {
   std::vector<double> reach_factor_;  ///< per group: polygon circumradius / equal-area radius
   std::vector<Placed> placed_;
   std::vector<ConvexPolygon> outlines_;  ///< explicit polygons, vertices relative to the centre
+  /// Estimated memory use by part (memory_budget.hpp), for check_memory.
+  struct MemoryPart {
+    config::SourceLoc loc;
+    std::string what;
+    double bytes = 0;
+  };
+  std::vector<MemoryPart> memory_;
+  double n_grains_ = 0;  ///< estimated grains of all groups
 };
 
 config::SourceLoc Validator::particle_loc(std::size_t g, std::size_t i) const {
@@ -776,6 +791,9 @@ void Validator::estimate_counts() {
                         "{} grains volume_fraction {} asks for (give a smaller spacing, a "
                         "fixed orientation for elongated grains, or a larger region)",
                         g, *sites, *f.count, number_text(*f.volume_fraction)));
+      // A lattice fill that takes a volume fraction's grains at random lists all its sites.
+      check_fill_memory(g, f, est,
+                        sites && f.lattice != config::Fill::Lattice::Random ? *sites : 0.0);
       const char* lattice = f.lattice == config::Fill::Lattice::Cubic ? "cubic"
                             : f.lattice == config::Fill::Lattice::Hcp
                                 ? (dim_ == 2 ? "hexagonal" : "hcp")
@@ -839,6 +857,9 @@ void Validator::estimate_counts() {
                       ex.file.empty() ? "" : ", " + ex.file.filename().string(), fixed_tag(group)),
           fmt::format("{:.0f}", n));
       total += n;
+      n_grains_ += n;
+      memory_.push_back({group_loc(g), fmt::format("the {:.0f} grains of particles[{}]", n, g),
+                         n * kBytesPerGrain});
     }
     if (group.kind != config::Shape::Sphere) {
       const double r = group.explicit_particles && !group.explicit_particles->radii.empty()
@@ -862,6 +883,71 @@ void Validator::estimate_counts() {
     }
   }
   report_.derived.emplace_back("grains in total", fmt::format("~{:.0f}", total));
+}
+
+void Validator::check_fill_memory(std::size_t g, const config::Fill& f, double est, double sites) {
+  // The key that sets the number: count (volume_fraction), else a lattice's spacing or region.
+  config::SourceLoc loc = f.count_loc;
+  const bool capped = f.count && est >= static_cast<double>(*f.count);
+  if (f.lattice != config::Fill::Lattice::Random && !capped && !f.volume_fraction)
+    loc = f.spacing_loc.file.empty() ? f.region_loc : f.spacing_loc;
+  loc = at(loc.file.empty() ? f.loc : loc, fmt::format("particles[{}].fill", g));
+  n_grains_ += est;
+  if (est > kMaxIndexed || n_grains_ > kMaxIndexed)
+    throw_input_error(
+        loc, fmt::format("expected at most {:.0f} grains in all (the neighbour search indexes "
+                         "them with 32-bit integers), found {}{}",
+                         kMaxIndexed, number_text(std::round(est)),
+                         n_grains_ > est
+                             ? fmt::format(" here, {} in all", number_text(std::round(n_grains_)))
+                             : std::string()));
+  const std::string grains =
+      fmt::format("{} grains{}", number_text(std::round(est)),
+                  sites > 0 ? fmt::format(" (and the {} lattice sites they are picked from)",
+                                          number_text(std::round(sites)))
+                            : std::string());
+  const double bytes = est * kBytesPerGrain + sites * kBytesPerLatticeSite;
+  check_memory_use(loc, grains, bytes);  // throws above the limit (the total warns)
+  memory_.push_back({loc, fmt::format("the {} of particles[{}]", grains, g), bytes});
+}
+
+void Validator::check_memory() {
+  // The neighbour search's grid over the domain (as check_periodic: cut-off 2 r_max + skin).
+  double reach_max = 0;
+  for (const auto& [name, gs] : grains_) reach_max = std::max(reach_max, gs.reach_max);
+  if (reach_max > 0) {
+    const double cutoff = 2 * reach_max + c_.neighbor.skin.value_or(0.5 * skin_radius());
+    const double cells = neighbour_cells(c_.domain.max - c_.domain.min, cutoff, dim_);
+    config::SourceLoc loc = at(c_.domain.loc, "domain");
+    const std::string what = fmt::format(
+        "the neighbour search's {} cells (of at least the cut-off {} m, at most 1024 per axis, "
+        "over the domain)",
+        number_text(cells), number_text(cutoff));
+    check_memory_use(loc, what, cells * kBytesPerNeighbourCell);
+    memory_.push_back({loc, what, cells * kBytesPerNeighbourCell});
+  }
+  if (c_.fluid) {
+    const auto& f = *c_.fluid;
+    const double cells = static_cast<double>(f.cells[0]) * f.cells[1] * f.cells[2];
+    config::SourceLoc loc = at(f.cells_loc.file.empty() ? f.loc : f.cells_loc, "fluid.cells");
+    const std::string what = fmt::format("{} fluid cells", number_text(cells));
+    check_memory_use(loc, what, cells * kBytesPerCfdCell);
+    memory_.push_back({loc, what, cells * kBytesPerCfdCell});
+  }
+  if (memory_.empty()) return;
+  double total = 0;
+  const MemoryPart* largest = &memory_.front();
+  std::vector<std::string> parts;
+  for (const auto& m : memory_) {
+    total += m.bytes;
+    if (m.bytes > largest->bytes) largest = &m;
+    parts.push_back(fmt::format("{} ({})", m.what, bytes_text(m.bytes)));
+  }
+  report_.derived.emplace_back("memory (estimate)", fmt::format("{} (limit {})", bytes_text(total),
+                                                                bytes_text(memory_limit_bytes())));
+  const std::string what =
+      memory_.size() == 1 ? largest->what : fmt::format("{}, together,", join(parts, "; "));
+  if (auto w = check_memory_use(largest->loc, what, total)) report_.warnings.push_back(*w);
 }
 
 void Validator::check_time_step() {
@@ -1191,6 +1277,7 @@ CheckReport Validator::run() {
   check_explicit();
   check_overlaps(placed_);
   estimate_counts();
+  check_memory();
   check_time_step();
   check_output();
   check_fluid();

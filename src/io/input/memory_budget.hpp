@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Memory a case will need, estimated from the case file before anything is allocated, against
+// the machine's memory: a case that cannot fit is bad input (exit 2), not an out-of-memory kill.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "core/vec3.hpp"
+#include "io/input/config.hpp"
+
+namespace gf::input {
+
+// Bytes per item at a run's peak, from measured peak resident set sizes (the argument and the
+// numbers are in memory_budget.cpp). Rounded up: an estimate, not a bound.
+inline constexpr double kBytesPerGrain = 400;          ///< a DEM grain, with its neighbour list
+inline constexpr double kBytesPerLatticeSite = 32;     ///< a lattice fill's candidate site
+inline constexpr double kBytesPerNeighbourCell = 16;   ///< a cell of neighbor::CellList
+inline constexpr double kBytesPerSphParticle = 800;    ///< an SPH particle (fluid or wall)
+inline constexpr double kBytesPerTwoFluidCell = 4200;  ///< a two-fluid grid cell
+inline constexpr double kBytesPerCfdCell = 2200;       ///< a CFD-DEM (fluid:) grid cell
+
+/// Particles and cells are indexed by 32-bit integers in the neighbour search.
+inline constexpr double kMaxIndexed = 2147483647.0;
+
+/// The machine's physical memory, bytes (sysconf; 0 when unknown).
+double physical_memory_bytes();
+
+/// The memory a case may use, bytes: GRAINFLOW_MEMORY_LIMIT when set (a number of bytes, e.g.
+/// 8e9, or with a unit: 512M, 16G, 1.5T, 16GB, 16GiB; k M G T are powers of 1000, Ki Mi Gi Ti
+/// of 1024), else physical_memory_bytes() (infinite when unknown). An unreadable value of the
+/// variable throws gf::InputError.
+double memory_limit_bytes();
+
+/// "350 GB", "1.2 MB", "512 B" (powers of 1000).
+std::string bytes_text(double bytes);
+
+/// Cells of the neighbour search's grid (neighbor::CellList) over a box of edge lengths `length`
+/// with cells of edge >= `cutoff`: per axis max(1, floor(L / cutoff)), at most 1024 (as
+/// CellList::build); along z only 1 when `dimension` is 2.
+double neighbour_cells(const Vec3& length, double cutoff, int dimension);
+
+/// Compares an estimate with memory_limit_bytes(). Above it: throws gf::InputError at `loc`,
+/// "WHAT need about X of memory; this machine has Y" (or "...; GRAINFLOW_MEMORY_LIMIT is Y").
+/// Above half of it: returns a warning with the same numbers. Else nothing.
+std::optional<std::string> check_memory_use(const config::SourceLoc& loc, std::string_view what,
+                                            double bytes);
+
+}  // namespace gf::input
