@@ -490,10 +490,11 @@ TEST(FemCaseGeometry, GapsNarrowerThanTheMeshAreRefusedOrWarnedOf) {
   const auto w = warnings_of(
       replaced(kGood, "centre: [0.3, 0.2], radius: 0.05", "centre: [0.3, 0.34], radius: 0.05"));
   ASSERT_EQ(w.size(), 1u);
-  EXPECT_NE(w[0].find("case.yaml:10: fluid_fem.bodies[0] ('disk'): the gap of 0.01 m to the domain "
+  EXPECT_NE(w[0].find("fluid_fem.bodies[0]: the gap of 0.01 m between 'disk' and the domain "
                       "outline"),
             std::string::npos)
       << w[0];
+  EXPECT_EQ(w[0].rfind("case.yaml:10:", 0), 0u) << w[0];
   // between two bodies: the triangle's left corner (0.6, 0.15) 0.001 m from a disk
   expect_error(with_body("{name: near, circle: {centre: [0.549, 0.15], radius: 0.05}}"), 12,
                "fluid_fem.bodies[2]",
@@ -537,14 +538,15 @@ TEST(FemCaseGeometry, MesherFailuresNameTheCase) {
   }
 }
 
-// A run that blows up (inflow 1e6 m/s from t = 0, steps of 1 s, Re ~ 1e11) stops with a gf::Error
-// (exit status 1, not 2) that names the time and the step; fem_forces.csv and fem_probes.csv
-// hold no row of the failed step, and no non-finite number. (Before: Newton counted an iterate
-// of NaN velocities as converged, std::max passing over NaN, and the run wrote rows of nan.)
+// A run that blows up (inflow ramped to 1e6 m/s over 20 s, steps of 1 s, Re up to ~1e11) stops
+// with a gf::Error (exit status 1, not 2) that names the time and the step; fem_forces.csv and
+// fem_probes.csv hold the rows of the steps before (the first steps, at low inflow, converge) and
+// no row of the failed step, and no non-finite number. (Before: Newton counted an iterate of NaN
+// velocities as converged, std::max passing over NaN, and the run wrote rows of nan.)
 TEST(FemCase, DivergingRunStopsBeforeWritingNonFiniteNumbers) {
   const auto cfg = parse_fluid_fem(
       YAML::Load(replaced(replaced(replaced(replaced(kGood, "u_max: 0.5", "u_max: 1.0e6"),
-                                            ", time_function: {type: ramp, duration: 0.1}", ""),
+                                            "ramp, duration: 0.1", "ramp, duration: 20.0"),
                                    "viscosity: 0.01", "viscosity: 1.0e-6"),
                           "step: 0.05, end: 0.2", "step: 1.0, end: 20.0"))["fluid_fem"],
       "case.yaml");
@@ -560,15 +562,20 @@ TEST(FemCase, DivergingRunStopsBeforeWritingNonFiniteNumbers) {
   std::printf("%s\n", message.c_str());
   EXPECT_NE(message.find("fluid_fem: the run diverged at t = "), std::string::npos) << message;
   EXPECT_NE(message.find("(step "), std::string::npos) << message;
+  EXPECT_EQ(message.find("(step 1)"), std::string::npos) << message;  // not at the first step
   for (const char* f : {"fem_forces.csv", "fem_probes.csv"}) {
     std::ifstream in(tmp.path() / f);
+    ASSERT_TRUE(in) << f;
     std::string line;
     std::getline(in, line);
+    int rows = 0;
     while (std::getline(in, line)) {
+      ++rows;
       std::string low = line;
       std::transform(low.begin(), low.end(), low.begin(), ::tolower);
       EXPECT_EQ(low.find("nan"), std::string::npos) << f << ": " << line;
       EXPECT_EQ(low.find("inf"), std::string::npos) << f << ": " << line;
     }
+    EXPECT_GT(rows, 0) << f << ": the steps before the failure are kept";
   }
 }

@@ -14,6 +14,7 @@
 
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "core/names.hpp"
 #include "core/stop.hpp"
 #include "core/vtk_xml.hpp"
 #include "fluid/fem/vtu.hpp"
@@ -31,14 +32,6 @@ double TimeFunctionSpec::operator()(double t) const {
       break;
   }
   return 1.0;
-}
-
-bool is_body_name(const std::string& name) {
-  auto letter = [](char ch) { return (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z'); };
-  return !name.empty() && (letter(name[0]) || name[0] == '_') &&
-         std::all_of(name.begin(), name.end(), [&](char ch) {
-           return letter(ch) || (ch >= '0' && ch <= '9') || ch == '_' || ch == '-';
-         });
 }
 
 namespace {
@@ -80,6 +73,15 @@ class Reader {
     }
     throw InputError(
         text_(at, key_mark, path, fmt::format("expected {}, found {}", expected, found)));
+  }
+
+  /// The text of a warning about `at`, placed as an error there is (file:line:column, or the
+  /// --set option that gave the value), without the word "error".
+  std::string warning(const YAML::Node& at, const std::string& path,
+                      const std::string& message) const {
+    std::string s = text_(at, YAML::Mark::null_mark(), path, message);
+    if (const auto k = s.find(": error: "); k != std::string::npos) s.replace(k, 9, ": ");
+    return s;
   }
 
   void keys(const YAML::Node& n, const std::string& path,
@@ -450,15 +452,23 @@ Gap body_gap(const BodyShape& a, const BodyShape& b) {
   return ring_gap(a.vertices, b.vertices);
 }
 
-/// Every body's gaps to the outline and to the bodies before it against the mesh size halfway
-/// across (see above): an error below 0.1 x that size, a warning (cfg.warnings) below it.
+/// Every body's gaps to the outline and to the bodies before it against the mesh size at the
+/// surfaces bounding the gap (see above): an error below 0.1 x that size, a warning (cfg.warnings)
+/// below it.
 void check_gaps(const Reader& r, const YAML::Node& bodies, const std::string& bp,
                 FemCaseConfig& cfg) {
   const auto& shapes = cfg.mesh.bodies;
   for (std::size_t j = 0; j < shapes.size(); ++j) {
     const std::string p = fmt::format("{}[{}]", bp, j);
     auto judge = [&](const Gap& g, const std::string& other) {
-      const double h = mesh_size_at(cfg.mesh, g.middle);
+      // The cells in a gap take the size at the surfaces that bound it (h_body, or a box's h
+      // over the gap), not the graded size halfway across (h_body + grading x half the width,
+      // which a large grading would make the gap's own width).
+      double h = std::min(cfg.mesh.h_max, cfg.mesh.h_body);
+      for (const auto& b : cfg.mesh.boxes)
+        if (g.middle.x >= b.min.x && g.middle.x <= b.max.x && g.middle.y >= b.min.y &&
+            g.middle.y <= b.max.y)
+          h = std::min(h, b.h);
       if (g.width >= h) return;
       if (g.width < 0.1 * h)
         r.fail(
@@ -469,12 +479,13 @@ void check_gaps(const Reader& r, const YAML::Node& bodies, const std::string& bp
                         "a mesh.boxes entry over the gap with h <= 10 x its width, or widen it",
                         other, h),
             fmt::format("a gap of {:.6g} m at [{:.6g}, {:.6g}]", g.width, g.middle.x, g.middle.y));
-      const auto mk = bodies[j].Mark();
-      cfg.warnings.push_back(fmt::format(
-          "{}:{}: {} ('{}'): the gap of {:.6g} m to {} at [{:.6g}, {:.6g}] is narrower than the "
-          "mesh size there, {:.6g} m: about one cell spans it and the flow in it is coarsely "
-          "resolved; lower mesh.h_body (or a box's h) to a fraction of the gap",
-          cfg.file, mk.line + 1, p, cfg.body_names[j], g.width, other, g.middle.x, g.middle.y, h));
+      cfg.warnings.push_back(r.warning(
+          bodies[j], p,
+          fmt::format("the gap of {:.6g} m between '{}' and {} at [{:.6g}, {:.6g}] is narrower "
+                      "than the mesh size there, {:.6g} m: about one cell spans it and the flow "
+                      "in it is coarsely resolved; lower mesh.h_body (or a box's h) to a "
+                      "fraction of the gap",
+                      g.width, cfg.body_names[j], other, g.middle.x, g.middle.y, h)));
     };
     const auto& s = shapes[j];
     judge(s.kind == BodyShape::Kind::Circle ? circle_ring_gap(s, cfg.mesh.outline)
@@ -658,7 +669,7 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
       // Refused rather than quoted in the CSV header: a column NAME.fx must read back the same
       // in every CSV reader, including a split on commas, and in the shell; the rule is the one
       // of wall names (DEM cases).
-      if (name.IsDefined() && !is_body_name(name.Scalar()))
+      if (name.IsDefined() && !is_column_name(name.Scalar()))
         r.fail(name, p + ".name",
                "a name of letters, digits, '_' and '-', starting with a letter or '_' (it heads "
                "the columns NAME.fx, NAME.fy, ... of fem_forces.csv)",
@@ -990,11 +1001,13 @@ Mesh build_case_mesh(const FemCaseConfig& cfg) {
   };
   try {
     return build_mesh(cfg.mesh);
+  } catch (const InputError& e) {  // (CGAL's own failures arrive as InputError too)
+    throw refuse(e.what());
   } catch (const std::bad_alloc&) {
     throw refuse("its mesh does not fit in memory (raise mesh.h_max, mesh.h_body or the boxes' h)");
-  } catch (const std::exception& e) {
-    throw refuse(e.what());
   }
+  // (a gf::Error, a mesh that fails the mesher's own checks, is a program error: exit status 1,
+  // not the user's geometry)
 }
 
 std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConfig& cfg) {

@@ -82,10 +82,6 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
 /// the case file. Reading it back gives the same FemCaseConfig.
 std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& program_version);
 
-/// Whether `name` may name a body: it heads the columns NAME.fx, ... of fem_forces.csv, so it is
-/// made of letters, digits, '_' and '-' and starts with a letter or '_' (the rule of wall names).
-bool is_body_name(const std::string& name);
-
 /// build_mesh(cfg.mesh) with its failures worded for the user: a geometry the mesher cannot
 /// mesh (CGAL's errors included) is a gf::InputError naming the case file and its keys.
 Mesh build_case_mesh(const FemCaseConfig& cfg);

@@ -28,9 +28,10 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
   const double dt_config = dt;
   // The smallest step a failed Newton solve may be retried with: time.adaptive.dt_min, and for
   // fixed steps five quarterings of the step asked for (1/1024 of it). Fixed steps cut to get
-  // past a hard stretch grow back to the step asked for (x2, x1.5 at BDF3, per accepted step, as
-  // the adaptive control does); they used to stay cut for the rest of the run, down to 1e-9 s,
-  // so that a run that could not take its step crawled on instead of failing.
+  // past a hard stretch grow back to the step asked for (x2, x1.5 at BDF3, per accepted step
+  // whose Newton solve needed at most half its iterations); they used to stay cut for the rest of
+  // the run, down to 1e-9 s, so that a run that could not take its step crawled on instead of
+  // failing.
   const double dt_floor = tc.adaptive ? tc.dt_min : std::max(tc.dt_min, dt_config / 1024.0);
   if (loop && loop->dt > 0) {  // continue a run (checkpoint)
     // The controller's step, unless the case now asks for another initial / fixed step.
@@ -61,8 +62,8 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
     if (!r.newton.converged) {
       ns.reject_step();
       ++st.rejected;
-      dt = 0.25 * h;
-      if (dt < dt_floor)
+      // A quarter of the step, but the floor itself is tried before giving up.
+      if (h <= dt_floor * (1.0 + 1e-9))
         throw StepFailure(fmt::format(
             "Newton's method failed on the step from t = {} s even with the step cut to {:.3g} s "
             "(the smallest step allowed is {:.3g} s): {}",
@@ -71,6 +72,7 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
                 ? fmt::format("no convergence in {} iterations (last relative update {:.3g})",
                               r.newton.iterations, r.newton.last_update)
                 : std::string("the velocity or pressure became non-finite")));
+      dt = std::max(0.25 * h, dt_floor);
       continue;
     }
     double fac = factor(r.error, k);
@@ -114,7 +116,10 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
     // for BDF2, about 1.5 for BDF3 (Calvo, Grande & Grigorieff, Numer. Math. 57, 1990).
     if (tc.adaptive)
       dt = std::min(tc.dt_max, h * std::clamp(fac, 0.2, order >= 3 ? 1.5 : 2.0));
-    else if (dt < dt_config)
+    else if (dt < dt_config && 2 * r.newton.iterations <= opt.max_iterations)
+      // (only after a step whose Newton solve converged with room to spare: one that needed
+      // most of its iterations would fail again at twice the step, and the step would swing
+      // between cut and grown, one attempt in three rejected)
       dt = std::min(dt_config, dt * (order >= 3 ? 1.5 : 2.0));
     keep_state();  // the observer may checkpoint: the controller is ready for the next step
     if (observe) observe(ns, h);

@@ -17,6 +17,7 @@
 
 #include "contact/registry.hpp"
 #include "core/error.hpp"
+#include "core/names.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
 #include "io/input/model_block.hpp"
 #include "io/input/stl.hpp"
@@ -1417,12 +1418,7 @@ void Reader::read_walls(const YamlMap& root) {
     w.loc = item.loc();
     const YamlNode name = wm.at("name");
     w.name = name.as_string();
-    const bool ok_start = !w.name.empty() &&
-                          (std::isalpha(static_cast<unsigned char>(w.name[0])) || w.name[0] == '_');
-    const bool ok_rest = std::all_of(w.name.begin(), w.name.end(), [](char ch) {
-      return std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-';
-    });
-    if (!ok_start || !ok_rest)
+    if (!is_column_name(w.name))
       name.fail_expected(
           "a wall name of letters, digits, '_' and '-', starting with a letter or '_'");
     if (auto it = names.find(w.name); it != names.end())
