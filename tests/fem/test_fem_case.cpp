@@ -508,6 +508,29 @@ TEST(FemCaseGeometry, GapsNarrowerThanTheMeshAreRefusedOrWarnedOf) {
                   .empty());
 }
 
+// The block's numbers, integers and booleans are read by the rules of the other cases'
+// (core/scalar_text.hpp): a quoted or !!str-tagged number, YAML 1.1's yes / no and a fractional
+// integer are refused; !!float, 1e1 for an integer and True are read. (Before: yaml-cpp's own
+// conversions accepted all of these.)
+TEST(FemCaseGeometry, ScalarsAreReadAsInEveryOtherCase) {
+  expect_error(replaced(kGood, "density: 1.0", "density: !!str 1.0"), 2, "fluid_fem.fluid.density",
+               {"found '1.0' (tagged !!str)"});
+  expect_error(replaced(kGood, "density: 1.0", "density: '1.0'"), 2, "fluid_fem.fluid.density",
+               {"found '1.0' (a quoted string)"});
+  const std::string newton = "  time: {mode: unsteady";
+  expect_error(replaced(kGood, newton, "  newton: {reuse_factorization: yes}\n" + newton), 13,
+               "fluid_fem.newton.reuse_factorization", {"true or false", "found 'yes'"});
+  expect_error(replaced(kGood, newton, "  newton: {max_iterations: 2.5}\n" + newton), 13,
+               "fluid_fem.newton.max_iterations", {"an integer"});
+  const auto cfg = parse_fluid_fem(
+      YAML::Load(replaced(
+          replaced(kGood, "density: 1.0", "density: !!float 2"), newton,
+          "  newton: {max_iterations: 1e1, reuse_factorization: True}\n" + newton))["fluid_fem"],
+      "case.yaml");
+  EXPECT_EQ(cfg.density, 2.0);
+  EXPECT_EQ(cfg.newton.max_iterations, 10);
+}
+
 TEST(FemCaseGeometry, RefinementBoxFinerThanTheBoundIsRefused) {
   // (h: 1e-9 in a 1 m domain asked for ~1e17 cells: the mesher ran out of memory)
   expect_error(replaced(kGood, "grading: 0.3",

@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "core/files.hpp"
 #include "core/names.hpp"
+#include "core/scalar_text.hpp"
 #include "core/stop.hpp"
 #include "core/vtk_xml.hpp"
 #include "fluid/fem/vtu.hpp"
@@ -64,9 +65,13 @@ class Reader {
                          const YAML::Mark& key_mark = YAML::Mark::null_mark()) const {
     std::string found = found_text.empty() ? "nothing" : found_text;
     if (found_text.empty() && at.IsDefined() && !at.IsNull()) {
-      if (at.IsScalar())
-        found = "'" + at.Scalar() + "'";
-      else if (at.IsSequence())
+      if (at.IsScalar()) {
+        const std::string tag = given_tag(at.Tag());
+        found = "'" + at.Scalar() + "'" +
+                (tag.empty()  ? ""
+                 : tag == "!" ? " (a quoted string)"
+                              : fmt::format(" (tagged {})", tag));
+      } else if (at.IsSequence())
         found = fmt::format("a list of {} items", at.size());
       else if (at.IsMap())
         found = "a map";
@@ -110,13 +115,11 @@ class Reader {
   double number(const YAML::Node& n, const std::string& path,
                 double lo = -std::numeric_limits<double>::infinity(),
                 double hi = std::numeric_limits<double>::infinity(), bool open_lo = false) const {
-    double v = 0;
-    if (!n.IsScalar()) fail(n, path, "a number");
-    try {
-      v = n.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(n, path, "a number");
-    }
+    // (the rules of the shared reader: core/scalar_text.hpp; not '2500' quoted or !!str 2500)
+    if (!n.IsScalar() || !tag_allows(n.Tag(), {"!!float", "!!int"})) fail(n, path, "a number");
+    const auto parsed = parse_double(n.Scalar());
+    if (!parsed) fail(n, path, "a number");
+    const double v = *parsed;
     if (!std::isfinite(v) || v < lo || v > hi || (open_lo && v == lo))
       fail(n, path, fmt::format("a number in {}{}, {}]", open_lo ? "(" : "[", lo, hi));
     return v;
@@ -132,24 +135,20 @@ class Reader {
                  int lo, int hi) const {
     const YAML::Node n = parent[key];
     if (!n.IsDefined()) return def;
-    int v = 0;
-    try {
-      v = n.as<int>();
-    } catch (const YAML::Exception&) {
+    const auto v = n.IsScalar() && tag_allows(n.Tag(), {"!!int", "!!float"})
+                       ? parse_integer(n.Scalar())
+                       : std::nullopt;
+    if (!v || *v < lo || *v > hi)
       fail(n, path + "." + key, fmt::format("an integer in [{}, {}]", lo, hi));
-    }
-    if (v < lo || v > hi) fail(n, path + "." + key, fmt::format("an integer in [{}, {}]", lo, hi));
-    return v;
+    return static_cast<int>(*v);
   }
   bool boolean_or(const YAML::Node& parent, const std::string& key, const std::string& path,
                   bool def) const {
     const YAML::Node n = parent[key];
     if (!n.IsDefined()) return def;
-    try {
-      return n.as<bool>();
-    } catch (const YAML::Exception&) {
-      fail(n, path + "." + key, "true or false");
-    }
+    if (n.IsScalar() && tag_allows(n.Tag(), {"!!bool"}))
+      if (const auto b = parse_bool(n.Scalar())) return *b;
+    fail(n, path + "." + key, "true or false");
   }
   std::string choice(const YAML::Node& n, const std::string& path,
                      std::initializer_list<const char*> options) const {

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/scalar_text.hpp"
 
 namespace gf::input {
 
@@ -56,32 +57,12 @@ std::string child_path(const std::string& parent, std::string_view key) {
   return parent.empty() ? std::string(key) : fmt::format("{}.{}", parent, key);
 }
 
-// Parses the whole of `text` as a double; accepts a leading '+'.
-std::optional<double> parse_double(std::string_view text) {
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  if (text.empty()) return std::nullopt;
-  double v = 0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-  if (ec != std::errc() || ptr != text.data() + text.size()) return std::nullopt;
-  return v;
-}
-
-/// The tag a value was given as written: "" when none (a plain scalar: "?"), "!" for a quoted
-/// scalar, "!!str" for tag:yaml.org,2002:str (`density: !!str 2500`), "!local" as is.
+/// given_tag / tag_allows (core/scalar_text.hpp) for a node.
 std::string given_tag(const YAML::Node& n) {
-  const std::string& t = n.Tag();
-  if (t.empty() || t == "?") return "";
-  constexpr std::string_view core = "tag:yaml.org,2002:";
-  if (t.compare(0, core.size(), core) == 0) return "!!" + t.substr(core.size());
-  return t;
+  return gf::given_tag(n.Tag());
 }
-
-/// Whether a scalar may be read as the type whose YAML tag is `type` ("!!int", "!!float",
-/// "!!bool"): it is plain or carries one of `types`. A quoted scalar or one tagged otherwise
-/// (`!!str 2500`) was explicitly made something else, so it is not read as a number.
 bool readable_as(const YAML::Node& n, std::initializer_list<std::string_view> types) {
-  const std::string tag = given_tag(n);
-  return tag.empty() || std::find(types.begin(), types.end(), tag) != types.end();
+  return tag_allows(n.Tag(), types);
 }
 
 std::size_t edit_distance(std::string_view a, std::string_view b) {
@@ -275,27 +256,14 @@ std::int64_t YamlNode::as_integer(const Range& range) const {
   const std::string desc = range.describe();
   const std::string what = desc.empty() ? "an integer" : fmt::format("an integer {}", desc);
   if (!node_.IsScalar() || !readable_as(node_, {"!!int", "!!float"})) fail_expected(what);
-  std::string_view text = node_.Scalar();
-  if (!text.empty() && text.front() == '+') text.remove_prefix(1);
-  std::int64_t i = 0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), i);
-  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size()) {
-    // Also accept integral values written as 1e5 or 100000.0.
-    const auto v = parse_double(node_.Scalar());
-    if (!v || !std::isfinite(*v) || std::floor(*v) != *v || std::abs(*v) > 9.007199254740992e15)
-      fail_expected(what);
-    i = static_cast<std::int64_t>(*v);
-  }
-  if (!range.contains(static_cast<double>(i))) fail_expected(what);
-  return i;
+  const auto i = parse_integer(node_.Scalar());  // (also 1e5 or 100000.0)
+  if (!i || !range.contains(static_cast<double>(*i))) fail_expected(what);
+  return *i;
 }
 
 bool YamlNode::as_bool() const {
-  if (node_.IsScalar() && readable_as(node_, {"!!bool"})) {
-    const std::string& s = node_.Scalar();
-    if (s == "true" || s == "True" || s == "TRUE") return true;
-    if (s == "false" || s == "False" || s == "FALSE") return false;
-  }
+  if (node_.IsScalar() && readable_as(node_, {"!!bool"}))
+    if (const auto b = parse_bool(node_.Scalar())) return *b;
   fail_expected("true or false");
 }
 
