@@ -14,8 +14,9 @@ void CellList::build(const Domain& domain, const Vec3* x, std::size_t n, double 
   const Vec3 L = domain.length();
   for (int k = 0; k < 3; ++k) {
     // Cap the grid so that memory stays bounded even with a tiny cutoff in a huge box.
-    nc_[k] = std::max(1, static_cast<int>(std::floor(L[k] / cutoff)));
-    nc_[k] = std::min(nc_[k], 1 << 10);
+    // (clamped as a double: a ratio beyond INT_MAX must not reach the cast)
+    const double n = std::floor(L[k] / cutoff);
+    nc_[k] = n >= 1.0 ? static_cast<int>(std::min(n, 1024.0)) : 1;
     inv_size_[k] = nc_[k] / L[k];
   }
   // Slab axis: the one with the most layers (most parallel slabs); ties keep the later axis.

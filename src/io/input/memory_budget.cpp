@@ -9,7 +9,8 @@
 //    28356 grains 33.7 MB, 233421 grains 109.1 MB -> 386 B per grain (a loose cubic fill:
 //    300-370 B). The particle store's columns (position, velocity, force, torque, angular
 //    velocity, orientation, radius, mass, ...), the Verlet list with its contact history and
-//    the fill's transient buffers. Taken as 400 B.
+//    the fill's transient buffers. Taken as 400 B for spheres; disks, spherocylinders and
+//    polygons: bytes_per_grain (memory_budget.hpp).
 //  - neighbour cell: the same box, 2 m wide, holding 10 grains of radius 2 mm (cutoff 5 mm: 400^3
 //    = 6.4e7 cells): 1.04 GB -> 16 B per cell, CellList's two 64-bit arrays (start_, fill_).
 //    The grid is capped at 1024 cells per axis, so this is at most 17 GB, but that is reached by
@@ -36,6 +37,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <limits>
 #include <utility>
 
@@ -81,8 +83,17 @@ std::optional<double> limit_from_environment() {
 double physical_memory_bytes() {
   const long pages = sysconf(_SC_PHYS_PAGES);
   const long page = sysconf(_SC_PAGESIZE);
-  if (pages <= 0 || page <= 0) return 0.0;
-  return static_cast<double>(pages) * static_cast<double>(page);
+  double bytes =
+      pages > 0 && page > 0 ? static_cast<double>(pages) * static_cast<double>(page) : 0.0;
+  // In a container (a CI runner, docker --memory) the limit is the control group's, not the
+  // host's: cgroup v2 memory.max ("max" when none), v1 memory.limit_in_bytes (a huge number).
+  for (const char* f :
+       {"/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"}) {
+    std::ifstream in(f);
+    double limit = 0;
+    if (in >> limit && limit > 0 && (bytes <= 0 || limit < bytes)) bytes = limit;
+  }
+  return bytes;
 }
 
 double memory_limit_bytes() {
@@ -103,9 +114,11 @@ std::string bytes_text(double bytes) {
 }
 
 double neighbour_cells(const Vec3& length, double cutoff, int dimension) {
+  Vec3 l = length;
+  if (dimension == 2) l.z = 2.0 * std::max(cutoff, 1e-3);
   double cells = 1;
-  for (int k = 0; k < (dimension == 2 ? 2 : 3); ++k) {
-    const double n = cutoff > 0 ? std::floor(length[k] / cutoff) : 1024.0;
+  for (int k = 0; k < 3; ++k) {
+    const double n = cutoff > 0 ? std::floor(l[k] / cutoff) : 1024.0;
     cells *= std::clamp(std::isfinite(n) ? n : 1024.0, 1.0, 1024.0);
   }
   return cells;
@@ -119,8 +132,9 @@ std::optional<std::string> check_memory_use(const config::SourceLoc& loc, std::s
       from_env ? fmt::format("the limit {} sets is {}", kLimitVariable, bytes_text(limit))
                : fmt::format("this machine has {}", bytes_text(limit));
   if (!(bytes <= limit))
-    throw_input_error(
-        loc, fmt::format("{} need about {} of memory; {}", what, bytes_text(bytes), machine));
+    throw_input_error(loc, fmt::format("expected a case that fits in memory ({}), found that {} "
+                                       "need about {}",
+                                       machine, what, bytes_text(bytes)));
   if (bytes > 0.5 * limit)
     return fmt::format("{}: {} need about {} of memory, more than half of it ({})",
                        loc.key_path.empty() ? std::string("the case") : loc.key_path, what,

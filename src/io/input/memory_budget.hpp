@@ -14,7 +14,23 @@ namespace gf::input {
 
 // Bytes per item at a run's peak, from measured peak resident set sizes (the argument and the
 // numbers are in memory_budget.cpp). Rounded up: an estimate, not a bound.
-inline constexpr double kBytesPerGrain = 400;          ///< a DEM grain, with its neighbour list
+/// A DEM grain with its neighbour list, by shape. Slopes of peak RSS between two sizes of a
+/// case (2026-12-03): spheres 229-386 B (random / cubic / hcp fills), 2D disks 504 B,
+/// spherocylinders 416 B spaced and ~370 B more once settled (contact histories), polygons
+/// 1053 B (each random polygon has its own ~300 B shape-table entry of 16 vertices).
+inline double bytes_per_grain(config::Shape kind) {
+  switch (kind) {
+    case config::Shape::Sphere:
+      return 400;
+    case config::Shape::Disk:
+      return 550;
+    case config::Shape::Spherocylinder:
+      return 800;
+    case config::Shape::Polygon:
+      return 1100;
+  }
+  return 1100;
+}
 inline constexpr double kBytesPerLatticeSite = 32;     ///< a lattice fill's candidate site
 inline constexpr double kBytesPerNeighbourCell = 16;   ///< a cell of neighbor::CellList
 inline constexpr double kBytesPerSphParticle = 800;    ///< an SPH particle (fluid or wall)
@@ -38,7 +54,8 @@ std::string bytes_text(double bytes);
 
 /// Cells of the neighbour search's grid (neighbor::CellList) over a box of edge lengths `length`
 /// with cells of edge >= `cutoff`: per axis max(1, floor(L / cutoff)), at most 1024 (as
-/// CellList::build); along z only 1 when `dimension` is 2.
+/// CellList::build); in 2D along z over the slab a 2D run gives the grid, z in +-max(cutoff,
+/// 1 mm) (Simulation: at least 2 cells, more for grains much smaller than 1 mm).
 double neighbour_cells(const Vec3& length, double cutoff, int dimension);
 
 /// Compares an estimate with memory_limit_bytes(). Above it: throws gf::InputError at `loc`,

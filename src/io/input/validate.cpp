@@ -859,7 +859,7 @@ void Validator::estimate_counts() {
       total += n;
       n_grains_ += n;
       memory_.push_back({group_loc(g), fmt::format("the {:.0f} grains of particles[{}]", n, g),
-                         n * kBytesPerGrain});
+                         n * bytes_per_grain(group.kind)});
     }
     if (group.kind != config::Shape::Sphere) {
       const double r = group.explicit_particles && !group.explicit_particles->radii.empty()
@@ -906,7 +906,7 @@ void Validator::check_fill_memory(std::size_t g, const config::Fill& f, double e
                   sites > 0 ? fmt::format(" (and the {} lattice sites they are picked from)",
                                           number_text(std::round(sites)))
                             : std::string());
-  const double bytes = est * kBytesPerGrain + sites * kBytesPerLatticeSite;
+  const double bytes = est * bytes_per_grain(c_.particles[g].kind) + sites * kBytesPerLatticeSite;
   check_memory_use(loc, grains, bytes);  // throws above the limit (the total warns)
   memory_.push_back({loc, fmt::format("the {} of particles[{}]", grains, g), bytes});
 }
