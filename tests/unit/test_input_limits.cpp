@@ -12,6 +12,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "input_error.hpp"
 #include "io/input/memory_budget.hpp"
 #include "io/input/parse_case.hpp"
 #include "io/input/parse_continuum.hpp"
@@ -60,12 +61,7 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 
 /// The message of the InputError thrown by loading and validating a DEM case, or "".
 std::string dem_error(const std::string& text, const fs::path& file = "t.yaml") {
-  try {
-    input::validate(input::load_case_text(text, file));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return test::input_error_of([&] { input::validate(input::load_case_text(text, file)); });
 }
 
 /// A 3D DEM case in a box of edge `edge` m holding one group of glass spheres of radius
@@ -267,12 +263,7 @@ input::ContinuumCase parse_sph(const std::string& text) {
 }
 
 std::string sph_error(const std::string& text) {
-  try {
-    parse_sph(text);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return test::input_error_of([&] { parse_sph(text); });
 }
 
 }  // namespace
@@ -344,13 +335,10 @@ const char* const kTwoFluid = R"(two_fluid:
 )";
 
 std::string two_fluid_error(const std::string& text) {
-  try {
+  return test::input_error_of([&] {
     const auto root = input::YamlNode::parse_text(text, "case.yaml");
     input::parse_two_fluid(input::YamlMap(root, {"two_fluid"}).at("two_fluid"));
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  });
 }
 
 }  // namespace

@@ -18,6 +18,7 @@
 #include "continuum/sph.hpp"
 #include "core/error.hpp"
 #include "core/files.hpp"
+#include "input_error.hpp"
 #include "io/input/echo.hpp"
 #include "io/input/parse_continuum.hpp"
 #include "io/restart/h5.hpp"
@@ -437,12 +438,7 @@ ContinuumCase parse_text(const std::string& text) {
 }
 
 std::string error_of(const std::string& text) {
-  try {
-    parse_text(text);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "no error";
+  return test::input_error_of([&] { parse_text(text); }, "no error");
 }
 
 TEST(ContinuumInput, ReadsTheBlockWithDefaults) {

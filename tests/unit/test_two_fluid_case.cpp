@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/error.hpp"
+#include "input_error.hpp"
 #include "io/restart/h5.hpp"
 #include "simulation/two_fluid_case.hpp"
 #include "temp_dir.hpp"
@@ -54,12 +55,7 @@ input::TwoFluidCase parse_text(const std::string& text) {
 }
 
 std::string error_of(const std::string& text) {
-  try {
-    parse_text(text);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return test::input_error_of([&] { parse_text(text); });
 }
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
