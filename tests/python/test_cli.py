@@ -39,7 +39,7 @@ output:
 """
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from checks import Checks  # noqa: E402
+from checks import FEM_CHANNEL_BLOCK, Checks  # noqa: E402
 
 check = Checks()
 
@@ -274,18 +274,7 @@ with tempfile.TemporaryDirectory() as TMP:
     # particle checkpoint given to a fluid_fem case is refused with exit code 2.
     fem_case = os.path.join(TMP, "fem.yaml")
     with open(fem_case, "w") as f:
-        f.write("""fluid_fem:
-  fluid: {density: 1.0, viscosity: 0.01}
-  domain:
-    outline: [[0, 0], [1, 0], [1, 0.4], [0, 0.4]]
-    boundaries:
-      - {edges: [1], type: outflow}
-      - {edges: [3], type: inflow, u_max: 0.5}
-  bodies:
-    - {name: disk, circle: {centre: [0.3, 0.2], radius: 0.05}}
-  mesh: {h_max: 0.08, h_body: 0.03}
-  time: {mode: unsteady, scheme: bdf2, step: 0.01, end: 1.0}
-""")
+        f.write(FEM_CHANNEL_BLOCK)
     r = run("run", fem_case, "--output", "fem_a", "--quiet", "--steps", "4")
     fem_ckpt = os.path.join(TMP, "fem_a", "fem_checkpoint_final.h5")
     check(r.returncode == 0 and os.path.exists(fem_ckpt), f"fluid_fem run writes a checkpoint: {r.stderr}")

@@ -13,22 +13,9 @@ import sys
 import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from checks import Checks  # noqa: E402
+from checks import FEM_CHANNEL_BLOCK, Checks  # noqa: E402
 
-CASE = """name: fem_cli
-fluid_fem:
-  fluid: {density: 1.0, viscosity: 0.01}
-  domain:
-    outline: [[0, 0], [1, 0], [1, 0.4], [0, 0.4]]
-    boundaries:
-      - {edges: [1], type: outflow}
-      - {edges: [3], type: inflow, u_max: 0.5}
-  bodies:
-    - {name: disk, circle: {centre: [0.3, 0.2], radius: 0.05}}
-  mesh: {h_max: 0.08, h_body: 0.03}
-  time: {mode: unsteady, scheme: bdf2, step: 0.01, end: 1.0}
-  output: {probes: [[0.9, 0.2]]}
-"""
+CASE = "name: fem_cli\n" + FEM_CHANNEL_BLOCK + "  output: {probes: [[0.9, 0.2]]}\n"
 
 check = Checks()
 GF = os.path.abspath(sys.argv[1])
