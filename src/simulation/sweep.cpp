@@ -106,6 +106,13 @@ std::optional<fs::path> newest_checkpoint(const fs::path& dir) {
 /// The plan of a sweep, as lines: its runs, then the resolved case (with the --set overrides)
 /// that every run starts from, without comment lines (which name the program version and file).
 /// `--continue` carries on a sweep only if its plan is this one's.
+/// The resolved case's lines (comments left out), indented by two spaces, appended to `lines`.
+void append_case_lines(const config::Case& c, std::vector<std::string>& lines) {
+  std::istringstream echo(input::echo_yaml(c, ""));
+  for (std::string l; std::getline(echo, l);)
+    if (!l.empty() && l.front() != '#') lines.push_back("  " + l);
+}
+
 std::vector<std::string> sweep_plan(const config::Case& c, const std::vector<SweepPoint>& points) {
   std::vector<std::string> lines{
       "# grainflow sweep plan: `grainflow sweep --continue` carries on "
@@ -114,9 +121,7 @@ std::vector<std::string> sweep_plan(const config::Case& c, const std::vector<Swe
   for (const auto& p : points) runs += " " + p.name;
   lines.push_back(runs);
   lines.emplace_back("case:");
-  std::istringstream echo(input::echo_yaml(c, ""));
-  for (std::string l; std::getline(echo, l);)
-    if (!l.empty() && l.front() != '#') lines.push_back("  " + l);
+  append_case_lines(c, lines);
   return lines;
 }
 
@@ -137,6 +142,22 @@ void check_sweep_plan(const fs::path& dir, const std::vector<std::string>& plan)
   std::vector<std::string> had;
   std::istringstream in(read_text_file(file));
   for (std::string l; std::getline(in, l);) had.push_back(l);
+  // The plan's case as this build writes it: another build may write the same case otherwise
+  // (a key added since, with its default), which is not another sweep.
+  if (const auto at = std::find(had.begin(), had.end(), "case:"); at != had.end()) {
+    std::string text;
+    for (auto k = at + 1; k != had.end(); ++k) text += (k->size() >= 2 ? k->substr(2) : *k) + "\n";
+    try {
+      const config::Case old = input::load_case_text(text, file);
+      had.erase(at + 1, had.end());
+      append_case_lines(old, had);
+    } catch (const Error& e) {
+      log::warn(
+          "sweep --continue: this build cannot read the case in '{}' ({}); it is compared "
+          "as written",
+          file.string(), e.what());
+    }
+  }
   const auto differ = std::mismatch(plan.begin(), plan.end(), had.begin(), had.end());
   if (differ.first == plan.end() && differ.second == had.end()) return;
   // A differing line with the lines it sits under (smaller indentation), e.g.
@@ -156,14 +177,14 @@ void check_sweep_plan(const fs::path& dir, const std::vector<std::string>& plan)
   const std::string then = with_parents(had, differ.second - had.begin());
   const bool runs = now.starts_with("runs:") || then.starts_with("runs:");
   throw InputError(fmt::format(
-      "sweep --continue: '{}' holds another sweep; continuing it would {} ({}, line {}):\n"
+      "sweep --continue: '{}' holds another sweep; continuing it would {} ({}):\n"
       "  that sweep: {}\n  this one:   {}\n"
       "continue it with the case and --set values it started with, or start this sweep in "
       "another folder (-o)",
       dir.string(),
       runs ? "leave runs of the two out of one table or mix them"
            : "mix runs of two different cases in one table",
-      file.string(), (differ.second - had.begin()) + 1, then, now));
+      file.string(), then, now));
 }
 
 }  // namespace
