@@ -215,6 +215,17 @@ with tempfile.TemporaryDirectory() as TMP:
         check(r.returncode == 2 and "holds another sweep" in r.stderr and what in r.stderr and
               open(os.path.join(TMP, "sweep", "sweep.csv")).read() == table_before,
               f"sweep --continue of another sweep is refused ({what}): {r.returncode} {r.stderr}")
+    # A plan written by a build that wrote fewer default keys is the same sweep: its case is
+    # compared as this build writes it.
+    plan = os.path.join(TMP, "sweep", "sweep_plan.txt")
+    text = open(plan).read()
+    check("  integrator: velocity_verlet\n" in text, "the plan holds the resolved case")
+    open(plan, "w").write(text.replace("  integrator: velocity_verlet\n", ""))
+    r = subprocess.run([GF, "sweep", rods, "-o", "sweep", "--no-plots", "--continue",
+                        "--set", "sweep.volume_fraction=[0.1, 0.2, 0.3]",
+                        "--set", "sweep.shear_rate=[100]"], cwd=TMP, capture_output=True, text=True)
+    check(r.returncode == 0 and r.stderr.count("finished before; kept") == 3,
+          f"a plan without a defaulted key continues: {r.returncode} {r.stderr}")
 
     # A sweep killed outright (SIGKILL: no chance to pass anything on) does not leave its runs
     # going on alone: the kernel signals each one, and it stops with its outputs and a
