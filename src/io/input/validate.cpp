@@ -234,6 +234,14 @@ class Validator {
     }
     return r_free > 0 ? r_free : r_all;
   }
+  /// The neighbour search's cut-off, 2 r_max + skin (r_max: the largest bounding radius), with
+  /// the simulation's default skin: half the largest contact radius (cap radius of
+  /// spherocylinders, equal-area radius of polygons), not of the bounding radius.
+  double neighbor_cutoff() const {
+    double reach_max = 0;
+    for (const auto& [name, gs] : grains_) reach_max = std::max(reach_max, gs.reach_max);
+    return 2 * reach_max + c_.neighbor.skin.value_or(0.5 * skin_radius());
+  }
 
   void check_basics() const;
   void check_materials();
@@ -687,12 +695,7 @@ void Validator::check_overlaps(const std::vector<Placed>& all) {
 }
 
 void Validator::check_periodic() const {
-  double reach_max = 0;
-  for (const auto& [name, gs] : grains_) reach_max = std::max(reach_max, gs.reach_max);
-  // The simulation's default skin: half the largest contact radius (cap radius of
-  // spherocylinders, equal-area radius of polygons), not of the bounding radius.
-  const double skin = c_.neighbor.skin.value_or(0.5 * skin_radius());
-  const double cutoff = 2 * reach_max + skin;
+  const double cutoff = neighbor_cutoff();
   for (int k = 0; k < dim_; ++k) {
     const double len = c_.domain.max[k] - c_.domain.min[k];
     if (c_.domain.periodic[k] && !(len > 2 * cutoff)) {
@@ -913,16 +916,13 @@ void Validator::check_fill_memory(std::size_t g, const config::Fill& f, double e
 
 void Validator::check_memory() {
   // The neighbour search's grid over the domain (as check_periodic: cut-off 2 r_max + skin).
-  double reach_max = 0;
-  for (const auto& [name, gs] : grains_) reach_max = std::max(reach_max, gs.reach_max);
-  if (reach_max > 0) {
-    const double cutoff = 2 * reach_max + c_.neighbor.skin.value_or(0.5 * skin_radius());
+  if (const double cutoff = neighbor_cutoff(); cutoff > 0) {
     const double cells = neighbour_cells(c_.domain.max - c_.domain.min, cutoff, dim_);
     config::SourceLoc loc = at(c_.domain.loc, "domain");
     const std::string what = fmt::format(
-        "the neighbour search's {} cells (of at least the cut-off {} m, at most 1024 per axis, "
-        "over the domain)",
-        number_text(cells), number_text(cutoff));
+        "the neighbour search's {} cells (of at least the cut-off {:.3g} m, at most 1024 per "
+        "axis, over the domain)",
+        number_text(cells), cutoff);
     check_memory_use(loc, what, cells * kBytesPerNeighbourCell);
     memory_.push_back({loc, what, cells * kBytesPerNeighbourCell});
   }
