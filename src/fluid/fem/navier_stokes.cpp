@@ -52,12 +52,58 @@ NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
   const Mesh& m = problem_.mesh;
   REQUIRE(problem_.outline_bc.size() == problem_.spec.outline.size(),
           "one boundary condition per outline edge");
-  problem_.body_motion.resize(problem_.spec.bodies.size());
+  const std::size_t n_bodies = problem_.spec.bodies.size();
+  problem_.body_motion.resize(n_bodies);
+  problem_.body_density.resize(n_bodies, 0.0);
   REQUIRE(problem_.density > 0 && problem_.viscosity > 0, "density and viscosity must be positive");
+  // Area, centroid and polar moment of area about the centroid of each body; a free body's
+  // centre is its centroid (gravity acts there and its inertia is diagonal about it).
+  for (std::size_t j = 0; j < n_bodies; ++j) {
+    auto& b = problem_.spec.bodies[j];
+    double a = std::numbers::pi * b.radius * b.radius;
+    double inertia = 0.5 * a * b.radius * b.radius;
+    if (b.kind == BodyShape::Kind::Polygon) {
+      // Green's theorem over the edges, relative to the first vertex (round-off)
+      const Vec2 o = b.vertices[0];
+      double a2 = 0, cx = 0, cy = 0, ixx = 0;
+      for (std::size_t i = 0; i < b.vertices.size(); ++i) {
+        const Vec2 p{b.vertices[i].x - o.x, b.vertices[i].y - o.y};
+        const Vec2 q{b.vertices[(i + 1) % b.vertices.size()].x - o.x,
+                     b.vertices[(i + 1) % b.vertices.size()].y - o.y};
+        const double cr = p.x * q.y - q.x * p.y;
+        a2 += cr;
+        cx += (p.x + q.x) * cr;
+        cy += (p.y + q.y) * cr;
+        ixx += cr * (p.x * p.x + p.x * q.x + q.x * q.x + p.y * p.y + p.y * q.y + q.y * q.y);
+      }
+      a = 0.5 * a2;
+      cx /= 3.0 * a2;
+      cy /= 3.0 * a2;
+      inertia = ixx / 12.0 - a * (cx * cx + cy * cy);  // parallel axes: about the centroid
+      a = std::abs(a);
+      inertia = std::abs(inertia);
+      if (problem_.body_density[j] > 0) b.centre = {o.x + cx, o.y + cy};
+    }
+    body_area_.push_back(a);
+    body_inertia_.push_back(inertia);
+  }
+  free_slot_.assign(n_bodies, -1);
+  for (std::size_t j = 0; j < n_bodies; ++j) {
+    REQUIRE(problem_.body_density[j] >= 0, "body {}: density {} must be >= 0", j,
+            problem_.body_density[j]);
+    if (problem_.body_density[j] > 0) free_slot_[j] = n_free_++;
+  }
   n2_ = m.n_nodes();
   n1_ = m.n_vertices;
-  n_dofs_ = 2 * n2_ + n1_;
+  n_dofs_ = 2 * n2_ + n1_ + 3 * n_free_;
   x_.assign(n_dofs_, 0.0);
+  for (std::size_t j = 0; j < n_bodies; ++j)
+    if (free_slot_[j] >= 0) {
+      const int d = body_dof(static_cast<int>(j));
+      x_[d] = problem_.body_motion[j].velocity.x;
+      x_[d + 1] = problem_.body_motion[j].velocity.y;
+      x_[d + 2] = problem_.body_motion[j].angular_velocity;
+    }
 
   // Dirichlet nodes: walls override inflow (corners), bodies separate.
   std::vector<int> node_src(n2_, -1);  // -1 free; 0 wall; 1 + k inflow edge k; -(2 + j) body j
@@ -96,17 +142,16 @@ NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
   }
   dirichlet_values_.assign(dirichlet_dofs_.size(), 0.0);
   dir_src_ = std::move(node_src);
-  for (const auto& b : problem_.spec.bodies) {
-    double a = std::numbers::pi * b.radius * b.radius;
-    if (b.kind == BodyShape::Kind::Polygon) {
-      a = 0;
-      for (std::size_t i = 0; i < b.vertices.size(); ++i) {
-        const Vec2 p = b.vertices[i], q = b.vertices[(i + 1) % b.vertices.size()];
-        a += 0.5 * (p.x * q.y - q.x * p.y);
-      }
-      a = std::abs(a);
-    }
-    body_area_.push_back(a);
+  // Without an outflow edge the pressure is defined up to a constant (the continuity rows sum
+  // to the boundary flux, which the Dirichlet data make zero): one continuity row is replaced by
+  // p = 0 at vertex 0, so the LU does not factorise a singular matrix. (Before, the solves of a
+  // closed domain stalled at a relative update of ~1e-10 in long runs.)
+  const bool has_outflow =
+      std::any_of(problem_.outline_bc.begin(), problem_.outline_bc.end(),
+                  [](const OutlineBc& bc) { return bc.kind == OutlineBcKind::Outflow; });
+  if (!has_outflow && n1_ > 0) {
+    pinned_pressure_ = 2 * n2_;
+    dirichlet_[pinned_pressure_] = static_cast<int>(dirichlet_dofs_.size());  // a row to skip
   }
 
   precompute_geometry();
@@ -114,12 +159,63 @@ NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
   build_locator();
   residual_.assign(n_dofs_, 0.0);
   reaction_.assign(n_dofs_, 0.0);
-  hist_term_.assign(2 * n2_, 0.0);
+  hist_term_.assign(2 * n2_ + 3 * n_free_, 0.0);
+  base_nodes_ = m.nodes;
+  for (const auto& b : problem_.spec.bodies) base_centres_.push_back(b.centre);
   set_time(0.0);
 }
 
 void NavierStokes::set_body_motion(int body, const BodyMotion& motion) {
   problem_.body_motion.at(body) = motion;
+  if (free_slot_[body] >= 0) {
+    const int d = body_dof(body);
+    x_[d] = motion.velocity.x;
+    x_[d + 1] = motion.velocity.y;
+    x_[d + 2] = motion.angular_velocity;
+  }
+  set_time(t_);
+}
+
+BodyMotion NavierStokes::body_velocity(int body) const {
+  if (free_slot_.at(body) < 0) return problem_.body_motion[body];
+  const int d = body_dof(body);
+  return BodyMotion{{x_[d], x_[d + 1]}, x_[d + 2]};
+}
+
+double NavierStokes::body_mass(int body) const {
+  return problem_.body_density.at(body) * body_area_[body];
+}
+
+double NavierStokes::body_inertia(int body) const {
+  return problem_.body_density.at(body) * body_inertia_[body];
+}
+
+void NavierStokes::refresh_free_body_values() {
+  if (n_free_ == 0) return;
+  const Mesh& m = problem_.mesh;
+  for (std::size_t i = 0; i < dirichlet_dofs_.size(); i += 2) {
+    const int v = dirichlet_dofs_[i];
+    const int src = dir_src_[v];
+    if (src > -2 || free_slot_[-(src + 2)] < 0) continue;
+    const int j = -(src + 2);
+    const int d = body_dof(j);
+    const Vec2 c = problem_.spec.bodies[j].centre;
+    const Vec2 p = m.nodes[v];
+    dirichlet_values_[i] = x_[d] - x_[d + 2] * (p.y - c.y);
+    dirichlet_values_[i + 1] = x_[d + 1] + x_[d + 2] * (p.x - c.x);
+  }
+}
+
+void NavierStokes::move_mesh(const std::vector<Vec2>& nodes, const std::vector<Vec2>& centres) {
+  REQUIRE(
+      nodes.size() == problem_.mesh.nodes.size() && centres.size() == problem_.spec.bodies.size(),
+      "move_mesh: {} nodes and {} centres for a mesh of {} nodes and {} bodies", nodes.size(),
+      centres.size(), problem_.mesh.nodes.size(), problem_.spec.bodies.size());
+  problem_.mesh.nodes = nodes;
+  for (std::size_t j = 0; j < centres.size(); ++j) problem_.spec.bodies[j].centre = centres[j];
+  moving_ = true;
+  precompute_geometry();
+  build_locator();
   set_time(t_);
 }
 
@@ -155,7 +251,7 @@ void NavierStokes::set_time(double t) {
       u = {mag * nx, mag * ny};
     } else if (src <= -2) {
       const int j = -(src + 2);
-      const auto& mo = problem_.body_motion[j];
+      const BodyMotion mo = body_velocity(j);
       const Vec2 c = spec.bodies[j].centre;
       u = {mo.velocity.x - mo.angular_velocity * (p.y - c.y),
            mo.velocity.y + mo.angular_velocity * (p.x - c.x)};
@@ -169,6 +265,7 @@ void NavierStokes::set_time(double t) {
 void NavierStokes::apply_dirichlet_to_solution() {
   for (std::size_t i = 0; i < dirichlet_dofs_.size(); ++i)
     x_[dirichlet_dofs_[i]] = dirichlet_values_[i];
+  if (pinned_pressure_ >= 0) x_[pinned_pressure_] = 0.0;
 }
 
 void NavierStokes::precompute_geometry() {
@@ -205,6 +302,37 @@ void NavierStokes::build_pattern() {
       }
     }
   for (int d : dirichlet_dofs_) trip.emplace_back(d, d, 0.0);
+  if (pinned_pressure_ >= 0) trip.emplace_back(pinned_pressure_, pinned_pressure_, 0.0);
+  // Free bodies: node rows u - (V + Omega x r) = 0 couple to the body's unknowns; the body's
+  // rows sum the momentum rows of its nodes (their columns) and carry the body's inertia.
+  auto free_body_of = [&](int gdof) {  // body index of a free body's node dof, else -1
+    const int v = gdof < n2_ ? gdof : gdof - n2_;
+    if (gdof >= 2 * n2_ || dir_src_[v] > -2) return -1;
+    const int j = -(dir_src_[v] + 2);
+    return free_slot_[j] >= 0 ? j : -1;
+  };
+  if (n_free_ > 0) {
+    for (int d : dirichlet_dofs_) {
+      const int j = free_body_of(d);
+      if (j < 0) continue;
+      trip.emplace_back(d, body_dof(j) + (d < n2_ ? 0 : 1), 0.0);
+      trip.emplace_back(d, body_dof(j) + 2, 0.0);
+    }
+    for (int c = 0; c < m.n_cells(); ++c)
+      for (int r = 0; r < 12; ++r) {
+        const int j = free_body_of(dof(c, r));
+        if (j < 0) continue;
+        for (int s = 0; s < 15; ++s) {
+          trip.emplace_back(body_dof(j) + (r < 6 ? 0 : 1), dof(c, s), 0.0);
+          trip.emplace_back(body_dof(j) + 2, dof(c, s), 0.0);
+        }
+      }
+    for (std::size_t j = 0; j < free_slot_.size(); ++j)
+      if (free_slot_[j] >= 0)
+        for (int k = 0; k < 3; ++k)
+          trip.emplace_back(body_dof(static_cast<int>(j)) + k, body_dof(static_cast<int>(j)) + k,
+                            0.0);
+  }
   Eigen::SparseMatrix<double, Eigen::ColMajor, int> a(n_dofs_, n_dofs_);
   a.setFromTriplets(trip.begin(), trip.end());
   a.makeCompressed();
@@ -230,6 +358,34 @@ void NavierStokes::build_pattern() {
     }
   diag_pos_.clear();
   for (int d : dirichlet_dofs_) diag_pos_.push_back(pos(d, d));
+  if (pinned_pressure_ >= 0) pinned_pos_ = pos(pinned_pressure_, pinned_pressure_);
+  free_cell_start_.assign(n_free_ > 0 ? m.n_cells() + 1 : 0, 0);
+  free_entries_.clear();
+  free_constraint_.assign(n_free_ > 0 ? dirichlet_dofs_.size() : 0, FreeConstraint{-1, -1});
+  free_diag_.clear();
+  if (n_free_ > 0) {
+    for (int c = 0; c < m.n_cells(); ++c) {
+      for (int r = 0; r < 12; ++r) {
+        const int j = free_body_of(dof(c, r));
+        if (j < 0) continue;
+        for (int s = 0; s < 15; ++s)
+          free_entries_.push_back({r, s, pos(body_dof(j) + (r < 6 ? 0 : 1), dof(c, s)),
+                                   pos(body_dof(j) + 2, dof(c, s))});
+      }
+      free_cell_start_[c + 1] = static_cast<int>(free_entries_.size());
+    }
+    for (std::size_t i = 0; i < dirichlet_dofs_.size(); ++i) {
+      const int d = dirichlet_dofs_[i];
+      const int j = free_body_of(d);
+      if (j < 0) continue;
+      free_constraint_[i] = {pos(d, body_dof(j) + (d < n2_ ? 0 : 1)), pos(d, body_dof(j) + 2)};
+    }
+    for (std::size_t j = 0; j < free_slot_.size(); ++j)
+      if (free_slot_[j] >= 0)
+        for (int k = 0; k < 3; ++k)
+          free_diag_.push_back(
+              pos(body_dof(static_cast<int>(j)) + k, body_dof(static_cast<int>(j)) + k));
+  }
   lu_.analyze(n_dofs_, col_ptr_.data(), row_idx_.data(), values_.data());
 }
 
@@ -238,13 +394,20 @@ void NavierStokes::assemble(bool with_jacobian, bool newton_terms) {
   const Mesh& m = problem_.mesh;
   const double rho = problem_.density, mu = problem_.density * problem_.viscosity;
   const double a0 = alpha0_;
+  const bool ale = moving_ && !mesh_w_.empty();
+  refresh_free_body_values();
   std::fill(residual_.begin(), residual_.end(), 0.0);
   if (with_jacobian) std::fill(values_.begin(), values_.end(), 0.0);
   double ke[15][15];
   double re[15];
   for (int c = 0; c < m.n_cells(); ++c) {
     const auto& cell = m.cells[c];
-    double ux[6], uy[6], wx[6], wy[6], p[3];
+    double ux[6], uy[6], wx[6], wy[6], p[3], mx[6] = {}, my[6] = {};
+    if (ale)
+      for (int k = 0; k < 6; ++k) {
+        mx[k] = mesh_w_[cell[k]].x;
+        my[k] = mesh_w_[cell[k]].y;
+      }
     for (int k = 0; k < 6; ++k) {
       ux[k] = x_[cell[k]];
       uy[k] = x_[n2_ + cell[k]];
@@ -262,7 +425,10 @@ void NavierStokes::assemble(bool with_jacobian, bool newton_terms) {
       const double* phi = kRef.phi[q];
       const double* l = kRef.l[q];
       double vx = 0, vy = 0, tx = 0, ty = 0, g00 = 0, g01 = 0, g10 = 0, g11 = 0;
+      double cx = 0, cy = 0;  // ALE: convecting velocity u - w = (vx - cx, vy - cy)
       for (int k = 0; k < 6; ++k) {
+        cx += mx[k] * phi[k];
+        cy += my[k] * phi[k];
         vx += ux[k] * phi[k];
         vy += uy[k] * phi[k];
         tx += wx[k] * phi[k];
@@ -273,8 +439,8 @@ void NavierStokes::assemble(bool with_jacobian, bool newton_terms) {
         g11 += uy[k] * gy[k];
       }
       const double pq = p[0] * l[0] + p[1] * l[1] + p[2] * l[2];
-      const double fx = w * rho * (tx + vx * g00 + vy * g01);
-      const double fy = w * rho * (ty + vx * g10 + vy * g11);
+      const double fx = w * rho * (tx + (vx - cx) * g00 + (vy - cy) * g01);
+      const double fy = w * rho * (ty + (vx - cx) * g10 + (vy - cy) * g11);
       const double sxx = w * (mu * g00 - pq), sxy = w * mu * g01, syx = w * mu * g10,
                    syy = w * (mu * g11 - pq);
       for (int a = 0; a < 6; ++a) {
@@ -285,7 +451,7 @@ void NavierStokes::assemble(bool with_jacobian, bool newton_terms) {
       for (int b = 0; b < 3; ++b) re[12 + b] += dv * l[b];
       if (!with_jacobian) continue;
       double adv[6];
-      for (int k = 0; k < 6; ++k) adv[k] = vx * gx[k] + vy * gy[k];
+      for (int k = 0; k < 6; ++k) adv[k] = (vx - cx) * gx[k] + (vy - cy) * gy[k];
       const double wr = w * rho, wm = w * mu;
       const double n00 = newton_terms ? wr * g00 : 0.0, n01 = newton_terms ? wr * g01 : 0.0;
       const double n10 = newton_terms ? wr * g10 : 0.0, n11 = newton_terms ? wr * g11 : 0.0;
@@ -320,6 +486,19 @@ void NavierStokes::assemble(bool with_jacobian, bool newton_terms) {
           const int at = map[r * 15 + s];
           if (at >= 0) values_[at] += ke[r][s];
         }
+      if (n_free_ > 0) {
+        // body rows: force = sum of the node rows, torque = sum of r x (node rows)
+        const auto x = cell_nodes(m, c);
+        for (int e = free_cell_start_[c]; e < free_cell_start_[c + 1]; ++e) {
+          const auto& fe = free_entries_[e];
+          const int node = fe.r % 6;
+          const int j = -(dir_src_[cell[node]] + 2);
+          const Vec2 ctr = problem_.spec.bodies[j].centre;
+          const double arm = fe.r < 6 ? -(x[node].y - ctr.y) : x[node].x - ctr.x;
+          values_[fe.pos_lin] += ke[fe.r][fe.s];
+          values_[fe.pos_ang] += arm * ke[fe.r][fe.s];
+        }
+      }
     }
   }
   reaction_ = residual_;
@@ -328,7 +507,58 @@ void NavierStokes::assemble(bool with_jacobian, bool newton_terms) {
     residual_[d] = x_[d] - dirichlet_values_[i];
     if (with_jacobian) values_[diag_pos_[i]] = 1.0;
   }
+  if (pinned_pressure_ >= 0) {
+    residual_[pinned_pressure_] = x_[pinned_pressure_];
+    if (with_jacobian) values_[pinned_pos_] = 1.0;
+  }
+  if (n_free_ > 0) assemble_free_bodies(with_jacobian);
   assembly_seconds_ += seconds_now() - t0;
+}
+
+void NavierStokes::assemble_free_bodies(bool with_jacobian) {
+  // Node rows of a free body: u_i - (V + Omega e_z x (x_i - c)) = 0.
+  const Mesh& m = problem_.mesh;
+  if (with_jacobian)
+    for (std::size_t i = 0; i < dirichlet_dofs_.size(); ++i) {
+      const auto& fc = free_constraint_[i];
+      if (fc.pos_lin < 0) continue;
+      const int d = dirichlet_dofs_[i];
+      const int v = d < n2_ ? d : d - n2_;
+      const Vec2 c = problem_.spec.bodies[-(dir_src_[v] + 2)].centre;
+      values_[fc.pos_lin] = -1.0;
+      values_[fc.pos_ang] = d < n2_ ? m.nodes[v].y - c.y : -(m.nodes[v].x - c.x);
+    }
+  // Body rows: m dV/dt + sum_i R_i - (m - rho A) g = 0 and
+  // I dOmega/dt + sum_i r_i x R_i + 2 mu A Omega = 0, where R_i are the momentum rows of the
+  // body's nodes (minus the fluid's force on the body, see reaction_forces()).
+  const double mu = problem_.density * problem_.viscosity;
+  for (std::size_t j = 0; j < free_slot_.size(); ++j) {
+    if (free_slot_[j] < 0) continue;
+    const int b = static_cast<int>(j);
+    const int d = body_dof(b);
+    const int h = 2 * n2_ + 3 * free_slot_[j];
+    const double mass = body_mass(b), inertia = body_inertia(b);
+    const double buoyant = mass - problem_.density * body_area_[j];
+    const Vec2 c = problem_.spec.bodies[j].centre;
+    double fx = 0, fy = 0, tz = 0;
+    for (int v : body_nodes_[j]) {
+      const double rx = reaction_[v], ry = reaction_[n2_ + v];
+      fx += rx;
+      fy += ry;
+      tz += (m.nodes[v].x - c.x) * ry - (m.nodes[v].y - c.y) * rx;
+    }
+    residual_[d] = mass * (alpha0_ * x_[d] + hist_term_[h]) + fx - buoyant * problem_.gravity.x;
+    residual_[d + 1] =
+        mass * (alpha0_ * x_[d + 1] + hist_term_[h + 1]) + fy - buoyant * problem_.gravity.y;
+    residual_[d + 2] = inertia * (alpha0_ * x_[d + 2] + hist_term_[h + 2]) + tz +
+                       2.0 * mu * body_area_[j] * x_[d + 2];
+    if (with_jacobian) {
+      const int f = 3 * free_slot_[j];
+      values_[free_diag_[f]] += mass * alpha0_;
+      values_[free_diag_[f + 1]] += mass * alpha0_;
+      values_[free_diag_[f + 2]] += inertia * alpha0_ + 2.0 * mu * body_area_[j];
+    }
+  }
 }
 
 NewtonReport NavierStokes::newton(const NewtonOptions& opt) {
@@ -398,11 +628,13 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
   if (hist_t_.empty()) {
     hist_t_.push_back(t_);
     hist_x_.push_back(x_);
+    hist_nodes_.assign(1, base_nodes_);
+    hist_centres_.assign(1, base_centres_);
   }
   const int k = std::clamp(order, 1, std::min(kMaxBdfOrder, static_cast<int>(hist_t_.size())));
   last_order_ = k;
   const double tn = hist_t_[0];
-  const int nv = 2 * n2_;
+  const int nv = 2 * n2_ + 3 * n_free_;  // velocity-like unknowns (hist_dof(i))
   // Variable-step BDF-k: du/dt(t_{n+1}) is the derivative at tau_0 = t_{n+1} of the polynomial
   // through (tau_j, u_j), tau_j = the newest k states' times; the weight of u_j is the derivative
   // of its Lagrange basis polynomial at tau_0. alpha0 = sum_{m>0} 1 / (tau_0 - tau_m).
@@ -413,6 +645,12 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
   alpha0_ = 0.0;
   for (int m = 1; m <= k; ++m) alpha0_ += 1.0 / (tp - tau[m]);
   std::fill(hist_term_.begin(), hist_term_.begin() + nv, 0.0);
+  // ALE: the mesh velocity is the same BDF derivative of the node positions.
+  if (moving_) {
+    mesh_w_.resize(n2_);
+    for (int i = 0; i < n2_; ++i)
+      mesh_w_[i] = {alpha0_ * problem_.mesh.nodes[i].x, alpha0_ * problem_.mesh.nodes[i].y};
+  }
   for (int j = 1; j <= k; ++j) {
     double w = 1.0;
     for (int m = 0; m <= k; ++m) {
@@ -421,7 +659,14 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
       w /= tau[j] - tau[m];
     }
     const auto& xj = hist_x_[j - 1];
-    for (int i = 0; i < nv; ++i) hist_term_[i] += w * xj[i];
+    for (int i = 0; i < nv; ++i) hist_term_[i] += w * xj[hist_dof(i)];
+    if (moving_) {
+      const auto& nj = hist_nodes_[j - 1];
+      for (int i = 0; i < n2_; ++i) {
+        mesh_w_[i].x += w * nj[i].x;
+        mesh_w_[i].y += w * nj[i].y;
+      }
+    }
   }
   // Predictor: extrapolation of degree k through the newest k+1 states (lower if fewer known).
   const int deg = std::min(k, static_cast<int>(hist_t_.size()) - 1);
@@ -446,7 +691,7 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
     for (int m = 1; m <= k; ++m) cc *= tp - tau[m];
     for (int j = 0; j <= k; ++j) cp *= tp - hist_t_[j];
     const double f = cc / (cc + cp);
-    for (int i = 0; i < nv; ++i) xp[i] = f * (x_[i] - xp[i]);
+    for (int i = 0; i < nv; ++i) xp[hist_dof(i)] = f * (x_[hist_dof(i)] - xp[hist_dof(i)]);
     res.error = velocity_norm(xp, rtol, atol);
   }
   if (neighbour_errors) {
@@ -458,9 +703,11 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
 }
 
 double NavierStokes::velocity_norm(const std::vector<double>& e, double rtol, double atol) const {
+  // (free bodies' velocities count like fluid velocities)
   double sum = 0;
   int n = 0;
-  for (int i = 0; i < 2 * n2_; ++i) {
+  for (int k = 0; k < 2 * n2_ + 3 * n_free_; ++k) {
+    const int i = hist_dof(k);
     if (dirichlet_[i] >= 0) continue;
     const double w = e[i] / (atol + rtol * std::abs(x_[i]));
     sum += w * w;
@@ -484,13 +731,13 @@ double NavierStokes::order_error(int j, double rtol, double atol) const {
     alpha0 += 1.0 / (t_ - s[m]);
   }
   g /= alpha0;
-  std::vector<double> e(2 * n2_, 0.0);
+  std::vector<double> e(n_dofs_, 0.0);
   for (int i = 0; i <= j + 1; ++i) {
     double c = g;
     for (int l = 0; l <= j + 1; ++l)
       if (l != i) c /= s[i] - s[l];
     const auto& u = i == 0 ? x_ : hist_x_[i - 1];
-    for (int q = 0; q < 2 * n2_; ++q) e[q] += c * u[q];
+    for (int q = 0; q < 2 * n2_ + 3 * n_free_; ++q) e[hist_dof(q)] += c * u[hist_dof(q)];
   }
   return velocity_norm(e, rtol, atol);
 }
@@ -498,13 +745,22 @@ double NavierStokes::order_error(int j, double rtol, double atol) const {
 void NavierStokes::accept_step() {
   hist_t_.insert(hist_t_.begin(), t_);
   hist_x_.insert(hist_x_.begin(), x_);
+  base_nodes_ = problem_.mesh.nodes;
+  base_centres_.clear();
+  for (const auto& b : problem_.spec.bodies) base_centres_.push_back(b.centre);
+  hist_nodes_.insert(hist_nodes_.begin(), base_nodes_);
+  hist_centres_.insert(hist_centres_.begin(), base_centres_);
   if (hist_t_.size() > kMaxBdfOrder + 1) {  // the predictor of order k uses k + 1 states
     hist_t_.pop_back();
     hist_x_.pop_back();
+    hist_nodes_.pop_back();
+    hist_centres_.pop_back();
   }
 }
 
 NavierStokes::State NavierStokes::state() const {
+  REQUIRE(!moving_ && n_free_ == 0,
+          "the state of a moving mesh or of free bodies is not kept in checkpoints yet");
   State s;
   s.t = t_;
   s.last_order = last_order_;
@@ -547,6 +803,8 @@ void NavierStokes::restore(const State& s) {
   }
   hist_t_ = s.hist_t;
   hist_x_ = s.hist_x;
+  hist_nodes_.assign(hist_t_.size(), problem_.mesh.nodes);  // a fixed mesh (see state())
+  hist_centres_.assign(hist_t_.size(), base_centres_);
   last_order_ = s.last_order;
   alpha0_ = s.alpha0;
   hist_term_ = s.hist_term;
@@ -558,6 +816,13 @@ void NavierStokes::restore(const State& s) {
 void NavierStokes::reject_step() {
   REQUIRE(!hist_t_.empty(), "reject_step without a step");
   x_ = hist_x_[0];
+  if (moving_) {
+    problem_.mesh.nodes = hist_nodes_[0];
+    for (std::size_t j = 0; j < hist_centres_[0].size(); ++j)
+      problem_.spec.bodies[j].centre = hist_centres_[0][j];
+    precompute_geometry();
+    build_locator();
+  }
   set_time(hist_t_[0]);
 }
 

@@ -43,7 +43,8 @@ struct BodyMotion {
   double angular_velocity = 0;  ///< [rad/s]
 };
 
-/// Everything that defines the flow problem on a fixed mesh.
+/// Everything that defines the flow problem. The mesh is fixed unless NavierStokes::move_mesh
+/// moves it (arbitrary Lagrangian-Eulerian form, see there).
 struct FlowProblem {
   MeshSpec spec;
   Mesh mesh;
@@ -51,6 +52,16 @@ struct FlowProblem {
   double viscosity = 1e-3;              ///< kinematic nu [m^2/s]
   std::vector<OutlineBc> outline_bc;    ///< one per outline edge
   std::vector<BodyMotion> body_motion;  ///< one per body (default: at rest)
+  /// Per body (empty: all 0): 0 for a body whose velocity is prescribed by body_motion; a solid
+  /// density > 0 [kg/m^3] makes the body free: its velocity and angular velocity become
+  /// unknowns of the monolithic system, moved by the fluid's force and torque, buoyancy and
+  /// gravity (mass per unit depth = density x area; the torques are about the body's centroid,
+  /// which becomes its centre).
+  std::vector<double> body_density;
+  /// Acceleration of gravity [m/s^2] acting on free bodies. The fluid's pressure is the dynamic
+  /// one (hydrostatic part rho g.x taken out), so a free body feels (m - rho A) g besides the
+  /// flow's force.
+  Vec2 gravity;
 };
 
 /// Force [N/m] and torque about the body's centre [N] per unit depth, exerted by the fluid.
@@ -105,8 +116,29 @@ class NavierStokes {
 
   /// Sets the time t [s] at which boundary data are evaluated and imposes them on the solution.
   void set_time(double t);
-  /// Changes a body's rigid velocity (takes effect at the next solve).
+  /// Changes a body's rigid velocity (takes effect at the next solve); for a free body it sets
+  /// the current value of its velocity unknowns.
   void set_body_motion(int body, const BodyMotion& m);
+  /// Rigid velocity of a body: prescribed, or the current unknowns of a free body.
+  [[nodiscard]] BodyMotion body_velocity(int body) const;
+  [[nodiscard]] bool is_free(int body) const { return free_slot_[body] >= 0; }
+  /// Mass [kg/m] and moment of inertia about the centre [kg m] per unit depth (free bodies).
+  [[nodiscard]] double body_mass(int body) const;
+  [[nodiscard]] double body_inertia(int body) const;
+  [[nodiscard]] double body_area(int body) const { return body_area_[body]; }
+
+  /// Moves the mesh for the next try_step: `nodes` are the P2 node positions at the new time
+  /// [m], `centres` the bodies' centres there. The momentum equation is then solved in
+  /// arbitrary Lagrangian-Eulerian (ALE) form: nodal values follow the moving nodes, the BDF
+  /// time derivative is taken along node paths, and convection is by u - w, with w the mesh
+  /// velocity from the same BDF formula applied to the node positions. The body nodes must move
+  /// rigidly with their body. reject_step() moves the mesh back. Throws gf::Error when a cell
+  /// inverts (callers check quality and remesh before that).
+  void move_mesh(const std::vector<Vec2>& nodes, const std::vector<Vec2>& centres);
+  /// Mesh velocity [m/s] at P2 node k in the last try_step (0 on a fixed mesh).
+  [[nodiscard]] Vec2 mesh_velocity(int node) const {
+    return mesh_w_.empty() ? Vec2{} : mesh_w_[node];
+  }
 
   /// Steady solution at the current time by Newton's method (optionally after Picard steps).
   NewtonReport solve_steady(const NewtonOptions& opt);
@@ -125,7 +157,8 @@ class NavierStokes {
   /// BDF order of the last try_step (0 before the first).
   [[nodiscard]] int last_order() const { return last_order_; }
 
-  /// Forces from the residual (reaction) of the momentum equations at the current state; the
+  /// Forces from the residual (reaction) of the momentum equations at the current state (for a
+  /// free body: the fluid's force, without buoyancy and gravity); the
   /// torque includes the correction -2 mu omega A that turns the Laplace-form pseudo-traction
   /// into the Cauchy traction for a rigidly moving surface (exact, see reaction_forces()).
   [[nodiscard]] std::vector<BodyForce> reaction_forces() const;
@@ -170,6 +203,8 @@ class NavierStokes {
   void build_pattern();
   void precompute_geometry();
   void assemble(bool with_jacobian, bool newton_terms);
+  /// Rows of free bodies and their nodes (after the cell loop of assemble()).
+  void assemble_free_bodies(bool with_jacobian);
   void apply_dirichlet_to_solution();
   NewtonReport newton(const NewtonOptions& opt);
   /// Weighted RMS over the free velocity unknowns of e_i / (atol + rtol |x_i|).
@@ -179,6 +214,11 @@ class NavierStokes {
   [[nodiscard]] double order_error(int j, double rtol, double atol) const;
   [[nodiscard]] int locate(Vec2 p, double& l1, double& l2) const;
   void build_locator();
+  /// Boundary values of free bodies' nodes from their current velocity unknowns.
+  void refresh_free_body_values();
+  /// Unknown index of hist_term_ entry i (velocities first, then free-body velocities).
+  [[nodiscard]] int hist_dof(int i) const { return i < 2 * n2_ ? i : i + n1_; }
+  [[nodiscard]] int body_dof(int body) const { return 2 * n2_ + n1_ + 3 * free_slot_[body]; }
 
   FlowProblem problem_;
   int n2_ = 0, n1_ = 0, n_dofs_ = 0;
@@ -190,13 +230,38 @@ class NavierStokes {
   std::vector<double> dirichlet_values_;
   std::vector<int> dir_src_;  // per P2 node: -1 free, 0 wall, 1+k inflow edge k, -(2+j) body j
   std::vector<std::vector<int>> body_nodes_;
-  std::vector<double> body_area_;  // [m^2]
+  std::vector<double> body_area_;     // [m^2]
+  std::vector<double> body_inertia_;  // polar moment of area about the centre [m^4]
+  std::vector<int> free_slot_;        // per body: index among free bodies, or -1
+  int n_free_ = 0;
+  // Free bodies: per cell (CSR by free_cell_start_) the element rows of body nodes, whose
+  // entries are summed into the body's force and torque rows.
+  struct FreeRowEntry {
+    int r, s;              // element row and column (0..14)
+    int pos_lin, pos_ang;  // positions in values_ of (force row, col) and (torque row, col)
+  };
+  std::vector<int> free_cell_start_;
+  std::vector<FreeRowEntry> free_entries_;
+  struct FreeConstraint {
+    int pos_lin, pos_ang;  // positions of (node row, body velocity col), (node row, omega col)
+  };
+  std::vector<FreeConstraint> free_constraint_;  // per Dirichlet dof of a free body (else -1s)
+  std::vector<int> free_diag_;                   // per free body: 3 diagonal positions
+
+  // Moving mesh (ALE): node positions and body centres of the history states, newest first,
+  // those of the last accepted state, and the mesh velocity of the current step.
+  bool moving_ = false;
+  std::vector<std::vector<Vec2>> hist_nodes_, hist_centres_;
+  std::vector<Vec2> base_nodes_, base_centres_;
+  std::vector<Vec2> mesh_w_;
 
   // Sparse Jacobian in compressed-column form with a fixed pattern.
   std::vector<int> col_ptr_, row_idx_;
   std::vector<double> values_;
   std::vector<int> cell_map_;     // per cell 15x15 positions into values_ (-1: skipped)
   std::vector<int> diag_pos_;     // per Dirichlet dof: position of its diagonal
+  int pinned_pressure_ = -1;      // closed domains: the pressure dof held at 0 (else -1)
+  int pinned_pos_ = -1;           // its diagonal's position
   std::vector<double> residual_;  // with Dirichlet rows replaced by u - g
   std::vector<double> reaction_;  // full momentum residual (for forces)
   SparseLu lu_;

@@ -1,0 +1,226 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Bodies moving through a 2D fluid_fem flow: harmonic mesh motion, quality check, remeshing.
+#include "coupling/fem_dem/moving_bodies.hpp"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace gf::fem_dem {
+
+namespace {
+
+Vec2 rigid_map(const RigidPose& from, const RigidPose& to, Vec2 p) {
+  const double a = to.angle - from.angle;
+  const double c = std::cos(a), s = std::sin(a);
+  const double dx = p.x - from.centre.x, dy = p.y - from.centre.y;
+  return {to.centre.x + c * dx - s * dy, to.centre.y + s * dx + c * dy};
+}
+
+}  // namespace
+
+double shape_quality(Vec2 a, Vec2 b, Vec2 c) {
+  const double area = 0.5 * ((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y));
+  const auto sq = [](Vec2 p, Vec2 q) {
+    return (p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y);
+  };
+  const double l2 = sq(a, b) + sq(b, c) + sq(c, a);
+  return l2 > 0 ? 4.0 * std::sqrt(3.0) * area / l2 : 0.0;
+}
+
+MeshMotion::MeshMotion(const fem::Mesh& mesh, int n_bodies) : ref_nodes_(mesh.nodes) {
+  const int nv = mesh.n_vertices;
+  // Dirichlet vertices: -1 interior, 0 outline, 1 + b on body b
+  std::vector<int> tag(nv, -1);
+  for (const auto& e : mesh.boundary)
+    for (int v : {e.a, e.b}) tag[v] = e.body >= 0 ? 1 + e.body : std::max(tag[v], 0);
+  std::vector<int> interior(nv, -1);
+  int n_in = 0;
+  for (int v = 0; v < nv; ++v)
+    if (tag[v] < 0) interior[v] = n_in++;
+  // P1 stiffness on the straight triangles, split into interior-interior and interior-boundary
+  std::vector<Eigen::Triplet<double>> kii;
+  std::vector<std::vector<std::pair<int, double>>> kib(n_in);  // (boundary vertex, value)
+  for (const auto& cell : mesh.cells) {
+    const Vec2 p[3] = {mesh.nodes[cell[0]], mesh.nodes[cell[1]], mesh.nodes[cell[2]]};
+    const double det =
+        (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[2].x - p[0].x) * (p[1].y - p[0].y);
+    double gx[3], gy[3];
+    for (int k = 0; k < 3; ++k) {
+      const Vec2 q = p[(k + 1) % 3], r = p[(k + 2) % 3];
+      gx[k] = (q.y - r.y) / det;
+      gy[k] = (r.x - q.x) / det;
+    }
+    const double area = 0.5 * std::abs(det);
+    for (int a = 0; a < 3; ++a) {
+      const int ia = interior[cell[a]];
+      if (ia < 0) continue;
+      for (int b = 0; b < 3; ++b) {
+        const double kab = area * (gx[a] * gx[b] + gy[a] * gy[b]);
+        const int ib = interior[cell[b]];
+        if (ib >= 0)
+          kii.emplace_back(ia, ib, kab);
+        else
+          kib[ia].emplace_back(cell[b], kab);
+      }
+    }
+  }
+  Eigen::SparseMatrix<double> k(n_in, n_in);
+  k.setFromTriplets(kii.begin(), kii.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt;
+  if (n_in > 0) {
+    ldlt.compute(k);
+    REQUIRE(ldlt.info() == Eigen::Success,
+            "mesh motion: the Laplace matrix is not positive definite");
+  }
+  w_.assign(n_bodies, std::vector<double>(mesh.n_nodes(), 0.0));
+  for (int b = 0; b < n_bodies; ++b) {
+    auto& w = w_[b];
+    for (int v = 0; v < nv; ++v)
+      if (tag[v] == 1 + b) w[v] = 1.0;
+    if (n_in > 0) {
+      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n_in);
+      for (int i = 0; i < n_in; ++i)
+        for (const auto& [v, kv] : kib[i]) rhs[i] -= kv * w[v];
+      const Eigen::VectorXd x = ldlt.solve(rhs);
+      for (int v = 0; v < nv; ++v)
+        if (interior[v] >= 0) w[v] = x[interior[v]];
+    }
+    // midpoint nodes: the mean of their edge's ends (1 on the body, its curved edges included)
+    for (const auto& cell : mesh.cells)
+      for (int e = 0; e < 3; ++e) w[cell[3 + e]] = 0.5 * (w[cell[e]] + w[cell[(e + 1) % 3]]);
+  }
+}
+
+std::vector<Vec2> MeshMotion::nodes(const std::vector<RigidPose>& reference,
+                                    const std::vector<RigidPose>& now) const {
+  std::vector<Vec2> x = ref_nodes_;
+  for (std::size_t b = 0; b < w_.size(); ++b) {
+    const double da = now[b].angle - reference[b].angle;
+    const bool still = da == 0 && now[b].centre.x == reference[b].centre.x &&
+                       now[b].centre.y == reference[b].centre.y;
+    if (still) continue;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      const double w = w_[b][k];
+      if (w == 0) continue;
+      const Vec2 t = rigid_map(reference[b], now[b], ref_nodes_[k]);
+      x[k].x += w * (t.x - ref_nodes_[k].x);
+      x[k].y += w * (t.y - ref_nodes_[k].y);
+    }
+  }
+  return x;
+}
+
+MovingBodyFlow::MovingBodyFlow(fem::FlowProblem problem, MovingBodyOptions options)
+    : options_(options) {
+  flow_ = std::make_unique<fem::NavierStokes>(std::move(problem));
+  reference_spec_ = flow_->problem().spec;  // free polygons' centres are their centroids now
+  for (const auto& b : reference_spec_.bodies) poses_.push_back({b.centre, 0.0});
+  reference_poses_ = poses_;
+  motion_ = std::make_unique<MeshMotion>(flow_->mesh(), static_cast<int>(poses_.size()));
+  const auto& n = flow_->mesh().nodes;
+  for (const auto& c : flow_->mesh().cells)
+    reference_quality_.push_back(shape_quality(n[c[0]], n[c[1]], n[c[2]]));
+}
+
+std::vector<RigidPose> MovingBodyFlow::predicted_poses(double dt) const {
+  std::vector<RigidPose> p = poses_;
+  for (std::size_t b = 0; b < p.size(); ++b) {
+    const fem::BodyMotion v = flow_->body_velocity(static_cast<int>(b));
+    fem::BodyMotion u = v;  // second-order Adams-Bashforth with variable steps
+    if (previous_dt_ > 0 && !previous_velocity_.empty()) {
+      const double r = dt / (2.0 * previous_dt_);
+      const auto& o = previous_velocity_[b];
+      u.velocity = {(1 + r) * v.velocity.x - r * o.velocity.x,
+                    (1 + r) * v.velocity.y - r * o.velocity.y};
+      u.angular_velocity = (1 + r) * v.angular_velocity - r * o.angular_velocity;
+    }
+    p[b].centre.x += dt * u.velocity.x;
+    p[b].centre.y += dt * u.velocity.y;
+    p[b].angle += dt * u.angular_velocity;
+  }
+  return p;
+}
+
+double MovingBodyFlow::quality_ratio(const std::vector<Vec2>& nodes, double& worst) const {
+  double ratio = 1e300;
+  worst = 1e300;
+  const auto& cells = flow_->mesh().cells;
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const double q = shape_quality(nodes[cells[c][0]], nodes[cells[c][1]], nodes[cells[c][2]]);
+    worst = std::min(worst, q);
+    ratio = std::min(ratio, q / reference_quality_[c]);
+  }
+  return ratio;
+}
+
+void MovingBodyFlow::remesh() {
+  fem::FlowProblem pb = flow_->problem();
+  pb.spec = reference_spec_;
+  for (std::size_t b = 0; b < poses_.size(); ++b) {
+    auto& body = pb.spec.bodies[b];
+    for (auto& v : body.vertices) v = rigid_map(reference_poses_[b], poses_[b], v);
+    body.centre = poses_[b].centre;
+    pb.body_motion[b] = flow_->body_velocity(static_cast<int>(b));
+  }
+  pb.mesh = fem::build_mesh(pb.spec);
+  auto next = std::make_unique<fem::NavierStokes>(std::move(pb));
+  next->set_time(flow_->time());
+  next->interpolate_from(*flow_);
+  flow_ = std::move(next);
+  reference_spec_ = flow_->problem().spec;
+  reference_poses_ = poses_;
+  motion_ = std::make_unique<MeshMotion>(flow_->mesh(), static_cast<int>(poses_.size()));
+  reference_quality_.clear();
+  const auto& n = flow_->mesh().nodes;
+  for (const auto& c : flow_->mesh().cells)
+    reference_quality_.push_back(shape_quality(n[c[0]], n[c[1]], n[c[2]]));
+  ++remeshes_;
+}
+
+std::vector<RigidPose> MovingBodyFlow::mesh_poses(const std::vector<RigidPose>& poses) const {
+  // A circle is the same set whatever its angle: its mesh translates only (the fluid slips
+  // along the mesh there, which the ALE form allows), so a spinning disk needs no remeshing.
+  std::vector<RigidPose> p = poses;
+  for (std::size_t b = 0; b < p.size(); ++b)
+    if (reference_spec_.bodies[b].kind == fem::BodyShape::Kind::Circle)
+      p[b].angle = reference_poses_[b].angle;
+  return p;
+}
+
+fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOptions& newton) {
+  const std::vector<RigidPose> next = predicted_poses(dt);
+  std::vector<Vec2> nodes = motion_->nodes(reference_poses_, mesh_poses(next));
+  double worst = 0;
+  if (quality_ratio(nodes, worst) < options_.remesh_ratio || worst < options_.remesh_quality) {
+    remesh();
+    nodes = motion_->nodes(reference_poses_, mesh_poses(next));
+    const double ratio = quality_ratio(nodes, worst);
+    REQUIRE(worst > 0,
+            "at t = {} s: a body moves farther in one step of {} s than the mesh next to it can "
+            "follow (a fresh mesh inverts; quality ratio {:.3g}): lower the time step",
+            flow_->time(), dt, ratio);
+  }
+  std::vector<fem::BodyMotion> velocity;
+  for (std::size_t b = 0; b < poses_.size(); ++b)
+    velocity.push_back(flow_->body_velocity(static_cast<int>(b)));
+  std::vector<Vec2> centres;
+  for (const auto& p : next) centres.push_back(p.centre);
+  flow_->move_mesh(nodes, centres);
+  const fem::StepResult r = flow_->try_step(dt, order, newton, 1.0, 1.0);
+  if (!r.newton.converged) {
+    flow_->reject_step();
+    REQUIRE(false, "at t = {} s: Newton did not converge in {} iterations (last update {:.3g})",
+            flow_->time(), r.newton.iterations, r.newton.last_update);
+  }
+  flow_->accept_step();
+  poses_ = next;
+  previous_velocity_ = std::move(velocity);
+  previous_dt_ = dt;
+  return r;
+}
+
+}  // namespace gf::fem_dem

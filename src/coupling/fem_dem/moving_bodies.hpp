@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Bodies moving through a 2D fluid_fem flow: ALE mesh motion, remeshing, rigid-body poses.
+//
+// The first part of resolved FEM-DEM (DESIGN.md, method 3): bodies -- free (moved by the
+// fluid's force and torque, buoyancy and gravity, solved monolithically with the flow, see
+// fem::FlowProblem::body_density) or with a prescribed rigid velocity -- move through the fluid
+// on a body-fitted mesh. Each step the mesh nodes follow the bodies by harmonic blending: node k
+// moves by sum_b w_b(k) (T_b(x_k) - x_k), where T_b is body b's rigid motion since the mesh was
+// built and w_b is the P1 harmonic function equal to 1 on body b and 0 on the outline and on the
+// other bodies (so cells next to a body move almost rigidly with it, and the outline stays put).
+// The flow is solved in ALE form on the moved mesh (fem::NavierStokes::move_mesh). When a cell's
+// shape degrades past a bound, the domain is meshed again around the bodies where they are and
+// the velocity is interpolated onto the new mesh; the BDF history restarts there (one BDF1
+// step). Contacts between bodies are not handled yet (the DEM side of FEM-DEM).
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "fluid/fem/navier_stokes.hpp"
+
+namespace gf::fem_dem {
+
+using fem::Vec2;
+
+/// Position of a body's centre [m] and its rotation angle [rad] (counter-clockwise).
+struct RigidPose {
+  Vec2 centre;
+  double angle = 0.0;
+};
+
+/// Harmonic blending of the bodies' rigid motions over the nodes of one mesh.
+class MeshMotion {
+ public:
+  /// Solves the P1 Laplace problems for the weights of each body on `mesh`.
+  MeshMotion(const fem::Mesh& mesh, int n_bodies);
+
+  /// Node positions [m] when the bodies, at `reference` when the mesh was built, are at `now`.
+  [[nodiscard]] std::vector<Vec2> nodes(const std::vector<RigidPose>& reference,
+                                        const std::vector<RigidPose>& now) const;
+  /// Weight of body b at P2 node k (1 on the body, 0 on the outline and other bodies).
+  [[nodiscard]] double weight(int body, int node) const { return w_[body][node]; }
+
+ private:
+  std::vector<Vec2> ref_nodes_;
+  std::vector<std::vector<double>> w_;  // per body, per P2 node
+};
+
+/// Shape quality 4 sqrt(3) A / (l1^2 + l2^2 + l3^2) of the straight triangle through a cell's
+/// vertices: 1 for an equilateral triangle, -> 0 for a flat one, < 0 for an inverted one.
+double shape_quality(Vec2 a, Vec2 b, Vec2 c);
+
+struct MovingBodyOptions {
+  /// Remesh when a cell's shape quality falls below this fraction of its value on the fresh mesh
+  double remesh_ratio = 0.5;
+  /// ... or below this value.
+  double remesh_quality = 0.2;
+};
+
+/// A fluid_fem flow whose bodies move (fixed steps; see the file comment).
+class MovingBodyFlow {
+ public:
+  /// `problem` holds the bodies where they are at t = 0 and their (initial) velocities in
+  /// body_motion; its mesh must have been built from its spec.
+  explicit MovingBodyFlow(fem::FlowProblem problem, MovingBodyOptions options = {});
+
+  [[nodiscard]] const fem::NavierStokes& flow() const { return *flow_; }
+  [[nodiscard]] fem::NavierStokes& flow() { return *flow_; }
+  [[nodiscard]] const std::vector<RigidPose>& poses() const { return poses_; }
+  [[nodiscard]] double time() const { return flow_->time(); }
+  [[nodiscard]] int remeshes() const { return remeshes_; }
+
+  /// Advances by dt [s] with BDF of the given order (lower right after the start and after a
+  /// remesh): predicts the poses at t + dt from the bodies' velocities (second-order
+  /// Adams-Bashforth), moves or rebuilds the mesh, and solves. Throws gf::Error when Newton
+  /// does not converge.
+  fem::StepResult step(double dt, int order, const fem::NewtonOptions& newton);
+
+  /// Meshes the domain again with the bodies at their current poses and interpolates the flow.
+  void remesh();
+
+ private:
+  [[nodiscard]] std::vector<RigidPose> predicted_poses(double dt) const;
+  /// The poses the mesh follows (circles: translation only).
+  [[nodiscard]] std::vector<RigidPose> mesh_poses(const std::vector<RigidPose>& poses) const;
+  [[nodiscard]] double quality_ratio(const std::vector<Vec2>& nodes, double& worst) const;
+
+  MovingBodyOptions options_;
+  std::unique_ptr<fem::NavierStokes> flow_;
+  std::unique_ptr<MeshMotion> motion_;
+  fem::MeshSpec reference_spec_;  // the spec the current mesh was built from
+  std::vector<RigidPose> reference_poses_, poses_;
+  std::vector<fem::BodyMotion> previous_velocity_;  // at the step before the last (AB2)
+  double previous_dt_ = 0.0;
+  std::vector<double> reference_quality_;  // per cell, on the fresh mesh
+  int remeshes_ = 0;
+};
+
+}  // namespace gf::fem_dem
