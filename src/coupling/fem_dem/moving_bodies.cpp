@@ -157,15 +157,21 @@ double MovingBodyFlow::quality_ratio(const std::vector<Vec2>& nodes, double& wor
   return ratio;
 }
 
+fem::MeshSpec MovingBodyFlow::placed_spec(const std::vector<RigidPose>& poses) const {
+  fem::MeshSpec spec = reference_spec_;
+  for (std::size_t b = 0; b < poses.size(); ++b) {
+    auto& body = spec.bodies[b];
+    for (auto& v : body.vertices) v = rigid_map(reference_poses_[b], poses[b], v);
+    body.centre = poses[b].centre;
+  }
+  return spec;
+}
+
 void MovingBodyFlow::remesh() {
   fem::FlowProblem pb = flow_->problem();
-  pb.spec = reference_spec_;
-  for (std::size_t b = 0; b < poses_.size(); ++b) {
-    auto& body = pb.spec.bodies[b];
-    for (auto& v : body.vertices) v = rigid_map(reference_poses_[b], poses_[b], v);
-    body.centre = poses_[b].centre;
+  pb.spec = placed_spec(poses_);
+  for (std::size_t b = 0; b < poses_.size(); ++b)
     pb.body_motion[b] = flow_->body_velocity(static_cast<int>(b));
-  }
   pb.mesh = fem::build_mesh(pb.spec);
   auto next = std::make_unique<fem::NavierStokes>(std::move(pb));
   next->set_time(flow_->time());
@@ -203,6 +209,12 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
             "at t = {} s: a body moves farther in one step of {} s than the mesh next to it can "
             "follow (a fresh mesh inverts; quality ratio {:.3g}): lower the time step",
             flow_->time(), dt, ratio);
+  }
+  if (options_.collision.range > 0) {
+    const auto loads = collision_loads(placed_spec(next), options_.collision);
+    for (std::size_t b = 0; b < loads.size(); ++b)
+      if (flow_->is_free(static_cast<int>(b)))
+        flow_->set_body_load(static_cast<int>(b), loads[b].force, loads[b].torque);
   }
   std::vector<fem::BodyMotion> velocity;
   for (std::size_t b = 0; b < poses_.size(); ++b)

@@ -11,12 +11,14 @@
 // The flow is solved in ALE form on the moved mesh (fem::NavierStokes::move_mesh). When a cell's
 // shape degrades past a bound, the domain is meshed again around the bodies where they are and
 // the velocity is interpolated onto the new mesh; the BDF history restarts there (one BDF1
-// step). Contacts between bodies are not handled yet (the DEM side of FEM-DEM).
+// step). Bodies keep apart by a short-range repulsion (collision.hpp); DEM contacts between
+// touching grains are not handled yet.
 #pragma once
 
 #include <memory>
 #include <vector>
 
+#include "coupling/fem_dem/collision.hpp"
 #include "fluid/fem/navier_stokes.hpp"
 
 namespace gf::fem_dem {
@@ -55,6 +57,8 @@ struct MovingBodyOptions {
   double remesh_ratio = 0.5;
   /// ... or below this value.
   double remesh_quality = 0.2;
+  /// Repulsion across narrow gaps, evaluated at the poses of the step's end (off by default).
+  CollisionModel collision;
 };
 
 /// A fluid_fem flow whose bodies move (fixed steps; see the file comment).
@@ -81,6 +85,8 @@ class MovingBodyFlow {
 
  private:
   [[nodiscard]] std::vector<RigidPose> predicted_poses(double dt) const;
+  /// The spec's bodies placed at `poses` (polygons' vertices moved rigidly).
+  [[nodiscard]] fem::MeshSpec placed_spec(const std::vector<RigidPose>& poses) const;
   /// The poses the mesh follows (circles: translation only).
   [[nodiscard]] std::vector<RigidPose> mesh_poses(const std::vector<RigidPose>& poses) const;
   [[nodiscard]] double quality_ratio(const std::vector<Vec2>& nodes, double& worst) const;

@@ -88,6 +88,7 @@ NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
     body_inertia_.push_back(inertia);
   }
   free_slot_.assign(n_bodies, -1);
+  body_load_.assign(n_bodies, BodyForce{});
   for (std::size_t j = 0; j < n_bodies; ++j) {
     REQUIRE(problem_.body_density[j] >= 0, "body {}: density {} must be >= 0", j,
             problem_.body_density[j]);
@@ -174,6 +175,11 @@ void NavierStokes::set_body_motion(int body, const BodyMotion& motion) {
     x_[d + 2] = motion.angular_velocity;
   }
   set_time(t_);
+}
+
+void NavierStokes::set_body_load(int body, Vec2 force, double torque) {
+  REQUIRE(free_slot_.at(body) >= 0, "a load acts on a free body only (body {} is not)", body);
+  body_load_[body] = BodyForce{force, torque};
 }
 
 BodyMotion NavierStokes::body_velocity(int body) const {
@@ -547,11 +553,13 @@ void NavierStokes::assemble_free_bodies(bool with_jacobian) {
       fy += ry;
       tz += (m.nodes[v].x - c.x) * ry - (m.nodes[v].y - c.y) * rx;
     }
-    residual_[d] = mass * (alpha0_ * x_[d] + hist_term_[h]) + fx - buoyant * problem_.gravity.x;
-    residual_[d + 1] =
-        mass * (alpha0_ * x_[d + 1] + hist_term_[h + 1]) + fy - buoyant * problem_.gravity.y;
+    const BodyForce& load = body_load_[j];
+    residual_[d] =
+        mass * (alpha0_ * x_[d] + hist_term_[h]) + fx - buoyant * problem_.gravity.x - load.force.x;
+    residual_[d + 1] = mass * (alpha0_ * x_[d + 1] + hist_term_[h + 1]) + fy -
+                       buoyant * problem_.gravity.y - load.force.y;
     residual_[d + 2] = inertia * (alpha0_ * x_[d + 2] + hist_term_[h + 2]) + tz +
-                       2.0 * mu * body_area_[j] * x_[d + 2];
+                       2.0 * mu * body_area_[j] * x_[d + 2] - load.torque;
     if (with_jacobian) {
       const int f = 3 * free_slot_[j];
       values_[free_diag_[f]] += mass * alpha0_;

@@ -126,6 +126,9 @@ class NavierStokes {
   [[nodiscard]] double body_mass(int body) const;
   [[nodiscard]] double body_inertia(int body) const;
   [[nodiscard]] double body_area(int body) const { return body_area_[body]; }
+  /// Force [N/m] and torque about the centre [N] per unit depth on a free body besides the
+  /// fluid's and gravity (e.g. contacts), held constant over the next solves.
+  void set_body_load(int body, Vec2 force, double torque);
 
   /// Moves the mesh for the next try_step: `nodes` are the P2 node positions at the new time
   /// [m], `centres` the bodies' centres there. The momentum equation is then solved in
@@ -233,6 +236,7 @@ class NavierStokes {
   std::vector<double> body_area_;     // [m^2]
   std::vector<double> body_inertia_;  // polar moment of area about the centre [m^4]
   std::vector<int> free_slot_;        // per body: index among free bodies, or -1
+  std::vector<BodyForce> body_load_;  // per body: external load on a free body
   int n_free_ = 0;
   // Free bodies: per cell (CSR by free_cell_start_) the element rows of body nodes, whose
   // entries are summed into the body's force and torque rows.
