@@ -115,13 +115,17 @@ NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
     } else {
       const auto& bc = problem_.outline_bc[e.outline_edge];
       if (bc.kind == OutlineBcKind::Wall)
-        src = 0;
+        src = bc.wall_velocity.x == 0 && bc.wall_velocity.y == 0 ? 0 : 1 + e.outline_edge;
       else if (bc.kind == OutlineBcKind::Inflow)
         src = 1 + e.outline_edge;
     }
     if (src == -1) continue;
+    auto is_moving_wall = [&](int s) {
+      return s >= 1 && problem_.outline_bc[s - 1].kind == OutlineBcKind::Wall;
+    };
     for (int v : {e.a, e.b, e.mid}) {
-      if (node_src[v] == 0) continue;  // wall wins
+      if (node_src[v] == 0) continue;                                     // a wall at rest wins,
+      if (is_moving_wall(node_src[v]) && !is_moving_wall(src)) continue;  // then a moving one
       node_src[v] = src;
     }
   }
@@ -237,6 +241,11 @@ void NavierStokes::set_time(double t) {
     if (src >= 1) {
       const int k = src - 1;
       const auto& bc = problem_.outline_bc[k];
+      if (bc.kind == OutlineBcKind::Wall) {  // a wall moving in its own line
+        dirichlet_values_[i] = bc.wall_velocity.x;
+        dirichlet_values_[i + 1] = bc.wall_velocity.y;
+        continue;
+      }
       const Vec2 a = spec.outline[k], b = spec.outline[(k + 1) % spec.outline.size()];
       const double len = std::hypot(b.x - a.x, b.y - a.y);
       const double s = std::clamp(

@@ -35,6 +35,9 @@ struct OutlineBc {
   bool parabolic = true;
   double u_max = 0.0;                           ///< [m/s]
   std::function<double(double)> time_function;  ///< f(t) [-]; empty means 1
+  /// Wall: its velocity [m/s], tangential (a wall sliding in its own line, e.g. the walls of a
+  /// channel seen from a body moving along it); a normal part would break mass conservation.
+  Vec2 wall_velocity;
 };
 
 /// Rigid velocity of a body: u(x) = velocity + omega e_z x (x - centre).
@@ -231,7 +234,8 @@ class NavierStokes {
   std::vector<int> dirichlet_;  // dof -> index into dirichlet_values_, or -1
   std::vector<int> dirichlet_dofs_;
   std::vector<double> dirichlet_values_;
-  std::vector<int> dir_src_;  // per P2 node: -1 free, 0 wall, 1+k inflow edge k, -(2+j) body j
+  std::vector<int> dir_src_;  // per P2 node: -1 free, 0 wall at rest, 1+k inflow or moving wall
+                              // edge k, -(2+j) body j
   std::vector<std::vector<int>> body_nodes_;
   std::vector<double> body_area_;     // [m^2]
   std::vector<double> body_inertia_;  // polar moment of area about the centre [m^4]
