@@ -11,52 +11,17 @@
 #include "core/error.hpp"
 #include "coupling/fem_dem/moving_bodies.hpp"
 #include "fluid/fem/navier_stokes.hpp"
+#include "moving_cases.hpp"
 
 using namespace gf::fem;
+using gf::fem_bench::drag_in_body_frame;
+using gf::fem_bench::faxen_resistance;
+using gf::fem_bench::settle_on_floor;
+using gf::fem_bench::vertical_channel;
 using gf::fem_dem::MeshMotion;
 using gf::fem_dem::MovingBodyFlow;
 using gf::fem_dem::MovingBodyOptions;
 using gf::fem_dem::RigidPose;
-
-namespace {
-
-/// Faxen's drag per unit length on a cylinder of radius a moving at U parallel to two plane
-/// walls, midway between them at distance l from each, in Stokes flow (Happel & Brenner, "Low
-/// Reynolds number hydrodynamics", 1965, sec. 7-4; Faxen 1946): F / (mu U) = 4 pi / (ln(1/k) -
-/// 0.9157 + 1.7244 k^2 - 1.7302 k^4 + 2.4056 k^6 - 4.5913 k^8), k = a / l. The series is
-/// accurate to well below 1e-4 for k <= 0.3.
-double faxen_resistance(double k) {
-  const double k2 = k * k;
-  return 4 * std::numbers::pi /
-         (std::log(1 / k) - 0.9157 + 1.7244 * k2 - 1.7302 * k2 * k2 + 2.4056 * k2 * k2 * k2 -
-          4.5913 * k2 * k2 * k2 * k2);
-}
-
-/// A vertical channel |x| < l, -length/2 < y < length/2, walls at the sides and bottom and a
-/// do-nothing outflow at the top (it fixes the pressure level), with a disk of radius a at
-/// (0, y0).
-FlowProblem vertical_channel(double l, double length, double a, double y0, double h_body,
-                             double h_max) {
-  FlowProblem pb;
-  const double y = 0.5 * length;
-  pb.spec.outline = {{-l, -y}, {l, -y}, {l, y}, {-l, y}};
-  BodyShape disk;
-  disk.radius = a;
-  disk.centre = {0, y0};
-  pb.spec.bodies = {disk};
-  pb.spec.h_body = h_body;
-  pb.spec.h_max = h_max;
-  pb.spec.grading = 0.3;
-  pb.mesh = build_mesh(pb.spec);
-  OutlineBc wall, out;
-  out.kind = OutlineBcKind::Outflow;
-  pb.outline_bc = {wall, wall, out, wall};
-  pb.density = 1.0;
-  pb.viscosity = 1.0;
-  return pb;
-}
-
-}  // namespace
 
 // The solver's steady Stokes drag of a disk translating between walls is Faxen's: k = 0.2 and
 // 0.3, Re = U 2a / nu = 2e-4 (inertia changes the drag by O(Re), far below 1e-3). The mesh
@@ -150,18 +115,10 @@ struct Settling {
   int remeshes = 0;
 };
 
-/// A disk (radius 0.1, density 1.5) settling from rest in the channel of half-width 0.5 filled
-/// with a fluid of density 1 and nu = 1, g = 100, for t_end with the step dt (BDF2).
+/// The run of gf::fem_bench::stokes_settling to t_end with the step dt.
 Settling settle(double t_end, double dt, const MovingBodyOptions& options, double h_body) {
-  FlowProblem pb = vertical_channel(0.5, 5.0, 0.1, 0.5, h_body, 0.1);
-  pb.body_density = {1.5};
-  pb.gravity = {0, -100};
-  MovingBodyFlow run(std::move(pb), options);
-  NewtonOptions opt;
-  opt.reuse_factorization = true;
-  opt.tolerance = 1e-10;
-  const int n = static_cast<int>(std::lround(t_end / dt));
-  for (int s = 0; s < n; ++s) run.step(dt, 2, opt);
+  MovingBodyFlow run = gf::fem_bench::stokes_settling(options, h_body);
+  gf::fem_bench::run_steps(run, dt, t_end);
   Settling r;
   r.velocity = -run.flow().body_velocity(0).velocity.y;
   r.drift = std::abs(run.poses()[0].centre.x);
@@ -352,47 +309,6 @@ TEST(FemMoving, CollisionLoadsFollowTheRepulsionLaw) {
   EXPECT_NEAR(gf::fem_dem::smallest_gap(spec), 0.05, 1e-15);
 }
 
-namespace {
-
-/// A body (disk of radius 0.1, or a square of side 0.2 tilted by `tilt`) of density 2 settling
-/// in a closed box 1 x 1.5 of fluid (rho 1, nu 0.05) under g = 10, onto the floor, with a
-/// repulsion of range 0.03 and F_0 = 4 x its buoyant weight. Returns the flow after t_end.
-MovingBodyFlow settle_on_floor(bool square, double tilt, double t_end) {
-  FlowProblem pb;
-  pb.spec.outline = {{-0.5, 0}, {0.5, 0}, {0.5, 1.5}, {-0.5, 1.5}};
-  BodyShape b;
-  if (square) {
-    b.kind = BodyShape::Kind::Polygon;
-    const double c = std::cos(tilt), s = std::sin(tilt);
-    for (const auto& [x, y] : {std::pair{-0.1, -0.1}, {0.1, -0.1}, {0.1, 0.1}, {-0.1, 0.1}})
-      b.vertices.push_back({c * x - s * y, 0.4 + s * x + c * y});
-    b.centre = {0, 0.4};
-  } else {
-    b.radius = 0.1;
-    b.centre = {0, 0.4};
-  }
-  pb.spec.bodies = {b};
-  pb.spec.h_body = 0.02;
-  pb.spec.h_max = 0.1;
-  pb.mesh = build_mesh(pb.spec);
-  pb.outline_bc.assign(4, OutlineBc{});
-  pb.viscosity = 0.05;
-  pb.body_density = {2.0};
-  pb.gravity = {0, -10};
-  MovingBodyOptions opt;
-  const double area = square ? 0.04 : std::numbers::pi * 0.01;
-  opt.collision = {0.03, 4 * (2.0 - 1.0) * 10 * area};
-  MovingBodyFlow run(std::move(pb), opt);
-  NewtonOptions newton;
-  newton.reuse_factorization = true;
-  const double dt = 0.01;
-  const int n = static_cast<int>(std::lround(t_end / dt));
-  for (int s = 0; s < n; ++s) run.step(dt, 2, newton);
-  return run;
-}
-
-}  // namespace
-
 // A disk settles onto the floor of a closed box and comes to rest where the repulsion carries
 // its buoyant weight W: F_0 ((rho - g) / rho)^2 = W gives g = rho (1 - 1/2) = 0.015 m for
 // F_0 = 4 W. It falls 0.285 m through the fluid (Re ~ 10), remeshing on the way, and after
@@ -427,38 +343,6 @@ TEST(ValidationFemMoving, TiltedSquareLandsFlat) {
   EXPECT_LT(std::hypot(v.velocity.x, v.velocity.y), 1e-3);
 }
 
-namespace {
-
-/// Upward force [N/m] of the fluid on a disk (radius 0.1) held at the origin of a channel of
-/// half-width 0.5 whose walls slide upwards at U, fed from below with the uniform velocity U
-/// (y from -2.5 to 4, outflow at the top; nu = 0.02): the steady flow around a disk settling
-/// at U, seen from the disk.
-double drag_in_body_frame(double u) {
-  FlowProblem pb;
-  pb.spec.outline = {{-0.5, -2.5}, {0.5, -2.5}, {0.5, 4.0}, {-0.5, 4.0}};
-  BodyShape disk;
-  disk.radius = 0.1;
-  pb.spec.bodies = {disk};
-  pb.spec.h_body = 0.02;
-  pb.spec.h_max = 0.1;
-  pb.mesh = build_mesh(pb.spec);
-  OutlineBc side, in, out;
-  side.wall_velocity = {0, u};
-  in.kind = OutlineBcKind::Inflow;
-  in.parabolic = false;
-  in.u_max = u;
-  out.kind = OutlineBcKind::Outflow;
-  pb.outline_bc = {in, side, out, side};
-  pb.viscosity = 0.02;
-  NavierStokes ns(std::move(pb));
-  NewtonOptions opt;
-  opt.picard_iterations = 3;
-  EXPECT_TRUE(solve_steady_nested(ns, opt).converged);
-  return ns.reaction_forces()[0].force.y;
-}
-
-}  // namespace
-
 // Settling at Re ~ 10 on the moving mesh against the steady flow seen from the disk: a disk of
 // density 1.5 (radius 0.1, nu = 0.02, g = 30) falls from rest through a channel of half-width
 // 0.5, the mesh following it (ALE) and remeshed on the way; its final speed must be the U* at
@@ -471,30 +355,13 @@ double drag_in_body_frame(double u) {
 // 0.1 % over the last 0.5 s; checked < 0.2 %). Two different meshes (and the remeshing) leave ~0.3
 // % between the drags; allowed 1 %.
 TEST(ValidationFemMoving, SettlingAtReTenMatchesTheSteadyFlowInTheDisksFrame) {
-  const double weight = 0.5 * 30 * std::numbers::pi * 0.01;
-  double u0 = 0.9, u1 = 1.0, f0 = drag_in_body_frame(u0) - weight,
-         f1 = drag_in_body_frame(u1) - weight;
-  for (int it = 0; it < 4 && std::abs(f1) > 1e-6 * weight; ++it) {
-    const double u2 = u1 - f1 * (u1 - u0) / (f1 - f0);
-    u0 = u1;
-    f0 = f1;
-    u1 = u2;
-    f1 = drag_in_body_frame(u1) - weight;
-  }
-  const double u_star = u1;
-
-  FlowProblem pb = vertical_channel(0.5, 6.0, 0.1, 1.5, 0.02, 0.1);
-  pb.viscosity = 0.02;
-  pb.body_density = {1.5};
-  pb.gravity = {0, -30};
-  MovingBodyFlow run(std::move(pb));
-  NewtonOptions opt;
-  opt.reuse_factorization = true;
+  const double u_star = gf::fem_bench::re10_terminal_speed();
+  MovingBodyFlow run = gf::fem_bench::re10_settling();
   double u_at_2 = 0;
-  for (int s = 1; s <= 200; ++s) {
-    run.step(0.01, 2, opt);
-    if (s == 150) u_at_2 = -run.flow().body_velocity(0).velocity.y;
-  }
+  int steps = 0;
+  gf::fem_bench::run_steps(run, 0.01, 2.0, [&](const MovingBodyFlow& r) {
+    if (++steps == 150) u_at_2 = -r.flow().body_velocity(0).velocity.y;
+  });
   const double u = -run.flow().body_velocity(0).velocity.y;
   std::printf(
       "U* = %.5f (Re %.2f); settling: U(1.5 s) = %.5f, U(2 s) = %.5f (ratio %.5f), "

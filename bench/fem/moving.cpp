@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Time series of the moving-body validations (tests/fem/test_fem_moving.cpp) for the plots of
+// docs/validation/fem/plot_moving.py:
+//   gf_fem_bench_moving OUT_DIR
+// writes moving_stokes.csv, moving_re10.csv, moving_floor_disk.csv, moving_floor_square.csv
+// (columns t, x, y, angle, vx, vy, omega, remeshes; a first comment line with the reference).
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "moving_cases.hpp"
+
+namespace {
+
+using gf::fem_dem::MovingBodyFlow;
+
+struct Series {
+  std::FILE* f;
+  explicit Series(const std::filesystem::path& p, const std::string& reference)
+      : f(std::fopen(p.c_str(), "w")) {
+    if (!f) throw std::runtime_error("cannot write " + p.string());
+    std::fprintf(f, "# %s\nt,x,y,angle,vx,vy,omega,remeshes\n", reference.c_str());
+  }
+  ~Series() { std::fclose(f); }
+  Series(const Series&) = delete;
+  Series& operator=(const Series&) = delete;
+  void operator()(const MovingBodyFlow& r) const {
+    const auto v = r.flow().body_velocity(0);
+    const auto& p = r.poses()[0];
+    std::fprintf(f, "%.6g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n", r.time(), p.centre.x, p.centre.y,
+                 p.angle, v.velocity.x, v.velocity.y, v.angular_velocity, r.remeshes());
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: %s OUT_DIR\n", argv[0]);
+    return 2;
+  }
+  const std::filesystem::path out = argv[1];
+  std::filesystem::create_directories(out);
+  using namespace gf::fem_bench;
+  {
+    const double ut = 0.5 * 100 * std::numbers::pi * 0.01 / faxen_resistance(0.2);
+    const Series s(out / "moving_stokes.csv", "Faxen terminal speed U_t = " + std::to_string(ut));
+    MovingBodyFlow run = stokes_settling({}, 0.02);
+    run_steps(run, 0.01, 1.0, [&](const MovingBodyFlow& r) { s(r); });
+  }
+  {
+    const double u_star = re10_terminal_speed();
+    const Series s(out / "moving_re10.csv",
+                   "steady speed in the disk's frame U* = " + std::to_string(u_star));
+    MovingBodyFlow run = re10_settling();
+    run_steps(run, 0.01, 2.0, [&](const MovingBodyFlow& r) { s(r); });
+  }
+  {
+    const Series s(out / "moving_floor_disk.csv", "balance gap 0.015");
+    settle_on_floor(false, 0.0, 3.0, [&](const MovingBodyFlow& r) { s(r); });
+  }
+  {
+    const Series s(out / "moving_floor_square.csv", "balance gap 0.0194 (flat)");
+    settle_on_floor(true, 0.3, 4.0, [&](const MovingBodyFlow& r) { s(r); });
+  }
+  return 0;
+}

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Moving-body scenarios shared by tests/fem/test_fem_moving.cpp and bench/fem/moving.cpp (which
+// writes their time series for the validation plots of docs/validation/fem/).
+#pragma once
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <utility>
+
+#include "core/error.hpp"
+#include "coupling/fem_dem/moving_bodies.hpp"
+#include "fluid/fem/navier_stokes.hpp"
+
+namespace gf::fem_bench {
+
+using namespace gf::fem;
+
+/// Faxen's drag per unit length on a cylinder of radius a moving at U parallel to two plane
+/// walls, midway between them at distance l from each, in Stokes flow (Happel & Brenner, "Low
+/// Reynolds number hydrodynamics", 1965, sec. 7-4; Faxen 1946): F / (mu U) = 4 pi / (ln(1/k) -
+/// 0.9157 + 1.7244 k^2 - 1.7302 k^4 + 2.4056 k^6 - 4.5913 k^8), k = a / l. The series is
+/// accurate to well below 1e-4 for k <= 0.3.
+inline double faxen_resistance(double k) {
+  const double k2 = k * k;
+  return 4 * std::numbers::pi /
+         (std::log(1 / k) - 0.9157 + 1.7244 * k2 - 1.7302 * k2 * k2 + 2.4056 * k2 * k2 * k2 -
+          4.5913 * k2 * k2 * k2 * k2);
+}
+
+/// A vertical channel |x| < l, -length/2 < y < length/2, walls at the sides and bottom and a
+/// do-nothing outflow at the top (it fixes the pressure level), with a disk of radius a at
+/// (0, y0).
+inline FlowProblem vertical_channel(double l, double length, double a, double y0, double h_body,
+                                    double h_max) {
+  FlowProblem pb;
+  const double y = 0.5 * length;
+  pb.spec.outline = {{-l, -y}, {l, -y}, {l, y}, {-l, y}};
+  BodyShape disk;
+  disk.radius = a;
+  disk.centre = {0, y0};
+  pb.spec.bodies = {disk};
+  pb.spec.h_body = h_body;
+  pb.spec.h_max = h_max;
+  pb.spec.grading = 0.3;
+  pb.mesh = build_mesh(pb.spec);
+  OutlineBc wall, out;
+  out.kind = OutlineBcKind::Outflow;
+  pb.outline_bc = {wall, wall, out, wall};
+  pb.density = 1.0;
+  pb.viscosity = 1.0;
+  return pb;
+}
+
+/// Calls `each` after every step of a fixed-step BDF2 run of `run` to t_end.
+inline void run_steps(fem_dem::MovingBodyFlow& run, double dt, double t_end,
+                      const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {}) {
+  NewtonOptions newton;
+  newton.reuse_factorization = true;
+  newton.tolerance = 1e-10;
+  const int n = static_cast<int>(std::lround(t_end / dt));
+  for (int s = 0; s < n; ++s) {
+    run.step(dt, 2, newton);
+    if (each) each(run);
+  }
+}
+
+/// A body (disk of radius 0.1, or a square of side 0.2 tilted by `tilt`) of density 2 settling
+/// in a closed box 1 x 1.5 of fluid (rho 1, nu 0.05) under g = 10, onto the floor, with a
+/// repulsion of range 0.03 and F_0 = 4 x its buoyant weight; BDF2 with dt = 0.01 s. Calls
+/// each(run) after every step and returns the flow after t_end.
+inline fem_dem::MovingBodyFlow settle_on_floor(
+    bool square, double tilt, double t_end,
+    const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {}) {
+  FlowProblem pb;
+  pb.spec.outline = {{-0.5, 0}, {0.5, 0}, {0.5, 1.5}, {-0.5, 1.5}};
+  BodyShape b;
+  if (square) {
+    b.kind = BodyShape::Kind::Polygon;
+    const double c = std::cos(tilt), s = std::sin(tilt);
+    for (const auto& [x, y] : {std::pair{-0.1, -0.1}, {0.1, -0.1}, {0.1, 0.1}, {-0.1, 0.1}})
+      b.vertices.push_back({c * x - s * y, 0.4 + s * x + c * y});
+    b.centre = {0, 0.4};
+  } else {
+    b.radius = 0.1;
+    b.centre = {0, 0.4};
+  }
+  pb.spec.bodies = {b};
+  pb.spec.h_body = 0.02;
+  pb.spec.h_max = 0.1;
+  pb.mesh = build_mesh(pb.spec);
+  pb.outline_bc.assign(4, OutlineBc{});
+  pb.viscosity = 0.05;
+  pb.body_density = {2.0};
+  pb.gravity = {0, -10};
+  fem_dem::MovingBodyOptions opt;
+  const double area = square ? 0.04 : std::numbers::pi * 0.01;
+  opt.collision = {0.03, 4 * (2.0 - 1.0) * 10 * area};
+  fem_dem::MovingBodyFlow run(std::move(pb), opt);
+  run_steps(run, 0.01, t_end, each);
+  return run;
+}
+
+/// Upward force [N/m] of the fluid on a disk (radius 0.1) held at the origin of a channel of
+/// half-width 0.5 whose walls slide upwards at U, fed from below with the uniform velocity U
+/// (y from -2.5 to 4, outflow at the top; nu = 0.02): the steady flow around a disk settling
+/// at U, seen from the disk.
+inline double drag_in_body_frame(double u) {
+  FlowProblem pb;
+  pb.spec.outline = {{-0.5, -2.5}, {0.5, -2.5}, {0.5, 4.0}, {-0.5, 4.0}};
+  BodyShape disk;
+  disk.radius = 0.1;
+  pb.spec.bodies = {disk};
+  pb.spec.h_body = 0.02;
+  pb.spec.h_max = 0.1;
+  pb.mesh = build_mesh(pb.spec);
+  OutlineBc side, in, out;
+  side.wall_velocity = {0, u};
+  in.kind = OutlineBcKind::Inflow;
+  in.parabolic = false;
+  in.u_max = u;
+  out.kind = OutlineBcKind::Outflow;
+  pb.outline_bc = {in, side, out, side};
+  pb.viscosity = 0.02;
+  NavierStokes ns(std::move(pb));
+  NewtonOptions opt;
+  opt.picard_iterations = 3;
+  REQUIRE(solve_steady_nested(ns, opt).converged, "steady solve at U = {} did not converge", u);
+  return ns.reaction_forces()[0].force.y;
+}
+
+/// Stokes settling: a disk (radius 0.1, density 1.5) from rest at y = 0.5 in the channel of
+/// half-width 0.5 and length 5 (fluid density 1, nu = 1), g = 100.
+inline fem_dem::MovingBodyFlow stokes_settling(const fem_dem::MovingBodyOptions& options,
+                                               double h_body) {
+  FlowProblem pb = vertical_channel(0.5, 5.0, 0.1, 0.5, h_body, 0.1);
+  pb.body_density = {1.5};
+  pb.gravity = {0, -100};
+  return fem_dem::MovingBodyFlow(std::move(pb), options);
+}
+
+/// Settling at Re ~ 10: a disk (radius 0.1, density 1.5) from rest at y = 1.5 in the channel of
+/// half-width 0.5 and length 6 (fluid density 1, nu = 0.02), g = 30.
+inline fem_dem::MovingBodyFlow re10_settling() {
+  FlowProblem pb = vertical_channel(0.5, 6.0, 0.1, 1.5, 0.02, 0.1);
+  pb.viscosity = 0.02;
+  pb.body_density = {1.5};
+  pb.gravity = {0, -30};
+  return fem_dem::MovingBodyFlow(std::move(pb));
+}
+
+/// The speed U* [m/s] at which drag_in_body_frame balances the buoyant weight of the disk of
+/// re10_settling (secant iteration from 0.9 and 1.0 m/s).
+inline double re10_terminal_speed() {
+  const double weight = 0.5 * 30 * std::numbers::pi * 0.01;
+  double u0 = 0.9, u1 = 1.0, f0 = drag_in_body_frame(u0) - weight,
+         f1 = drag_in_body_frame(u1) - weight;
+  for (int it = 0; it < 4 && std::abs(f1) > 1e-6 * weight; ++it) {
+    const double u2 = u1 - f1 * (u1 - u0) / (f1 - f0);
+    u0 = u1;
+    f0 = f1;
+    u1 = u2;
+    f1 = drag_in_body_frame(u1) - weight;
+  }
+  return u1;
+}
+
+}  // namespace gf::fem_bench
