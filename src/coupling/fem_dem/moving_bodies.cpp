@@ -2,6 +2,8 @@
 // Bodies moving through a 2D fluid_fem flow: harmonic mesh motion, quality check, remeshing.
 #include "coupling/fem_dem/moving_bodies.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
@@ -172,7 +174,16 @@ void MovingBodyFlow::remesh() {
   pb.spec = placed_spec(poses_);
   for (std::size_t b = 0; b < poses_.size(); ++b)
     pb.body_motion[b] = flow_->body_velocity(static_cast<int>(b));
-  pb.mesh = fem::build_mesh(pb.spec);
+  // The bodies are where the run put them, so a failure to mesh them is the run's, not the
+  // input's: worded as a run error with the time and the narrowest gap.
+  try {
+    pb.mesh = fem::build_mesh(pb.spec);
+  } catch (const InputError& e) {
+    throw Error(fmt::format(
+        "at t = {} s: the domain could not be meshed again around the bodies where they are "
+        "(narrowest gap {:.3g} m; a repulsion range of a few cells keeps them apart): {}",
+        flow_->time(), smallest_gap(pb.spec), e.what()));
+  }
   auto next = std::make_unique<fem::NavierStokes>(std::move(pb));
   next->set_time(flow_->time());
   next->interpolate_from(*flow_);
@@ -205,10 +216,11 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
     remesh();
     nodes = motion_->nodes(reference_poses_, mesh_poses(next));
     const double ratio = quality_ratio(nodes, worst);
-    REQUIRE(worst > 0,
-            "at t = {} s: a body moves farther in one step of {} s than the mesh next to it can "
-            "follow (a fresh mesh inverts; quality ratio {:.3g}): lower the time step",
-            flow_->time(), dt, ratio);
+    if (!(worst > 0))
+      throw Error(fmt::format(
+          "at t = {} s: a body moves farther in one step of {} s than the mesh next to it can "
+          "follow (a fresh mesh inverts; quality ratio {:.3g}): lower the time step",
+          flow_->time(), dt, ratio));
   }
   if (options_.collision.range > 0) {
     const auto loads = collision_loads(placed_spec(next), options_.collision);
@@ -225,8 +237,10 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
   const fem::StepResult r = flow_->try_step(dt, order, newton, 1.0, 1.0);
   if (!r.newton.converged) {
     flow_->reject_step();
-    REQUIRE(false, "at t = {} s: Newton did not converge in {} iterations (last update {:.3g})",
-            flow_->time(), r.newton.iterations, r.newton.last_update);
+    throw Error(fmt::format(
+        "at t = {} s: Newton did not converge in {} iterations (last update {:.3g}) in the step "
+        "of {} s: lower the time step",
+        flow_->time(), r.newton.iterations, r.newton.last_update, dt));
   }
   flow_->accept_step();
   poses_ = next;
