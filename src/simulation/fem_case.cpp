@@ -13,6 +13,7 @@
 #include "core/log.hpp"
 #include "core/stop.hpp"
 #include "core/version.hpp"
+#include "coupling/fem_dem/moving_bodies.hpp"
 #include "io/input/yaml_reader.hpp"
 #include "io/restart/h5.hpp"
 
@@ -130,9 +131,47 @@ fem::FemCheckpoint load_fem_checkpoint(const fs::path& file) {
   return c;
 }
 
+namespace {
+
+/// The moving-mesh options of a case (its moving_mesh keys default to MovingBodyOptions' values:
+/// FemMovingCase.ParsesFreeBodies checks it).
+fem_dem::MovingBodyOptions moving_options(const fem::FemCaseConfig& cfg) {
+  fem_dem::MovingBodyOptions o;
+  o.remesh_ratio = cfg.remesh_ratio;
+  o.remesh_quality = cfg.remesh_quality;
+  return o;
+}
+
+/// A case's free bodies moving through the flow: fem_dem::MovingBodyFlow behind the interface
+/// run_fluid_fem knows.
+class MovingFlow final : public fem::FemMovingFlow {
+ public:
+  MovingFlow(fem::FlowProblem pb, const fem::FemCaseConfig& cfg)
+      : run_(std::move(pb), moving_options(cfg)) {}
+  [[nodiscard]] const fem::NavierStokes& flow() const override { return run_.flow(); }
+  fem::StepResult step(double dt, int order, const fem::NewtonOptions& newton) override {
+    return run_.step(dt, order, newton);
+  }
+  [[nodiscard]] fem::Vec2 centre(int body) const override { return run_.poses()[body].centre; }
+  [[nodiscard]] double angle(int body) const override { return run_.poses()[body].angle; }
+  [[nodiscard]] int remeshes() const override { return run_.remeshes(); }
+
+ private:
+  fem_dem::MovingBodyFlow run_;
+};
+
+}  // namespace
+
 int run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
                  const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? default_dir : opts.output;
+  // (before anything is read or written: no checkpoint of such a run exists to continue from)
+  if (opts.restart && cfg.has_free_bodies())
+    throw InputError(fmt::format(
+        "{}: error: --restart: a fluid_fem run with free bodies (bodies with a density) writes "
+        "no checkpoints yet (the state of a moving mesh is not kept in them), so it cannot be "
+        "continued{}; run it again from the start",
+        cfg.file, opts.append ? " (--append)" : ""));
   // Read before the output folder is prepared: --overwrite may empty the folder it lies in.
   check_append(dir, opts);
   std::optional<fem::FemCheckpoint> resume;
@@ -150,7 +189,10 @@ int run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
     log::info("continuing from '{}' at t = {} s (step {})", opts.restart->string(), resume->flow.t,
               resume->steps);
   }
-  const int sig = fem::run_fluid_fem(cfg, dir, opts.steps ? static_cast<int>(*opts.steps) : -1, io);
+  const int sig = fem::run_fluid_fem(cfg, dir, opts.steps ? static_cast<int>(*opts.steps) : -1, io,
+                                     [](fem::FlowProblem pb, const fem::FemCaseConfig& c) {
+                                       return std::make_unique<MovingFlow>(std::move(pb), c);
+                                     });
   if (sig)
     log::warn("fluid_fem run stopped by {}: outputs up to the last step written in '{}'",
               stop::signal_name(sig), dir.string());

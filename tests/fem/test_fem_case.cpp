@@ -4,14 +4,19 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <iterator>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/error.hpp"
+#include "coupling/fem_dem/moving_bodies.hpp"
 #include "fem_case_text.hpp"
 #include "fluid/fem/case.hpp"
 #include "temp_dir.hpp"
@@ -422,7 +427,12 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
       replaced(kGood, "mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2", "mode: steady"),
       "u_max: 0.5,", "u_max: 0.5, profile: uniform,");
   const std::string unnamed = replaced(kGood, "name: tri, ", "");
-  for (const auto& yaml : {std::string(kGood), adaptive, sine, steady, unnamed}) {
+  // free bodies (a polygon turning about its centroid), gravity and the remeshing bounds
+  const std::string free = replaced(
+      replaced(replaced(kGood, "angular_velocity: 1.0}", "angular_velocity: 1.0, density: 2.5}"),
+               "[0.65, 0.25]]}", "[0.65, 0.25]], velocity: [0, -0.1], density: 800}"),
+      "  mesh:", "  gravity: [0.5, -9.81]\n  moving_mesh: {remesh_ratio: 0.4}\n  mesh:");
+  for (const auto& yaml : {std::string(kGood), adaptive, sine, steady, unnamed, free}) {
     auto cfg = parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml");
     cfg.name = "channel";
     cfg.output_directory = "out/channel";
@@ -447,6 +457,17 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
     EXPECT_EQ(back.inflow_time[3].kind, cfg.inflow_time[3].kind);
     EXPECT_EQ(back.inflow_time[3](0.07), cfg.inflow_time[3](0.07));
     EXPECT_EQ(mesh_hash(build_mesh(back.mesh)), mesh_hash(build_mesh(cfg.mesh)));
+    EXPECT_EQ(back.body_density, cfg.body_density);
+    EXPECT_EQ(back.gravity.x, cfg.gravity.x);
+    EXPECT_EQ(back.gravity.y, cfg.gravity.y);
+    EXPECT_EQ(back.remesh_ratio, cfg.remesh_ratio);
+    EXPECT_EQ(back.remesh_quality, cfg.remesh_quality);
+    for (std::size_t j = 0; j < cfg.mesh.bodies.size(); ++j) {
+      EXPECT_EQ(back.mesh.bodies[j].centre.x, cfg.mesh.bodies[j].centre.x);
+      EXPECT_EQ(back.mesh.bodies[j].centre.y, cfg.mesh.bodies[j].centre.y);
+      EXPECT_EQ(back.body_motion[j].velocity.y, cfg.body_motion[j].velocity.y);
+    }
+    EXPECT_EQ(back.warnings, cfg.warnings);
     // defaults are filled in
     EXPECT_NE(echo.find("min_angle: 25"), std::string::npos) << echo;
     EXPECT_NE(echo.find("max_iterations: 25"), std::string::npos) << echo;
@@ -601,4 +622,210 @@ TEST(FemCase, DivergingRunStopsBeforeWritingNonFiniteNumbers) {
     }
     EXPECT_GT(rows, 0) << f << ": the steps before the failure are kept";
   }
+}
+
+// ---- Free bodies and moving meshes
+// --------------------------------------------------------------- (kGood's disk on line 10,
+// triangle on line 11, mesh on 12, time on 13, output on 14)
+
+namespace {
+
+/// kGood with the disk free (density 2, gravity [0, -1] on a line before the mesh, line 12).
+std::string with_free_disk(const std::string& yaml = kGood) {
+  return replaced(replaced(yaml, "angular_velocity: 1.0}", "angular_velocity: 1.0, density: 2.0}"),
+                  "  mesh:", "  gravity: [0, -1.0]\n  mesh:");
+}
+
+gf::fem_dem::MovingBodyOptions options(const FemCaseConfig& cfg) {
+  gf::fem_dem::MovingBodyOptions o;
+  o.remesh_ratio = cfg.remesh_ratio;
+  o.remesh_quality = cfg.remesh_quality;
+  return o;
+}
+
+/// The moving flow of run_fluid_fem, as the grainflow program makes it (simulation/fem_case).
+class TestMovingFlow final : public FemMovingFlow {
+ public:
+  TestMovingFlow(FlowProblem pb, const FemCaseConfig& cfg) : run_(std::move(pb), options(cfg)) {}
+  [[nodiscard]] const NavierStokes& flow() const override { return run_.flow(); }
+  StepResult step(double dt, int order, const NewtonOptions& newton) override {
+    return run_.step(dt, order, newton);
+  }
+  [[nodiscard]] Vec2 centre(int body) const override { return run_.poses()[body].centre; }
+  [[nodiscard]] double angle(int body) const override { return run_.poses()[body].angle; }
+  [[nodiscard]] int remeshes() const override { return run_.remeshes(); }
+
+ private:
+  gf::fem_dem::MovingBodyFlow run_;
+};
+
+std::unique_ptr<FemMovingFlow> make_moving(FlowProblem pb, const FemCaseConfig& cfg) {
+  return std::make_unique<TestMovingFlow>(std::move(pb), cfg);
+}
+
+/// The points (x, y) of a .vtu that write_vtu wrote (appended raw blocks: a UInt64 byte count,
+/// then the values).
+std::vector<Vec2> vtu_points(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  const auto tag = text.find("Name=\"position\"");
+  const auto off = text.find("offset=\"", tag) + 8;
+  const std::size_t offset = std::stoull(text.substr(off, text.find('"', off) - off));
+  const std::size_t base = text.find('_', text.find("<AppendedData encoding=\"raw\">")) + 1;
+  std::uint64_t bytes = 0;
+  std::memcpy(&bytes, text.data() + base + offset, sizeof bytes);
+  std::vector<double> xyz(bytes / sizeof(double));
+  std::memcpy(xyz.data(), text.data() + base + offset + sizeof bytes, bytes);
+  std::vector<Vec2> p;
+  for (std::size_t k = 0; k + 2 < xyz.size(); k += 3) p.push_back({xyz[k], xyz[k + 1]});
+  return p;
+}
+
+/// How many of `points` lie on the circle of radius r about c (to 1e-9 m).
+int on_circle(const std::vector<Vec2>& points, Vec2 c, double r) {
+  int n = 0;
+  for (const auto& q : points) n += std::abs(std::hypot(q.x - c.x, q.y - c.y) - r) < 1e-9;
+  return n;
+}
+
+}  // namespace
+
+// density makes a body free (velocities become initial values; a free polygon's centre is its
+// centroid); gravity and moving_mesh are read; defaults are those of MovingBodyOptions.
+TEST(FemMovingCase, ParsesFreeBodies) {
+  auto cfg = parse_fluid_fem(YAML::Load(kGood)["fluid_fem"], "case.yaml");
+  EXPECT_FALSE(cfg.has_free_bodies());
+  EXPECT_EQ(cfg.body_density, (std::vector<double>{0.0, 0.0}));
+  const std::string yaml =
+      replaced(replaced(with_free_disk(), "[0.65, 0.25]]}", "[0.6, 0.25]], density: 3}"),
+               "  mesh:", "  moving_mesh: {remesh_quality: 0.1}\n  mesh:");
+  cfg = parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml");
+  EXPECT_TRUE(cfg.has_free_bodies());
+  EXPECT_EQ(cfg.body_density, (std::vector<double>{2.0, 3.0}));
+  EXPECT_EQ(cfg.gravity.y, -1.0);
+  EXPECT_EQ(cfg.remesh_ratio, gf::fem_dem::MovingBodyOptions{}.remesh_ratio);
+  EXPECT_EQ(cfg.remesh_quality, 0.1);
+  // the defaults of the case are those of the driver
+  const FemCaseConfig defaults;
+  EXPECT_EQ(defaults.remesh_ratio, gf::fem_dem::MovingBodyOptions{}.remesh_ratio);
+  EXPECT_EQ(defaults.remesh_quality, gf::fem_dem::MovingBodyOptions{}.remesh_quality);
+  EXPECT_DOUBLE_EQ(cfg.body_motion[0].angular_velocity, 1.0);
+  // the right triangle (0.6, 0.15), (0.7, 0.15), (0.6, 0.25): centroid (0.6333, 0.1833)
+  EXPECT_NEAR(cfg.mesh.bodies[1].centre.x, 1.9 / 3, 1e-15);
+  EXPECT_NEAR(cfg.mesh.bodies[1].centre.y, 0.55 / 3, 1e-15);
+  EXPECT_TRUE(cfg.warnings.empty());
+}
+
+TEST(FemMovingCase, BadKeysAreLocatedErrors) {
+  expect_error(replaced(kGood, "[0.65, 0.25]]}", "[0.65, 0.25]], density: -1}"), 11,
+               "fluid_fem.bodies[1].density", {"a number in (0, ", "found '-1'"});
+  expect_error(replaced(kGood, "[0.65, 0.25]]}", "[0.65, 0.25]], density: '2'}"), 11,
+               "fluid_fem.bodies[1].density", {"a number", "(a quoted string)"});
+  expect_error(replaced(kGood, "[0.65, 0.25]]}", "[0.65, 0.25]], density: 2, centre: [0.6, 0.2]}"),
+               11, "fluid_fem.bodies[1].centre", {"centroid"});
+  expect_error(replaced(kGood, "  mesh:", "  gravity: [0, -9.81, 0]\n  mesh:"), 12,
+               "fluid_fem.gravity", {"[gx, gy] in m/s^2", "a list of 3 items"});
+  expect_error(replaced(kGood, "  mesh:", "  gravity: [0, yes]\n  mesh:"), 12,
+               "fluid_fem.gravity[1]", {"a number"});
+  expect_error(replaced(kGood, "  mesh:", "  moving_mesh: {remesh_ratio: 0.5}\n  mesh:"), 12,
+               "fluid_fem.moving_mesh", {"without a free body"});
+  const std::string free = with_free_disk();
+  expect_error(replaced(free, "  mesh:", "  moving_mesh: {remesh_ratio: 1}\n  mesh:"), 13,
+               "fluid_fem.moving_mesh.remesh_ratio", {"(0, 1)", "found '1'"});
+  expect_error(replaced(free, "  mesh:", "  moving_mesh: {remesh_quality: 0}\n  mesh:"), 13,
+               "fluid_fem.moving_mesh.remesh_quality", {"found '0'"});
+  expect_error(replaced(free, "  mesh:", "  moving_mesh: {ratio: 0.5}\n  mesh:"), 13,
+               "fluid_fem.moving_mesh.ratio", {"remesh_ratio, remesh_quality"});
+  // what a moving run cannot do yet, at the key that asks for it (time on line 14)
+  expect_error(replaced(free, "mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2", "mode: steady"),
+               14, "fluid_fem.time.mode",
+               {"unsteady", "bodies[0] ('disk') is free", "found 'steady'"});
+  expect_error(replaced(free, "end: 0.2", "end: 0.2, adaptive: {rtol: 1.0e-3}"), 14,
+               "fluid_fem.time.adaptive", {"fixed steps", "not supported yet"});
+  expect_error(replaced(free, "end: 0.2", "end: 0.2, initial: steady"), 14,
+               "fluid_fem.time.initial", {"rest", "found 'steady'"});
+  expect_error(replaced(free, "output: {", "output: {checkpoint_every: 0.1, "), 15,
+               "fluid_fem.output.checkpoint_every",
+               {"no checkpoints", "not kept in checkpoints yet"});
+}
+
+// Gravity with no free body acts on nothing: a warning placed at the key.
+TEST(FemMovingCase, GravityWithoutFreeBodiesIsAWarning) {
+  const auto w = warnings_of(replaced(kGood, "  mesh:", "  gravity: [0, -9.81]\n  mesh:"));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].rfind("case.yaml:12:12: fluid_fem.gravity: gravity acts on free bodies only", 0),
+            0u)
+      << w[0];
+  EXPECT_TRUE(warnings_of(replaced(kGood, "  mesh:", "  gravity: [0, 0]\n  mesh:")).empty());
+}
+
+// `grainflow check` of the shipped settling disk: mass, density ratio, Archimedes number and
+// Faxen's terminal speed 0.09501 m/s (k = 0.2) with its Reynolds number.
+TEST(FemMovingCase, CheckDerivesTheSettlingNumbers) {
+  const auto file = std::string(GF_SOURCE_DIR) + "/cases/fluid_fem/settling_disk/case.yaml";
+  const auto cfg = parse_fluid_fem(YAML::LoadFile(file)["fluid_fem"], file);
+  std::string text;
+  for (const auto& [k, v] : describe_case(cfg)) text += k + " = " + v + "\n";
+  EXPECT_NE(text.find("'disk': mass (kg/m), moment of inertia (kg m), per unit depth = 0.04712, "
+                      "0.0002356"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("'disk': density ratio rho_s / rho_f = 1.5"), std::string::npos) << text;
+  // Ar = 0.5 x 100 x 0.2^3 / 1^2 = 0.4
+  EXPECT_NE(text.find("Archimedes number |rho_s/rho_f - 1| g d^3 / nu^2 = 0.4 "), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("settling speed estimate U (m/s) = 0.09501 "), std::string::npos) << text;
+  EXPECT_NE(text.find("Reynolds number U d / nu of that speed = 0.019"), std::string::npos) << text;
+  EXPECT_NE(text.find("steps = 100"), std::string::npos) << text;
+}
+
+// A run with a free body moves it and the mesh: fem_forces.csv gains each body's pose and
+// velocity (the prescribed triangle's too), the summary counts the remeshes, no checkpoint is
+// written, and the last field file holds the moved mesh.
+TEST(FemMovingCase, RunWritesPosesAndTheMovedMesh) {
+  const auto cfg = parse_fluid_fem(YAML::Load(with_free_disk())["fluid_fem"], "case.yaml");
+  const gf::test::TempDir tmp;
+  const auto& dir = tmp.path();
+  int saved = 0;
+  FemCheckpointIo io;
+  io.save = [&saved](const std::filesystem::path&, const FemCheckpoint&) { ++saved; };
+  EXPECT_THROW(run_fluid_fem(cfg, dir / "no_factory"), gf::Error);
+  run_fluid_fem(cfg, dir, -1, io, make_moving);
+  EXPECT_EQ(saved, 0);
+  std::ifstream in(dir / "fem_forces.csv");
+  std::string header;
+  std::getline(in, header);
+  EXPECT_NE(header.find(",disk.cd,disk.cl,disk.x,disk.y,disk.angle,disk.vx,disk.vy,disk.omega,"),
+            std::string::npos)
+      << header;
+  EXPECT_NE(header.find(",tri.x,tri.y,tri.angle,tri.vx,tri.vy,tri.omega"), std::string::npos)
+      << header;
+  const auto rows = csv_rows(dir / "fem_forces.csv");
+  ASSERT_EQ(rows.size(), 4u);
+  // columns: t, dt, order, then per body fx, fy, torque, fx_s, fy_s, cd, cl, x, y, angle, vx, vy,
+  // omega
+  const auto& last = rows.back();
+  EXPECT_NE(last[3 + 7 + 1], 0.2);  // disk.y moved
+  // turned, less than omega_0 t: the fluid slows the free disk's initial spin
+  EXPECT_GT(last[3 + 7 + 2], 0.0);
+  EXPECT_LT(last[3 + 7 + 2], 0.2 * 1.0);
+  EXPECT_NE(last[3 + 7 + 4], 0.0);    // disk.vy
+  EXPECT_EQ(last[3 + 13 + 7], 0.65);  // tri.x stays (at rest)
+  std::ifstream sum(dir / "fem_summary.txt");
+  const std::string summary((std::istreambuf_iterator<char>(sum)), {});
+  EXPECT_NE(summary.find("moving mesh: remeshes "), std::string::npos) << summary;
+  EXPECT_NE(summary.find("body 'disk' at t = 0.2 s: centre"), std::string::npos) << summary;
+  // the field files hold the mesh where it is: the disk's nodes on its circle at t = 0 and
+  // where the CSV says it is at the end
+  const Vec2 c0{0.3, 0.2}, c1{last[3 + 7], last[3 + 7 + 1]};
+  EXPECT_GT(std::hypot(c1.x - c0.x, c1.y - c0.y), 1e-4);
+  const auto p0 = vtu_points(dir / "fem_fields_00000.vtu");
+  const auto p1 = vtu_points(dir / "fem_fields_00002.vtu");
+  EXPECT_GE(on_circle(p0, c0, 0.05), 16);
+  EXPECT_EQ(on_circle(p1, c0, 0.05), 0);
+  EXPECT_GE(on_circle(p1, c1, 0.05), 16);
+  // a checkpoint of such a run cannot be continued
+  FemCheckpoint c;
+  io.resume = &c;
+  EXPECT_THROW(run_fluid_fem(cfg, dir / "again", -1, io, make_moving), gf::InputError);
 }

@@ -575,6 +575,89 @@ void check_probes(const Reader& r, const YAML::Node& probes, const std::string& 
   }
 }
 
+/// Centroid of a simple polygon (either orientation).
+Vec2 polygon_centroid(const std::vector<Vec2>& v) {
+  double a2 = 0, cx = 0, cy = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const Vec2 p{v[i].x - v[0].x, v[i].y - v[0].y};
+    const Vec2 q{v[(i + 1) % v.size()].x - v[0].x, v[(i + 1) % v.size()].y - v[0].y};
+    const double c = p.x * q.y - q.x * p.y;
+    a2 += c;
+    cx += (p.x + q.x) * c;
+    cy += (p.y + q.y) * c;
+  }
+  return {v[0].x + cx / (3 * a2), v[0].y + cy / (3 * a2)};
+}
+
+/// Area of a body [m^2].
+double body_area(const BodyShape& b) {
+  if (b.kind == BodyShape::Kind::Circle) return std::numbers::pi * b.radius * b.radius;
+  double a2 = 0;
+  for (std::size_t i = 1; i + 1 < b.vertices.size(); ++i)
+    a2 += cross(b.vertices[0], b.vertices[i], b.vertices[i + 1]);
+  return 0.5 * std::abs(a2);
+}
+
+/// `gravity` and `moving_mesh` of the block, and what free bodies (a body with a density) need
+/// of the rest of it: an unsteady run from rest with fixed steps and no periodic checkpoints
+/// (a moving mesh is not kept in checkpoints yet). Gravity with no free body acts on nothing
+/// (the pressure is the dynamic one): a warning.
+void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig& cfg) {
+  const std::string root = "fluid_fem";
+  if (const auto g = block["gravity"]; g.IsDefined()) {
+    if (!g.IsSequence() || g.size() != 2)
+      r.fail(g, root + ".gravity", "a vector [gx, gy] in m/s^2");
+    cfg.gravity = {r.number(g[0], root + ".gravity[0]"), r.number(g[1], root + ".gravity[1]")};
+  }
+  int first_free = -1;
+  for (std::size_t j = 0; j < cfg.body_density.size(); ++j)
+    if (cfg.body_density[j] > 0 && first_free < 0) first_free = static_cast<int>(j);
+  if (first_free < 0) {
+    if (const auto mm = block["moving_mesh"]; mm.IsDefined())
+      r.fail(mm, root + ".moving_mesh",
+             "no moving_mesh block without a free body (the mesh moves only when a body has a "
+             "density)");
+    if (cfg.gravity.x != 0 || cfg.gravity.y != 0)
+      cfg.warnings.push_back(r.warning(
+          block["gravity"], root + ".gravity",
+          "gravity acts on free bodies only (those with a density) and there is none: the "
+          "flow does not change with it (its pressure is the dynamic one, without rho g.x)"));
+    return;
+  }
+  if (const auto mm = block["moving_mesh"]; mm.IsDefined()) {
+    const std::string mp = root + ".moving_mesh";
+    r.keys(mm, mp, {"remesh_ratio", "remesh_quality"});
+    auto fraction = [&](const char* key, double def) {
+      const YAML::Node n = mm[key];
+      if (!n.IsDefined()) return def;
+      const double v = r.number(n, mp + "." + key, 0, 1, true);
+      if (v >= 1) r.fail(n, mp + "." + key, "a number in (0, 1)");
+      return v;
+    };
+    cfg.remesh_ratio = fraction("remesh_ratio", cfg.remesh_ratio);
+    cfg.remesh_quality = fraction("remesh_quality", cfg.remesh_quality);
+  }
+  const std::string why = fmt::format("{}.bodies[{}] ('{}') is free: it has a density", root,
+                                      first_free, cfg.body_names[first_free]);
+  const auto time = block["time"];
+  const std::string tp = root + ".time";
+  if (cfg.steady)
+    r.fail(time["mode"], tp + ".mode", fmt::format("unsteady ({}, and moves in time)", why));
+  if (cfg.time.adaptive)
+    r.fail(time["adaptive"], tp + ".adaptive",
+           fmt::format("no adaptive block: a run with free bodies takes fixed steps ({}; "
+                       "adaptive steps on a moving mesh are not supported yet)",
+                       why));
+  if (cfg.initial_steady)
+    r.fail(time["initial"], tp + ".initial",
+           fmt::format("rest: a run with free bodies starts from rest ({})", why));
+  if (cfg.output.checkpoint_every > 0)
+    r.fail(block["output"]["checkpoint_every"], root + ".output.checkpoint_every",
+           fmt::format("0: a run with free bodies writes no checkpoints ({}; the state of a "
+                       "moving mesh is not kept in checkpoints yet)",
+                       why));
+}
+
 }  // namespace
 
 FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
@@ -583,7 +666,9 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
   const std::string root = "fluid_fem";
   FemCaseConfig cfg;
   cfg.file = file;
-  r.keys(block, root, {"fluid", "domain", "bodies", "mesh", "time", "newton", "output"});
+  r.keys(
+      block, root,
+      {"fluid", "domain", "bodies", "mesh", "time", "newton", "output", "gravity", "moving_mesh"});
 
   const auto fluid = r.need(block, "fluid", root);
   r.keys(fluid, root + ".fluid", {"density", "viscosity"});
@@ -661,7 +746,8 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       const auto b = bodies[i];
       const std::string p = fmt::format("{}[{}]", bp, i);
-      r.keys(b, p, {"name", "circle", "polygon", "centre", "velocity", "angular_velocity"});
+      r.keys(b, p,
+             {"name", "circle", "polygon", "centre", "velocity", "angular_velocity", "density"});
       BodyShape s;
       const auto name = b["name"];
       if (name.IsDefined() && !name.IsScalar()) r.fail(name, p + ".name", "a name (text)");
@@ -698,8 +784,19 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
       BodyMotion m;
       if (b["velocity"].IsDefined()) m.velocity = r.vec2(b["velocity"], p + ".velocity");
       m.angular_velocity = r.number_or(b, "angular_velocity", p, 0.0);
+      // A free body: its velocities above are initial values; a polygon turns about its
+      // centroid (the solver's centre of a free body), so a `centre` key would be ignored.
+      const double rho_s = r.number_or(b, "density", p, 0.0, 0, 1e30, true);
+      if (rho_s > 0 && s.kind == BodyShape::Kind::Polygon) {
+        if (b["centre"].IsDefined())
+          r.fail(b["centre"], p + ".centre",
+                 "no 'centre' for a free body (one with a density): it turns about its "
+                 "centroid");
+        s.centre = polygon_centroid(s.vertices);
+      }
       cfg.mesh.bodies.push_back(s);
       cfg.body_motion.push_back(m);
+      cfg.body_density.push_back(rho_s);
     }
     check_bodies(r, bodies, bp, cfg, tol);
   }
@@ -815,6 +912,7 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
                                         op + ".coefficients.length", 0, 1e30, true);
     }
   }
+  parse_moving_bodies(r, block, cfg);
   return cfg;
 }
 
@@ -850,6 +948,9 @@ std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& pro
   key("density") << num(cfg.density);
   key("viscosity") << num(cfg.viscosity);
   out << YAML::EndMap << YAML::Comment("kg/m^3, kinematic m^2/s");
+  key("gravity");
+  emit_point(out, cfg.gravity);
+  out << YAML::Comment("m/s^2, on free bodies");
 
   key("domain") << YAML::BeginMap;
   key("outline");
@@ -890,6 +991,7 @@ std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& pro
     key("bodies") << YAML::BeginSeq;
     for (std::size_t j = 0; j < cfg.mesh.bodies.size(); ++j) {
       const auto& b = cfg.mesh.bodies[j];
+      const double rho_s = j < cfg.body_density.size() ? cfg.body_density[j] : 0.0;
       out << YAML::Flow << YAML::BeginMap;
       key("name") << cfg.body_names[j];
       if (b.kind == BodyShape::Kind::Circle) {
@@ -901,12 +1003,15 @@ std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& pro
       } else {
         key("polygon");
         emit_points(out, b.vertices);
-        key("centre");
-        emit_point(out, b.centre);
+        if (rho_s == 0) {  // (a free polygon turns about its centroid)
+          key("centre");
+          emit_point(out, b.centre);
+        }
       }
       key("velocity");
       emit_point(out, cfg.body_motion[j].velocity);
       key("angular_velocity") << num(cfg.body_motion[j].angular_velocity);
+      if (rho_s > 0) key("density") << num(rho_s);
       out << YAML::EndMap;
     }
     out << YAML::EndSeq;
@@ -928,6 +1033,12 @@ std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& pro
     out << YAML::EndMap;
   }
   out << YAML::EndSeq << YAML::EndMap;
+  if (cfg.has_free_bodies()) {
+    key("moving_mesh") << YAML::Flow << YAML::BeginMap;
+    key("remesh_ratio") << num(cfg.remesh_ratio);
+    key("remesh_quality") << num(cfg.remesh_quality);
+    out << YAML::EndMap;
+  }
 
   key("time") << YAML::Flow << YAML::BeginMap;
   const auto& t = cfg.time;
@@ -1028,10 +1139,82 @@ std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConf
   row("bodies",
       fmt::format("{}{}", cfg.mesh.bodies.size(), names.empty() ? "" : " (" + names + ")"));
   const Mesh mesh = build_case_mesh(cfg);
-  row("mesh: cells, P2 nodes, unknowns", fmt::format("{}, {}, {}", mesh.n_cells(), mesh.n_nodes(),
-                                                     2 * mesh.n_nodes() + mesh.n_vertices));
+  int n_free = 0;
+  for (const double d : cfg.body_density) n_free += d > 0 ? 1 : 0;
+  row("mesh: cells, P2 nodes, unknowns",
+      fmt::format("{}, {}, {}", mesh.n_cells(), mesh.n_nodes(),
+                  2 * mesh.n_nodes() + mesh.n_vertices + 3 * n_free));
   row("mesh sizes h_body, h_max (m)", fmt::format("{:g}, {:g}", cfg.mesh.h_body, cfg.mesh.h_max));
   row("density (kg/m^3), viscosity (m^2/s)", fmt::format("{:g}, {:g}", cfg.density, cfg.viscosity));
+  double u_settle = 0.0;  // largest settling speed estimate of a free body [m/s]
+  if (n_free > 0) {
+    row("moving mesh (free bodies)",
+        fmt::format("{} free of {} bodies; every body moves with its velocity; remesh below {:g} "
+                    "x the fresh quality or {:g}",
+                    n_free, cfg.mesh.bodies.size(), cfg.remesh_ratio, cfg.remesh_quality));
+    row("gravity (m/s^2)", fmt::format("[{:g}, {:g}]", cfg.gravity.x, cfg.gravity.y));
+  }
+  const double g = std::hypot(cfg.gravity.x, cfg.gravity.y);
+  const double mu = cfg.density * cfg.viscosity;
+  for (std::size_t j = 0; j < cfg.body_density.size(); ++j) {
+    const double rho_s = cfg.body_density[j];
+    if (rho_s <= 0) continue;
+    const auto& b = cfg.mesh.bodies[j];
+    const std::string who = fmt::format("'{}': ", cfg.body_names[j]);
+    const double area = body_area(b);
+    // polar moment of area about the centroid (the body's centre) [m^4]
+    double polar = 0.5 * area * b.radius * b.radius;
+    if (b.kind == BodyShape::Kind::Polygon) {
+      polar = 0;
+      const Vec2 c = b.centre;
+      for (std::size_t i = 0; i < b.vertices.size(); ++i) {
+        const Vec2 p{b.vertices[i].x - c.x, b.vertices[i].y - c.y};
+        const Vec2 q{b.vertices[(i + 1) % b.vertices.size()].x - c.x,
+                     b.vertices[(i + 1) % b.vertices.size()].y - c.y};
+        const double cr = p.x * q.y - q.x * p.y;
+        polar += cr * (p.x * p.x + p.x * q.x + q.x * q.x + p.y * p.y + p.y * q.y + q.y * q.y);
+      }
+      polar = std::abs(polar) / 12.0;
+    }
+    const double ratio = rho_s / cfg.density;
+    const double d = 2.0 * std::sqrt(area / std::numbers::pi);  // (area-) equivalent diameter
+    row(who + "mass (kg/m), moment of inertia (kg m), per unit depth",
+        fmt::format("{:.4g}, {:.4g}", rho_s * area, rho_s * polar));
+    row(who + "density ratio rho_s / rho_f", fmt::format("{:.4g}", ratio));
+    if (g == 0) {
+      row(who + "buoyant weight", "none (no gravity)");
+      continue;
+    }
+    const double weight = (rho_s - cfg.density) * g * area;
+    row(who + "buoyant weight (rho_s - rho_f) g A (N/m)", fmt::format("{:.4g}", weight));
+    row(who + "Archimedes number |rho_s/rho_f - 1| g d^3 / nu^2",
+        fmt::format("{:.4g} (d = {:.4g} m, the diameter of equal area)",
+                    std::abs(ratio - 1) * g * d * d * d / (cfg.viscosity * cfg.viscosity), d));
+    // A cylinder's Stokes drag has no unbounded limit (Stokes' paradox): it is set by the
+    // walls. Faxen's drag of a cylinder midway between two walls, at its distance l to the
+    // outline from each (Happel & Brenner 1965, sec. 7-4), F = 4 pi mu U / (ln(1/k) - 0.9157 +
+    // 1.7244 k^2 - 1.7302 k^4 + 2.4056 k^6 - 4.5913 k^8), k = a / l, balanced against the
+    // buoyant weight: exact for that geometry at Re << 1, a scale elsewhere.
+    const double a = 0.5 * d;
+    const double l = ring_distance(b.centre, cfg.mesh.outline);
+    const double k = a / l, k2 = k * k;
+    const double denom = std::log(1 / k) - 0.9157 + 1.7244 * k2 - 1.7302 * k2 * k2 +
+                         2.4056 * k2 * k2 * k2 - 4.5913 * k2 * k2 * k2 * k2;
+    if (k > 0.5 || denom <= 0) {
+      row(who + "settling speed estimate (Faxen)",
+          fmt::format("none: the outline is too close (k = a / l = {:.3g} > 0.5)", k));
+      continue;
+    }
+    const double u = std::abs(weight) * denom / (4 * std::numbers::pi * mu);
+    u_settle = std::max(u_settle, u);
+    row(who + "settling speed estimate U (m/s)",
+        fmt::format("{:.4g} (Faxen's drag between walls {:.4g} m away, k = {:.3g}; Stokes flow)", u,
+                    l, k));
+    row(who + "Reynolds number U d / nu of that speed",
+        fmt::format(
+            "{:.4g}{}", u * d / cfg.viscosity,
+            u * d / cfg.viscosity > 1 ? " (> 1: inertia lowers the speed; a scale only)" : ""));
+  }
   double u_max = 0.0, u_mean = 0.0;  // at full strength of the time functions
   for (const auto& bc : cfg.outline_bc)
     if (bc.kind == OutlineBcKind::Inflow) {
@@ -1057,6 +1240,9 @@ std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConf
   if (!t.adaptive) row("steps", fmt::format("{}", std::llround(t.t_end / t.dt)));
   if (u_max > 0)
     row("Courant number u_max dt / h_body", fmt::format("{:.3g}", u_max * t.dt / cfg.mesh.h_body));
+  if (u_settle > 0)
+    row("settling travel per step U dt / h_body",
+        fmt::format("{:.3g}", u_settle * t.dt / cfg.mesh.h_body));
   row("viscous number nu dt / h_body^2",
       fmt::format("{:.3g}", cfg.viscosity * t.dt / (cfg.mesh.h_body * cfg.mesh.h_body)));
   return rows;
@@ -1074,6 +1260,48 @@ std::string kept_csv(const std::filesystem::path& file, const std::string& heade
   return out;
 }
 
+/// The fixed-step loop of a moving run, as integrate() takes fixed steps: a failed step (Newton
+/// not converging, or a body moving farther than the mesh next to it can follow) is retried
+/// with a quarter of the step, down to 1/1024 of time.step (then StepFailure); cut steps grow
+/// back after a step whose Newton solve converged with room to spare.
+TimeStats integrate_moving(FemMovingFlow& run, const TimeControl& tc, const NewtonOptions& opt,
+                           const std::function<void(const NavierStokes&, double)>& observe) {
+  TimeStats st;
+  const double dt_config = tc.dt;
+  const double dt_floor = std::max(tc.dt_min, dt_config / 1024.0);
+  const double eps = 1e-12 * std::max(1.0, std::abs(tc.t_end));
+  double dt = dt_config;
+  while (run.flow().time() < tc.t_end - eps && (tc.max_steps < 0 || st.steps < tc.max_steps)) {
+    if ((st.stop_signal = stop::requested())) break;
+    const double t = run.flow().time();
+    double h = std::min(dt, tc.t_end - t);
+    if (tc.t_end - t - h < 0.01 * h) h = tc.t_end - t;  // avoid a sliver step at the end
+    StepResult r;
+    try {
+      r = run.step(h, tc.order, opt);
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      ++st.rejected;
+      if (h <= dt_floor * (1.0 + 1e-9))
+        throw StepFailure(fmt::format(
+            "the step from t = {} s failed even when cut to {:.3g} s (the smallest step allowed "
+            "is {:.3g} s): {}",
+            t, h, dt_floor, e.what()));
+      dt = std::max(0.25 * h, dt_floor);
+      continue;
+    }
+    st.newton_iterations += r.newton.iterations;
+    st.factorizations += r.newton.factorizations;
+    ++st.steps;
+    ++st.steps_at_order[run.flow().last_order()];
+    if (dt < dt_config && 2 * r.newton.iterations <= opt.max_iterations)
+      dt = std::min(dt_config, dt * (tc.order >= 3 ? 1.5 : 2.0));
+    if (observe) observe(run.flow(), h);
+  }
+  return st;
+}
+
 }  // namespace
 
 std::uint64_t mesh_hash(const Mesh& m) {
@@ -1088,7 +1316,7 @@ std::uint64_t mesh_hash(const Mesh& m) {
 }
 
 int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir, int max_steps,
-                  const FemCheckpointIo& io) {
+                  const FemCheckpointIo& io, const FemMovingFlowFactory& moving_factory) {
   const auto t_start = std::chrono::steady_clock::now();
   std::filesystem::create_directories(output_dir);
   FlowProblem pb;
@@ -1101,7 +1329,24 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     if (cfg.inflow_time[k].kind != TimeFunctionSpec::Kind::Constant)
       pb.outline_bc[k].time_function = cfg.inflow_time[k];
   pb.body_motion = cfg.body_motion;
-  NavierStokes ns(std::move(pb));
+  pb.body_density = cfg.body_density;
+  pb.gravity = cfg.gravity;
+  // Free bodies: the flow lives in the moving run (a remesh replaces it); else here.
+  const bool is_moving = cfg.has_free_bodies();
+  if (is_moving && io.resume)
+    throw InputError(fmt::format(
+        "{}: error: --restart: a fluid_fem run with free bodies writes no checkpoints (the state "
+        "of a moving mesh is not kept in them yet), so it cannot be continued",
+        cfg.file));
+  REQUIRE(!is_moving || moving_factory,
+          "run_fluid_fem: a case with free bodies needs the moving-mesh driver (coupling layer)");
+  std::unique_ptr<NavierStokes> fixed;
+  std::unique_ptr<FemMovingFlow> moving;
+  if (is_moving)
+    moving = moving_factory(std::move(pb), cfg);
+  else
+    fixed = std::make_unique<NavierStokes>(std::move(pb));
+  auto flow = [&]() -> const NavierStokes& { return moving ? moving->flow() : *fixed; };
   const std::size_t nb = cfg.mesh.bodies.size();
 
   std::string forces_header = "t,dt,order";  // dt and BDF order of the step that ended at t
@@ -1109,6 +1354,8 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     const auto& n = cfg.body_names[j];
     forces_header += fmt::format(",{0}.fx,{0}.fy,{0}.torque,{0}.fx_stress,{0}.fy_stress", n);
     if (cfg.output.coef_velocity > 0) forces_header += fmt::format(",{0}.cd,{0}.cl", n);
+    if (is_moving)
+      forces_header += fmt::format(",{0}.x,{0}.y,{0}.angle,{0}.vx,{0}.vy,{0}.omega", n);
   }
   std::string probes_header = "t";
   for (std::size_t i = 0; i < cfg.output.probes.size(); ++i)
@@ -1132,6 +1379,13 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
                                  cfg.output.coef_length);
         forces << fmt::format(",{:.10g},{:.10g}", sc * fr[j].force.x, sc * fr[j].force.y);
       }
+      if (moving) {
+        const int b = static_cast<int>(j);
+        const Vec2 c = moving->centre(b);
+        const BodyMotion v = s.body_velocity(b);
+        forces << fmt::format(",{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}", c.x, c.y,
+                              moving->angle(b), v.velocity.x, v.velocity.y, v.angular_velocity);
+      }
     }
     forces << '\n';
     probes << fmt::format("{:.9g}", s.time());
@@ -1148,12 +1402,12 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
           fmt::format("{}: error: --restart: a steady fluid_fem case has no time "
                       "steps to continue",
                       cfg.file));
-    if (resume->mesh_hash != mesh_hash(ns.mesh()))
+    if (resume->mesh_hash != mesh_hash(fixed->mesh()))
       throw InputError(fmt::format(
           "{}: error: --restart: the checkpoint belongs to another mesh (the case's domain, "
           "bodies or mesh sizes changed, or another build meshed it)",
           cfg.file));
-    ns.restore(resume->flow);
+    fixed->restore(resume->flow);
   }
   // (appending: the data sets up to and including the checkpoint's time stay; the state there
   // is not written again)
@@ -1179,6 +1433,12 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
   auto non_finite = [&](const NavierStokes& s) -> std::string {
     for (const double v : s.solution())
       if (!std::isfinite(v)) return "the velocity or pressure";
+    for (std::size_t j = 0; moving && j < nb; ++j) {
+      const int b = static_cast<int>(j);
+      const Vec2 c = moving->centre(b);
+      if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(moving->angle(b)))
+        return fmt::format("the position of body '{}'", cfg.body_names[j]);
+    }
     const auto fr = s.reaction_forces();
     const auto fs = s.stress_forces();
     for (std::size_t j = 0; j < nb; ++j)
@@ -1200,7 +1460,8 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
   auto solve_steady = [&](const char* what) {
     NewtonOptions opt = cfg.newton;
     if (!cfg.steady) opt.reuse_factorization = false;
-    const auto rep = cfg.newton_nested ? solve_steady_nested(ns, opt) : ns.solve_steady(opt);
+    const auto rep =
+        cfg.newton_nested ? solve_steady_nested(*fixed, opt) : fixed->solve_steady(opt);
     if (!rep.converged)
       throw Error(fmt::format(
           "fluid_fem: {} Newton did not converge in {} iterations (last update {:.3g}); "
@@ -1213,13 +1474,13 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
   int stop_signal = 0;
   if (cfg.steady) {
     summary = solve_steady("steady");
-    if (const auto bad = non_finite(ns); !bad.empty())
+    if (const auto bad = non_finite(*fixed); !bad.empty())
       throw Error(fmt::format("fluid_fem: the steady solution diverged: {} is not finite", bad));
-    record(ns, 0.0);
-    write_fields(ns);
+    record(*fixed, 0.0);
+    write_fields(*fixed);
   } else {
     if (cfg.initial_steady && !resume) summary = solve_steady("initial steady state");
-    if (!append) write_fields(ns);
+    if (!append) write_fields(flow());
     double next_vtk = cfg.output.vtk_every, next_csv = 0.0;
     double next_ckpt = cfg.output.checkpoint_every;
     std::int64_t steps_before = 0;
@@ -1230,20 +1491,20 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
       next_ckpt = resume->next_checkpoint;
       steps_before = resume->steps;
       loop = resume->loop;
-      summary = fmt::format("continued from t = {:.9g} s (step {})\n", ns.time(), steps_before);
+      summary = fmt::format("continued from t = {:.9g} s (step {})\n", flow().time(), steps_before);
     }
     std::int64_t steps = steps_before;
     auto checkpoint = [&](const std::string& name) {
-      if (!io.save) return;
+      if (!io.save || moving) return;  // (a moving mesh is not kept in checkpoints yet)
       FemCheckpoint c;
-      c.flow = ns.state();
+      c.flow = fixed->state();
       c.loop = loop;
       c.steps = steps;
       c.next_vtk = next_vtk;
       c.next_csv = next_csv;
       c.next_checkpoint = next_ckpt;
       c.n_fields = fields_written();
-      c.mesh_hash = mesh_hash(ns.mesh());
+      c.mesh_hash = mesh_hash(fixed->mesh());
       c.fields_until =
           series.size() > 0 ? series.last_time() : -std::numeric_limits<double>::infinity();
       c.runs = (resume ? resume->runs : 0) + 1;
@@ -1268,32 +1529,31 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
           "fluid_fem: the run diverged at t = {:.9g} s (step {}): {}; nothing of that step was "
           "written. Try a smaller time.step (or adaptive steps, time.adaptive), a finer mesh, "
           "or a slower inflow",
-          ns.time(), steps + 1, why));
+          flow().time(), steps + 1, why));
+    };
+    // After every accepted step: the watchdog, then the outputs due.
+    auto observe = [&](const NavierStokes& s, double h) {
+      if (const auto bad = non_finite(s); !bad.empty()) throw diverged(bad + " is not finite");
+      ++steps;
+      const double eps = 1e-9 * h;
+      if (s.time() >= next_csv - eps) {
+        record(s, h);
+        next_csv = s.time() + cfg.output.csv_every;
+      }
+      if (cfg.output.vtk_every > 0 && s.time() >= next_vtk - eps) {
+        write_fields(s);
+        advance(next_vtk, cfg.output.vtk_every, s.time());
+      }
+      if (cfg.output.checkpoint_every > 0 && s.time() >= next_ckpt - eps &&
+          s.time() < cfg.time.t_end - eps) {
+        advance(next_ckpt, cfg.output.checkpoint_every, s.time());
+        checkpoint(fmt::format("fem_checkpoint_{:07d}.h5", steps));
+      }
     };
     TimeStats st;
     try {
-      st = integrate(
-          ns, tc, cfg.newton,
-          [&](const NavierStokes& s, double h) {
-            if (const auto bad = non_finite(s); !bad.empty())
-              throw diverged(bad + " is not finite");
-            ++steps;
-            const double eps = 1e-9 * h;
-            if (s.time() >= next_csv - eps) {
-              record(s, h);
-              next_csv = s.time() + cfg.output.csv_every;
-            }
-            if (cfg.output.vtk_every > 0 && s.time() >= next_vtk - eps) {
-              write_fields(s);
-              advance(next_vtk, cfg.output.vtk_every, s.time());
-            }
-            if (cfg.output.checkpoint_every > 0 && s.time() >= next_ckpt - eps &&
-                s.time() < cfg.time.t_end - eps) {
-              advance(next_ckpt, cfg.output.checkpoint_every, s.time());
-              checkpoint(fmt::format("fem_checkpoint_{:07d}.h5", steps));
-            }
-          },
-          &loop);
+      st = moving ? integrate_moving(*moving, tc, cfg.newton, observe)
+                  : integrate(*fixed, tc, cfg.newton, observe, &loop);
     } catch (const StepFailure& e) {
       throw diverged(e.what());
     }
@@ -1302,13 +1562,26 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     // continued in place (--append) drops it and numbers its next file as a run never stopped.
     checkpoint(st.stop_signal ? fmt::format("fem_checkpoint_{:07d}.h5", steps)
                               : std::string("fem_checkpoint_final.h5"));
-    if (cfg.output.vtk_every == 0 || series.last_time() < ns.time()) write_fields(ns);
+    if (cfg.output.vtk_every == 0 || series.last_time() < flow().time()) write_fields(flow());
     summary += fmt::format(
         "unsteady BDF{}{}: steps {} (at orders 1/2/3: {}/{}/{}), rejected {}, Newton iterations "
         "{}, factorizations {}\n",
         cfg.time.variable_order ? "1-" : "", cfg.time.order, st.steps, st.steps_at_order[1],
         st.steps_at_order[2], st.steps_at_order[3], st.rejected, st.newton_iterations,
         st.factorizations);
+    if (moving) {
+      summary += fmt::format("moving mesh: remeshes {}\n", moving->remeshes());
+      for (std::size_t j = 0; j < nb; ++j) {
+        const int b = static_cast<int>(j);
+        const Vec2 c = moving->centre(b);
+        const BodyMotion v = flow().body_velocity(b);
+        summary += fmt::format(
+            "body '{}' at t = {:.9g} s: centre [{:.9g}, {:.9g}] m, angle {:.9g} rad, velocity "
+            "[{:.9g}, {:.9g}] m/s, angular velocity {:.9g} rad/s\n",
+            cfg.body_names[j], flow().time(), c.x, c.y, moving->angle(b), v.velocity.x,
+            v.velocity.y, v.angular_velocity);
+      }
+    }
     if (resume) {
       summary += fmt::format("steps since t = 0 (over restarts): {}\n", steps);
       const double wall =
@@ -1320,17 +1593,19 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     }
     if ((stop_signal = st.stop_signal))
       summary += fmt::format("stopped by {} at t = {:.9g} s (time.end {} s)\n",
-                             stop::signal_name(stop_signal), ns.time(), cfg.time.t_end);
+                             stop::signal_name(stop_signal), flow().time(), cfg.time.t_end);
   }
+  const NavierStokes& ns = flow();
   write_vtu(output_dir / "fem_mesh.vtu", ns);
   flush();
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count();
   summary += fmt::format(
       "cells {}, P2 nodes {}, unknowns {}\nwall time {:.3f} s (assembly {:.3f} s, LU factorisation "
-      "{:.3f} s, LU solves {:.3f} s)\n",
+      "{:.3f} s, LU solves {:.3f} s{})\n",
       ns.mesh().n_cells(), ns.mesh().n_nodes(), ns.n_dofs(), wall, ns.assembly_seconds(),
-      ns.lu().factor_seconds(), ns.lu().solve_seconds());
+      ns.lu().factor_seconds(), ns.lu().solve_seconds(),
+      moving && moving->remeshes() > 0 ? "; these three on the last mesh only" : "");
   write_atomically(output_dir / "fem_summary.txt", [&](std::ostream& os) { os << summary; });
   return stop_signal;
 }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -48,7 +49,18 @@ struct FemCaseConfig {
   std::vector<OutlineBc> outline_bc;
   std::vector<TimeFunctionSpec> inflow_time;  ///< per outline edge
   std::vector<std::string> body_names;
+  /// Per body: the prescribed rigid velocity, or for a free body its initial velocity.
   std::vector<BodyMotion> body_motion;
+  /// Per body: 0 for a body whose velocity is prescribed, else the solid density [kg/m^3] of a
+  /// free body (moved by the fluid's force and torque, buoyancy and gravity). A case with a free
+  /// body runs on a moving mesh, on which every body moves with its velocity (see
+  /// docs/models/fluid_fem.md, "Free bodies and moving meshes").
+  std::vector<double> body_density;
+  Vec2 gravity;  ///< [m/s^2], acting on free bodies (the pressure is the dynamic one)
+  /// Moving mesh: remesh when a cell's shape quality falls below remesh_ratio x its value on the
+  /// fresh mesh or below remesh_quality (the defaults of fem_dem::MovingBodyOptions).
+  double remesh_ratio = 0.5;
+  double remesh_quality = 0.2;
   bool steady = true;
   /// unsteady: start from the steady solution for the boundary data at t = 0 (consistent initial
   /// conditions by Newton) instead of from rest
@@ -60,6 +72,13 @@ struct FemCaseConfig {
   /// What the case asks that works but gives poor results (e.g. a gap between bodies narrower
   /// than the mesh size there), for `grainflow check` and the start of a run.
   std::vector<std::string> warnings;
+
+  /// Whether a body is free: then the run moves the bodies and the mesh.
+  [[nodiscard]] bool has_free_bodies() const {
+    for (const double d : body_density)
+      if (d > 0) return true;
+    return false;
+  }
 };
 
 /// Words and places an error of the block: (the YAML node it is about, the mark of its key when
@@ -89,7 +108,10 @@ Mesh build_case_mesh(const FemCaseConfig& cfg);
 /// Derived numbers of a case for `grainflow check` (label, value), meshing it to count cells
 /// and unknowns: the inflow's mean speed U, the largest body's size D, Re = U D / nu, and for
 /// unsteady runs the steps and the Courant (U_max dt / h_body) and viscous (nu dt / h_body^2)
-/// numbers of the first step on the finest cells.
+/// numbers of the first step on the finest cells; per free body its mass and moment of inertia
+/// per unit depth, density ratio, Archimedes number, and a settling speed estimate (Faxen's drag
+/// of a cylinder midway between two walls at the body's distance from the outline) with its
+/// Reynolds number.
 std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConfig& cfg);
 
 /// An unsteady fluid_fem run between two steps: what a checkpoint holds to continue it
@@ -119,6 +141,29 @@ struct FemCheckpointIo {
   bool append = false;
 };
 
+/// A flow whose bodies move through the domain on a moving mesh (cases with free bodies). The
+/// coupling layer provides it (coupling/fem_dem MovingBodyFlow, wrapped by simulation/fem_case):
+/// fluid/fem does not depend on that module.
+class FemMovingFlow {
+ public:
+  virtual ~FemMovingFlow() = default;
+  /// The flow on the current mesh (a remesh replaces it: do not keep the reference).
+  [[nodiscard]] virtual const NavierStokes& flow() const = 0;
+  /// Advances by dt [s] with BDF of the given order (lower after the start and a remesh).
+  /// Throws gf::Error when the step fails; the flow then stays at the last accepted step.
+  virtual StepResult step(double dt, int order, const NewtonOptions& newton) = 0;
+  /// Centre [m] and rotation angle since t = 0 [rad, counter-clockwise] of body j.
+  [[nodiscard]] virtual Vec2 centre(int body) const = 0;
+  [[nodiscard]] virtual double angle(int body) const = 0;
+  /// Times the domain was meshed again.
+  [[nodiscard]] virtual int remeshes() const = 0;
+};
+
+/// Makes the moving flow of a case with free bodies from its problem (mesh built, bodies at
+/// their t = 0 places).
+using FemMovingFlowFactory =
+    std::function<std::unique_ptr<FemMovingFlow>(FlowProblem, const FemCaseConfig&)>;
+
 /// FNV-1a hash of a mesh's node coordinates and cells: the same case meshed again gives the
 /// same value, any other mesh (almost surely) another.
 std::uint64_t mesh_hash(const Mesh& m);
@@ -132,7 +177,14 @@ std::uint64_t mesh_hash(const Mesh& m);
 /// fem_checkpoint_final.h5 at the end. Returns the SIGINT / SIGTERM that ended an unsteady run
 /// early (its outputs up to the last step are written), else 0; throws gf::Error, and
 /// gf::InputError for a checkpoint of another mesh or of a steady case.
+///
+/// A case with free bodies runs on a moving mesh made by `moving` (required then): fixed steps
+/// (a failed step is retried with a quarter of the step, as on a fixed mesh), fem_forces.csv
+/// gains per body NAME.x, NAME.y, NAME.angle, NAME.vx, NAME.vy, NAME.omega, every field file
+/// holds the moved mesh, the summary counts the remeshes; no checkpoint is written (a moving
+/// mesh's state is not kept in checkpoints yet) and `io.resume` is an InputError.
 int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir,
-                  int max_steps = -1, const FemCheckpointIo& io = {});
+                  int max_steps = -1, const FemCheckpointIo& io = {},
+                  const FemMovingFlowFactory& moving = {});
 
 }  // namespace gf::fem
