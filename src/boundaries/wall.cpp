@@ -254,7 +254,9 @@ struct WallBatch {
 
 /// The law for the n contacts of a batch: the kinematics of the generic loop below for a sphere
 /// (one slot, force scale 1, m* = m_i, R* = r_i, contact point at the middle of the overlap).
-template <class Law>
+/// Cohesive: with the law's cohesion slot (some pair has k_c > 0; a wall is r_j -> infinity,
+/// ContactKinematics::inv_r_sum = 0).
+template <class Law, bool Cohesive>
 __attribute__((always_inline)) inline void wall_batch_body(WallBatch& b, int n, int model,
                                                            double dt) {
   for (int c = 0; c < n; ++c) {
@@ -269,7 +271,7 @@ __attribute__((always_inline)) inline void wall_batch_body(WallBatch& b, int n, 
     kin.m_eff = b.m[c];
     const contact::PairCoeffs cc = b.coeffs.get(c, model);
     Vec3 h = b.hist.get(c);
-    const contact::ContactResult res = Law::evaluate(cc, kin, dt, h);
+    const contact::ContactResult res = Law::template evaluate<Cohesive>(cc, kin, dt, h);
     b.hist.set(c, h);
     const Vec3 t = cross(arm, res.force) + res.rolling_torque;
     b.f.set(c, res.force);
@@ -281,16 +283,16 @@ __attribute__((always_inline)) inline void wall_batch_body(WallBatch& b, int n, 
 
 using WallKernel = void (*)(WallBatch&, int, int, double);
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-template <class Law>
+template <class Law, bool Cohesive>
 __attribute__((target("avx2"), noinline, flatten)) void wall_batch_avx2(WallBatch& b, int n,
                                                                         int model, double dt) {
-  wall_batch_body<Law>(b, n, model, dt);
+  wall_batch_body<Law, Cohesive>(b, n, model, dt);
 }
 #endif
-template <class Law>
+template <class Law, bool Cohesive>
 __attribute__((noinline, flatten)) void wall_batch_default(WallBatch& b, int n, int model,
                                                            double dt) {
-  wall_batch_body<Law>(b, n, model, dt);
+  wall_batch_body<Law, Cohesive>(b, n, model, dt);
 }
 
 /// compute_wall_forces for spheres (one slot) when every material pair uses one law: entries
@@ -301,9 +303,11 @@ template <class Law>
 std::int64_t sphere_wall_forces(ParticleStore& p, std::span<Wall> walls, WallContactList& list,
                                 const PairTable<contact::PairCoeffs>& pairs, int model, double t,
                                 double dt, contact::ContactRecord* records) {
-  WallKernel kernel = wall_batch_default<Law>;
+  const bool cohesive = contact::any_cohesion(pairs);
+  WallKernel kernel = cohesive ? wall_batch_default<Law, true> : wall_batch_default<Law, false>;
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-  if (contact::avx2_kernels()) kernel = wall_batch_avx2<Law>;
+  if (contact::avx2_kernels())
+    kernel = cohesive ? wall_batch_avx2<Law, true> : wall_batch_avx2<Law, false>;
 #endif
   const auto entries = list.entries();
   auto history = list.history();

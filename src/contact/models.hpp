@@ -63,22 +63,37 @@ inline constexpr ParamSpec rolling_param{
     ParamScope::PerPair,
     "rolling resistance coefficient mu_r (torque mu_r R* F_n)"};
 
+inline constexpr ParamSpec cohesion_param{
+    "cohesion_energy_density",
+    "J/m^3",
+    0.0,
+    0.0,
+    1e12,
+    false,
+    ParamScope::PerPair,
+    "sjkr cohesion k_c: attractive normal force k_c A while overlapping, A the contact area "
+    "(0: none; docs/models/cohesion.md)"};
+
 struct Hooke {
-  using Law = ContactLaw<HookeNormal, ViscousDamping, HistoryTangential, ConstantTorqueRolling>;
+  using Law = ContactLaw<HookeNormal, ViscousDamping, HistoryTangential, ConstantTorqueRolling,
+                         SjkrCohesion>;
   static constexpr std::string_view key = "hooke";
   static constexpr std::string_view summary =
-      "linear spring-dashpot with tangential history spring, Coulomb friction, rolling resistance";
+      "linear spring-dashpot with tangential history spring, Coulomb friction, rolling resistance, "
+      "optional sjkr cohesion";
   static constexpr std::string_view equation =
       "F_n = k_n delta - 2 zeta sqrt(m* k_n) v_n (>= 0);  F_t = -k_t xi - 2 zeta sqrt(m* k_t) v_t, "
-      "|F_t| <= mu F_n;  "
+      "|F_t| <= mu F_n;  cohesion (sjkr): F_n -= k_c A while delta > 0;  "
       "k_n given or k_n = m*_ref v_ref^2 / delta_max^2;  zeta from the realised restitution";
   static constexpr std::string_view reference =
       "Cundall & Strack, Geotechnique 29 (1979) 47; rolling: Ai et al., Powder Technol. 206 (2011) "
-      "269, model A";
-  static constexpr std::array<ParamSpec, 7> params{
+      "269, model A; cohesion: Johnson, Kendall & Roberts, Proc. R. Soc. A 324 (1971) 301, "
+      "simplified as LIGGGHTS sjkr";
+  static constexpr std::array<ParamSpec, 8> params{
       restitution_param,
       friction_param,
       rolling_param,
+      cohesion_param,
       ParamSpec{"stiffness", "N/m", std::nullopt, 0.0, 1e20, true, ParamScope::PerPair,
                 "normal spring stiffness k_n (or give max_overlap and reference_velocity)"},
       ParamSpec{"max_overlap", "1", std::nullopt, 0.0, 0.5, true, ParamScope::PerPair,
@@ -95,6 +110,7 @@ struct Hooke {
     c.damping_ratio = damping_ratio_for_restitution(NormalKind::Linear, *e);
     c.friction = get("friction").value_or(0.5);
     c.rolling_friction = get("rolling_friction").value_or(0.0);
+    c.cohesion = get("cohesion_energy_density").value_or(0.0);
     c.kt_ratio = get("tangential_stiffness_ratio").value_or(2.0 / 7.0);
     c.sqrt_kt_ratio = std::sqrt(c.kt_ratio);
     if (auto k = get("stiffness")) {
@@ -116,28 +132,31 @@ struct Hooke {
 };
 
 struct HertzMindlin {
-  using Law = ContactLaw<HertzNormal, ViscousDamping, HistoryTangential, ConstantTorqueRolling>;
+  using Law = ContactLaw<HertzNormal, ViscousDamping, HistoryTangential, ConstantTorqueRolling,
+                         SjkrCohesion>;
   static constexpr std::string_view key = "hertz_mindlin";
   static constexpr std::string_view summary =
       "Hertz normal force, Mindlin no-slip tangential stiffness with history, Coulomb friction, "
-      "rolling resistance";
+      "rolling resistance, optional sjkr cohesion";
   static constexpr std::string_view equation =
       "F_n = 4/3 E* sqrt(R*) delta^(3/2) - 2 zeta sqrt(m* S_n) v_n (>= 0), S_n = 2 E* sqrt(R* "
       "delta);  "
       "F_t = -k_t xi - 2 zeta sqrt(m* k_t) v_t, k_t = 8 G* sqrt(R* delta), |F_t| <= mu F_n;  "
-      "zeta from the realised restitution";
+      "cohesion (sjkr): F_n -= k_c A while delta > 0;  zeta from the realised restitution";
   static constexpr std::string_view reference =
       "Hertz (1882); Mindlin, J. Appl. Mech. 16 (1949) 259; Tsuji et al., Powder Technol. 71 "
       "(1992) 239; "
-      "Johnson, Contact Mechanics (1985) eq. 4.22";
-  static constexpr std::array<ParamSpec, 3> params{restitution_param, friction_param,
-                                                   rolling_param};
+      "Johnson, Contact Mechanics (1985) eq. 4.22; cohesion: Johnson, Kendall & Roberts, Proc. R. "
+      "Soc. A 324 (1971) 301, simplified as LIGGGHTS sjkr";
+  static constexpr std::array<ParamSpec, 4> params{restitution_param, friction_param, rolling_param,
+                                                   cohesion_param};
   template <class Get>
   static PairCoeffs prepare(const PairContext& ctx, Get&& get) {
     PairCoeffs c;
     c.damping_ratio = damping_ratio_for_restitution(NormalKind::Hertz, *get("restitution"));
     c.friction = get("friction").value_or(0.5);
     c.rolling_friction = get("rolling_friction").value_or(0.0);
+    c.cohesion = get("cohesion_energy_density").value_or(0.0);
     c.stiffness = effective_modulus(*ctx.a, *ctx.b);
     c.shear_modulus = effective_shear_modulus(*ctx.a, *ctx.b);
     // Mindlin k_t = 8 G* sqrt(R* delta) = (4 G*/E*) S_n.

@@ -80,6 +80,7 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
       const double arm_i = ri - 0.5 * kin.overlap;
       const double arm_j = rj - 0.5 * kin.overlap;
       kin.r_eff = ri * rj / rs;
+      kin.inv_r_sum = 1.0 / rs;
       kin.m_eff = reduced_mass(mi, m[j], fixed_i, fixed != nullptr && fixed[j] != 0);
       Vec3 vj = v[j];
       if constexpr (Sheared) vj += dom.image_velocity(xi, x[j]);
@@ -129,7 +130,8 @@ struct ContactBatch {
 /// Forces of the n contacts of a batch: the kinematics of the row loop (pair_loop) with fewer
 /// divisions, the same law; one contact per iteration from contiguous arrays, no branch (the laws
 /// are written with selects) and no loop-carried dependence, so each iteration is a vector lane.
-template <class Law, bool Rolling, bool OneType>
+/// Cohesive: the law's cohesion slot is evaluated (runs where some pair has k_c > 0).
+template <class Law, bool Rolling, bool OneType, bool Cohesive>
 __attribute__((always_inline)) inline void batch_body(ContactBatch& b, int n,
                                                       const PairCoeffs& c_in, double dt) {
   const PairCoeffs c0 = c_in;  // a local copy: no aliasing with the batch's stores
@@ -152,6 +154,7 @@ __attribute__((always_inline)) inline void batch_body(ContactBatch& b, int n,
     const double q = 1.0 / (dist_or_1 * rs * ms);
     kin.normal = dist > 0 ? (rs * ms * q) * d : Vec3{0, 0, 1};
     kin.r_eff = ri * rj * ms * (dist_or_1 * q);
+    if constexpr (Cohesive) kin.inv_r_sum = ms * (dist_or_1 * q);  // 1 / (r_i + r_j)
     // A fixed grain is gathered with mass 0, standing for an infinite one (reduced_mass): m* is
     // then the free grain's mass, m_i + m_j. (A select: every lane computes both.)
     const bool free_pair = mi > 0 && mj > 0;
@@ -163,7 +166,7 @@ __attribute__((always_inline)) inline void batch_body(ContactBatch& b, int n,
     Vec3 h = b.hist.get(c);
     // One material pair: the loop-invariant c0; otherwise the gathered constants.
     const PairCoeffs cc = OneType ? c0 : b.coeffs.get(c, c0.model);
-    const ContactResult res = Law::evaluate(cc, kin, dt, h);
+    const ContactResult res = Law::template evaluate<Cohesive>(cc, kin, dt, h);
     b.hist.set(c, h);
     const Vec3 nxf = cross(kin.normal, res.force);
     Vec3 ti = -arm_i * nxf;
@@ -182,11 +185,11 @@ __attribute__((always_inline)) inline void batch_body(ContactBatch& b, int n,
 // for the baseline x86-64 of the build (2 lanes of SSE2). No FMA in either, and the vector
 // add/mul/div/sqrt round exactly as the scalar ones, so both give the same bits.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-template <class Law, bool Rolling, bool OneType>
+template <class Law, bool Rolling, bool OneType, bool Cohesive>
 __attribute__((target("avx2"), noinline, flatten)) void batch_avx2(ContactBatch& b, int n,
                                                                    const PairCoeffs& c0,
                                                                    double dt) {
-  batch_body<Law, Rolling, OneType>(b, n, c0, dt);
+  batch_body<Law, Rolling, OneType, Cohesive>(b, n, c0, dt);
 }
 inline bool cpu_has_avx2() {
   static const bool has = __builtin_cpu_supports("avx2");
@@ -194,24 +197,27 @@ inline bool cpu_has_avx2() {
 }
 #endif
 using BatchKernel = void (*)(ContactBatch&, int, const PairCoeffs&, double);
-template <class Law, bool Rolling, bool OneType>
+template <class Law, bool Rolling, bool OneType, bool Cohesive>
 __attribute__((noinline, flatten)) void batch_default(ContactBatch& b, int n, const PairCoeffs& c0,
                                                       double dt) {
-  batch_body<Law, Rolling, OneType>(b, n, c0, dt);
+  batch_body<Law, Rolling, OneType, Cohesive>(b, n, c0, dt);
 }
 
 /// The batch kernel for law Law (AVX2 where the CPU has it), with or without rolling friction,
-/// for one material pair or several.
+/// for one material pair or several. With cohesion (some pair has k_c > 0) one kernel serves
+/// all: rolling on (a zero coefficient gives a zero torque) and the pair constants gathered
+/// (the caller then runs the loop with OneType = false).
 bool baseline_only = false;  // use_baseline_kernels
 
 template <class Law>
-BatchKernel batch_kernel(bool rolling, bool one_type) {
-  auto pick = [&]<bool Rolling, bool OneType>() -> BatchKernel {
+BatchKernel batch_kernel(bool rolling, bool one_type, bool cohesive) {
+  auto pick = [&]<bool Rolling, bool OneType, bool Cohesive = false>()->BatchKernel {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-    if (avx2_kernels()) return batch_avx2<Law, Rolling, OneType>;
+    if (avx2_kernels()) return batch_avx2<Law, Rolling, OneType, Cohesive>;
 #endif
-    return batch_default<Law, Rolling, OneType>;
+    return batch_default<Law, Rolling, OneType, Cohesive>;
   };
+  if (cohesive) return pick.template operator()<true, false, true>();
   if (rolling)
     return one_type ? pick.template operator()<true, true>()
                     : pick.template operator()<true, false>();
@@ -345,8 +351,9 @@ std::int64_t batched_pair_forces(ParticleStore& p, const Domain& domain, VerletL
                                  const PairTable<PairCoeffs>& pairs, double dt,
                                  const ContactSink* report) {
   const bool rolling = any_rolling_friction(pairs);
-  const bool one = pairs.n() == 1;
-  const BatchKernel kernel = batch_kernel<typename M::Law>(rolling, one);
+  const bool cohesive = any_cohesion(pairs);
+  const bool one = pairs.n() == 1 && !cohesive;  // (the cohesive kernel gathers the constants)
+  const BatchKernel kernel = batch_kernel<typename M::Law>(rolling, one, cohesive);
   auto go = [&]<bool Periodic, bool Sheared>() {
     auto go2 = [&]<bool Report>() {
       return one ? batched_pair_loop<Periodic, Sheared, Report, true>(p, domain, list, pairs, dt,
@@ -405,6 +412,13 @@ bool any_rolling_friction(const PairTable<PairCoeffs>& pairs) {
   for (int a = 0; a < pairs.n(); ++a)
     for (int b = 0; b < pairs.n(); ++b)
       if (pairs(a, b).rolling_friction != 0) return true;
+  return false;
+}
+
+bool any_cohesion(const PairTable<PairCoeffs>& pairs) {
+  for (int a = 0; a < pairs.n(); ++a)
+    for (int b = 0; b < pairs.n(); ++b)
+      if (pairs(a, b).model >= 0 && pairs(a, b).cohesion > 0) return true;
   return false;
 }
 

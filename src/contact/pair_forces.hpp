@@ -29,6 +29,7 @@ GF_HOST_DEVICE inline bool sphere_sphere(const Domain& dom, const Vec3& xi, cons
   arm_i = ri - 0.5 * k.overlap;
   arm_j = rj - 0.5 * k.overlap;
   k.r_eff = ri * rj / rs;
+  k.inv_r_sum = 1.0 / rs;
   return true;
 }
 
@@ -101,6 +102,9 @@ std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletL
 bool uniform_model(const PairTable<PairCoeffs>& pairs, int& model);
 /// True when some material pair has rolling friction.
 bool any_rolling_friction(const PairTable<PairCoeffs>& pairs);
+/// True when some material pair has cohesion (k_c > 0): the vectorised kernels then include the
+/// cohesion slot, which the others leave out.
+bool any_cohesion(const PairTable<PairCoeffs>& pairs);
 
 /// For tests: use the baseline (SSE2) batch kernel even where the CPU has AVX2, to check that
 /// both give the same bits. Not for use while a force loop runs on another thread.

@@ -67,6 +67,7 @@ std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, V
         kin.overlap = g.overlap;
         kin.normal = g.normal;
         kin.r_eff = g.r_eff;
+        kin.inv_r_sum = g.inv_r_sum;
         // (xj is the image of j nearest to i; with Lees-Edwards it moves with the image.)
         const Vec3 vj = v[j] + domain.image_velocity(x[i], x[j]);
         kin.v_rel = v[i] + cross(om[i], arm_i) - vj - cross(om[j], arm_j);

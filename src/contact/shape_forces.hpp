@@ -5,7 +5,8 @@
 // sphere (capsule_capsule, a sphere being a capsule of zero length), polygon-polygon (overlap
 // polygon; see polygon2d.hpp). The result is the same ContactKinematics the contact laws take,
 // plus the contact point, so every law applies unchanged:
-//   - capsules: overlap and normal of the two locally touching spheres, r_eff of their radii;
+//   - capsules: overlap and normal of the two locally touching spheres, r_eff of their radii
+//     (and 1 / (r_i + r_j) for the cohesion area);
 //   - polygons: the law sees the mean penetration delta = A / w of the overlap A across its
 //     chord w = |p2 - p1| (the width of the contact), and its force is scaled by s = w / l_c
 //     with l_c = R_i + R_j (equal-area radii). A linear law with stiffness k thus gives
@@ -71,6 +72,7 @@ struct ShapeGeometry {
   Vec3 point;
   double r_eff = 0;
   double force_scale = 1;  ///< s: polygons (see the file comment); 1 otherwise
+  double inv_r_sum = 0;    ///< 1 / (r_i + r_j) of the touching spheres (cohesion); walls 0
 };
 
 /// Law inputs of a polygon overlap (area A, chord end points p1, p2) for characteristic length
@@ -118,14 +120,17 @@ GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t 
     g.normal = dist > 0 ? d / dist : Vec3{0, 0, 1};
     g.point = xj + (s.radius[j] - 0.5 * g.overlap) * g.normal;
     g.r_eff = s.radius[i] * s.radius[j] / rs;
+    g.inv_r_sum = 1.0 / rs;
     return true;
   }
+  const Capsule ca = cap_i ? *cap_i : s.capsule(i, xi), cb = s.capsule(j, xj);
   ShapeContact k;
-  if (!capsule_capsule(cap_i ? *cap_i : s.capsule(i, xi), s.capsule(j, xj), k)) return false;
+  if (!capsule_capsule(ca, cb, k)) return false;
   g.overlap = k.overlap;
   g.normal = k.normal;
   g.point = k.point;
   g.r_eff = k.r_eff;
+  g.inv_r_sum = 1.0 / (ca.radius + cb.radius);  // the two locally touching spheres
   return true;
 }
 

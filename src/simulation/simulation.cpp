@@ -386,7 +386,10 @@ void Simulation::build_materials_and_pairs() {
                              std::max(r_ref[static_cast<std::size_t>(a->second)],
                                       r_ref[static_cast<std::size_t>(b->second)])};
     try {
-      pairs_.set(a->second, b->second, contact::prepare_pair(c.model, ctx, c.params));
+      contact::PairCoeffs pc = contact::prepare_pair(c.model, ctx, c.params);
+      // 2D: the cohesion acts on the strip of width 2a and the grains' depth (cohesion.hpp).
+      if (two_d_) pc.cohesion_depth = cfg_.domain.thickness;
+      pairs_.set(a->second, b->second, pc);
     } catch (const InputError&) {
       throw;
     } catch (const Error& e) {
@@ -405,6 +408,19 @@ void Simulation::build_materials_and_pairs() {
                                      cfg_.file.string(),
                                      materials_[static_cast<std::size_t>(a)].name,
                                      materials_[static_cast<std::size_t>(b)].name));
+  // Cohesion has no area for a polygon contact (the reader refuses it at the key; a case built in
+  // code is checked here too).
+  for (const auto& c : cfg_.contacts) {
+    const auto it = c.params.find("cohesion_energy_density");
+    if (it == c.params.end() || !(it->second > 0)) continue;
+    for (const auto& g : cfg_.particles)
+      if (g.kind == config::Shape::Polygon &&
+          (g.material == c.between[0] || g.material == c.between[1]))
+        throw InputError(fmt::format(
+            "{}: cohesion_energy_density > 0 for [{}, {}], a material of polygon grains: cohesion "
+            "is available for spheres, spherocylinders and disks only",
+            where(c.loc), c.between[0], c.between[1]));
+  }
 }
 
 void Simulation::build_walls() {

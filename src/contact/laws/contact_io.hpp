@@ -17,6 +17,8 @@ struct PairCoeffs {
   double damping_ratio = 0;     ///< zeta: damping over critical damping of the tangent stiffness
   double friction = 0;          ///< Coulomb coefficient mu
   double rolling_friction = 0;  ///< rolling resistance coefficient mu_r
+  double cohesion = 0;          ///< sjkr cohesion energy density k_c, J/m^3 (0: none)
+  double cohesion_depth = 0;    ///< 2D: grain depth t (cohesion area 2 a t), m; 3D: 0
 };
 
 /// Kinematics of one contact, from the narrow phase.
@@ -27,13 +29,19 @@ struct ContactKinematics {
   Vec3 omega_rel;  ///< omega_i - omega_j, rad/s (rolling)
   double r_eff;    ///< effective radius R* = r_i r_j / (r_i + r_j) (wall: r_i), m
   double m_eff;    ///< effective mass m* (wall: m_i), kg
+  /// 1 / (r_i + r_j) of the two (locally) touching spheres, 1/m; 0 for a wall (r_j -> infinity).
+  /// Read by the cohesion slot only (the intersection area of the two surfaces).
+  double inv_r_sum = 0;
 };
 
 /// What a law returns for particle i; j receives the opposite force and rolling torque.
 struct ContactResult {
   Vec3 force;           ///< N, on i
   Vec3 rolling_torque;  ///< N m, on i
-  double normal_force;  ///< N, scalar >= 0
+  /// N, scalar >= 0: the repulsive part (elastic + damping, clamped at 0) that the Coulomb cap,
+  /// rolling resistance and wall stiffness estimate use; the normal component of `force` is
+  /// this less the cohesion k_c A (so it may be attractive).
+  double normal_force;
 };
 
 }  // namespace gf::contact

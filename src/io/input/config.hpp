@@ -58,6 +58,7 @@ struct Contact {
   std::string model;  ///< registry key: hooke | hertz_mindlin
   std::map<std::string, double> params;
   SourceLoc loc;
+  std::map<std::string, SourceLoc> param_locs;  ///< where each parameter given was written
 };
 
 /// Radius: a fixed value or a distribution with cut-offs (all in m).

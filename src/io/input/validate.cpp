@@ -380,6 +380,23 @@ void Validator::check_materials() {
     if (!contact::find_model(ct.model))
       throw_input_error(loc, fmt::format("unknown contact model '{}'", ct.model));
     contacts_[std::minmax(ct.between[0], ct.between[1])] = &ct;
+    // sjkr cohesion needs a contact area: spheres, spherocylinders and disks have one (the
+    // intersection of two spheres; in 2D the strip 2a x depth), a polygon overlap does not.
+    const auto coh = ct.params.find("cohesion_energy_density");
+    if (coh != ct.params.end() && coh->second > 0)
+      for (const auto& g : c_.particles)
+        if (g.kind == config::Shape::Polygon &&
+            (g.material == ct.between[0] || g.material == ct.between[1])) {
+          const auto kl = ct.param_locs.find("cohesion_energy_density");
+          config::SourceLoc key = kl != ct.param_locs.end() ? kl->second : ct.loc;
+          key.key_path = fmt::format("contacts[{}].cohesion_energy_density", i);
+          throw_input_error(
+              at(key, key.key_path),
+              fmt::format("cohesion is not available for polygon grains (material '{}'): expected "
+                          "0 for a pair with polygons (cohesion works for spheres, "
+                          "spherocylinders and disks), found {}",
+                          g.material, coh->second));
+        }
   }
   auto need_pair = [&](const std::string& a, const std::string& b, const config::SourceLoc& loc) {
     if (!contacts_.count(std::minmax(a, b)))
