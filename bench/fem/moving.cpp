@@ -4,6 +4,7 @@
 //   gf_fem_bench_moving OUT_DIR
 // writes moving_stokes.csv, moving_re10.csv, moving_floor_disk.csv, moving_floor_square.csv
 // (columns t, x, y, angle, vx, vy, omega, remeshes; a first comment line with the reference).
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -13,6 +14,19 @@
 namespace {
 
 using gf::fem_dem::MovingBodyFlow;
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// Prints the cost of a run: wall time per step and the share of remeshing.
+void report(const char* name, const MovingBodyFlow& run, int steps, double seconds) {
+  std::printf(
+      "%-22s %5d steps  %3d remeshes  %7d unknowns (last mesh)  %7.2f s  %6.1f ms/step  "
+      "remeshing %5.2f s\n",
+      name, steps, run.remeshes(), run.flow().n_dofs(), seconds, 1e3 * seconds / steps,
+      run.remesh_seconds());
+}
 
 struct Series {
   std::FILE* f;
@@ -46,22 +60,30 @@ int main(int argc, char** argv) {
     const double ut = 0.5 * 100 * std::numbers::pi * 0.01 / faxen_resistance(0.2);
     const Series s(out / "moving_stokes.csv", "Faxen terminal speed U_t = " + std::to_string(ut));
     MovingBodyFlow run = stokes_settling({}, 0.02);
+    const double t0 = now();
     run_steps(run, 0.01, 1.0, [&](const MovingBodyFlow& r) { s(r); });
+    report("stokes_settling", run, 100, now() - t0);
   }
   {
     const double u_star = re10_terminal_speed();
     const Series s(out / "moving_re10.csv",
                    "steady speed in the disk's frame U* = " + std::to_string(u_star));
     MovingBodyFlow run = re10_settling();
+    const double t0 = now();
     run_steps(run, 0.01, 2.0, [&](const MovingBodyFlow& r) { s(r); });
+    report("re10_settling", run, 200, now() - t0);
   }
   {
     const Series s(out / "moving_floor_disk.csv", "balance gap 0.015");
-    settle_on_floor(false, 0.0, 3.0, [&](const MovingBodyFlow& r) { s(r); });
+    const double t0 = now();
+    const auto run = settle_on_floor(false, 0.0, 3.0, [&](const MovingBodyFlow& r) { s(r); });
+    report("disk_onto_floor", run, 300, now() - t0);
   }
   {
     const Series s(out / "moving_floor_square.csv", "balance gap 0.0194 (flat)");
-    settle_on_floor(true, 0.3, 4.0, [&](const MovingBodyFlow& r) { s(r); });
+    const double t0 = now();
+    const auto run = settle_on_floor(true, 0.3, 4.0, [&](const MovingBodyFlow& r) { s(r); });
+    report("square_onto_floor", run, 400, now() - t0);
   }
   return 0;
 }

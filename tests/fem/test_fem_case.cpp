@@ -431,7 +431,9 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
   const std::string free = replaced(
       replaced(replaced(kGood, "angular_velocity: 1.0}", "angular_velocity: 1.0, density: 2.5}"),
                "[0.65, 0.25]]}", "[0.65, 0.25]], velocity: [0, -0.1], density: 800}"),
-      "  mesh:", "  gravity: [0.5, -9.81]\n  moving_mesh: {remesh_ratio: 0.4}\n  mesh:");
+      "  mesh:",
+      "  gravity: [0.5, -9.81]\n  moving_mesh: {remesh_ratio: 0.4, repulsion: {range: 0.01, "
+      "force: 2.5}}\n  mesh:");
   for (const auto& yaml : {std::string(kGood), adaptive, sine, steady, unnamed, free}) {
     auto cfg = parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml");
     cfg.name = "channel";
@@ -462,6 +464,8 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
     EXPECT_EQ(back.gravity.y, cfg.gravity.y);
     EXPECT_EQ(back.remesh_ratio, cfg.remesh_ratio);
     EXPECT_EQ(back.remesh_quality, cfg.remesh_quality);
+    EXPECT_EQ(back.repulsion_range, cfg.repulsion_range);
+    EXPECT_EQ(back.repulsion_force, cfg.repulsion_force);
     for (std::size_t j = 0; j < cfg.mesh.bodies.size(); ++j) {
       EXPECT_EQ(back.mesh.bodies[j].centre.x, cfg.mesh.bodies[j].centre.x);
       EXPECT_EQ(back.mesh.bodies[j].centre.y, cfg.mesh.bodies[j].centre.y);
@@ -713,7 +717,18 @@ TEST(FemMovingCase, ParsesFreeBodies) {
   // the right triangle (0.6, 0.15), (0.7, 0.15), (0.6, 0.25): centroid (0.6333, 0.1833)
   EXPECT_NEAR(cfg.mesh.bodies[1].centre.x, 1.9 / 3, 1e-15);
   EXPECT_NEAR(cfg.mesh.bodies[1].centre.y, 0.55 / 3, 1e-15);
-  EXPECT_TRUE(cfg.warnings.empty());
+  // without a repulsion the run may stop when a body nears a wall: said once, at the block
+  ASSERT_EQ(cfg.warnings.size(), 1u);
+  EXPECT_NE(cfg.warnings[0].find("fluid_fem.moving_mesh: no repulsion"), std::string::npos)
+      << cfg.warnings[0];
+  const auto with_repulsion = parse_fluid_fem(
+      YAML::Load(
+          replaced(yaml, "{remesh_quality: 0.1}",
+                   "{remesh_quality: 0.1, repulsion: {range: 0.01, force: 0.5}}"))["fluid_fem"],
+      "case.yaml");
+  EXPECT_TRUE(with_repulsion.warnings.empty());
+  EXPECT_EQ(with_repulsion.repulsion_range, 0.01);
+  EXPECT_EQ(with_repulsion.repulsion_force, 0.5);
 }
 
 TEST(FemMovingCase, BadKeysAreLocatedErrors) {
@@ -735,7 +750,14 @@ TEST(FemMovingCase, BadKeysAreLocatedErrors) {
   expect_error(replaced(free, "  mesh:", "  moving_mesh: {remesh_quality: 0}\n  mesh:"), 13,
                "fluid_fem.moving_mesh.remesh_quality", {"found '0'"});
   expect_error(replaced(free, "  mesh:", "  moving_mesh: {ratio: 0.5}\n  mesh:"), 13,
-               "fluid_fem.moving_mesh.ratio", {"remesh_ratio, remesh_quality"});
+               "fluid_fem.moving_mesh.ratio", {"remesh_ratio, remesh_quality, repulsion"});
+  expect_error(replaced(free, "  mesh:", "  moving_mesh: {repulsion: {range: 0.01}}\n  mesh:"), 13,
+               "fluid_fem.moving_mesh.repulsion.force", {"both range and force"});
+  expect_error(
+      replaced(free, "  mesh:", "  moving_mesh: {repulsion: {range: -1, force: 1}}\n  mesh:"), 13,
+      "fluid_fem.moving_mesh.repulsion.range", {"a number in (0, inf]", "found '-1'"});
+  expect_error(replaced(free, "  mesh:", "  moving_mesh: {repulsion: 0.01}\n  mesh:"), 13,
+               "fluid_fem.moving_mesh.repulsion", {"{range: m, force: N/m}"});
   // what a moving run cannot do yet, at the key that asks for it (time on line 14)
   expect_error(replaced(free, "mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2", "mode: steady"),
                14, "fluid_fem.time.mode",

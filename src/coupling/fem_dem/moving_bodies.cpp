@@ -7,6 +7,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -170,6 +171,7 @@ fem::MeshSpec MovingBodyFlow::placed_spec(const std::vector<RigidPose>& poses) c
 }
 
 void MovingBodyFlow::remesh() {
+  const auto start = std::chrono::steady_clock::now();
   fem::FlowProblem pb = flow_->problem();
   pb.spec = placed_spec(poses_);
   for (std::size_t b = 0; b < poses_.size(); ++b)
@@ -196,6 +198,8 @@ void MovingBodyFlow::remesh() {
   for (const auto& c : flow_->mesh().cells)
     reference_quality_.push_back(shape_quality(n[c[0]], n[c[1]], n[c[2]]));
   ++remeshes_;
+  remesh_seconds_ +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::vector<RigidPose> MovingBodyFlow::mesh_poses(const std::vector<RigidPose>& poses) const {

@@ -73,6 +73,8 @@ class MovingBodyFlow {
   [[nodiscard]] const std::vector<RigidPose>& poses() const { return poses_; }
   [[nodiscard]] double time() const { return flow_->time(); }
   [[nodiscard]] int remeshes() const { return remeshes_; }
+  /// Wall time spent remeshing (meshing, new solver set-up, interpolation) [s].
+  [[nodiscard]] double remesh_seconds() const { return remesh_seconds_; }
 
   /// Advances by dt [s] with BDF of the given order (lower right after the start and after a
   /// remesh): predicts the poses at t + dt from the bodies' velocities (second-order
@@ -100,6 +102,7 @@ class MovingBodyFlow {
   double previous_dt_ = 0.0;
   std::vector<double> reference_quality_;  // per cell, on the fresh mesh
   int remeshes_ = 0;
+  double remesh_seconds_ = 0.0;
 };
 
 }  // namespace gf::fem_dem

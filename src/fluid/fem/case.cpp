@@ -626,7 +626,7 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
   }
   if (const auto mm = block["moving_mesh"]; mm.IsDefined()) {
     const std::string mp = root + ".moving_mesh";
-    r.keys(mm, mp, {"remesh_ratio", "remesh_quality"});
+    r.keys(mm, mp, {"remesh_ratio", "remesh_quality", "repulsion"});
     auto fraction = [&](const char* key, double def) {
       const YAML::Node n = mm[key];
       if (!n.IsDefined()) return def;
@@ -636,7 +636,27 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
     };
     cfg.remesh_ratio = fraction("remesh_ratio", cfg.remesh_ratio);
     cfg.remesh_quality = fraction("remesh_quality", cfg.remesh_quality);
+    if (const auto rep = mm["repulsion"]; rep.IsDefined()) {
+      const std::string rp = mp + ".repulsion";
+      if (!rep.IsMap())
+        r.fail(rep, rp, "a map {range: m, force: N/m} (repulsion across narrow gaps)");
+      r.keys(rep, rp, {"range", "force"});
+      for (const char* k : {"range", "force"})
+        if (!rep[k].IsDefined())
+          r.fail(rep, rp + "." + k,
+                 fmt::format("a {} ({}): both range and force are needed", k,
+                             std::string(k) == "range" ? "gap in m" : "force scale in N/m"));
+      const double inf = std::numeric_limits<double>::infinity();
+      cfg.repulsion_range = r.number(rep["range"], rp + ".range", 0, inf, true);
+      cfg.repulsion_force = r.number(rep["force"], rp + ".force", 0, inf, true);
+    }
   }
+  if (cfg.repulsion_range == 0)
+    cfg.warnings.push_back(r.warning(
+        block["moving_mesh"].IsDefined() ? block["moving_mesh"] : block, root + ".moving_mesh",
+        "no repulsion between bodies and walls (moving_mesh.repulsion: {range, force}): a free "
+        "body that comes close to a wall or another body stops the run when the mesh in the "
+        "gap can no longer be rebuilt"));
   const std::string why = fmt::format("{}.bodies[{}] ('{}') is free: it has a density", root,
                                       first_free, cfg.body_names[first_free]);
   const auto time = block["time"];
@@ -1037,6 +1057,12 @@ std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& pro
     key("moving_mesh") << YAML::Flow << YAML::BeginMap;
     key("remesh_ratio") << num(cfg.remesh_ratio);
     key("remesh_quality") << num(cfg.remesh_quality);
+    if (cfg.repulsion_range > 0) {
+      key("repulsion") << YAML::Flow << YAML::BeginMap;
+      key("range") << num(cfg.repulsion_range);
+      key("force") << num(cfg.repulsion_force);
+      out << YAML::EndMap;
+    }
     out << YAML::EndMap;
   }
 

@@ -61,6 +61,10 @@ struct FemCaseConfig {
   /// fresh mesh or below remesh_quality (the defaults of fem_dem::MovingBodyOptions).
   double remesh_ratio = 0.5;
   double remesh_quality = 0.2;
+  /// Repulsion across gaps narrower than repulsion_range [m] with the force scale
+  /// repulsion_force [N/m] (fem_dem::CollisionModel; 0: none).
+  double repulsion_range = 0.0;
+  double repulsion_force = 0.0;
   bool steady = true;
   /// unsteady: start from the steady solution for the boundary data at t = 0 (consistent initial
   /// conditions by Newton) instead of from rest
