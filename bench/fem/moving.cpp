@@ -19,13 +19,14 @@ double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-/// Prints the cost of a run: wall time per step and the share of remeshing.
-void report(const char* name, const MovingBodyFlow& run, int steps, double seconds) {
+/// Prints the cost of a run: wall time per step, the share of remeshing, Newton's work.
+void report(const char* name, const MovingBodyFlow& run, const gf::fem_bench::StepTotals& t,
+            double seconds) {
   std::printf(
-      "%-22s %5d steps  %3d remeshes  %7d unknowns (last mesh)  %7.2f s  %6.1f ms/step  "
-      "remeshing %5.2f s\n",
-      name, steps, run.remeshes(), run.flow().n_dofs(), seconds, 1e3 * seconds / steps,
-      run.remesh_seconds());
+      "%-18s %4d steps %3d remeshes %6d unknowns (last mesh) %6.2f s %6.1f ms/step, "
+      "remeshing %5.2f s, Newton %.2f it. and %.2f LU per step\n",
+      name, t.steps, run.remeshes(), run.flow().n_dofs(), seconds, 1e3 * seconds / t.steps,
+      run.remesh_seconds(), double(t.iterations) / t.steps, double(t.factorizations) / t.steps);
 }
 
 struct Series {
@@ -61,8 +62,8 @@ int main(int argc, char** argv) {
     const Series s(out / "moving_stokes.csv", "Faxen terminal speed U_t = " + std::to_string(ut));
     MovingBodyFlow run = stokes_settling({}, 0.02);
     const double t0 = now();
-    run_steps(run, 0.01, 1.0, [&](const MovingBodyFlow& r) { s(r); });
-    report("stokes_settling", run, 100, now() - t0);
+    const auto t = run_steps(run, 0.01, 1.0, [&](const MovingBodyFlow& r) { s(r); });
+    report("stokes_settling", run, t, now() - t0);
   }
   {
     const double u_star = re10_terminal_speed();
@@ -70,20 +71,24 @@ int main(int argc, char** argv) {
                    "steady speed in the disk's frame U* = " + std::to_string(u_star));
     MovingBodyFlow run = re10_settling();
     const double t0 = now();
-    run_steps(run, 0.01, 2.0, [&](const MovingBodyFlow& r) { s(r); });
-    report("re10_settling", run, 200, now() - t0);
+    const auto t = run_steps(run, 0.01, 2.0, [&](const MovingBodyFlow& r) { s(r); });
+    report("re10_settling", run, t, now() - t0);
   }
   {
     const Series s(out / "moving_floor_disk.csv", "balance gap 0.015");
     const double t0 = now();
-    const auto run = settle_on_floor(false, 0.0, 3.0, [&](const MovingBodyFlow& r) { s(r); });
-    report("disk_onto_floor", run, 300, now() - t0);
+    StepTotals t;
+    const auto run = settle_on_floor(
+        false, 0.0, 3.0, [&](const MovingBodyFlow& r) { s(r); }, &t);
+    report("disk_onto_floor", run, t, now() - t0);
   }
   {
     const Series s(out / "moving_floor_square.csv", "balance gap 0.0194 (flat)");
     const double t0 = now();
-    const auto run = settle_on_floor(true, 0.3, 4.0, [&](const MovingBodyFlow& r) { s(r); });
-    report("square_onto_floor", run, 400, now() - t0);
+    StepTotals t;
+    const auto run = settle_on_floor(
+        true, 0.3, 4.0, [&](const MovingBodyFlow& r) { s(r); }, &t);
+    report("square_onto_floor", run, t, now() - t0);
   }
   return 0;
 }

@@ -52,26 +52,37 @@ inline FlowProblem vertical_channel(double l, double length, double a, double y0
   return pb;
 }
 
+/// Newton work of a run.
+struct StepTotals {
+  int steps = 0, iterations = 0, factorizations = 0;
+};
+
 /// Calls `each` after every step of a fixed-step BDF2 run of `run` to t_end.
-inline void run_steps(fem_dem::MovingBodyFlow& run, double dt, double t_end,
-                      const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {}) {
+inline StepTotals run_steps(fem_dem::MovingBodyFlow& run, double dt, double t_end,
+                            const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {}) {
   NewtonOptions newton;
   newton.reuse_factorization = true;
   newton.tolerance = 1e-10;
+  StepTotals totals;
   const int n = static_cast<int>(std::lround(t_end / dt));
   for (int s = 0; s < n; ++s) {
-    run.step(dt, 2, newton);
+    const StepResult r = run.step(dt, 2, newton);
+    ++totals.steps;
+    totals.iterations += r.newton.iterations;
+    totals.factorizations += r.newton.factorizations;
     if (each) each(run);
   }
+  return totals;
 }
 
 /// A body (disk of radius 0.1, or a square of side 0.2 tilted by `tilt`) of density 2 settling
 /// in a closed box 1 x 1.5 of fluid (rho 1, nu 0.05) under g = 10, onto the floor, with a
 /// repulsion of range 0.03 and F_0 = 4 x its buoyant weight; BDF2 with dt = 0.01 s. Calls
-/// each(run) after every step and returns the flow after t_end.
+/// each(run) after every step and returns the flow after t_end (its Newton work in *totals).
 inline fem_dem::MovingBodyFlow settle_on_floor(
     bool square, double tilt, double t_end,
-    const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {}) {
+    const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {},
+    StepTotals* totals = nullptr) {
   FlowProblem pb;
   pb.spec.outline = {{-0.5, 0}, {0.5, 0}, {0.5, 1.5}, {-0.5, 1.5}};
   BodyShape b;
@@ -97,7 +108,8 @@ inline fem_dem::MovingBodyFlow settle_on_floor(
   const double area = square ? 0.04 : std::numbers::pi * 0.01;
   opt.collision = {0.03, 4 * (2.0 - 1.0) * 10 * area};
   fem_dem::MovingBodyFlow run(std::move(pb), opt);
-  run_steps(run, 0.01, t_end, each);
+  const StepTotals t = run_steps(run, 0.01, t_end, each);
+  if (totals) *totals = t;
   return run;
 }
 
