@@ -26,7 +26,7 @@ struct VecColumns {
 template <int N>
 struct CoeffColumns {
   double stiffness[N], kt_ratio[N], sqrt_kt_ratio[N], damping_ratio[N], friction[N],
-      rolling_friction[N], cohesion[N], cohesion_depth[N];
+      rolling_friction[N], cohesion[N];
   GF_HOST_DEVICE_INLINE void set(int c, const PairCoeffs& p) {
     stiffness[c] = p.stiffness;
     kt_ratio[c] = p.kt_ratio;
@@ -35,19 +35,11 @@ struct CoeffColumns {
     friction[c] = p.friction;
     rolling_friction[c] = p.rolling_friction;
     cohesion[c] = p.cohesion;
-    cohesion_depth[c] = p.cohesion_depth;
   }
   GF_HOST_DEVICE_INLINE PairCoeffs get(int c, int model) const {
-    return PairCoeffs{model,
-                      stiffness[c],
-                      0.0,
-                      kt_ratio[c],
-                      sqrt_kt_ratio[c],
-                      damping_ratio[c],
-                      friction[c],
-                      rolling_friction[c],
-                      cohesion[c],
-                      cohesion_depth[c]};
+    return PairCoeffs{model,       stiffness[c],        0.0,
+                      kt_ratio[c], sqrt_kt_ratio[c],    damping_ratio[c],
+                      friction[c], rolling_friction[c], cohesion[c]};
   }
 };
 

@@ -387,8 +387,6 @@ void Simulation::build_materials_and_pairs() {
                                       r_ref[static_cast<std::size_t>(b->second)])};
     try {
       contact::PairCoeffs pc = contact::prepare_pair(c.model, ctx, c.params);
-      // 2D: the cohesion acts on the strip of width 2a and the grains' depth (cohesion.hpp).
-      if (two_d_) pc.cohesion_depth = cfg_.domain.thickness;
       pairs_.set(a->second, b->second, pc);
     } catch (const InputError&) {
       throw;

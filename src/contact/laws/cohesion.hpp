@@ -9,8 +9,9 @@
 // A = pi delta (2R - delta) = pi (R^2 - (R - delta)^2). Johnson, Kendall & Roberts, Proc. R. Soc.
 // Lond. A 324 (1971) 301 for the adhesive contact; the linear-in-area simplification as in
 // LIGGGHTS (cohesion_model_sjkr.h, Kloss et al., Prog. Comput. Fluid Dyn. 12 (2012) 140).
-// 2D (disks of depth t, PairCoeffs::cohesion_depth = t > 0): the surfaces of two disks (cylinders
-// of length t) meet along a strip of width 2a, so A = 2 a t, the same k_c in J/m^3.
+// 2D: disks take the same area pi a^2, as the spheres the 2D elastic laws assume (their
+// stiffness does not scale with domain.thickness either); an area 2 a t of cylinders of depth t
+// made the equilibrium overlap grow with t and pulled disks through walls at the default t = 1 m.
 #pragma once
 
 #include <cmath>
@@ -32,10 +33,9 @@ struct SjkrCohesion {
                       (w2 > 0 ? w2 : 1.0);  // (selects: a vectorised lane never divides by 0)
     return w2 > 0 && a2 > 0 ? a2 : 0.0;
   }
-  /// Contact area A (m^2; 2D: strip area 2 a t) of the contact k.
-  GF_HOST_DEVICE_INLINE static double area(const PairCoeffs& c, const ContactKinematics& k) {
-    const double a2 = intersection_radius2(k.overlap, k.r_eff, k.inv_r_sum);
-    return c.cohesion_depth > 0 ? 2.0 * c.cohesion_depth * std::sqrt(a2) : 3.141592653589793 * a2;
+  /// Contact area A (m^2) of the contact k.
+  GF_HOST_DEVICE_INLINE static double area(const PairCoeffs& /*c*/, const ContactKinematics& k) {
+    return 3.141592653589793 * intersection_radius2(k.overlap, k.r_eff, k.inv_r_sum);
   }
   /// Magnitude of the attractive force k_c A (N); exactly 0 when k_c = 0.
   GF_HOST_DEVICE_INLINE static double force(const PairCoeffs& c, const ContactKinematics& k) {

@@ -18,7 +18,6 @@ struct PairCoeffs {
   double friction = 0;          ///< Coulomb coefficient mu
   double rolling_friction = 0;  ///< rolling resistance coefficient mu_r
   double cohesion = 0;          ///< sjkr cohesion energy density k_c, J/m^3 (0: none)
-  double cohesion_depth = 0;    ///< 2D: grain depth t (cohesion area 2 a t), m; 3D: 0
 };
 
 /// Kinematics of one contact, from the narrow phase.
