@@ -107,6 +107,11 @@ TEST(FemCase, ErrorsNameLocationKeyExpectedAndFound) {
   e = error_of(replaced(kGood, "type: outflow", "type: outlet"));
   EXPECT_NE(e.find("fluid_fem.domain.boundaries[1].type"), std::string::npos) << e;
   EXPECT_NE(e.find("wall | inflow | outflow"), std::string::npos) << e;
+  // an inflow with nowhere to go: refused at the inflow's type
+  e = error_of(replaced(kGood, "type: outflow", "type: wall"));
+  EXPECT_NE(e.find("fluid_fem.domain.boundaries"), std::string::npos) << e;
+  EXPECT_NE(e.find("an outflow edge somewhere"), std::string::npos) << e;
+  EXPECT_NE(e.find("found an inflow in a closed domain"), std::string::npos) << e;
   e = error_of(replaced(kGood, "mode: unsteady, scheme: bdf2, step: 0.05,",
                         "mode: unsteady, scheme: bdf2,"));
   EXPECT_NE(e.find("fluid_fem.time.step"), std::string::npos) << e;
@@ -644,6 +649,7 @@ gf::fem_dem::MovingBodyOptions options(const FemCaseConfig& cfg) {
   gf::fem_dem::MovingBodyOptions o;
   o.remesh_ratio = cfg.remesh_ratio;
   o.remesh_quality = cfg.remesh_quality;
+  o.collision = {cfg.repulsion_range, cfg.repulsion_force};
   return o;
 }
 

@@ -10,9 +10,11 @@
 // along the line of closest approach n (from the other surface towards this body), applied at
 // the middle of the gap, with F_0 [N/m] a force scale of the order of the bodies' buoyant weight.
 // Gaps are measured from probes: the centre of a circle (minus its radius), each vertex of a
-// polygon; one force per probe and facing surface (another body, or the nearest outline edge).
-// Between two polygons both bodies' vertices probe, so a face resting flat on a face carries a
-// force at each corner. (Glowinski et al. write the same law with the centres' distance for
+// polygon; one force per probe and facing surface (another body, each outline edge: a disk in a
+// corner feels both walls). Between two polygons both bodies' vertices probe, so a face resting
+// flat on a face carries a force at each corner; where two corners meet, each probe carries
+// half. A probe inside the other body (or outside the outline) has a negative gap and is pushed
+// back out. (Glowinski et al. write the same law with the centres' distance for
 // disks; this is its extension to polygons.)
 #pragma once
 

@@ -160,6 +160,12 @@ double MovingBodyFlow::quality_ratio(const std::vector<Vec2>& nodes, double& wor
   return ratio;
 }
 
+void MovingBodyFlow::set_external_load(int body, Vec2 force, double torque) {
+  REQUIRE(flow_->is_free(body), "an external load acts on a free body only (body {} is not)", body);
+  external_.resize(poses_.size());
+  external_[body] = fem::BodyForce{force, torque};
+}
+
 fem::MeshSpec MovingBodyFlow::placed_spec(const std::vector<RigidPose>& poses) const {
   fem::MeshSpec spec = reference_spec_;
   for (std::size_t b = 0; b < poses.size(); ++b) {
@@ -226,12 +232,21 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
           "follow (a fresh mesh inverts; quality ratio {:.3g}): lower the time step",
           flow_->time(), dt, ratio));
   }
+  // loads of the step: the caller's external ones plus the repulsion at the step's end poses
+  // (set on every step, so a new solver after a remesh has them too)
+  std::vector<fem::BodyForce> loads = external_;
+  loads.resize(poses_.size());
   if (options_.collision.range > 0) {
-    const auto loads = collision_loads(placed_spec(next), options_.collision);
-    for (std::size_t b = 0; b < loads.size(); ++b)
-      if (flow_->is_free(static_cast<int>(b)))
-        flow_->set_body_load(static_cast<int>(b), loads[b].force, loads[b].torque);
+    const auto rep = collision_loads(placed_spec(next), options_.collision);
+    for (std::size_t b = 0; b < rep.size(); ++b) {
+      loads[b].force.x += rep[b].force.x;
+      loads[b].force.y += rep[b].force.y;
+      loads[b].torque += rep[b].torque;
+    }
   }
+  for (std::size_t b = 0; b < loads.size(); ++b)
+    if (flow_->is_free(static_cast<int>(b)))
+      flow_->set_body_load(static_cast<int>(b), loads[b].force, loads[b].torque);
   std::vector<fem::BodyMotion> velocity;
   for (std::size_t b = 0; b < poses_.size(); ++b)
     velocity.push_back(flow_->body_velocity(static_cast<int>(b)));

@@ -82,6 +82,11 @@ class MovingBodyFlow {
   /// does not converge.
   fem::StepResult step(double dt, int order, const fem::NewtonOptions& newton);
 
+  /// A force [N/m] and torque about the centre [N] on a free body, besides the fluid's, gravity
+  /// and the repulsion (e.g. DEM contacts), applied in every following step until changed
+  /// (remeshing keeps it).
+  void set_external_load(int body, Vec2 force, double torque);
+
   /// Meshes the domain again with the bodies at their current poses and interpolates the flow.
   void remesh();
 
@@ -101,6 +106,7 @@ class MovingBodyFlow {
   std::vector<fem::BodyMotion> previous_velocity_;  // at the step before the last (AB2)
   double previous_dt_ = 0.0;
   std::vector<double> reference_quality_;  // per cell, on the fresh mesh
+  std::vector<fem::BodyForce> external_;   // per body (set_external_load)
   int remeshes_ = 0;
   double remesh_seconds_ = 0.0;
 };

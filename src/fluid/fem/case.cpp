@@ -758,6 +758,18 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
         cfg.inflow_time[static_cast<std::size_t>(e)] = tf;
       }
     }
+    // Fluid that flows in must leave: with no outflow edge the mass of an inflow has nowhere to
+    // go (the solver would converge with the excess vanishing where the pressure is pinned).
+    const bool outflow =
+        std::any_of(cfg.outline_bc.begin(), cfg.outline_bc.end(),
+                    [](const OutlineBc& b) { return b.kind == OutlineBcKind::Outflow; });
+    for (std::size_t i = 0; i < bnd.size() && !outflow; ++i)
+      if (bnd[i]["type"].IsScalar() && bnd[i]["type"].Scalar() == "inflow" &&
+          r.number(bnd[i]["u_max"], "") != 0)
+        r.fail(bnd[i]["type"], fmt::format("{}[{}].type", bp, i),
+               "an outflow edge somewhere when an edge is an inflow (the inflowing fluid must "
+               "leave the domain; there is no outflow edge)",
+               "an inflow in a closed domain");
   }
 
   if (const auto bodies = block["bodies"]; bodies.IsDefined()) {

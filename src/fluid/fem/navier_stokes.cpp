@@ -114,18 +114,29 @@ NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
       src = -(2 + e.body);
     } else {
       const auto& bc = problem_.outline_bc[e.outline_edge];
-      if (bc.kind == OutlineBcKind::Wall)
+      if (bc.kind == OutlineBcKind::Wall) {
         src = bc.wall_velocity.x == 0 && bc.wall_velocity.y == 0 ? 0 : 1 + e.outline_edge;
-      else if (bc.kind == OutlineBcKind::Inflow)
+        if (src > 0) {  // a sliding wall moves in its own line (a normal part would add mass)
+          const Vec2 a = problem_.spec.outline[e.outline_edge],
+                     b = problem_.spec.outline[(e.outline_edge + 1) % problem_.spec.outline.size()];
+          const double ex = b.x - a.x, ey = b.y - a.y, len = std::hypot(ex, ey);
+          const double normal = (bc.wall_velocity.x * -ey + bc.wall_velocity.y * ex) / len;
+          REQUIRE(std::abs(normal) <= 1e-12 * std::hypot(bc.wall_velocity.x, bc.wall_velocity.y),
+                  "outline edge {}: a wall velocity must lie along the edge (normal part {})",
+                  e.outline_edge, normal);
+        }
+      } else if (bc.kind == OutlineBcKind::Inflow) {
         src = 1 + e.outline_edge;
+      }
     }
     if (src == -1) continue;
     auto is_moving_wall = [&](int s) {
       return s >= 1 && problem_.outline_bc[s - 1].kind == OutlineBcKind::Wall;
     };
     for (int v : {e.a, e.b, e.mid}) {
-      if (node_src[v] == 0) continue;                                     // a wall at rest wins,
-      if (is_moving_wall(node_src[v]) && !is_moving_wall(src)) continue;  // then a moving one
+      // a wall at rest wins, then a moving wall over an inflow
+      if (node_src[v] == 0) continue;
+      if (src != 0 && is_moving_wall(node_src[v]) && !is_moving_wall(src)) continue;
       node_src[v] = src;
     }
   }
@@ -155,7 +166,19 @@ NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
       std::any_of(problem_.outline_bc.begin(), problem_.outline_bc.end(),
                   [](const OutlineBc& bc) { return bc.kind == OutlineBcKind::Outflow; });
   if (!has_outflow && n1_ > 0) {
-    pinned_pressure_ = 2 * n2_;
+    // at the vertex on the outline's first corner: a fixed place in every mesh of the domain, so
+    // the pressure level does not jump when a moving mesh is rebuilt
+    int v0 = 0;
+    double best = std::numeric_limits<double>::infinity();
+    for (int v = 0; v < n1_; ++v) {
+      const double d = std::hypot(m.nodes[v].x - problem_.spec.outline[0].x,
+                                  m.nodes[v].y - problem_.spec.outline[0].y);
+      if (d < best) {
+        best = d;
+        v0 = v;
+      }
+    }
+    pinned_pressure_ = 2 * n2_ + v0;
     dirichlet_[pinned_pressure_] = static_cast<int>(dirichlet_dofs_.size());  // a row to skip
   }
 
@@ -857,7 +880,7 @@ std::vector<BodyForce> NavierStokes::reaction_forces() const {
     // The Laplace form's reaction is the pseudo-traction (mu grad u - p I) n. For a rigid body
     // velocity on the surface, (grad u)^T n = omega t, whose moment is 2 omega A: add it back.
     f[j].torque -= 2.0 * problem_.density * problem_.viscosity *
-                   problem_.body_motion[j].angular_velocity * body_area_[j];
+                   body_velocity(static_cast<int>(j)).angular_velocity * body_area_[j];
   }
   return f;
 }

@@ -130,7 +130,8 @@ class NavierStokes {
   [[nodiscard]] double body_inertia(int body) const;
   [[nodiscard]] double body_area(int body) const { return body_area_[body]; }
   /// Force [N/m] and torque about the centre [N] per unit depth on a free body besides the
-  /// fluid's and gravity (e.g. contacts), held constant over the next solves.
+  /// fluid's and gravity (e.g. contacts), held constant over the next solves of this solver
+  /// (fem_dem::MovingBodyFlow sets it every step: use its set_external_load there).
   void set_body_load(int body, Vec2 force, double torque);
 
   /// Moves the mesh for the next try_step: `nodes` are the P2 node positions at the new time
