@@ -28,6 +28,25 @@ inline double faxen_resistance(double k) {
           4.5913 * k2 * k2 * k2 * k2);
 }
 
+/// A disk of radius r1 at the origin inside a fixed circular wall of radius r2 (a 256-gon), the
+/// fluid of density 1 and kinematic viscosity nu: the Taylor-Couette annulus.
+inline FlowProblem annulus(double r1, double r2, double h_body, double h_max, double nu) {
+  FlowProblem pb;
+  for (int k = 0; k < 256; ++k) {
+    const double a = 2 * std::numbers::pi * k / 256;
+    pb.spec.outline.push_back({r2 * std::cos(a), r2 * std::sin(a)});
+  }
+  BodyShape c;
+  c.radius = r1;
+  pb.spec.bodies = {c};
+  pb.spec.h_body = h_body;
+  pb.spec.h_max = h_max;
+  pb.mesh = build_mesh(pb.spec);
+  pb.viscosity = nu;
+  pb.outline_bc.assign(256, OutlineBc{});
+  return pb;
+}
+
 /// A vertical channel |x| < l, -length/2 < y < length/2, walls at the sides and bottom and a
 /// do-nothing outflow at the top (it fixes the pressure level), with a disk of radius a at
 /// (0, y0).

@@ -17,6 +17,7 @@
 #include "fluid/fem/schaefer_turek.hpp"
 #include "fluid/fem/time_stepping.hpp"
 #include "fluid/fem/vtu.hpp"
+#include "moving_cases.hpp"
 #include "temp_dir.hpp"
 #include "vtk_reader.hpp"
 
@@ -230,19 +231,7 @@ TEST(FemOutput, VtuCarriesMeshAndFieldsBitExactly) {
 // a circle's by (pi/256)^2/2 = 8e-5 relative; we allow 1e-3.
 TEST(FemFlow, TaylorCouetteTorque) {
   const double r1 = 0.1, r2 = 0.3, omega = 2.0;
-  FlowProblem pb;
-  for (int k = 0; k < 256; ++k) {
-    const double a = 2 * std::numbers::pi * k / 256;
-    pb.spec.outline.push_back({r2 * std::cos(a), r2 * std::sin(a)});
-  }
-  BodyShape c;
-  c.radius = r1;
-  pb.spec.bodies = {c};
-  pb.spec.h_body = 0.01;
-  pb.spec.h_max = 0.02;
-  pb.mesh = build_mesh(pb.spec);
-  pb.viscosity = 0.1;
-  pb.outline_bc.assign(256, OutlineBc{});
+  FlowProblem pb = gf::fem_bench::annulus(r1, r2, 0.01, 0.02, 0.1);
   pb.body_motion = {BodyMotion{{0, 0}, omega}};
   NavierStokes ns(std::move(pb));
   ASSERT_TRUE(ns.solve_steady({}).converged);

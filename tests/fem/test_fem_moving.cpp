@@ -231,19 +231,7 @@ TEST(FemMoving, AleKeepsPoiseuilleFlowOnAnOscillatingMesh) {
 // transient lasts r2^2 / nu = 0.9 s of the 40 s, so the decay rate matches to 0.5 %.
 TEST(FemMoving, FreeDiskSpinsDownAtTheCouetteRate) {
   const double r1 = 0.1, r2 = 0.3, nu = 0.1, rho_s = 1e4;
-  FlowProblem pb;
-  for (int k = 0; k < 256; ++k) {
-    const double a = 2 * std::numbers::pi * k / 256;
-    pb.spec.outline.push_back({r2 * std::cos(a), r2 * std::sin(a)});
-  }
-  BodyShape c;
-  c.radius = r1;
-  pb.spec.bodies = {c};
-  pb.spec.h_body = 0.02;
-  pb.spec.h_max = 0.04;
-  pb.mesh = build_mesh(pb.spec);
-  pb.viscosity = nu;
-  pb.outline_bc.assign(256, OutlineBc{});
+  FlowProblem pb = gf::fem_bench::annulus(r1, r2, 0.02, 0.04, nu);
   pb.body_motion = {BodyMotion{{0, 0}, 1.0}};
   pb.body_density = {rho_s};
   NavierStokes ns(std::move(pb));

@@ -61,15 +61,7 @@ Vec2 closest_on_body(Vec2 p, const BodyShape& b) {
           b.centre.y + b.radius * (p.y - b.centre.y) / d};
 }
 
-/// Whether p lies inside the closed polygon v (crossing number).
-bool inside_polygon(Vec2 p, const std::vector<Vec2>& v) {
-  bool in = false;
-  for (std::size_t i = 0, j = v.size() - 1; i < v.size(); j = i++)
-    if ((v[i].y > p.y) != (v[j].y > p.y) &&
-        p.x < (v[j].x - v[i].x) * (p.y - v[i].y) / (v[j].y - v[i].y) + v[i].x)
-      in = !in;
-  return in;
-}
+using fem::inside_polygon;
 
 bool inside_body(Vec2 p, const BodyShape& b) {
   if (b.kind == BodyShape::Kind::Polygon) return inside_polygon(p, b.vertices);

@@ -268,12 +268,7 @@ double ring_distance(Vec2 p, const std::vector<Vec2>& v) {
 
 /// Crossing-number test (either orientation); meaningful for p farther than tol from the ring.
 bool inside_ring(Vec2 p, const std::vector<Vec2>& v) {
-  bool in = false;
-  for (std::size_t i = 0, j = v.size() - 1; i < v.size(); j = i++)
-    if ((v[i].y > p.y) != (v[j].y > p.y) &&
-        p.x < (v[j].x - v[i].x) * (p.y - v[i].y) / (v[j].y - v[i].y) + v[i].x)
-      in = !in;
-  return in;
+  return inside_polygon(p, v);
 }
 
 /// p lies in the open region bounded by the ring, farther than tol from it.

@@ -20,4 +20,13 @@ double mesh_area(const Mesh& mesh) {
   return area;
 }
 
+bool inside_polygon(Vec2 p, const std::vector<Vec2>& v) {
+  bool in = false;
+  for (std::size_t i = 0, j = v.size() - 1; i < v.size(); j = i++)
+    if ((v[i].y > p.y) != (v[j].y > p.y) &&
+        p.x < (v[j].x - v[i].x) * (p.y - v[i].y) / (v[j].y - v[i].y) + v[i].x)
+      in = !in;
+  return in;
+}
+
 }  // namespace gf::fem

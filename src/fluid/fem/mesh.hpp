@@ -74,6 +74,10 @@ Mesh build_mesh(const MeshSpec& spec);
 /// h of every box containing p).
 double mesh_size_at(const MeshSpec& spec, Vec2 p);
 
+/// Whether p lies inside the closed polygon v, either orientation (crossing number; meaningful
+/// for p not on the polygon).
+bool inside_polygon(Vec2 p, const std::vector<Vec2>& v);
+
 /// Area of the mesh including curved cells [m^2] (a check of the geometry).
 double mesh_area(const Mesh& mesh);
 

@@ -37,16 +37,6 @@ double dist_to_segment(Vec2 p, Vec2 a, Vec2 b) {
   return std::hypot(p.x - a.x - t * dx, p.y - a.y - t * dy);
 }
 
-bool inside_polygon(Vec2 p, const std::vector<Vec2>& poly) {
-  bool in = false;
-  const std::size_t n = poly.size();
-  for (std::size_t i = 0, j = n - 1; i < n; j = i++) {
-    const Vec2 a = poly[i], b = poly[j];
-    if ((a.y > p.y) != (b.y > p.y) && p.x < (b.x - a.x) * (p.y - a.y) / (b.y - a.y) + a.x) in = !in;
-  }
-  return in;
-}
-
 double dist_to_body(const BodyShape& b, Vec2 p) {
   if (b.kind == BodyShape::Kind::Circle)
     return std::max(0.0, std::hypot(p.x - b.centre.x, p.y - b.centre.y) - b.radius);
