@@ -570,29 +570,6 @@ void check_probes(const Reader& r, const YAML::Node& probes, const std::string& 
   }
 }
 
-/// Centroid of a simple polygon (either orientation).
-Vec2 polygon_centroid(const std::vector<Vec2>& v) {
-  double a2 = 0, cx = 0, cy = 0;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    const Vec2 p{v[i].x - v[0].x, v[i].y - v[0].y};
-    const Vec2 q{v[(i + 1) % v.size()].x - v[0].x, v[(i + 1) % v.size()].y - v[0].y};
-    const double c = p.x * q.y - q.x * p.y;
-    a2 += c;
-    cx += (p.x + q.x) * c;
-    cy += (p.y + q.y) * c;
-  }
-  return {v[0].x + cx / (3 * a2), v[0].y + cy / (3 * a2)};
-}
-
-/// Area of a body [m^2].
-double body_area(const BodyShape& b) {
-  if (b.kind == BodyShape::Kind::Circle) return std::numbers::pi * b.radius * b.radius;
-  double a2 = 0;
-  for (std::size_t i = 1; i + 1 < b.vertices.size(); ++i)
-    a2 += cross(b.vertices[0], b.vertices[i], b.vertices[i + 1]);
-  return 0.5 * std::abs(a2);
-}
-
 /// `gravity` and `moving_mesh` of the block, and what free bodies (a body with a density) need
 /// of the rest of it: an unsteady run from rest with fixed steps and no periodic checkpoints
 /// (a moving mesh is not kept in checkpoints yet). Gravity with no free body acts on nothing
@@ -819,7 +796,7 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
           r.fail(b["centre"], p + ".centre",
                  "no 'centre' for a free body (one with a density): it turns about its "
                  "centroid");
-        s.centre = polygon_centroid(s.vertices);
+        s.centre = body_geometry(s).centroid;
       }
       cfg.mesh.bodies.push_back(s);
       cfg.body_motion.push_back(m);
@@ -1194,21 +1171,8 @@ std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConf
     if (rho_s <= 0) continue;
     const auto& b = cfg.mesh.bodies[j];
     const std::string who = fmt::format("'{}': ", cfg.body_names[j]);
-    const double area = body_area(b);
-    // polar moment of area about the centroid (the body's centre) [m^4]
-    double polar = 0.5 * area * b.radius * b.radius;
-    if (b.kind == BodyShape::Kind::Polygon) {
-      polar = 0;
-      const Vec2 c = b.centre;
-      for (std::size_t i = 0; i < b.vertices.size(); ++i) {
-        const Vec2 p{b.vertices[i].x - c.x, b.vertices[i].y - c.y};
-        const Vec2 q{b.vertices[(i + 1) % b.vertices.size()].x - c.x,
-                     b.vertices[(i + 1) % b.vertices.size()].y - c.y};
-        const double cr = p.x * q.y - q.x * p.y;
-        polar += cr * (p.x * p.x + p.x * q.x + q.x * q.x + p.y * p.y + p.y * q.y + q.y * q.y);
-      }
-      polar = std::abs(polar) / 12.0;
-    }
+    const BodyGeometry geo = body_geometry(b);  // about the centroid, the body's centre
+    const double area = geo.area, polar = geo.polar_moment;
     const double ratio = rho_s / cfg.density;
     const double d = 2.0 * std::sqrt(area / std::numbers::pi);  // (area-) equivalent diameter
     row(who + "mass (kg/m), moment of inertia (kg m), per unit depth",

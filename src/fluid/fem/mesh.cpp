@@ -2,6 +2,9 @@
 // Mesh utilities that do not need CGAL (kept out of mesh_cgal.cpp to keep rebuilds cheap).
 #include "fluid/fem/mesh.hpp"
 
+#include <cmath>
+#include <numbers>
+
 #include "fluid/fem/p2_element.hpp"
 
 namespace gf::fem {
@@ -18,6 +21,36 @@ double mesh_area(const Mesh& mesh) {
     }
   }
   return area;
+}
+
+BodyGeometry body_geometry(const BodyShape& b) {
+  BodyGeometry g;
+  if (b.kind == BodyShape::Kind::Circle) {
+    g.area = std::numbers::pi * b.radius * b.radius;
+    g.centroid = b.centre;
+    g.polar_moment = 0.5 * g.area * b.radius * b.radius;
+    return g;
+  }
+  // Green's theorem over the edges, relative to the first vertex (round-off)
+  const Vec2 o = b.vertices[0];
+  const std::size_t n = b.vertices.size();
+  double a2 = 0, cx = 0, cy = 0, j = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 p{b.vertices[i].x - o.x, b.vertices[i].y - o.y};
+    const Vec2 q{b.vertices[(i + 1) % n].x - o.x, b.vertices[(i + 1) % n].y - o.y};
+    const double cr = p.x * q.y - q.x * p.y;
+    a2 += cr;
+    cx += (p.x + q.x) * cr;
+    cy += (p.y + q.y) * cr;
+    j += cr * (p.x * p.x + p.x * q.x + q.x * q.x + p.y * p.y + p.y * q.y + q.y * q.y);
+  }
+  cx /= 3.0 * a2;
+  cy /= 3.0 * a2;
+  const double area = 0.5 * a2;  // signed like j
+  g.area = std::abs(area);
+  g.centroid = {o.x + cx, o.y + cy};
+  g.polar_moment = std::abs(j / 12.0 - area * (cx * cx + cy * cy));  // parallel axes
+  return g;
 }
 
 bool inside_polygon(Vec2 p, const std::vector<Vec2>& v) {

@@ -74,6 +74,15 @@ Mesh build_mesh(const MeshSpec& spec);
 /// h of every box containing p).
 double mesh_size_at(const MeshSpec& spec, Vec2 p);
 
+/// Area [m^2], centroid [m] and polar moment of area about the centroid [m^4] of a body (a
+/// polygon of either orientation; a circle about its centre).
+struct BodyGeometry {
+  double area = 0.0;
+  Vec2 centroid;
+  double polar_moment = 0.0;
+};
+BodyGeometry body_geometry(const BodyShape& b);
+
 /// Whether p lies inside the closed polygon v, either orientation (crossing number; meaningful
 /// for p not on the polygon).
 bool inside_polygon(Vec2 p, const std::vector<Vec2>& v);

@@ -56,36 +56,14 @@ NavierStokes::NavierStokes(FlowProblem problem) : problem_(std::move(problem)) {
   problem_.body_motion.resize(n_bodies);
   problem_.body_density.resize(n_bodies, 0.0);
   REQUIRE(problem_.density > 0 && problem_.viscosity > 0, "density and viscosity must be positive");
-  // Area, centroid and polar moment of area about the centroid of each body; a free body's
-  // centre is its centroid (gravity acts there and its inertia is diagonal about it).
+  // Area and polar moment of area about the centroid of each body; a free body's centre is its
+  // centroid (gravity acts there and its inertia is diagonal about it).
   for (std::size_t j = 0; j < n_bodies; ++j) {
     auto& b = problem_.spec.bodies[j];
-    double a = std::numbers::pi * b.radius * b.radius;
-    double inertia = 0.5 * a * b.radius * b.radius;
-    if (b.kind == BodyShape::Kind::Polygon) {
-      // Green's theorem over the edges, relative to the first vertex (round-off)
-      const Vec2 o = b.vertices[0];
-      double a2 = 0, cx = 0, cy = 0, ixx = 0;
-      for (std::size_t i = 0; i < b.vertices.size(); ++i) {
-        const Vec2 p{b.vertices[i].x - o.x, b.vertices[i].y - o.y};
-        const Vec2 q{b.vertices[(i + 1) % b.vertices.size()].x - o.x,
-                     b.vertices[(i + 1) % b.vertices.size()].y - o.y};
-        const double cr = p.x * q.y - q.x * p.y;
-        a2 += cr;
-        cx += (p.x + q.x) * cr;
-        cy += (p.y + q.y) * cr;
-        ixx += cr * (p.x * p.x + p.x * q.x + q.x * q.x + p.y * p.y + p.y * q.y + q.y * q.y);
-      }
-      a = 0.5 * a2;
-      cx /= 3.0 * a2;
-      cy /= 3.0 * a2;
-      inertia = ixx / 12.0 - a * (cx * cx + cy * cy);  // parallel axes: about the centroid
-      a = std::abs(a);
-      inertia = std::abs(inertia);
-      if (problem_.body_density[j] > 0) b.centre = {o.x + cx, o.y + cy};
-    }
-    body_area_.push_back(a);
-    body_inertia_.push_back(inertia);
+    const BodyGeometry g = body_geometry(b);
+    if (b.kind == BodyShape::Kind::Polygon && problem_.body_density[j] > 0) b.centre = g.centroid;
+    body_area_.push_back(g.area);
+    body_inertia_.push_back(g.polar_moment);
   }
   free_slot_.assign(n_bodies, -1);
   body_load_.assign(n_bodies, BodyForce{});
@@ -244,11 +222,18 @@ void NavierStokes::move_mesh(const std::vector<Vec2>& nodes, const std::vector<V
       nodes.size() == problem_.mesh.nodes.size() && centres.size() == problem_.spec.bodies.size(),
       "move_mesh: {} nodes and {} centres for a mesh of {} nodes and {} bodies", nodes.size(),
       centres.size(), problem_.mesh.nodes.size(), problem_.spec.bodies.size());
+  if (!moving_) {  // the mesh was fixed so far: every known state had these positions
+    base_nodes_ = problem_.mesh.nodes;
+    base_centres_.clear();
+    for (const auto& b : problem_.spec.bodies) base_centres_.push_back(b.centre);
+    hist_nodes_.assign(hist_t_.size(), base_nodes_);
+    hist_centres_.assign(hist_t_.size(), base_centres_);
+    moving_ = true;
+  }
   problem_.mesh.nodes = nodes;
   for (std::size_t j = 0; j < centres.size(); ++j) problem_.spec.bodies[j].centre = centres[j];
-  moving_ = true;
   precompute_geometry();
-  build_locator();
+  locator_stale_ = true;  // rebuilt when a point is located (probes, interpolation)
   set_time(t_);
 }
 
@@ -668,8 +653,10 @@ StepResult NavierStokes::try_step(double dt, int order, const NewtonOptions& opt
   if (hist_t_.empty()) {
     hist_t_.push_back(t_);
     hist_x_.push_back(x_);
-    hist_nodes_.assign(1, base_nodes_);
-    hist_centres_.assign(1, base_centres_);
+    if (moving_) {
+      hist_nodes_.assign(1, base_nodes_);
+      hist_centres_.assign(1, base_centres_);
+    }
   }
   const int k = std::clamp(order, 1, std::min(kMaxBdfOrder, static_cast<int>(hist_t_.size())));
   last_order_ = k;
@@ -785,14 +772,18 @@ double NavierStokes::order_error(int j, double rtol, double atol) const {
 void NavierStokes::accept_step() {
   hist_t_.insert(hist_t_.begin(), t_);
   hist_x_.insert(hist_x_.begin(), x_);
-  base_nodes_ = problem_.mesh.nodes;
-  base_centres_.clear();
-  for (const auto& b : problem_.spec.bodies) base_centres_.push_back(b.centre);
-  hist_nodes_.insert(hist_nodes_.begin(), base_nodes_);
-  hist_centres_.insert(hist_centres_.begin(), base_centres_);
+  if (moving_) {  // (a fixed mesh keeps no copies of its nodes)
+    base_nodes_ = problem_.mesh.nodes;
+    base_centres_.clear();
+    for (const auto& b : problem_.spec.bodies) base_centres_.push_back(b.centre);
+    hist_nodes_.insert(hist_nodes_.begin(), base_nodes_);
+    hist_centres_.insert(hist_centres_.begin(), base_centres_);
+  }
   if (hist_t_.size() > kMaxBdfOrder + 1) {  // the predictor of order k uses k + 1 states
     hist_t_.pop_back();
     hist_x_.pop_back();
+  }
+  if (hist_nodes_.size() > hist_t_.size()) {
     hist_nodes_.pop_back();
     hist_centres_.pop_back();
   }
@@ -843,8 +834,6 @@ void NavierStokes::restore(const State& s) {
   }
   hist_t_ = s.hist_t;
   hist_x_ = s.hist_x;
-  hist_nodes_.assign(hist_t_.size(), problem_.mesh.nodes);  // a fixed mesh (see state())
-  hist_centres_.assign(hist_t_.size(), base_centres_);
   last_order_ = s.last_order;
   alpha0_ = s.alpha0;
   hist_term_ = s.hist_term;
@@ -861,7 +850,7 @@ void NavierStokes::reject_step() {
     for (std::size_t j = 0; j < hist_centres_[0].size(); ++j)
       problem_.spec.bodies[j].centre = hist_centres_[0][j];
     precompute_geometry();
-    build_locator();
+    locator_stale_ = true;
   }
   set_time(hist_t_[0]);
 }
@@ -947,7 +936,8 @@ std::vector<BodyForce> NavierStokes::stress_forces() const {
   return f;
 }
 
-void NavierStokes::build_locator() {
+void NavierStokes::build_locator() const {
+  locator_stale_ = false;
   const Mesh& m = problem_.mesh;
   Vec2 lo{1e300, 1e300}, hi{-1e300, -1e300};
   for (int v = 0; v < m.n_vertices; ++v) {
@@ -996,6 +986,7 @@ void NavierStokes::build_locator() {
 }
 
 int NavierStokes::locate(Vec2 p, double& l1, double& l2) const {
+  if (locator_stale_) build_locator();
   const Mesh& m = problem_.mesh;
   int best = -1;
   double best_out = std::numeric_limits<double>::infinity();

@@ -220,7 +220,7 @@ class NavierStokes {
   /// order j + 1 through it and the j + 1 newest known states (needs that many).
   [[nodiscard]] double order_error(int j, double rtol, double atol) const;
   [[nodiscard]] int locate(Vec2 p, double& l1, double& l2) const;
-  void build_locator();
+  void build_locator() const;
   /// Boundary values of free bodies' nodes from their current velocity unknowns.
   void refresh_free_body_values();
   /// Unknown index of hist_term_ entry i (velocities first, then free-body velocities).
@@ -257,7 +257,8 @@ class NavierStokes {
   std::vector<FreeConstraint> free_constraint_;  // per Dirichlet dof of a free body (else -1s)
   std::vector<int> free_diag_;                   // per free body: 3 diagonal positions
 
-  // Moving mesh (ALE): node positions and body centres of the history states, newest first,
+  // Moving mesh (ALE): node positions and body centres of the history states, newest first (kept
+  // only once the mesh moves),
   // those of the last accepted state, and the mesh velocity of the current step.
   bool moving_ = false;
   std::vector<std::vector<Vec2>> hist_nodes_, hist_centres_;
@@ -279,10 +280,12 @@ class NavierStokes {
   std::vector<double> factor_x_;  // the iterate the factorisation was assembled at
 
   // Point location: uniform grid of buckets listing the cells whose bounding box meets them.
-  Vec2 grid_lo_;
-  double grid_h_ = 1.0;
-  int grid_nx_ = 1, grid_ny_ = 1;
-  std::vector<int> grid_start_, grid_cells_;
+  // (mutable: rebuilt lazily by locate() after the mesh moved)
+  mutable Vec2 grid_lo_;
+  mutable double grid_h_ = 1.0;
+  mutable int grid_nx_ = 1, grid_ny_ = 1;
+  mutable std::vector<int> grid_start_, grid_cells_;
+  mutable bool locator_stale_ = false;
 
   // Geometry at quadrature points: per cell and point: weight*det, dphi/dx[6], dphi/dy[6].
   std::vector<double> geo_;
