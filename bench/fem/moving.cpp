@@ -2,8 +2,10 @@
 // Time series of the moving-body validations (tests/fem/test_fem_moving.cpp) for the plots of
 // docs/validation/fem/plot_moving.py:
 //   gf_fem_bench_moving OUT_DIR
-// writes moving_stokes.csv, moving_re10.csv, moving_floor_disk.csv, moving_floor_square.csv
-// (columns t, x, y, angle, vx, vy, omega, remeshes; a first comment line with the reference).
+// writes moving_stokes.csv, moving_re10.csv, moving_floor_disk.csv, moving_floor_square.csv,
+// moving_slope_hold.csv, moving_slope_slide.csv (columns t, x, y, angle, vx, vy, omega,
+// remeshes, and for the slopes the contact force fx, fy; a first comment line with the
+// reference).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -31,10 +33,13 @@ void report(const char* name, const MovingBodyFlow& run, const gf::fem_bench::St
 
 struct Series {
   std::FILE* f;
-  explicit Series(const std::filesystem::path& p, const std::string& reference)
-      : f(std::fopen(p.c_str(), "w")) {
+  bool contact;
+  explicit Series(const std::filesystem::path& p, const std::string& reference,
+                  bool with_contact = false)
+      : f(std::fopen(p.c_str(), "w")), contact(with_contact) {
     if (!f) throw std::runtime_error("cannot write " + p.string());
-    std::fprintf(f, "# %s\nt,x,y,angle,vx,vy,omega,remeshes\n", reference.c_str());
+    std::fprintf(f, "# %s\nt,x,y,angle,vx,vy,omega,remeshes%s\n", reference.c_str(),
+                 contact ? ",fx,fy" : "");
   }
   ~Series() { std::fclose(f); }
   Series(const Series&) = delete;
@@ -42,8 +47,11 @@ struct Series {
   void operator()(const MovingBodyFlow& r) const {
     const auto v = r.flow().body_velocity(0);
     const auto& p = r.poses()[0];
-    std::fprintf(f, "%.6g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d\n", r.time(), p.centre.x, p.centre.y,
+    std::fprintf(f, "%.6g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d", r.time(), p.centre.x, p.centre.y,
                  p.angle, v.velocity.x, v.velocity.y, v.angular_velocity, r.remeshes());
+    if (contact)
+      std::fprintf(f, ",%.9g,%.9g", r.contact_loads()[0].force.x, r.contact_loads()[0].force.y);
+    std::fprintf(f, "\n");
   }
 };
 
@@ -89,6 +97,17 @@ int main(int argc, char** argv) {
     const auto run = settle_on_floor(
         true, 0.3, 4.0, [&](const MovingBodyFlow& r) { s(r); }, &t);
     report("square_onto_floor", run, t, now() - t0);
+  }
+  for (const auto& [name, ratio] : {std::pair{"hold", 0.9}, {"slide", 1.1}}) {
+    const double mu = 0.5, tan_s = ratio * mu;
+    const std::string file = std::string("moving_slope_") + name + ".csv";
+    const Series s(out / file,
+                   "square on a slope, mu = 0.5, tan(slope) / mu = " + std::to_string(ratio), true);
+    const double t0 = now();
+    StepTotals t;
+    const auto run = square_on_slope(
+        tan_s, mu, 3.0, [&](const MovingBodyFlow& r) { s(r); }, &t);
+    report(file.c_str(), run, t, now() - t0);
   }
   return 0;
 }

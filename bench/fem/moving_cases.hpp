@@ -132,6 +132,43 @@ inline fem_dem::MovingBodyFlow settle_on_floor(
   return run;
 }
 
+/// The square of settle_on_floor (side 0.2, density 2, in fluid of density 1 and nu = 0.05, the
+/// box 1 x 1.5, repulsion range 0.03 and F_0 = 4 x its buoyant weight W = 0.4 N/m) resting flat
+/// on the floor with gravity 10 m/s^2 tilted by atan(tan_slope) towards +x -- a slope seen from
+/// its own frame -- and Coulomb friction mu on the repulsion's gaps (the default tangential
+/// stiffness 2 F_0 / rho). It starts at rest at the gap where the two lower corners carry
+/// W cos(slope) (F_0 s^2 = W cos / 2, gap = rho (1 - s)); BDF2 with dt = 0.01 s to t_end, calling
+/// each(run) after every step (Newton work in *totals).
+inline fem_dem::MovingBodyFlow square_on_slope(
+    double tan_slope, double mu, double t_end,
+    const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {},
+    StepTotals* totals = nullptr) {
+  const double cos_s = 1 / std::sqrt(1 + tan_slope * tan_slope), sin_s = tan_slope * cos_s;
+  const double range = 0.03, weight = (2.0 - 1.0) * 10 * 0.04;
+  const double y0 = 0.1 + range * (1 - std::sqrt(cos_s / 8));
+  FlowProblem pb;
+  pb.spec.outline = {{-0.5, 0}, {0.5, 0}, {0.5, 1.5}, {-0.5, 1.5}};
+  BodyShape b;
+  b.kind = BodyShape::Kind::Polygon;
+  for (const auto& [x, y] : {std::pair{-0.1, -0.1}, {0.1, -0.1}, {0.1, 0.1}, {-0.1, 0.1}})
+    b.vertices.push_back({x, y0 + y});
+  b.centre = {0, y0};
+  pb.spec.bodies = {b};
+  pb.spec.h_body = 0.02;
+  pb.spec.h_max = 0.1;
+  pb.mesh = build_mesh(pb.spec);
+  pb.outline_bc.assign(4, OutlineBc{});
+  pb.viscosity = 0.05;
+  pb.body_density = {2.0};
+  pb.gravity = {10 * sin_s, -10 * cos_s};
+  fem_dem::MovingBodyOptions opt;
+  opt.collision = {range, 4 * weight, mu};
+  fem_dem::MovingBodyFlow run(std::move(pb), opt);
+  const StepTotals t = run_steps(run, 0.01, t_end, each);
+  if (totals) *totals = t;
+  return run;
+}
+
 /// Upward force [N/m] of the fluid on a disk (radius 0.1) held at the origin of a channel of
 /// half-width 0.5 whose walls slide upwards at U, fed from below with the uniform velocity U
 /// (y from -2.5 to 4, outflow at the top; nu = 0.02): the steady flow around a disk settling

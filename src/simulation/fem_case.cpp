@@ -139,7 +139,8 @@ fem_dem::MovingBodyOptions moving_options(const fem::FemCaseConfig& cfg) {
   fem_dem::MovingBodyOptions o;
   o.remesh_ratio = cfg.remesh_ratio;
   o.remesh_quality = cfg.remesh_quality;
-  o.collision = {cfg.repulsion_range, cfg.repulsion_force};
+  o.collision = {cfg.repulsion_range, cfg.repulsion_force, cfg.repulsion_friction,
+                 cfg.repulsion_tangential_stiffness};
   return o;
 }
 

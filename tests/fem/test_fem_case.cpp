@@ -438,7 +438,7 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
                "[0.65, 0.25]]}", "[0.65, 0.25]], velocity: [0, -0.1], density: 800}"),
       "  mesh:",
       "  gravity: [0.5, -9.81]\n  moving_mesh: {remesh_ratio: 0.4, repulsion: {range: 0.01, "
-      "force: 2.5}}\n  mesh:");
+      "force: 2.5, friction: 0.4, tangential_stiffness: 300}}\n  mesh:");
   for (const auto& yaml : {std::string(kGood), adaptive, sine, steady, unnamed, free}) {
     auto cfg = parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml");
     cfg.name = "channel";
@@ -471,6 +471,8 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
     EXPECT_EQ(back.remesh_quality, cfg.remesh_quality);
     EXPECT_EQ(back.repulsion_range, cfg.repulsion_range);
     EXPECT_EQ(back.repulsion_force, cfg.repulsion_force);
+    EXPECT_EQ(back.repulsion_friction, cfg.repulsion_friction);
+    EXPECT_EQ(back.repulsion_tangential_stiffness, cfg.repulsion_tangential_stiffness);
     for (std::size_t j = 0; j < cfg.mesh.bodies.size(); ++j) {
       EXPECT_EQ(back.mesh.bodies[j].centre.x, cfg.mesh.bodies[j].centre.x);
       EXPECT_EQ(back.mesh.bodies[j].centre.y, cfg.mesh.bodies[j].centre.y);
@@ -649,7 +651,8 @@ gf::fem_dem::MovingBodyOptions options(const FemCaseConfig& cfg) {
   gf::fem_dem::MovingBodyOptions o;
   o.remesh_ratio = cfg.remesh_ratio;
   o.remesh_quality = cfg.remesh_quality;
-  o.collision = {cfg.repulsion_range, cfg.repulsion_force};
+  o.collision = {cfg.repulsion_range, cfg.repulsion_force, cfg.repulsion_friction,
+                 cfg.repulsion_tangential_stiffness};
   return o;
 }
 
@@ -763,7 +766,16 @@ TEST(FemMovingCase, BadKeysAreLocatedErrors) {
       replaced(free, "  mesh:", "  moving_mesh: {repulsion: {range: -1, force: 1}}\n  mesh:"), 13,
       "fluid_fem.moving_mesh.repulsion.range", {"a number in (0, inf]", "found '-1'"});
   expect_error(replaced(free, "  mesh:", "  moving_mesh: {repulsion: 0.01}\n  mesh:"), 13,
-               "fluid_fem.moving_mesh.repulsion", {"{range: m, force: N/m}"});
+               "fluid_fem.moving_mesh.repulsion", {"{range: m, force: N/m,"});
+  expect_error(replaced(free, "  mesh:",
+                        "  moving_mesh: {repulsion: {range: 0.01, force: 1, friction: -0.1}}\n"
+                        "  mesh:"),
+               13, "fluid_fem.moving_mesh.repulsion.friction", {"[0, inf]", "found '-0.1'"});
+  expect_error(
+      replaced(free, "  mesh:",
+               "  moving_mesh: {repulsion: {range: 0.01, force: 1, tangential_stiffness: 5}}\n"
+               "  mesh:"),
+      13, "fluid_fem.moving_mesh.repulsion.tangential_stiffness", {"without a friction"});
   // what a moving run cannot do yet, at the key that asks for it (time on line 14)
   expect_error(replaced(free, "mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2", "mode: steady"),
                14, "fluid_fem.time.mode",

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Plots of the moving-body validations of fluid_fem (free bodies, ALE mesh motion, remeshing,
-# repulsion) from the series written by the bench driver:
+# repulsion, friction) from the series written by the bench driver:
 #   build/release/tests/fem/gf_fem_bench_moving bench/fem/runs
 #   /usr/bin/python3 docs/validation/fem/plot_moving.py bench/fem/runs
 # writes docs/validation/fem/moving_bodies.png.
@@ -27,7 +27,7 @@ def load(folder, name):
 
 
 def main(folder):
-    fig, ax = plt.subplots(2, 2, figsize=(10, 7))
+    fig, ax = plt.subplots(3, 2, figsize=(10, 10.5))
 
     d, ut = load(folder, "moving_stokes.csv")
     a = ax[0, 0]
@@ -72,6 +72,29 @@ def main(folder):
     h1, l1 = a.get_legend_handles_labels()
     h2, l2 = b.get_legend_handles_labels()
     a.legend(h1 + h2, l1 + l2, fontsize=8)
+
+    # Coulomb friction on a slope (gravity tilted): holds below the friction angle, slides above
+    for col, name in ((0, "hold"), (1, "slide")):
+        d, ratio = load(folder, f"moving_slope_{name}.csv")
+        a = ax[2, col]
+        tan_s = ratio * 0.5
+        cos_s = 1 / np.sqrt(1 + tan_s**2)
+        w = 0.4
+        a.plot(d["t"], -d["fx"] / w, label="friction / W")
+        a.plot(d["t"], d["fy"] / w, label="normal load / W")
+        a.axhline(w * tan_s * cos_s / w, color="C0", ls=":", label="W sin (static balance)")
+        a.axhline(0.5 * cos_s, color="C1", ls=":", label="mu W cos (Coulomb limit)")
+        a.set_ylim(0, 1.0)
+        a.set_xlabel("t [s]")
+        a.set_ylabel("contact force / buoyant weight")
+        b = a.twinx()
+        b.plot(d["t"], 1e3 * d["x"], color="C2", label="displacement [mm]")
+        b.set_ylabel("displacement down the slope [mm]")
+        a.set_title(f"slope tan = {ratio:.1f} mu: moved {1e3 * d['x'][-1]:.1f} mm, "
+                    f"v(3 s) = {d['vx'][-1]:.1e} m/s", fontsize=10)
+        h1, l1 = a.get_legend_handles_labels()
+        h2, l2 = b.get_legend_handles_labels()
+        a.legend(h1 + h2, l1 + l2, fontsize=7, loc="center right")
 
     fig.tight_layout()
     fig.savefig(os.path.join(HERE, "moving_bodies.png"), dpi=110)

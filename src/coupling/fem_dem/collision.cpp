@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/error.hpp"
+
 namespace gf::fem_dem {
 
 namespace {
@@ -89,7 +91,7 @@ Gap gap_of(const Probe& pr, Vec2 q, bool overlap) {
   return out;
 }
 
-/// Calls f(gap, probe body, facing body or -1 for the outline) for every probe and facing
+/// Calls f(gap, probe body, facing body or -1 for the outline, key) for every probe and facing
 /// surface: every outline edge (a disk in a corner feels both walls; an outline corner counts
 /// once), every other body; circle against circle and circle against polygon are probed from
 /// the circle only, and where two polygons' corners meet each probe carries half the force.
@@ -100,7 +102,8 @@ void for_each_gap(const fem::MeshSpec& spec, F&& f) {
   for (int a = 0; a < n; ++a) {
     const auto& ba = spec.bodies[a];
     const auto pa = probes(ba);
-    for (const auto& pr : pa) {
+    for (std::size_t k = 0; k < pa.size(); ++k) {
+      const Probe& pr = pa[k];
       const bool outside = !inside_polygon(pr.p, ol);
       for (std::size_t e = 0; e < ol.size(); ++e) {
         const Vec2 q = closest_on_segment(pr.p, ol[e], ol[(e + 1) % ol.size()]);
@@ -111,7 +114,8 @@ void for_each_gap(const fem::MeshSpec& spec, F&& f) {
           const Vec2 qn = closest_on_segment(pr.p, ol[next], ol[(next + 1) % ol.size()]);
           if (qn.x == end.x && qn.y == end.y) continue;
         }
-        f(gap_of(pr, q, outside), a, -1);
+        f(gap_of(pr, q, outside), a, -1,
+          ContactHistory::key(a, static_cast<int>(k), -1, static_cast<int>(e)));
       }
     }
     for (int b = 0; b < n; ++b) {
@@ -121,13 +125,14 @@ void for_each_gap(const fem::MeshSpec& spec, F&& f) {
       const bool b_circle = bb.kind == BodyShape::Kind::Circle;
       if (a_circle && b_circle && b < a) continue;  // once per pair of circles
       if (!a_circle && b_circle) continue;          // probed from the circle
-      for (const auto& pr : pa) {
+      for (std::size_t k = 0; k < pa.size(); ++k) {
+        const Probe& pr = pa[k];
         const Vec2 q = closest_on_body(pr.p, bb);
         Gap gp = gap_of(pr, q, inside_body(pr.p, bb));
         if (!a_circle && !b_circle)
           for (const Vec2& v : bb.vertices)
             if (v.x == q.x && v.y == q.y) gp.weight = 0.5;  // B's corner probes A too
-        f(gp, a, b);
+        f(gp, a, b, ContactHistory::key(a, static_cast<int>(k), b, 0));
       }
     }
   }
@@ -135,8 +140,23 @@ void for_each_gap(const fem::MeshSpec& spec, F&& f) {
 
 }  // namespace
 
-std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec,
-                                            const CollisionModel& model) {
+std::uint64_t ContactHistory::key(int body, int probe, int other, int edge) {
+  const auto u = [](int v) { return static_cast<std::uint64_t>(static_cast<std::uint16_t>(v)); };
+  return u(body) << 48 | u(probe) << 32 | u(other + 1) << 16 | u(edge);
+}
+
+double ContactHistory::stretch(int body, int probe, int other, int edge) const {
+  const auto it = stretch_.find(key(body, probe, other, edge));
+  return it == stretch_.end() ? 0.0 : it->second;
+}
+
+namespace {
+
+/// The loads of the repulsion and, with `history`, of friction (see the header).
+std::vector<fem::BodyForce> loads_of(const fem::MeshSpec& spec, const CollisionModel& model,
+                                     const std::vector<fem::BodyMotion>* velocity, double dt,
+                                     const std::unordered_map<std::uint64_t, double>* history,
+                                     std::unordered_map<std::uint64_t, double>* next) {
   std::vector<fem::BodyForce> loads(spec.bodies.size());
   if (model.range <= 0 || model.force <= 0) return loads;
   auto add = [&](int body, Vec2 at, Vec2 force) {
@@ -145,20 +165,65 @@ std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec,
     loads[body].force.y += force.y;
     loads[body].torque += (at.x - c.x) * force.y - (at.y - c.y) * force.x;
   };
-  for_each_gap(spec, [&](const Gap& gp, int a, int b) {
+  // velocity of body b's material point at x (the outline, b = -1, is at rest)
+  auto point_velocity = [&](int b, Vec2 x) {
+    if (b < 0) return Vec2{0, 0};
+    const auto& m = (*velocity)[b];
+    const Vec2 c = spec.bodies[b].centre;
+    return Vec2{m.velocity.x - m.angular_velocity * (x.y - c.y),
+                m.velocity.y + m.angular_velocity * (x.x - c.x)};
+  };
+  const bool friction = history != nullptr && model.friction > 0;
+  const double k_t = friction ? model.spring() : 0.0;
+  for_each_gap(spec, [&](const Gap& gp, int a, int b, std::uint64_t key) {
     if (gp.g >= model.range) return;
     const double s = (model.range - gp.g) / model.range;
     const double mag = gp.weight * model.force * s * s;
     const Vec2 mid{0.5 * (gp.on_probe.x + gp.facing.x), 0.5 * (gp.on_probe.y + gp.facing.y)};
-    add(a, mid, {mag * gp.n.x, mag * gp.n.y});
-    if (b >= 0) add(b, mid, {-mag * gp.n.x, -mag * gp.n.y});
+    Vec2 f{mag * gp.n.x, mag * gp.n.y};
+    if (friction) {
+      const Vec2 t{-gp.n.y, gp.n.x};
+      const Vec2 va = point_velocity(a, mid), vb = point_velocity(b, mid);
+      const double v_t = (va.x - vb.x) * t.x + (va.y - vb.y) * t.y;
+      const auto it = history->find(key);
+      double xi = (it == history->end() ? 0.0 : it->second) + v_t * dt;
+      const double k = gp.weight * k_t, cap = model.friction * mag;
+      double f_t = -k * xi;
+      if (std::abs(f_t) > cap) {  // sliding: the spring stays at the Coulomb limit
+        f_t = std::copysign(cap, f_t);
+        xi = -f_t / k;
+      }
+      (*next)[key] = xi;
+      f.x += f_t * t.x;
+      f.y += f_t * t.y;
+    }
+    add(a, mid, f);
+    if (b >= 0) add(b, mid, {-f.x, -f.y});
   });
+  return loads;
+}
+
+}  // namespace
+
+std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec,
+                                            const CollisionModel& model) {
+  return loads_of(spec, model, nullptr, 0.0, nullptr, nullptr);
+}
+
+std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const CollisionModel& model,
+                                            const std::vector<fem::BodyMotion>& velocity, double dt,
+                                            ContactHistory& history) {
+  REQUIRE(velocity.size() == spec.bodies.size(), "collision_loads: {} velocities for {} bodies",
+          velocity.size(), spec.bodies.size());
+  std::unordered_map<std::uint64_t, double> next;
+  auto loads = loads_of(spec, model, &velocity, dt, &history.stretch_, &next);
+  history.stretch_ = std::move(next);
   return loads;
 }
 
 double smallest_gap(const fem::MeshSpec& spec) {
   double g = std::numeric_limits<double>::infinity();
-  for_each_gap(spec, [&](const Gap& gp, int, int) { g = std::min(g, gp.g); });
+  for_each_gap(spec, [&](const Gap& gp, int, int, std::uint64_t) { g = std::min(g, gp.g); });
   return g;
 }
 

@@ -16,8 +16,20 @@
 // half. A probe inside the other body (or outside the outline) has a negative gap and is pushed
 // back out. (Glowinski et al. write the same law with the centres' distance for
 // disks; this is its extension to polygons.)
+//
+// Friction (optional, CollisionModel::friction > 0): each gap in range also carries a tangential
+// force, a linear spring on the tangential displacement accumulated while the gap stays in range,
+// capped by Coulomb's law (Cundall & Strack, Geotechnique 29 (1979) 47):
+//   xi += v_t dt,   F_t = -k_t xi,   |F_t| <= mu F_n  (at the cap: sliding, xi = -F_t / k_t),
+// with v_t the velocity of the probe body's surface point relative to the facing surface along
+// t = (-n_y, n_x), F_n the repulsion of that gap and k_t [N/m^2] a tangential stiffness per unit
+// depth (by default 2 F_0 / rho, the repulsion's stiffness at zero gap). A grain resting in a
+// film on a slope then holds while tan(slope) < mu and slides above it, as a DEM grain does;
+// the history (xi per probe and facing surface) is ContactHistory, kept from step to step.
 #pragma once
 
+#include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "fluid/fem/navier_stokes.hpp"
@@ -27,13 +39,44 @@ namespace gf::fem_dem {
 using fem::Vec2;
 
 struct CollisionModel {
-  double range = 0.0;  ///< rho [m]; 0: no repulsion
-  double force = 0.0;  ///< F_0 [N/m]
+  double range = 0.0;                 ///< rho [m]; 0: no repulsion
+  double force = 0.0;                 ///< F_0 [N/m]
+  double friction = 0.0;              ///< Coulomb coefficient mu of the tangential force; 0: none
+  double tangential_stiffness = 0.0;  ///< k_t [N/m^2]; 0: 2 F_0 / rho
+
+  /// The tangential stiffness in use [N/m^2].
+  [[nodiscard]] double spring() const {
+    return tangential_stiffness > 0 ? tangential_stiffness : 2.0 * force / range;
+  }
+};
+
+/// Tangential spring stretch [m] of every gap in range (one per probe and facing surface),
+/// carried from one step to the next; a gap that opens past the range forgets its stretch.
+class ContactHistory {
+ public:
+  [[nodiscard]] std::size_t size() const { return stretch_.size(); }
+  /// Stretch of the gaps from probe `probe` of body `body` to the outline edge `edge`
+  /// (`other` = -1) or to body `other` (edge 0); 0 when not in range.
+  [[nodiscard]] double stretch(int body, int probe, int other, int edge) const;
+  [[nodiscard]] static std::uint64_t key(int body, int probe, int other, int edge);
+
+ private:
+  friend std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec&, const CollisionModel&,
+                                                     const std::vector<fem::BodyMotion>&, double,
+                                                     ContactHistory&);
+  std::unordered_map<std::uint64_t, double> stretch_;
 };
 
 /// Repulsion loads (force [N/m] and torque about the centre [N]) on the bodies of `spec`, placed
-/// where they are, from each other and from the outline.
+/// where they are, from each other and from the outline (no friction).
 std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const CollisionModel& model);
+
+/// Repulsion and friction loads: as above, plus the tangential forces of model.friction, their
+/// springs advanced over dt [s] with the bodies' velocities `velocity` (one per body; the outline
+/// is at rest) and kept in `history`.
+std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const CollisionModel& model,
+                                            const std::vector<fem::BodyMotion>& velocity, double dt,
+                                            ContactHistory& history);
 
 /// Smallest gap [m] between any two bodies of `spec` or between a body and the outline.
 double smallest_gap(const fem::MeshSpec& spec);

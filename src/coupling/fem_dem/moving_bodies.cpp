@@ -232,24 +232,27 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
           "follow (a fresh mesh inverts; quality ratio {:.3g}): lower the time step",
           flow_->time(), dt, ratio));
   }
-  // loads of the step: the caller's external ones plus the repulsion at the step's end poses
-  // (set on every step, so a new solver after a remesh has them too)
-  std::vector<fem::BodyForce> loads = external_;
-  loads.resize(poses_.size());
-  if (options_.collision.range > 0) {
-    const auto rep = collision_loads(placed_spec(next), options_.collision);
-    for (std::size_t b = 0; b < rep.size(); ++b) {
-      loads[b].force.x += rep[b].force.x;
-      loads[b].force.y += rep[b].force.y;
-      loads[b].torque += rep[b].torque;
-    }
-  }
-  for (std::size_t b = 0; b < loads.size(); ++b)
-    if (flow_->is_free(static_cast<int>(b)))
-      flow_->set_body_load(static_cast<int>(b), loads[b].force, loads[b].torque);
   std::vector<fem::BodyMotion> velocity;
   for (std::size_t b = 0; b < poses_.size(); ++b)
     velocity.push_back(flow_->body_velocity(static_cast<int>(b)));
+  // loads of the step: the caller's external ones plus the contacts' (repulsion and friction)
+  // at the step's end poses, friction springs advanced with the velocities at its start (set on
+  // every step, so a new solver after a remesh has them too)
+  std::vector<fem::BodyForce> loads = external_;
+  loads.resize(poses_.size());
+  std::vector<fem::BodyForce> contact(poses_.size());
+  ContactHistory history = history_;
+  if (options_.collision.range > 0)
+    contact = options_.collision.friction > 0
+                  ? collision_loads(placed_spec(next), options_.collision, velocity, dt, history)
+                  : collision_loads(placed_spec(next), options_.collision);
+  for (std::size_t b = 0; b < loads.size(); ++b) {
+    loads[b].force.x += contact[b].force.x;
+    loads[b].force.y += contact[b].force.y;
+    loads[b].torque += contact[b].torque;
+    if (flow_->is_free(static_cast<int>(b)))
+      flow_->set_body_load(static_cast<int>(b), loads[b].force, loads[b].torque);
+  }
   std::vector<Vec2> centres;
   for (const auto& p : next) centres.push_back(p.centre);
   flow_->move_mesh(nodes, centres);
@@ -263,6 +266,8 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
   }
   flow_->accept_step();
   poses_ = next;
+  history_ = std::move(history);
+  contact_loads_ = std::move(contact);
   previous_velocity_ = std::move(velocity);
   previous_dt_ = dt;
   return r;

@@ -11,8 +11,8 @@
 // The flow is solved in ALE form on the moved mesh (fem::NavierStokes::move_mesh). When a cell's
 // shape degrades past a bound, the domain is meshed again around the bodies where they are and
 // the velocity is interpolated onto the new mesh; the BDF history restarts there (one BDF1
-// step). Bodies keep apart by a short-range repulsion (collision.hpp); DEM contacts between
-// touching grains are not handled yet.
+// step). Bodies keep apart by a short-range repulsion with optional Coulomb friction
+// (collision.hpp); grains never touch, so restitution comes from the fluid film only.
 #pragma once
 
 #include <memory>
@@ -73,6 +73,11 @@ class MovingBodyFlow {
   [[nodiscard]] const std::vector<RigidPose>& poses() const { return poses_; }
   [[nodiscard]] double time() const { return flow_->time(); }
   [[nodiscard]] int remeshes() const { return remeshes_; }
+  /// Contact loads (repulsion and friction; force [N/m], torque about the centre [N]) on each
+  /// body in the last step.
+  [[nodiscard]] const std::vector<fem::BodyForce>& contact_loads() const { return contact_loads_; }
+  /// Friction springs of the contacts in range after the last step.
+  [[nodiscard]] const ContactHistory& contact_history() const { return history_; }
   /// Wall time spent remeshing (meshing, new solver set-up, interpolation) [s].
   [[nodiscard]] double remesh_seconds() const { return remesh_seconds_; }
 
@@ -105,8 +110,10 @@ class MovingBodyFlow {
   std::vector<RigidPose> reference_poses_, poses_;
   std::vector<fem::BodyMotion> previous_velocity_;  // at the step before the last (AB2)
   double previous_dt_ = 0.0;
-  std::vector<double> reference_quality_;  // per cell, on the fresh mesh
-  std::vector<fem::BodyForce> external_;   // per body (set_external_load)
+  std::vector<double> reference_quality_;      // per cell, on the fresh mesh
+  std::vector<fem::BodyForce> external_;       // per body (set_external_load)
+  std::vector<fem::BodyForce> contact_loads_;  // per body, of the last step
+  ContactHistory history_;
   int remeshes_ = 0;
   double remesh_seconds_ = 0.0;
 };

@@ -611,8 +611,10 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
     if (const auto rep = mm["repulsion"]; rep.IsDefined()) {
       const std::string rp = mp + ".repulsion";
       if (!rep.IsMap())
-        r.fail(rep, rp, "a map {range: m, force: N/m} (repulsion across narrow gaps)");
-      r.keys(rep, rp, {"range", "force"});
+        r.fail(rep, rp,
+               "a map {range: m, force: N/m, friction, tangential_stiffness: N/m^2} (repulsion "
+               "across narrow gaps, with optional Coulomb friction)");
+      r.keys(rep, rp, {"range", "force", "friction", "tangential_stiffness"});
       for (const char* k : {"range", "force"})
         if (!rep[k].IsDefined())
           r.fail(rep, rp + "." + k,
@@ -621,6 +623,16 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
       const double inf = std::numeric_limits<double>::infinity();
       cfg.repulsion_range = r.number(rep["range"], rp + ".range", 0, inf, true);
       cfg.repulsion_force = r.number(rep["force"], rp + ".force", 0, inf, true);
+      if (rep["friction"].IsDefined())
+        cfg.repulsion_friction = r.number(rep["friction"], rp + ".friction", 0, inf);
+      if (rep["tangential_stiffness"].IsDefined()) {
+        if (cfg.repulsion_friction == 0)
+          r.fail(rep["tangential_stiffness"], rp + ".tangential_stiffness",
+                 "no tangential_stiffness without a friction coefficient > 0 (the spring carries "
+                 "the friction force)");
+        cfg.repulsion_tangential_stiffness =
+            r.number(rep["tangential_stiffness"], rp + ".tangential_stiffness", 0, inf, true);
+      }
     }
   }
   if (cfg.repulsion_range == 0)
@@ -1045,6 +1057,9 @@ std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& pro
       key("repulsion") << YAML::Flow << YAML::BeginMap;
       key("range") << num(cfg.repulsion_range);
       key("force") << num(cfg.repulsion_force);
+      if (cfg.repulsion_friction > 0) key("friction") << num(cfg.repulsion_friction);
+      if (cfg.repulsion_tangential_stiffness > 0)
+        key("tangential_stiffness") << num(cfg.repulsion_tangential_stiffness);
       out << YAML::EndMap;
     }
     out << YAML::EndMap;
@@ -1181,6 +1196,24 @@ std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConf
     if (g == 0) {
       row(who + "buoyant weight", "none (no gravity)");
       continue;
+    }
+    if (cfg.repulsion_range > 0 && !cfg.steady) {
+      // The repulsion and friction act as explicit loads, fixed over each step: the period of
+      // the body's mass on the repulsion's stiffness at contact (2 F_0 / rho) or the friction
+      // spring must span several steps (symplectic Euler is stable below omega dt = 2).
+      const double k_n = 2 * cfg.repulsion_force / cfg.repulsion_range;
+      const double k = std::max(
+          k_n,
+          cfg.repulsion_friction > 0
+              ? (cfg.repulsion_tangential_stiffness > 0 ? cfg.repulsion_tangential_stiffness : k_n)
+              : 0.0);
+      const double period = 2 * std::numbers::pi * std::sqrt(rho_s * area / k);
+      const double steps = period / cfg.time.dt;
+      row(who + "contact spring period 2 pi sqrt(m / k) (s)",
+          fmt::format("{:.4g} = {:.3g} steps{}", period, steps,
+                      steps < 10 ? " (< 10: the explicit contact loads may ring or blow up; lower "
+                                   "the step, the force or the tangential stiffness)"
+                                 : ""));
     }
     const double weight = (rho_s - cfg.density) * g * area;
     row(who + "buoyant weight (rho_s - rho_f) g A (N/m)", fmt::format("{:.4g}", weight));

@@ -65,6 +65,10 @@ struct FemCaseConfig {
   /// repulsion_force [N/m] (fem_dem::CollisionModel; 0: none).
   double repulsion_range = 0.0;
   double repulsion_force = 0.0;
+  /// Coulomb friction coefficient of the repulsion's gaps (0: none) and the tangential spring
+  /// [N/m^2] carrying it (0: 2 repulsion_force / repulsion_range).
+  double repulsion_friction = 0.0;
+  double repulsion_tangential_stiffness = 0.0;
   bool steady = true;
   /// unsteady: start from the steady solution for the boundary data at t = 0 (consistent initial
   /// conditions by Newton) instead of from rest
