@@ -437,7 +437,7 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
       replaced(replaced(kGood, "angular_velocity: 1.0}", "angular_velocity: 1.0, density: 2.5}"),
                "[0.65, 0.25]]}", "[0.65, 0.25]], velocity: [0, -0.1], density: 800}"),
       "  mesh:",
-      "  gravity: [0.5, -9.81]\n  moving_mesh: {remesh_ratio: 0.4, repulsion: {range: 0.01, "
+      "  gravity: [0.5, -9.81]\n  moving_mesh: {remesh_ratio: 0.4, repulsion: {range: 0.04, "
       "force: 2.5, friction: 0.4, tangential_stiffness: 300}}\n  mesh:");
   for (const auto& yaml : {std::string(kGood), adaptive, sine, steady, unnamed, free}) {
     auto cfg = parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml");
@@ -733,11 +733,22 @@ TEST(FemMovingCase, ParsesFreeBodies) {
   const auto with_repulsion = parse_fluid_fem(
       YAML::Load(
           replaced(yaml, "{remesh_quality: 0.1}",
-                   "{remesh_quality: 0.1, repulsion: {range: 0.01, force: 0.5}}"))["fluid_fem"],
+                   "{remesh_quality: 0.1, repulsion: {range: 0.04, force: 0.5}}"))["fluid_fem"],
       "case.yaml");
   EXPECT_TRUE(with_repulsion.warnings.empty());
-  EXPECT_EQ(with_repulsion.repulsion_range, 0.01);
+  EXPECT_EQ(with_repulsion.repulsion_range, 0.04);
   EXPECT_EQ(with_repulsion.repulsion_force, 0.5);
+  // a range below the cell size at the bodies keeps a film narrower than a cell: warned of
+  const auto thin = parse_fluid_fem(
+      YAML::Load(
+          replaced(yaml, "{remesh_quality: 0.1}",
+                   "{remesh_quality: 0.1, repulsion: {range: 0.001, force: 0.5}}"))["fluid_fem"],
+      "case.yaml");
+  ASSERT_EQ(thin.warnings.size(), 1u);
+  EXPECT_NE(thin.warnings[0].find("fluid_fem.moving_mesh.repulsion.range: the range 0.001 m is "
+                                  "below the smallest cell size at the bodies"),
+            std::string::npos)
+      << thin.warnings[0];
 }
 
 TEST(FemMovingCase, BadKeysAreLocatedErrors) {

@@ -623,6 +623,16 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
       const double inf = std::numeric_limits<double>::infinity();
       cfg.repulsion_range = r.number(rep["range"], rp + ".range", 0, inf, true);
       cfg.repulsion_force = r.number(rep["force"], rp + ".force", 0, inf, true);
+      // The film the repulsion keeps must hold a cell or two: remeshing a narrower gap fails.
+      double h_min = cfg.mesh.h_body;
+      for (const auto& box : cfg.mesh.boxes) h_min = std::min(h_min, box.h);
+      if (cfg.repulsion_range < h_min)
+        cfg.warnings.push_back(r.warning(
+            rep["range"], rp + ".range",
+            fmt::format("the range {:g} m is below the smallest cell size at the bodies ({:g} m): "
+                        "the film it keeps is narrower than a cell and a remesh in such a gap "
+                        "can fail; 1-2 x mesh.h_body works (docs/models/fem_dem.md)",
+                        cfg.repulsion_range, h_min)));
       if (rep["friction"].IsDefined())
         cfg.repulsion_friction = r.number(rep["friction"], rp + ".friction", 0, inf);
       if (rep["tangential_stiffness"].IsDefined()) {
