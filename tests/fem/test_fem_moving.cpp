@@ -400,6 +400,25 @@ TEST(FemMoving, CollisionFrictionSticksThenSlidesAtTheCoulombLimit) {
   EXPECT_EQ(none[0].force.y, 0);
 }
 
+// A mesh motion that inverts a cell is refused (gf::Error) and leaves the mesh and the bodies
+// where they were, so the caller can retry with a shorter step.
+TEST(FemMoving, MoveMeshThatInvertsACellLeavesTheMeshWhereItWas) {
+  NavierStokes ns(vertical_channel(0.5, 2.0, 0.1, 0.0, 0.05, 0.2));
+  const std::vector<Vec2> before = ns.mesh().nodes;
+  std::vector<Vec2> x = before;
+  const auto& c = ns.mesh().cells[0];
+  x[c[0]] = {2 * x[c[1]].x - x[c[0]].x + 3 * (x[c[2]].x - x[c[1]].x),  // far across its edge
+             2 * x[c[1]].y - x[c[0]].y + 3 * (x[c[2]].y - x[c[1]].y)};
+  EXPECT_THROW(ns.move_mesh(x, {{0.0, 0.3}}), gf::Error);
+  EXPECT_EQ(ns.mesh().nodes.size(), before.size());
+  for (std::size_t k = 0; k < before.size(); ++k) {
+    EXPECT_EQ(ns.mesh().nodes[k].x, before[k].x);
+    EXPECT_EQ(ns.mesh().nodes[k].y, before[k].y);
+  }
+  EXPECT_EQ(ns.problem().spec.bodies[0].centre.y, 0.0);
+  ns.move_mesh(before, {{0.0, 0.0}});  // the mesh where it is: accepted
+}
+
 // External loads given to the moving flow last over steps and remeshes: a disk (density 1.5)
 // held by a load equal to its buoyant weight stays at rest.
 TEST(FemMoving, ExternalLoadOutlastsARemesh) {

@@ -230,9 +230,23 @@ void NavierStokes::move_mesh(const std::vector<Vec2>& nodes, const std::vector<V
     hist_centres_.assign(hist_t_.size(), base_centres_);
     moving_ = true;
   }
-  problem_.mesh.nodes = nodes;
-  for (std::size_t j = 0; j < centres.size(); ++j) problem_.spec.bodies[j].centre = centres[j];
-  precompute_geometry();
+  // an inverted cell throws from precompute_geometry: the mesh then stays where it was
+  std::vector<Vec2> old_nodes = nodes;
+  std::swap(old_nodes, problem_.mesh.nodes);
+  std::vector<Vec2> old_centres;
+  for (std::size_t j = 0; j < centres.size(); ++j) {
+    old_centres.push_back(problem_.spec.bodies[j].centre);
+    problem_.spec.bodies[j].centre = centres[j];
+  }
+  try {
+    precompute_geometry();
+  } catch (...) {
+    problem_.mesh.nodes = std::move(old_nodes);
+    for (std::size_t j = 0; j < centres.size(); ++j)
+      problem_.spec.bodies[j].centre = old_centres[j];
+    precompute_geometry();
+    throw;
+  }
   locator_stale_ = true;  // rebuilt when a point is located (probes, interpolation)
   set_time(t_);
 }
