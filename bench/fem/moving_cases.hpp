@@ -132,7 +132,8 @@ inline fem_dem::MovingBodyFlow settle_on_floor(
   return run;
 }
 
-/// The square of settle_on_floor (side 0.2, density 2, in fluid of density 1 and nu = 0.05, the
+/// The square of settle_on_floor (side 0.2, density 2, in fluid of density 1 and nu = 0.05 unless
+/// given, the
 /// box 1 x 1.5, repulsion range 0.03 and F_0 = 4 x its buoyant weight W = 0.4 N/m) resting flat
 /// on the floor with gravity 10 m/s^2 tilted by atan(tan_slope) towards +x -- a slope seen from
 /// its own frame -- and Coulomb friction mu on the repulsion's gaps (the default tangential
@@ -142,7 +143,7 @@ inline fem_dem::MovingBodyFlow settle_on_floor(
 inline fem_dem::MovingBodyFlow square_on_slope(
     double tan_slope, double mu, double t_end,
     const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {},
-    StepTotals* totals = nullptr) {
+    StepTotals* totals = nullptr, double viscosity = 0.05) {
   const double cos_s = 1 / std::sqrt(1 + tan_slope * tan_slope), sin_s = tan_slope * cos_s;
   const double range = 0.03, weight = (2.0 - 1.0) * 10 * 0.04;
   const double y0 = 0.1 + range * (1 - std::sqrt(cos_s / 8));
@@ -158,7 +159,7 @@ inline fem_dem::MovingBodyFlow square_on_slope(
   pb.spec.h_max = 0.1;
   pb.mesh = build_mesh(pb.spec);
   pb.outline_bc.assign(4, OutlineBc{});
-  pb.viscosity = 0.05;
+  pb.viscosity = viscosity;
   pb.body_density = {2.0};
   pb.gravity = {10 * sin_s, -10 * cos_s};
   fem_dem::MovingBodyOptions opt;

@@ -107,7 +107,8 @@ void for_each_gap(const fem::MeshSpec& spec, F&& f) {
       const bool outside = !inside_polygon(pr.p, ol);
       for (std::size_t e = 0; e < ol.size(); ++e) {
         const Vec2 q = closest_on_segment(pr.p, ol[e], ol[(e + 1) % ol.size()]);
-        // an outline corner is the closest point of both its edges: counted with the first
+        // an outline corner is the closest point of both its edges: counted with the edge that
+        // starts there
         const Vec2 end = ol[(e + 1) % ol.size()];
         if (q.x == end.x && q.y == end.y) {
           const std::size_t next = (e + 1) % ol.size();
@@ -129,9 +130,16 @@ void for_each_gap(const fem::MeshSpec& spec, F&& f) {
         const Probe& pr = pa[k];
         const Vec2 q = closest_on_body(pr.p, bb);
         Gap gp = gap_of(pr, q, inside_body(pr.p, bb));
+        // Facing one of B's corners: if that corner, probing A, finds this probe's corner, the
+        // two corners carry half each; if it finds the inside of one of A's edges, that gap
+        // (no longer) carries the contact and this one none -- so the force does not jump when
+        // two faces slide past each other's corners.
         if (!a_circle && !b_circle)
           for (const Vec2& v : bb.vertices)
-            if (v.x == q.x && v.y == q.y) gp.weight = 0.5;  // B's corner probes A too
+            if (v.x == q.x && v.y == q.y) {
+              const Vec2 back = closest_on_polygon(v, ba.vertices);
+              gp.weight = back.x == pr.p.x && back.y == pr.p.y ? 0.5 : 0.0;
+            }
         f(gp, a, b, ContactHistory::key(a, static_cast<int>(k), b, 0));
       }
     }
@@ -176,7 +184,7 @@ std::vector<fem::BodyForce> loads_of(const fem::MeshSpec& spec, const CollisionM
   const bool friction = history != nullptr && model.friction > 0;
   const double k_t = friction ? model.spring() : 0.0;
   for_each_gap(spec, [&](const Gap& gp, int a, int b, std::uint64_t key) {
-    if (gp.g >= model.range) return;
+    if (gp.g >= model.range || gp.weight == 0) return;
     const double s = (model.range - gp.g) / model.range;
     const double mag = gp.weight * model.force * s * s;
     const Vec2 mid{0.5 * (gp.on_probe.x + gp.facing.x), 0.5 * (gp.on_probe.y + gp.facing.y)};
@@ -215,6 +223,10 @@ std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const Col
                                             ContactHistory& history) {
   REQUIRE(velocity.size() == spec.bodies.size(), "collision_loads: {} velocities for {} bodies",
           velocity.size(), spec.bodies.size());
+  REQUIRE(spec.bodies.size() < 0xffff && spec.outline.size() < 0x10000,
+          "collision_loads: friction histories are keyed for fewer than 65535 bodies and 65536 "
+          "outline edges ({} and {})",
+          spec.bodies.size(), spec.outline.size());
   std::unordered_map<std::uint64_t, double> next;
   auto loads = loads_of(spec, model, &velocity, dt, &history.stretch_, &next);
   history.stretch_ = std::move(next);

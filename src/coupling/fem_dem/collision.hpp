@@ -12,20 +12,23 @@
 // Gaps are measured from probes: the centre of a circle (minus its radius), each vertex of a
 // polygon; one force per probe and facing surface (another body, each outline edge: a disk in a
 // corner feels both walls). Between two polygons both bodies' vertices probe, so a face resting
-// flat on a face carries a force at each corner; where two corners meet, each probe carries
-// half. A probe inside the other body (or outside the outline) has a negative gap and is pushed
-// back out. (Glowinski et al. write the same law with the centres' distance for
-// disks; this is its extension to polygons.)
+// flat on a face carries a force at each corner; where two corners meet (each the other's
+// closest point), each probe carries half, and a corner facing a corner that itself faces the
+// inside of an edge carries nothing (that edge's gap holds the contact). A probe inside the other
+// body (or outside the outline) has a negative gap and is pushed back out. (Glowinski et al. write
+// the same law with the centres' distance for disks; this is its extension to polygons.)
 //
 // Friction (optional, CollisionModel::friction > 0): each gap in range also carries a tangential
 // force, a linear spring on the tangential displacement accumulated while the gap stays in range,
 // capped by Coulomb's law (Cundall & Strack, Geotechnique 29 (1979) 47):
 //   xi += v_t dt,   F_t = -k_t xi,   |F_t| <= mu F_n  (at the cap: sliding, xi = -F_t / k_t),
-// with v_t the velocity of the probe body's surface point relative to the facing surface along
-// t = (-n_y, n_x), F_n the repulsion of that gap and k_t [N/m^2] a tangential stiffness per unit
-// depth (by default 2 F_0 / rho, the repulsion's stiffness at zero gap). A grain resting in a
-// film on a slope then holds while tan(slope) < mu and slides above it, as a DEM grain does;
-// the history (xi per probe and facing surface) is ContactHistory, kept from step to step.
+// with v_t the velocity of the probe body's material point at the middle of the gap (where the
+// force acts, so rolling without slip does no work) relative to the facing body's material point
+// there, along t = (-n_y, n_x); F_n the repulsion of that gap and k_t [N/m^2] a tangential
+// stiffness per unit depth (by default 2 F_0 / rho, the repulsion's stiffness at zero gap; at a
+// resting gap the normal stiffness is lower, so k_t is then a few times the normal one). A grain
+// resting in a film on a slope then holds while tan(slope) < mu and slides above it, as a DEM grain
+// does; the history (xi per probe and facing surface) is ContactHistory, kept from step to step.
 #pragma once
 
 #include <cstdint>
@@ -73,7 +76,9 @@ std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const Col
 
 /// Repulsion and friction loads: as above, plus the tangential forces of model.friction, their
 /// springs advanced over dt [s] with the bodies' velocities `velocity` (one per body; the outline
-/// is at rest) and kept in `history`.
+/// is at rest) and kept in `history`. For a step from one pose to the next, pass the velocities
+/// of that displacement ((next - now) / dt), not those of the step's start: the springs then
+/// stretch as the bodies move, and BDF2 does not pump energy into a resting contact.
 std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const CollisionModel& model,
                                             const std::vector<fem::BodyMotion>& velocity, double dt,
                                             ContactHistory& history);

@@ -123,6 +123,7 @@ MovingBodyFlow::MovingBodyFlow(fem::FlowProblem problem, MovingBodyOptions optio
   reference_spec_ = flow_->problem().spec;  // free polygons' centres are their centroids now
   for (const auto& b : reference_spec_.bodies) poses_.push_back({b.centre, 0.0});
   reference_poses_ = poses_;
+  contact_loads_.resize(poses_.size());
   motion_ = std::make_unique<MeshMotion>(flow_->mesh(), static_cast<int>(poses_.size()));
   const auto& n = flow_->mesh().nodes;
   for (const auto& c : flow_->mesh().cells)
@@ -236,16 +237,24 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
   for (std::size_t b = 0; b < poses_.size(); ++b)
     velocity.push_back(flow_->body_velocity(static_cast<int>(b)));
   // loads of the step: the caller's external ones plus the contacts' (repulsion and friction)
-  // at the step's end poses, friction springs advanced with the velocities at its start (set on
-  // every step, so a new solver after a remesh has them too)
+  // at the step's end poses, friction springs stretched by the step's displacement (with the
+  // start's velocities instead, BDF2 amplifies a resting contact's oscillation: 2 % per step at
+  // 20 steps per period); set on every step, so a new solver after a remesh has them too
   std::vector<fem::BodyForce> loads = external_;
   loads.resize(poses_.size());
   std::vector<fem::BodyForce> contact(poses_.size());
   ContactHistory history = history_;
-  if (options_.collision.range > 0)
-    contact = options_.collision.friction > 0
-                  ? collision_loads(placed_spec(next), options_.collision, velocity, dt, history)
-                  : collision_loads(placed_spec(next), options_.collision);
+  if (options_.collision.range > 0 && options_.collision.friction > 0) {
+    std::vector<fem::BodyMotion> moved(poses_.size());
+    for (std::size_t b = 0; b < poses_.size(); ++b) {
+      moved[b].velocity = {(next[b].centre.x - poses_[b].centre.x) / dt,
+                           (next[b].centre.y - poses_[b].centre.y) / dt};
+      moved[b].angular_velocity = (next[b].angle - poses_[b].angle) / dt;
+    }
+    contact = collision_loads(placed_spec(next), options_.collision, moved, dt, history);
+  } else if (options_.collision.range > 0) {
+    contact = collision_loads(placed_spec(next), options_.collision);
+  }
   for (std::size_t b = 0; b < loads.size(); ++b) {
     loads[b].force.x += contact[b].force.x;
     loads[b].force.y += contact[b].force.y;

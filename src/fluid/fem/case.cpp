@@ -1203,27 +1203,31 @@ std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConf
     row(who + "mass (kg/m), moment of inertia (kg m), per unit depth",
         fmt::format("{:.4g}, {:.4g}", rho_s * area, rho_s * polar));
     row(who + "density ratio rho_s / rho_f", fmt::format("{:.4g}", ratio));
+    if (cfg.repulsion_range > 0 && !cfg.steady) {
+      // Repulsion and friction are explicit loads, fixed over each step, so the fastest contact
+      // mode must span several steps. Its estimate: the stiffer of the repulsion at contact
+      // (2 F_0 / rho) and the friction spring, on two contacts (a body resting on a face), the
+      // tangential ones coupled to rocking about the centre at the equal-area radius r_e
+      // (effective stiffness x (1 + A r_e^2 / J): 3 for a disk, 2.9 for a square). In review
+      // the scheme was neutral down to ~3 steps per period of a single mode.
+      const double k_n = 2 * cfg.repulsion_force / cfg.repulsion_range;
+      const double k_t =
+          cfg.repulsion_friction > 0
+              ? (cfg.repulsion_tangential_stiffness > 0 ? cfg.repulsion_tangential_stiffness : k_n)
+              : 0.0;
+      const double rocking = 1 + area * (area / std::numbers::pi) / polar;
+      const double k = 2 * std::max(k_n, k_t * rocking);
+      const double period = 2 * std::numbers::pi * std::sqrt(rho_s * area / k);
+      const double steps = period / cfg.time.dt;
+      row(who + "fastest contact period (s)",
+          fmt::format("{:.4g} = {:.3g} steps{}", period, steps,
+                      steps < 6 ? " (< 6: the explicit contact loads may ring or blow up; lower "
+                                  "the step, the force or the tangential stiffness)"
+                                : ""));
+    }
     if (g == 0) {
       row(who + "buoyant weight", "none (no gravity)");
       continue;
-    }
-    if (cfg.repulsion_range > 0 && !cfg.steady) {
-      // The repulsion and friction act as explicit loads, fixed over each step: the period of
-      // the body's mass on the repulsion's stiffness at contact (2 F_0 / rho) or the friction
-      // spring must span several steps (symplectic Euler is stable below omega dt = 2).
-      const double k_n = 2 * cfg.repulsion_force / cfg.repulsion_range;
-      const double k = std::max(
-          k_n,
-          cfg.repulsion_friction > 0
-              ? (cfg.repulsion_tangential_stiffness > 0 ? cfg.repulsion_tangential_stiffness : k_n)
-              : 0.0);
-      const double period = 2 * std::numbers::pi * std::sqrt(rho_s * area / k);
-      const double steps = period / cfg.time.dt;
-      row(who + "contact spring period 2 pi sqrt(m / k) (s)",
-          fmt::format("{:.4g} = {:.3g} steps{}", period, steps,
-                      steps < 10 ? " (< 10: the explicit contact loads may ring or blow up; lower "
-                                   "the step, the force or the tangential stiffness)"
-                                 : ""));
     }
     const double weight = (rho_s - cfg.density) * g * area;
     row(who + "buoyant weight (rho_s - rho_f) g A (N/m)", fmt::format("{:.4g}", weight));
