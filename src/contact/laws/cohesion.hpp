@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 #include "contact/laws/contact_io.hpp"
 
@@ -43,5 +44,66 @@ struct SjkrCohesion {
     return c.cohesion > 0 ? c.cohesion * a : 0.0;
   }
 };
+
+// Resting states, for `grainflow check` and the tests (host only): two equal spheres of radius r
+// (wall = false: R* = r/2, u = 1/(2r), A = pi (r delta - delta^2/4)) or a sphere of radius r on a
+// wall (wall = true: R* = r, u = 0, A = pi delta (2r - delta); cylinders and meshes are flat at
+// the contact, as for the elastic laws), at rest with no other load. The net normal force is then
+// F_e(delta) - k_c A(delta), F_e the elastic repulsion of the normal slot `Normal` (normal.hpp).
+
+/// Kinematics of the resting contact above at overlap delta (m).
+inline ContactKinematics resting_kinematics(double r, bool wall, double delta) {
+  ContactKinematics k{};
+  k.overlap = delta;
+  k.r_eff = wall ? r : 0.5 * r;
+  k.inv_r_sum = wall ? 0.0 : 0.5 / r;
+  return k;
+}
+
+/// Net normal force F_e - k_c A (N; > 0 repulsive) of the resting contact above at overlap delta.
+template <class Normal>
+inline double resting_normal_force(const PairCoeffs& c, double r, bool wall, double delta) {
+  const ContactKinematics k = resting_kinematics(r, wall, delta);
+  double f, s;
+  Normal::elastic(c, k, f, s);
+  return f - SjkrCohesion::force(c, k);
+}
+
+/// Unloaded equilibrium overlap (m) of the resting contact above: grains that touch
+/// (delta -> 0+) are pulled in while k_c A > F_e and stop at the first delta where F_e = k_c A
+/// (a stable balance: beyond it the repulsion wins). F_e / delta does not decrease with delta
+/// (hooke: k_n; hertz: 4/3 E* sqrt(R* delta)) and A / delta decreases, so there is one crossing,
+/// found by bisection to ~1e-15 relative. Closed forms for hooke (unit tests): a pair
+/// 4 (r - k_n / (pi k_c)), a wall 2 r - k_n / (pi k_c). Returns
+///  - 0 when F_e >= k_c A from first touch (k_c = 0; hooke with k_n >= 2 pi k_c R*): the
+///    cohesion holds no overlap at rest;
+///  - +infinity when k_c A > F_e all the way to coincident centres (a pair, delta -> 2r; up to
+///    1e-6 of it, where the area formula loses its digits): cohesion always wins and the grains
+///    are pulled onto each other (hooke: k_c >= 2 k_n / (pi r); hertz: k_c >= 8 E* / (3 pi)).
+///    On a wall A vanishes at delta = 2r (the sphere through it), so there is always a root.
+template <class Normal>
+inline double equilibrium_overlap(const PairCoeffs& c, double r, bool wall) {
+  double lo = 0, hi = 2 * r * (1 - 1e-6);
+  if (resting_normal_force<Normal>(c, r, wall, hi) < 0)
+    return std::numeric_limits<double>::infinity();
+  // Invariant: attraction wins at lo (or lo = 0), repulsion at hi. Stays lo = 0 (returns 0) when
+  // the repulsion wins at every overlap.
+  for (int it = 0; it < 200 && hi - lo > 1e-15 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (resting_normal_force<Normal>(c, r, wall, mid) < 0 ? lo : hi) = mid;
+  }
+  return lo > 0 ? 0.5 * (lo + hi) : 0.0;
+}
+
+/// The k_c (J/m^3) whose equilibrium_overlap is delta (0 < delta < 2r, m): F_e(delta) / A(delta),
+/// the same balance solved for k_c. The equilibrium overlap grows with k_c, so a smaller k_c
+/// rests at a smaller overlap.
+template <class Normal>
+inline double cohesion_for_overlap(const PairCoeffs& c, double r, bool wall, double delta) {
+  const ContactKinematics k = resting_kinematics(r, wall, delta);
+  double f, s;
+  Normal::elastic(c, k, f, s);
+  return f / SjkrCohesion::area(c, k);
+}
 
 }  // namespace gf::contact

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -18,6 +19,7 @@
 #include "contact/geometry/polygon2d.hpp"
 #include "contact/registry.hpp"
 #include "core/error.hpp"
+#include "core/scalar_text.hpp"
 #include "io/input/memory_budget.hpp"
 #include "io/input/yaml_reader.hpp"
 
@@ -153,6 +155,36 @@ std::string seconds(double t) {
   return fmt::format("{:.4g} s", t);
 }
 
+/// A number as it was written at `loc`, quoted as the reader's errors quote what they found
+/// ('1.0e4'): read back from the case file at loc's line and column, or from the --set option
+/// that gave it; the shortest text of `value` when neither is at hand or the text found there
+/// does not read as `value`.
+std::string found_number(const config::SourceLoc& loc, double value) {
+  std::string text;
+  const auto set = loc.file.find(" (--set ");
+  if (set != std::string::npos && loc.file.back() == ')') {
+    const std::string option = loc.file.substr(set + 8, loc.file.size() - 1 - (set + 8));
+    if (const auto eq = option.find('='); eq != std::string::npos) text = option.substr(eq + 1);
+  } else if (loc.line > 0 && loc.column > 0) {
+    std::ifstream in(loc.file, std::ios::binary);
+    std::string line;
+    for (int i = 0; i < loc.line && std::getline(in, line); ++i) {
+    }
+    const auto col = static_cast<std::size_t>(loc.column - 1);
+    if (in && col < line.size()) {
+      text = line.substr(col);
+      if (text.front() == '!') text.erase(0, text.find(' '));  // a tag: !!float 1e4
+      text = text.substr(0, text.find_first_of(",]}#\r"));
+    }
+  }
+  const auto first = text.find_first_not_of(" \t");
+  text = first == std::string::npos ? ""
+                                    : text.substr(first, text.find_last_not_of(" \t") + 1 - first);
+  const auto v = parse_double(text);
+  if (!v || *v != value) text = number_text(value);
+  return fmt::format("'{}'", text);
+}
+
 /// How check's counts name a fixed group: ", fixed" (at rest), ", fixed, moving", or nothing.
 const char* fixed_tag(const config::ParticleGroup& g) {
   if (g.motion) return ", fixed, moving";
@@ -256,6 +288,11 @@ class Validator {
   /// The whole case's memory (grains, neighbour grid, fluid cells) against the machine's.
   void check_memory();
   void check_time_step();
+  /// The resting overlap under sjkr cohesion of the pair (a, b) or of a on walls (wall), with its
+  /// warning when large; called by check_time_step for each pair that may touch.
+  void check_cohesion(const config::Contact& ct, const contact::PairCoeffs& coeffs,
+                      const std::string& a, const std::string& b, bool wall,
+                      const std::string& label);
   void check_output();
   void check_fluid();
   void check_shear_walls();
@@ -390,12 +427,13 @@ void Validator::check_materials() {
           const auto kl = ct.param_locs.find("cohesion_energy_density");
           config::SourceLoc key = kl != ct.param_locs.end() ? kl->second : ct.loc;
           key.key_path = fmt::format("contacts[{}].cohesion_energy_density", i);
+          key = at(key, key.key_path);
           throw_input_error(
-              at(key, key.key_path),
+              key,
               fmt::format("cohesion is not available for polygon grains (material '{}'): expected "
                           "0 for a pair with polygons (cohesion works for spheres, "
                           "spherocylinders and disks), found {}",
-                          g.material, coh->second));
+                          g.material, found_number(key, coh->second)));
         }
   }
   auto need_pair = [&](const std::string& a, const std::string& b, const config::SourceLoc& loc) {
@@ -1062,6 +1100,7 @@ void Validator::check_time_step() {
     if (!(tc < inf)) return;  // only fixed grains: they never touch
     report_.derived.emplace_back(fmt::format("contact time, {} ({})", label, ct->model),
                                  seconds(tc));
+    if (coeffs.cohesion > 0) check_cohesion(*ct, coeffs, a, b, wall, label);
     if (tc < tc_min) {
       tc_min = tc;
       tc_what = fmt::format("contact time of {} ({})", label, ct->model);
@@ -1115,6 +1154,67 @@ void Validator::check_time_step() {
     report_.warnings.push_back(
         fmt::format("time step {} s is {:.2f} x the {} ({:.3g} s); 0.15 x or less is safer",
                     number_text(dt), dt / t_lim, what, t_lim));
+}
+
+void Validator::check_cohesion(const config::Contact& ct, const contact::PairCoeffs& coeffs,
+                               const std::string& a, const std::string& b, bool wall,
+                               const std::string& label) {
+  // Two equal grains of the pair (or one on a wall) at rest with no other load
+  // (contact::equilibrium_overlap). The smallest and the largest radius that meet: the overlap
+  // over the radius does not depend on it for hertz and grows with it for hooke, whose k_n is
+  // fixed; the larger ratio is reported (the smaller radius when they agree).
+  const GrainSizes& ga = grains_.at(a);
+  const double r_lo = wall ? ga.r_min_free : std::min(ga.r_min, grains_.at(b).r_min);
+  const double r_hi = wall ? ga.r_max_free : std::max(ga.r_max, grains_.at(b).r_max);
+  if (!(r_lo < inf)) return;
+  constexpr double kLarge = 0.1;  // overlap / radius beyond which the laws' assumptions fail
+  double r = r_lo, ratio = -1, kc_limit = inf;
+  for (const double rr : {r_lo, r_hi}) {
+    double delta = 0, kc = 0;
+    dispatch_index(contact::ContactModels{}, coeffs.model, [&]<class M>() {
+      using Normal = typename M::Law::normal_slot;
+      delta = contact::equilibrium_overlap<Normal>(coeffs, rr, wall);
+      kc = contact::cohesion_for_overlap<Normal>(coeffs, rr, wall, kLarge * rr);
+    });
+    kc_limit = std::min(kc_limit, kc);
+    if (delta / rr > ratio * (1 + 1e-9)) {
+      ratio = delta / rr;
+      r = rr;
+    }
+  }
+  const std::string key =
+      fmt::format("resting overlap / r under cohesion, {} (r = {} m)", label, number_text(r));
+  const std::string who =
+      wall ? fmt::format("a grain of radius {} m touching a wall", number_text(r))
+           : fmt::format("two touching grains of radius {} m", number_text(r));
+  const std::string why = fmt::format(
+      "the contact laws are meant for overlaps small against the radius (LIGGGHTS' sjkr cohesion "
+      "behaves the same, without a word); a cohesion_energy_density of {:.3g} J/m^3 or less keeps "
+      "the resting overlap within {} x the radius",
+      kc_limit, kLarge);
+  const std::string whose = fmt::format("cohesion_energy_density {:.3g} J/m^3 of {} ({})",
+                                        coeffs.cohesion, label, ct.model);
+  if (!(ratio < inf)) {
+    report_.derived.emplace_back(
+        key, "none: k_c A exceeds the elastic repulsion at every overlap (cohesion always wins)");
+    report_.warnings.push_back(fmt::format(
+        "{} exceeds the elastic repulsion at every overlap: {}, at rest with no other load, {} "
+        "(no resting overlap); {}",
+        whose, who, wall ? "is pulled through the wall" : "are pulled onto each other", why));
+    return;
+  }
+  if (ratio == 0) {
+    report_.derived.emplace_back(key, "0 (the elastic repulsion exceeds k_c A at every overlap)");
+    return;
+  }
+  report_.derived.emplace_back(key, fmt::format("{:.3g} (overlap {:.3g} m, at rest with no other "
+                                                "load)",
+                                                ratio, ratio * r));
+  if (ratio > kLarge)
+    report_.warnings.push_back(fmt::format(
+        "{} pulls {}, at rest with no other load, to an overlap of {:.3g} x the radius: "
+        "{}",
+        whose, who, ratio, why));
 }
 
 void Validator::check_output() {

@@ -38,7 +38,11 @@ struct CheckReport {
 ///    impact speed max(initial speeds) + sqrt(2 |g| H), H the domain height along gravity,
 ///    >= 0.1 m/s. Fixed groups: a free grain meets a fixed one at that speed (not twice) with
 ///    m* its own mass (contact::reduced_mass); pairs of fixed grains and fixed grains with walls
-///    never touch and are left out, as are fixed grains from the Rayleigh time.
+///    never touch and are left out, as are fixed grains from the Rayleigh time;
+///  - for each such pair with sjkr cohesion (k_c > 0), a derived row with the resting overlap
+///    over the radius of two equal grains (or one on a wall) at rest with no other load
+///    (contact::equilibrium_overlap, at the smallest and the largest radius present, the larger
+///    ratio reported), and a warning above 0.1 or where cohesion always wins.
 CheckReport validate(const config::Case& c);
 
 /// Length L of the cylindrical part of a spherocylinder of cap radius r (m): `length`, or
