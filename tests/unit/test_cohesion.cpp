@@ -85,7 +85,7 @@ Vec3 force_on(Simulation& sim, std::int64_t id) {
 // textbook ones subtract nearly equal numbers (d - R_i - R_j = -delta) and lose about
 // eps R / delta relative, <= 1e-11 for delta / R >= 1e-4; 1e-9 leaves room for that only.
 TEST(Cohesion, AreaIsTheIntersectionCircleOfTheSpheres) {
-  for (const auto [ri, rj] : {std::pair{1e-3, 1e-3}, std::pair{1e-3, 2.5e-3}, {3e-3, 0.7e-3}}) {
+  for (const auto& [ri, rj] : {std::pair{1e-3, 1e-3}, std::pair{1e-3, 2.5e-3}, {3e-3, 0.7e-3}}) {
     for (const double rel : {1e-4, 1e-3, 0.01, 0.1, 0.3}) {
       const double delta = rel * std::min(ri, rj);
       const double d = ri + rj - delta;
