@@ -58,7 +58,8 @@ struct Contact {
   std::string model;  ///< registry key: hooke | hertz_mindlin
   std::map<std::string, double> params;
   SourceLoc loc;
-  std::map<std::string, SourceLoc> param_locs;  ///< where each parameter given was written
+  std::map<std::string, SourceLoc> param_locs;     ///< where each parameter given was written
+  std::map<std::string, std::string> param_found;  ///< each given parameter as written ('1.0e4')
 };
 
 /// Radius: a fixed value or a distribution with cut-offs (all in m).

@@ -614,6 +614,7 @@ void Reader::read_contacts(const YamlMap& root) {
       if (auto v = cm.find(p.name)) {
         ct.params[std::string(p.name)] = v->as_number(Range{p.min, p.max, p.min_exclusive, false});
         ct.param_locs[std::string(p.name)] = v->loc();
+        ct.param_found[std::string(p.name)] = v->found();
       } else if (p.default_value) {
         ct.params[std::string(p.name)] = *p.default_value;
       } else if (!in_alternative(p.name)) {

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -19,7 +18,6 @@
 #include "contact/geometry/polygon2d.hpp"
 #include "contact/registry.hpp"
 #include "core/error.hpp"
-#include "core/scalar_text.hpp"
 #include "io/input/memory_budget.hpp"
 #include "io/input/yaml_reader.hpp"
 
@@ -153,36 +151,6 @@ std::string vec_text(const Vec3& v, int dimension) {
 
 std::string seconds(double t) {
   return fmt::format("{:.4g} s", t);
-}
-
-/// A number as it was written at `loc`, quoted as the reader's errors quote what they found
-/// ('1.0e4'): read back from the case file at loc's line and column, or from the --set option
-/// that gave it; the shortest text of `value` when neither is at hand or the text found there
-/// does not read as `value`.
-std::string found_number(const config::SourceLoc& loc, double value) {
-  std::string text;
-  const auto set = loc.file.find(" (--set ");
-  if (set != std::string::npos && loc.file.back() == ')') {
-    const std::string option = loc.file.substr(set + 8, loc.file.size() - 1 - (set + 8));
-    if (const auto eq = option.find('='); eq != std::string::npos) text = option.substr(eq + 1);
-  } else if (loc.line > 0 && loc.column > 0) {
-    std::ifstream in(loc.file, std::ios::binary);
-    std::string line;
-    for (int i = 0; i < loc.line && std::getline(in, line); ++i) {
-    }
-    const auto col = static_cast<std::size_t>(loc.column - 1);
-    if (in && col < line.size()) {
-      text = line.substr(col);
-      if (text.front() == '!') text.erase(0, text.find(' '));  // a tag: !!float 1e4
-      text = text.substr(0, text.find_first_of(",]}#\r"));
-    }
-  }
-  const auto first = text.find_first_not_of(" \t");
-  text = first == std::string::npos ? ""
-                                    : text.substr(first, text.find_last_not_of(" \t") + 1 - first);
-  const auto v = parse_double(text);
-  if (!v || *v != value) text = number_text(value);
-  return fmt::format("'{}'", text);
 }
 
 /// How check's counts name a fixed group: ", fixed" (at rest), ", fixed, moving", or nothing.
@@ -433,7 +401,10 @@ void Validator::check_materials() {
               fmt::format("cohesion is not available for polygon grains (material '{}'): expected "
                           "0 for a pair with polygons (cohesion works for spheres, "
                           "spherocylinders and disks), found {}",
-                          g.material, found_number(key, coh->second)));
+                          g.material,
+                          ct.param_found.count("cohesion_energy_density")
+                              ? ct.param_found.at("cohesion_energy_density")
+                              : number_text(coh->second)));
         }
   }
   auto need_pair = [&](const std::string& a, const std::string& b, const config::SourceLoc& loc) {
