@@ -414,10 +414,10 @@ TEST(FemMoving, CollisionFrictionSticksThenSlidesAtTheCoulombLimit) {
   // without friction the history-taking overload is the plain repulsion
   const auto plain = collision_loads(spec, CollisionModel{0.1, 2.0});
   const auto none = collision_loads(spec, CollisionModel{0.1, 2.0}, v2, dt, h2);
-  for (int b = 0; b < 2; ++b) {
-    EXPECT_EQ(plain[b].force.x, none[b].force.x);
-    EXPECT_EQ(plain[b].force.y, none[b].force.y);
-    EXPECT_EQ(plain[b].torque, none[b].torque);
+  for (int j = 0; j < 2; ++j) {
+    EXPECT_EQ(plain[j].force.x, none[j].force.x);
+    EXPECT_EQ(plain[j].force.y, none[j].force.y);
+    EXPECT_EQ(plain[j].torque, none[j].torque);
   }
 }
 

@@ -220,16 +220,24 @@ std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec,
 
 std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const CollisionModel& model,
                                             const std::vector<fem::BodyMotion>& velocity, double dt,
-                                            ContactHistory& history) {
+                                            const ContactHistory& before, ContactHistory& after) {
   REQUIRE(velocity.size() == spec.bodies.size(), "collision_loads: {} velocities for {} bodies",
           velocity.size(), spec.bodies.size());
   REQUIRE(spec.bodies.size() < 0xffff && spec.outline.size() < 0x10000,
           "collision_loads: friction histories are keyed for fewer than 65535 bodies and 65536 "
           "outline edges ({} and {})",
           spec.bodies.size(), spec.outline.size());
-  std::unordered_map<std::uint64_t, double> next;
-  auto loads = loads_of(spec, model, &velocity, dt, &history.stretch_, &next);
-  history.stretch_ = std::move(next);
+  REQUIRE(&before != &after, "collision_loads: before and after must be different histories");
+  after.stretch_.clear();
+  return loads_of(spec, model, &velocity, dt, &before.stretch_, &after.stretch_);
+}
+
+std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const CollisionModel& model,
+                                            const std::vector<fem::BodyMotion>& velocity, double dt,
+                                            ContactHistory& history) {
+  ContactHistory after;
+  auto loads = collision_loads(spec, model, velocity, dt, history, after);
+  history = std::move(after);
   return loads;
 }
 

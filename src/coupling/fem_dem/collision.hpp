@@ -66,7 +66,7 @@ class ContactHistory {
  private:
   friend std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec&, const CollisionModel&,
                                                      const std::vector<fem::BodyMotion>&, double,
-                                                     ContactHistory&);
+                                                     const ContactHistory&, ContactHistory&);
   std::unordered_map<std::uint64_t, double> stretch_;
 };
 
@@ -82,6 +82,11 @@ std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const Col
 std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const CollisionModel& model,
                                             const std::vector<fem::BodyMotion>& velocity, double dt,
                                             ContactHistory& history);
+/// The same, the springs read from `before` and written to `after` (the state of the gaps in
+/// range after this step; `before` is left as it was, e.g. until the step is accepted).
+std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const CollisionModel& model,
+                                            const std::vector<fem::BodyMotion>& velocity, double dt,
+                                            const ContactHistory& before, ContactHistory& after);
 
 /// Smallest gap [m] between any two bodies of `spec` or between a body and the outline.
 double smallest_gap(const fem::MeshSpec& spec);

@@ -243,7 +243,7 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
   std::vector<fem::BodyForce> loads = external_;
   loads.resize(poses_.size());
   std::vector<fem::BodyForce> contact(poses_.size());
-  ContactHistory history = history_;
+  ContactHistory history;  // the gaps' springs after this step, kept once it is accepted
   if (options_.collision.range > 0 && options_.collision.friction > 0) {
     std::vector<fem::BodyMotion> moved(poses_.size());
     for (std::size_t b = 0; b < poses_.size(); ++b) {
@@ -251,7 +251,7 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
                            (next[b].centre.y - poses_[b].centre.y) / dt};
       moved[b].angular_velocity = (next[b].angle - poses_[b].angle) / dt;
     }
-    contact = collision_loads(placed_spec(next), options_.collision, moved, dt, history);
+    contact = collision_loads(placed_spec(next), options_.collision, moved, dt, history_, history);
   } else if (options_.collision.range > 0) {
     contact = collision_loads(placed_spec(next), options_.collision);
   }
@@ -275,7 +275,7 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
   }
   flow_->accept_step();
   poses_ = next;
-  history_ = std::move(history);
+  if (options_.collision.friction > 0) history_ = std::move(history);
   contact_loads_ = std::move(contact);
   previous_velocity_ = std::move(velocity);
   previous_dt_ = dt;
