@@ -50,6 +50,160 @@ std::optional<fem::FemCaseConfig> load_fem_case(const fs::path& file, fs::path& 
   return cfg;
 }
 
+namespace {
+
+// The moving mesh of a run with free bodies (fem::MovingFlowState and the moving part of
+// NavierStokes::State): point lists as flat x, y arrays, the mesh's topology as int32 arrays.
+std::vector<double> flat(const std::vector<fem::Vec2>& p) {
+  std::vector<double> v;
+  v.reserve(2 * p.size());
+  for (const auto& q : p) v.insert(v.end(), {q.x, q.y});
+  return v;
+}
+
+std::vector<fem::Vec2> points(const std::vector<double>& v) {
+  std::vector<fem::Vec2> p;
+  p.reserve(v.size() / 2);
+  for (std::size_t i = 0; i + 1 < v.size(); i += 2) p.push_back({v[i], v[i + 1]});
+  return p;
+}
+
+void save_points(io::h5::File& h, const std::string& name, const std::vector<fem::Vec2>& p) {
+  const auto v = flat(p);
+  h.write(name, std::span<const double>(v));
+}
+
+void save_moving(io::h5::File& h, const fem::NavierStokes::State& f,
+                 const fem::MovingFlowState& m) {
+  h.set_attribute("/", "moving", std::int64_t{1});
+  h.create_group("moving");
+  auto dbl = [&h](const std::string& name, const std::vector<double>& v) {
+    h.write("moving/" + name, std::span<const double>(v));
+  };
+  auto pts = [&h](const std::string& name, const std::vector<fem::Vec2>& p) {
+    save_points(h, "moving/" + name, p);
+  };
+  // the flow's moving mesh
+  h.set_attribute("moving", "flow_moving", static_cast<std::int64_t>(f.moving));
+  pts("nodes", f.nodes);
+  pts("centres", f.centres);
+  h.set_attribute("moving", "hist_nodes", static_cast<std::int64_t>(f.hist_nodes.size()));
+  for (std::size_t k = 0; k < f.hist_nodes.size(); ++k) {
+    pts(fmt::format("hist_nodes_{}", k), f.hist_nodes[k]);
+    pts(fmt::format("hist_centres_{}", k), f.hist_centres[k]);
+  }
+  pts("mesh_w", f.mesh_w);
+  pts("factor_nodes", f.factor_nodes);
+  pts("factor_centres", f.factor_centres);
+  pts("factor_w", f.factor_w);
+  std::vector<double> loads;
+  for (const auto& l : f.body_load) loads.insert(loads.end(), {l.force.x, l.force.y, l.torque});
+  dbl("body_load", loads);
+  // the bodies as meshed: kind (0 circle, 1 polygon), centre, radius, vertices
+  std::vector<std::int32_t> kind, n_vertices;
+  std::vector<double> body;
+  std::vector<fem::Vec2> vertices;
+  for (const auto& b : m.reference_bodies) {
+    kind.push_back(b.kind == fem::BodyShape::Kind::Circle ? 0 : 1);
+    n_vertices.push_back(static_cast<std::int32_t>(b.vertices.size()));
+    body.insert(body.end(), {b.centre.x, b.centre.y, b.radius});
+    vertices.insert(vertices.end(), b.vertices.begin(), b.vertices.end());
+  }
+  h.write("moving/body_kind", std::span<const std::int32_t>(kind));
+  h.write("moving/body_n_vertices", std::span<const std::int32_t>(n_vertices));
+  dbl("body_centre_radius", body);
+  pts("body_vertices", vertices);
+  // the mesh as built
+  const auto& mesh = m.reference_mesh;
+  pts("mesh_nodes", mesh.nodes);
+  h.set_attribute("moving", "mesh_vertices", static_cast<std::int64_t>(mesh.n_vertices));
+  std::vector<std::int32_t> cells, boundary;
+  for (const auto& c : mesh.cells) cells.insert(cells.end(), c.begin(), c.end());
+  for (const auto& e : mesh.boundary)
+    boundary.insert(boundary.end(),
+                    {e.a, e.b, e.mid, e.cell, e.local_edge, e.outline_edge, e.body});
+  h.write("moving/mesh_cells", std::span<const std::int32_t>(cells));
+  h.write("moving/mesh_curved", std::span<const std::uint8_t>(mesh.curved));
+  h.write("moving/mesh_boundary", std::span<const std::int32_t>(boundary));
+  // the bodies' motion and contacts
+  dbl("reference_poses", m.reference_poses);
+  dbl("poses", m.poses);
+  dbl("previous_velocity", m.previous_velocity);
+  h.set_attribute("moving", "previous_dt", m.previous_dt);
+  dbl("external_loads", m.external_loads);
+  dbl("contact_loads", m.contact_loads);
+  std::vector<std::int64_t> keys(m.history_keys.begin(), m.history_keys.end());
+  h.write("moving/history_keys", std::span<const std::int64_t>(keys));
+  dbl("history_stretch", m.history_stretch);
+  h.set_attribute("moving", "remeshes", m.remeshes);
+  h.set_attribute("moving", "remesh_seconds", m.remesh_seconds);
+}
+
+fem::MovingFlowState load_moving(const io::h5::File& h, fem::NavierStokes::State& f) {
+  auto dbl = [&h](const std::string& name) { return h.read_double("moving/" + name); };
+  auto pts = [&](const std::string& name) { return points(dbl(name)); };
+  f.moving = h.read_int_attribute("moving", "flow_moving") != 0;
+  f.nodes = pts("nodes");
+  f.centres = pts("centres");
+  const auto n_hist = h.read_int_attribute("moving", "hist_nodes");
+  for (std::int64_t k = 0; k < n_hist; ++k) {
+    f.hist_nodes.push_back(pts(fmt::format("hist_nodes_{}", k)));
+    f.hist_centres.push_back(pts(fmt::format("hist_centres_{}", k)));
+  }
+  f.mesh_w = pts("mesh_w");
+  f.factor_nodes = pts("factor_nodes");
+  f.factor_centres = pts("factor_centres");
+  f.factor_w = pts("factor_w");
+  const auto loads = dbl("body_load");
+  for (std::size_t i = 0; i + 2 < loads.size(); i += 3)
+    f.body_load.push_back({{loads[i], loads[i + 1]}, loads[i + 2]});
+  fem::MovingFlowState m;
+  const auto kind = h.read_int32("moving/body_kind");
+  const auto n_vertices = h.read_int32("moving/body_n_vertices");
+  const auto body = dbl("body_centre_radius");
+  const auto vertices = pts("body_vertices");
+  std::size_t next = 0;
+  for (std::size_t b = 0; b < kind.size(); ++b) {
+    fem::BodyShape s;
+    s.kind = kind[b] == 0 ? fem::BodyShape::Kind::Circle : fem::BodyShape::Kind::Polygon;
+    s.centre = {body.at(3 * b), body.at(3 * b + 1)};
+    s.radius = body.at(3 * b + 2);
+    const auto nv = static_cast<std::size_t>(n_vertices.at(b));
+    REQUIRE(next + nv <= vertices.size(), "checkpoint: {} body vertices, more needed",
+            vertices.size());
+    s.vertices.assign(vertices.begin() + static_cast<std::ptrdiff_t>(next),
+                      vertices.begin() + static_cast<std::ptrdiff_t>(next + nv));
+    next += nv;
+    m.reference_bodies.push_back(std::move(s));
+  }
+  auto& mesh = m.reference_mesh;
+  mesh.nodes = pts("mesh_nodes");
+  mesh.n_vertices = static_cast<int>(h.read_int_attribute("moving", "mesh_vertices"));
+  const auto cells = h.read_int32("moving/mesh_cells");
+  for (std::size_t i = 0; i + 5 < cells.size(); i += 6)
+    mesh.cells.push_back(
+        {cells[i], cells[i + 1], cells[i + 2], cells[i + 3], cells[i + 4], cells[i + 5]});
+  mesh.curved = h.read_uint8("moving/mesh_curved");
+  const auto boundary = h.read_int32("moving/mesh_boundary");
+  for (std::size_t i = 0; i + 6 < boundary.size(); i += 7)
+    mesh.boundary.push_back({boundary[i], boundary[i + 1], boundary[i + 2], boundary[i + 3],
+                             boundary[i + 4], boundary[i + 5], boundary[i + 6]});
+  m.reference_poses = dbl("reference_poses");
+  m.poses = dbl("poses");
+  m.previous_velocity = dbl("previous_velocity");
+  m.previous_dt = h.read_double_attribute("moving", "previous_dt");
+  m.external_loads = dbl("external_loads");
+  m.contact_loads = dbl("contact_loads");
+  for (const auto k : h.read_int64("moving/history_keys"))
+    m.history_keys.push_back(static_cast<std::uint64_t>(k));
+  m.history_stretch = dbl("history_stretch");
+  m.remeshes = h.read_int_attribute("moving", "remeshes");
+  m.remesh_seconds = h.read_double_attribute("moving", "remesh_seconds");
+  return m;
+}
+
+}  // namespace
+
 void save_fem_checkpoint(const fs::path& file, const fem::FemCheckpoint& c) {
   io::write_checkpoint_atomically(file, [&](io::h5::File& h) {
     const auto& f = c.flow;
@@ -84,6 +238,7 @@ void save_fem_checkpoint(const fs::path& file, const fem::FemCheckpoint& c) {
       h.set_attribute("flow", "factor_alpha0", f.factor_alpha0);
       h.set_attribute("flow", "factor_newton", static_cast<std::int64_t>(f.factor_newton));
     }
+    if (c.moving) save_moving(h, f, *c.moving);
   });
 }
 
@@ -128,6 +283,7 @@ fem::FemCheckpoint load_fem_checkpoint(const fs::path& file) {
     f.factor_alpha0 = h.read_double_attribute("flow", "factor_alpha0");
     f.factor_newton = h.read_int_attribute("flow", "factor_newton") != 0;
   }
+  if (h.has_attribute("/", "moving")) c.moving = load_moving(h, f);
   return c;
 }
 
@@ -157,6 +313,10 @@ class MovingFlow final : public fem::FemMovingFlow {
   [[nodiscard]] fem::Vec2 centre(int body) const override { return run_.poses()[body].centre; }
   [[nodiscard]] double angle(int body) const override { return run_.poses()[body].angle; }
   [[nodiscard]] int remeshes() const override { return run_.remeshes(); }
+  [[nodiscard]] fem::MovingFlowState state() const override { return run_.state(); }
+  void restore(const fem::NavierStokes::State& flow, const fem::MovingFlowState& s) override {
+    run_.restore(flow, s);
+  }
 
  private:
   fem_dem::MovingBodyFlow run_;
@@ -167,13 +327,6 @@ class MovingFlow final : public fem::FemMovingFlow {
 int run_fem_case(const fem::FemCaseConfig& cfg, const fs::path& default_dir,
                  const RunOptions& opts) {
   const fs::path dir = opts.output.empty() ? default_dir : opts.output;
-  // (before anything is read or written: no checkpoint of such a run exists to continue from)
-  if (opts.restart && cfg.has_free_bodies())
-    throw InputError(fmt::format(
-        "{}: error: --restart: a fluid_fem run with free bodies (bodies with a density) writes "
-        "no checkpoints yet (the state of a moving mesh is not kept in them), so it cannot be "
-        "continued{}; run it again from the start",
-        cfg.file, opts.append ? " (--append)" : ""));
   // Read before the output folder is prepared: --overwrite may empty the folder it lies in.
   check_append(dir, opts);
   std::optional<fem::FemCheckpoint> resume;

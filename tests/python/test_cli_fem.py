@@ -168,7 +168,8 @@ with tempfile.TemporaryDirectory() as TMP:
     summary = os.path.join(TMP, "settle", "fem_summary.txt")
     check(os.path.exists(summary) and "moving mesh: remeshes" in open(summary).read(),
           "the summary reports the remeshes")
-    check(not glob.glob(os.path.join(TMP, "settle", "*.h5")), "a moving run writes no checkpoint")
+    check(os.path.exists(os.path.join(TMP, "settle", "fem_checkpoint_final.h5")),
+          "a moving run writes its final checkpoint")
     resolved = os.path.join(TMP, "settle", "resolved_case.yaml")
     text = open(resolved).read() if os.path.exists(resolved) else ""
     check("density: 1.5" in text and "gravity: [0, -100]" in text and "remesh_ratio: 0.5" in text,
@@ -177,15 +178,22 @@ with tempfile.TemporaryDirectory() as TMP:
     r = run("run", settling, "--output", "settle_ad", "--set", "fluid_fem.time.adaptive={rtol: 1.0e-3}")
     check(r.returncode == 2 and "fluid_fem.time.adaptive: expected no adaptive block" in r.stderr
           and not os.path.exists(os.path.join(TMP, "settle_ad")), f"adaptive steps refused: {r.stderr}")
-    r = run("check", settling, "--set", "fluid_fem.output.checkpoint_every=0.1")
-    check(r.returncode == 2 and "fluid_fem.output.checkpoint_every" in r.stderr,
-          f"periodic checkpoints refused: {r.stderr}")
-    r = run("run", settling, "--output", "settle", "--restart", settling, "--append")
-    check(r.returncode == 2 and "cannot be continued" in r.stderr and
-          open(forces).read().splitlines() == rows, f"--restart --append refused, outputs kept: {r.stderr}")
-    r = run("run", settling, "--output", "settle_r", "--restart", settling)
-    check(r.returncode == 2 and "cannot be continued" in r.stderr and
-          not os.path.exists(os.path.join(TMP, "settle_r")), f"--restart refused: {r.stderr}")
+    # checkpoints: periodic ones, and a run cut short continued in its folder gives the rows of
+    # the run that was never cut
+    r = run("run", settling, "--output", "settle_ck", "--quiet", "--steps", "8",
+            "--set", "fluid_fem.output.checkpoint_every=0.05")
+    ck = sorted(glob.glob(os.path.join(TMP, "settle_ck", "fem_checkpoint_0*.h5")))
+    check(r.returncode == 0 and len(ck) >= 1, f"periodic checkpoints of a moving run: {ck} {r.stderr}")
+    r = run("run", settling, "--output", "settle", "--quiet", "--steps", "3",
+            "--restart", os.path.join(TMP, "settle", "fem_checkpoint_final.h5"), "--append")
+    rows8 = open(os.path.join(TMP, "settle_ck", "fem_forces.csv")).read().splitlines()
+    check(r.returncode == 0 and open(forces).read().splitlines() == rows8,
+          f"--restart --append continues the moving run as if never cut: {r.stderr}")
+    # a checkpoint of another case (the channel's) does not fit (exit 2, no series written)
+    r = run("run", settling, "--output", "settle_r", "--restart", os.path.join(TMP, "a", "fem_checkpoint_final.h5"))
+    check(r.returncode == 2 and "--restart: the checkpoint belongs to another mesh" in r.stderr and
+          not os.path.exists(os.path.join(TMP, "settle_r", "fem_forces.csv")),
+          f"--restart of another case refused: {r.stderr}")
 
     # The shipped cases pass check.
     for c in sorted(glob.glob(os.path.join(SOURCE, "cases", "fluid_fem", "*", "case.yaml"))):

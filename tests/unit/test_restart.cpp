@@ -12,6 +12,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -599,4 +600,132 @@ TEST(Restart, FluidFemRefusesForeignCheckpoints) {
   b.restart = dem_ckpt;
   b.overwrite = true;
   EXPECT_THROW(run_fem_case(*cfg, unused, b), InputError);
+}
+
+namespace {
+
+// Two squares and a disk settling in a closed box onto the floor and onto each other: free
+// bodies on a moving mesh that is rebuilt once between t = 0.1 and 0.2 (its cells degrade), with
+// friction springs on the films between them, and the chord method's LU kept across steps.
+constexpr const char* kFemMovingCase = R"(fluid_fem:
+  fluid: {density: 1000.0, viscosity: 5.0e-4}
+  gravity: [0, -9.81]
+  domain:
+    outline: [[0, 0], [0.02, 0], [0.02, 0.015], [0, 0.015]]
+    boundaries:
+      - {edges: [0, 1, 2, 3], type: wall}
+  bodies:
+    - {name: a, polygon: [[0.006, 0.0012], [0.010, 0.0012], [0.010, 0.0052], [0.006, 0.0052]], density: 2500}
+    - {name: b, polygon: [[0.0075, 0.0067], [0.0115, 0.0064], [0.0118, 0.0104], [0.0078, 0.0107]], density: 2500}
+    - {name: c, circle: {centre: [0.015, 0.004], radius: 0.002}, density: 2500}
+  mesh: {h_max: 0.003, h_body: 0.0008, grading: 0.3}
+  moving_mesh: {repulsion: {range: 0.0012, force: 0.6, friction: 0.5, tangential_stiffness: 400}}
+  time: {mode: unsteady, scheme: bdf2, step: 0.005, end: 0.3}
+  newton: {reuse_factorization: true}
+  output: {vtk_every: 0.1, checkpoint_every: 0.1}
+)";
+
+void expect_same_moving(const fem::FemCheckpoint& a, const fem::FemCheckpoint& b) {
+  expect_same_flow(a, b);
+  ASSERT_TRUE(a.moving && b.moving);
+  EXPECT_TRUE(test::same_bits(std::span(a.moving->poses), std::span(b.moving->poses)));
+  EXPECT_EQ(a.moving->remeshes, b.moving->remeshes);
+  EXPECT_EQ(a.moving->history_keys, b.moving->history_keys);
+  EXPECT_TRUE(
+      test::same_bits(std::span(a.moving->history_stretch), std::span(b.moving->history_stretch)));
+  ASSERT_EQ(a.flow.nodes.size(), b.flow.nodes.size());
+  for (std::size_t k = 0; k < a.flow.nodes.size(); ++k)
+    ASSERT_TRUE(a.flow.nodes[k].x == b.flow.nodes[k].x && a.flow.nodes[k].y == b.flow.nodes[k].y)
+        << "node " << k;
+}
+
+}  // namespace
+
+// A run with free bodies continues from its checkpoints as if never stopped: from before the
+// remesh (the continuation meshes again as the run did) and after it (the kept mesh is
+// rebuilt, the nodes put where they were, the LU refactorised where it was assembled).
+TEST(Restart, FluidFemMovingBodiesContinueBitIdentically) {
+  test::TempDir tmp;
+  std::filesystem::path unused;
+  const auto cfg = load_fem_case(tmp.write("case.yaml", kFemMovingCase), unused);
+  ASSERT_TRUE(cfg);
+  RunOptions a;
+  a.output = tmp / "a";
+  ASSERT_EQ(run_fem_case(*cfg, unused, a), 0);
+  const auto end_a = load_fem_checkpoint(a.output / "fem_checkpoint_final.h5");
+  const auto at20 = load_fem_checkpoint(a.output / "fem_checkpoint_0000020.h5");
+  const auto at40 = load_fem_checkpoint(a.output / "fem_checkpoint_0000040.h5");
+  ASSERT_TRUE(at20.moving && at40.moving && end_a.moving);
+  // what the continuation must restore: a remesh behind it, friction springs, kept factors
+  EXPECT_EQ(at20.moving->remeshes, 0);
+  EXPECT_EQ(at40.moving->remeshes, 1);
+  EXPECT_GT(at40.moving->history_keys.size(), 2u);
+  EXPECT_TRUE(at40.flow.factorized && at40.flow.moving);
+  EXPECT_NE(at40.flow.factor_x, at40.flow.x);  // factors of an earlier iterate
+
+  for (const char* from : {"fem_checkpoint_0000020.h5", "fem_checkpoint_0000040.h5"}) {
+    // into its own folder: the same end state, the same rows after the restart
+    RunOptions b;
+    b.output = tmp / (std::string("b") + from);
+    b.restart = a.output / from;
+    ASSERT_EQ(run_fem_case(*cfg, unused, b), 0);
+    expect_same_moving(end_a, load_fem_checkpoint(b.output / "fem_checkpoint_final.h5"));
+    const auto rows_a = lines_of(a.output / "fem_forces.csv");
+    const auto rows_b = lines_of(b.output / "fem_forces.csv");
+    ASSERT_GT(rows_b.size(), 20u);
+    EXPECT_TRUE(std::equal(rows_b.begin() + 1, rows_b.end(), rows_a.end() - (rows_b.size() - 1)))
+        << from;
+  }
+  // Cut after 45 steps and continued in its folder (--append): the same CSV and field series.
+  RunOptions e;
+  e.output = tmp / "e";
+  e.steps = 45;
+  ASSERT_EQ(run_fem_case(*cfg, unused, e), 0);
+  e.steps.reset();
+  e.restart = e.output / "fem_checkpoint_final.h5";
+  e.append = true;
+  ASSERT_EQ(run_fem_case(*cfg, unused, e), 0);
+  EXPECT_EQ(read_text_file(a.output / "fem_forces.csv"),
+            read_text_file(e.output / "fem_forces.csv"));
+  for (const char* f : {"fem_fields.pvd", "fem_fields_00003.vtu", "fem_mesh.vtu"})
+    EXPECT_EQ(read_text_file(a.output / f), read_text_file(e.output / f)) << f;
+  EXPECT_NE(read_text_file(e.output / "fem_summary.txt").find("moving mesh: remeshes 1\n"),
+            std::string::npos);
+
+  // Stopped by a signal right after the restore: its checkpoint holds the restored state, and
+  // continuing that gives the same bits again.
+  RunOptions c;
+  c.output = tmp / "c";
+  c.restart = a.output / "fem_checkpoint_0000040.h5";
+  stop::install_handlers();
+  std::raise(SIGTERM);
+  EXPECT_EQ(run_fem_case(*cfg, unused, c), SIGTERM);
+  stop::reset();
+  RunOptions d;
+  d.output = tmp / "d";
+  d.restart = c.output / "fem_checkpoint_0000040.h5";
+  ASSERT_EQ(run_fem_case(*cfg, unused, d), 0);
+  expect_same_moving(end_a, load_fem_checkpoint(d.output / "fem_checkpoint_final.h5"));
+
+  // A checkpoint of the same geometry with the bodies fixed (or free) does not fit.
+  const std::string fixed_bodies =
+      std::regex_replace(std::string(kFemMovingCase), std::regex(", density: 2500"), "");
+  const std::string no_gravity =
+      test::replaced(test::replaced(fixed_bodies, "  gravity: [0, -9.81]\n", ""),
+                     "  moving_mesh: {repulsion: {range: 0.0012, force: 0.6, friction: 0.5, "
+                     "tangential_stiffness: 400}}\n",
+                     "");
+  const auto cfg_fixed = load_fem_case(tmp.write("fixed.yaml", no_gravity), unused);
+  ASSERT_TRUE(cfg_fixed);
+  RunOptions f;
+  f.output = tmp / "f";
+  f.restart = a.output / "fem_checkpoint_0000020.h5";
+  try {
+    run_fem_case(*cfg_fixed, unused, f);
+    ADD_FAILURE() << "a moving run's checkpoint continued a case without free bodies";
+  } catch (const InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("with free bodies and this case has none"),
+              std::string::npos)
+        << err.what();
+  }
 }

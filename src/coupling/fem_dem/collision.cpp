@@ -153,6 +153,21 @@ std::uint64_t ContactHistory::key(int body, int probe, int other, int edge) {
   return u(body) << 48 | u(probe) << 32 | u(other + 1) << 16 | u(edge);
 }
 
+std::vector<std::pair<std::uint64_t, double>> ContactHistory::entries() const {
+  std::vector<std::pair<std::uint64_t, double>> e(stretch_.begin(), stretch_.end());
+  std::sort(e.begin(), e.end());
+  return e;
+}
+
+ContactHistory ContactHistory::from_entries(const std::vector<std::uint64_t>& keys,
+                                            const std::vector<double>& stretch) {
+  REQUIRE(keys.size() == stretch.size(), "contact history: {} keys and {} stretches", keys.size(),
+          stretch.size());
+  ContactHistory h;
+  for (std::size_t i = 0; i < keys.size(); ++i) h.stretch_.emplace(keys[i], stretch[i]);
+  return h;
+}
+
 double ContactHistory::stretch(int body, int probe, int other, int edge) const {
   const auto it = stretch_.find(key(body, probe, other, edge));
   return it == stretch_.end() ? 0.0 : it->second;

@@ -33,6 +33,7 @@
 
 #include <cstdint>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "fluid/fem/navier_stokes.hpp"
@@ -62,6 +63,10 @@ class ContactHistory {
   /// (`other` = -1) or to body `other` (edge 0); 0 when not in range.
   [[nodiscard]] double stretch(int body, int probe, int other, int edge) const;
   [[nodiscard]] static std::uint64_t key(int body, int probe, int other, int edge);
+  /// Every gap's (key, stretch), by key (for checkpoints), and the history made of such a list.
+  [[nodiscard]] std::vector<std::pair<std::uint64_t, double>> entries() const;
+  static ContactHistory from_entries(const std::vector<std::uint64_t>& keys,
+                                     const std::vector<double>& stretch);
 
  private:
   friend std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec&, const CollisionModel&,

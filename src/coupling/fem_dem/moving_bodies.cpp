@@ -34,6 +34,14 @@ double shape_quality(Vec2 a, Vec2 b, Vec2 c) {
   return l2 > 0 ? 4.0 * std::sqrt(3.0) * area / l2 : 0.0;
 }
 
+std::vector<double> qualities(const fem::Mesh& mesh) {
+  std::vector<double> q;
+  q.reserve(mesh.cells.size());
+  const auto& n = mesh.nodes;
+  for (const auto& c : mesh.cells) q.push_back(shape_quality(n[c[0]], n[c[1]], n[c[2]]));
+  return q;
+}
+
 MeshMotion::MeshMotion(const fem::Mesh& mesh, int n_bodies) : ref_nodes_(mesh.nodes) {
   const int nv = mesh.n_vertices;
   // Dirichlet vertices: -1 interior, 0 outline, 1 + b on body b
@@ -124,10 +132,12 @@ MovingBodyFlow::MovingBodyFlow(fem::FlowProblem problem, MovingBodyOptions optio
   for (const auto& b : reference_spec_.bodies) poses_.push_back({b.centre, 0.0});
   reference_poses_ = poses_;
   contact_loads_.resize(poses_.size());
+  start_mesh();
+}
+
+void MovingBodyFlow::start_mesh() {
   motion_ = std::make_unique<MeshMotion>(flow_->mesh(), static_cast<int>(poses_.size()));
-  const auto& n = flow_->mesh().nodes;
-  for (const auto& c : flow_->mesh().cells)
-    reference_quality_.push_back(shape_quality(n[c[0]], n[c[1]], n[c[2]]));
+  reference_quality_ = qualities(flow_->mesh());
 }
 
 std::vector<RigidPose> MovingBodyFlow::predicted_poses(double dt) const {
@@ -199,11 +209,7 @@ void MovingBodyFlow::remesh() {
   flow_ = std::move(next);
   reference_spec_ = flow_->problem().spec;
   reference_poses_ = poses_;
-  motion_ = std::make_unique<MeshMotion>(flow_->mesh(), static_cast<int>(poses_.size()));
-  reference_quality_.clear();
-  const auto& n = flow_->mesh().nodes;
-  for (const auto& c : flow_->mesh().cells)
-    reference_quality_.push_back(shape_quality(n[c[0]], n[c[1]], n[c[2]]));
+  start_mesh();
   ++remeshes_;
   remesh_seconds_ +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -280,6 +286,100 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
   previous_velocity_ = std::move(velocity);
   previous_dt_ = dt;
   return r;
+}
+
+namespace {
+
+void put_poses(const std::vector<RigidPose>& p, std::vector<double>& out) {
+  for (const auto& q : p) out.insert(out.end(), {q.centre.x, q.centre.y, q.angle});
+}
+
+std::vector<RigidPose> take_poses(const std::vector<double>& v) {
+  std::vector<RigidPose> p;
+  for (std::size_t i = 0; i + 2 < v.size(); i += 3) p.push_back({{v[i], v[i + 1]}, v[i + 2]});
+  return p;
+}
+
+void put_loads(const std::vector<fem::BodyForce>& f, std::vector<double>& out) {
+  for (const auto& l : f) out.insert(out.end(), {l.force.x, l.force.y, l.torque});
+}
+
+std::vector<fem::BodyForce> take_loads(const std::vector<double>& v) {
+  std::vector<fem::BodyForce> f;
+  for (std::size_t i = 0; i + 2 < v.size(); i += 3) f.push_back({{v[i], v[i + 1]}, v[i + 2]});
+  return f;
+}
+
+}  // namespace
+
+fem::MovingFlowState MovingBodyFlow::state() const {
+  fem::MovingFlowState s;
+  s.reference_bodies = reference_spec_.bodies;
+  s.reference_mesh = flow_->mesh();
+  s.reference_mesh.nodes = motion_->reference_nodes();
+  put_poses(reference_poses_, s.reference_poses);
+  put_poses(poses_, s.poses);
+  for (const auto& v : previous_velocity_)
+    s.previous_velocity.insert(s.previous_velocity.end(),
+                               {v.velocity.x, v.velocity.y, v.angular_velocity});
+  s.previous_dt = previous_dt_;
+  put_loads(external_, s.external_loads);
+  put_loads(contact_loads_, s.contact_loads);
+  for (const auto& [k, xi] : history_.entries()) {
+    s.history_keys.push_back(k);
+    s.history_stretch.push_back(xi);
+  }
+  s.remeshes = remeshes_;
+  s.remesh_seconds = remesh_seconds_;
+  return s;
+}
+
+void MovingBodyFlow::restore(const fem::NavierStokes::State& flow, const fem::MovingFlowState& s) {
+  const std::size_t nb = poses_.size();
+  auto per_body = [nb](const std::vector<double>& v, bool may_be_empty) {
+    return v.size() == 3 * nb || (may_be_empty && v.empty());
+  };
+  bool same = s.reference_bodies.size() == nb && per_body(s.reference_poses, false) &&
+              per_body(s.poses, false) && per_body(s.previous_velocity, true) &&
+              per_body(s.external_loads, true) && per_body(s.contact_loads, false);
+  for (std::size_t b = 0; same && b < nb; ++b) {
+    const auto& now = reference_spec_.bodies[b];
+    const auto& then = s.reference_bodies[b];
+    same = now.kind == then.kind && now.radius == then.radius &&
+           now.vertices.size() == then.vertices.size();
+  }
+  REQUIRE(same, "moving-body state of another problem ({} bodies, expected {} of these shapes)",
+          s.reference_bodies.size(), nb);
+  for (std::size_t b = 0; b < nb && !s.external_loads.empty(); ++b)
+    REQUIRE(flow_->is_free(static_cast<int>(b)) ||
+                (s.external_loads[3 * b] == 0 && s.external_loads[3 * b + 1] == 0 &&
+                 s.external_loads[3 * b + 2] == 0),
+            "moving-body state: a load on body {}, which is not free here", b);
+  // The solver on the mesh as it was built around the bodies where they were then; the state
+  // then moves its nodes to where they are.
+  fem::FlowProblem pb = flow_->problem();
+  pb.spec.bodies = s.reference_bodies;
+  pb.mesh = s.reference_mesh;
+  auto next = std::make_unique<fem::NavierStokes>(std::move(pb));
+  fem::MeshSpec spec = next->problem().spec;  // (restore moves the centres)
+  auto motion = std::make_unique<MeshMotion>(next->mesh(), static_cast<int>(nb));
+  next->restore(flow);
+  flow_ = std::move(next);
+  reference_spec_ = std::move(spec);
+  motion_ = std::move(motion);
+  reference_quality_ = qualities(s.reference_mesh);
+  reference_poses_ = take_poses(s.reference_poses);
+  poses_ = take_poses(s.poses);
+  previous_velocity_.clear();
+  for (std::size_t i = 0; i < s.previous_velocity.size(); i += 3)
+    previous_velocity_.push_back(
+        {{s.previous_velocity[i], s.previous_velocity[i + 1]}, s.previous_velocity[i + 2]});
+  previous_dt_ = s.previous_dt;
+  external_ = take_loads(s.external_loads);
+  contact_loads_ = take_loads(s.contact_loads);
+  history_ = ContactHistory::from_entries(s.history_keys, s.history_stretch);
+  remeshes_ = static_cast<int>(s.remeshes);
+  remesh_seconds_ = s.remesh_seconds;
 }
 
 }  // namespace gf::fem_dem

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "coupling/fem_dem/collision.hpp"
+#include "fluid/fem/moving_state.hpp"
 #include "fluid/fem/navier_stokes.hpp"
 
 namespace gf::fem_dem {
@@ -42,6 +43,8 @@ class MeshMotion {
                                         const std::vector<RigidPose>& now) const;
   /// Weight of body b at P2 node k (1 on the body, 0 on the outline and other bodies).
   [[nodiscard]] double weight(int body, int node) const { return w_[body][node]; }
+  /// The node positions of the mesh it was built on [m].
+  [[nodiscard]] const std::vector<Vec2>& reference_nodes() const { return ref_nodes_; }
 
  private:
   std::vector<Vec2> ref_nodes_;
@@ -51,6 +54,8 @@ class MeshMotion {
 /// Shape quality 4 sqrt(3) A / (l1^2 + l2^2 + l3^2) of the straight triangle through a cell's
 /// vertices: 1 for an equilateral triangle, -> 0 for a flat one, < 0 for an inverted one.
 double shape_quality(Vec2 a, Vec2 b, Vec2 c);
+/// shape_quality of every cell of a mesh.
+std::vector<double> qualities(const fem::Mesh& mesh);
 
 struct MovingBodyOptions {
   /// Remesh when a cell's shape quality falls below this fraction of its value on the fresh mesh
@@ -95,6 +100,15 @@ class MovingBodyFlow {
   /// Meshes the domain again with the bodies at their current poses and interpolates the flow.
   void remesh();
 
+  /// What a checkpoint keeps of the run between two steps besides flow().state()
+  /// (fluid/fem/moving_state.hpp).
+  [[nodiscard]] fem::MovingFlowState state() const;
+  /// Continues from a checkpoint of a run of the same problem (same outline, bodies' shapes and
+  /// densities): rebuilds the solver and the mesh motion on the kept mesh and restores the flow,
+  /// the poses and the contacts, so that the following steps are those the checkpointed run
+  /// took. Throws gf::Error for a state of another problem.
+  void restore(const fem::NavierStokes::State& flow, const fem::MovingFlowState& s);
+
  private:
   [[nodiscard]] std::vector<RigidPose> predicted_poses(double dt) const;
   /// The spec's bodies placed at `poses` (polygons' vertices moved rigidly).
@@ -102,6 +116,8 @@ class MovingBodyFlow {
   /// The poses the mesh follows (circles: translation only).
   [[nodiscard]] std::vector<RigidPose> mesh_poses(const std::vector<RigidPose>& poses) const;
   [[nodiscard]] double quality_ratio(const std::vector<Vec2>& nodes, double& worst) const;
+  /// The mesh motion and reference qualities of a freshly built flow_ (constructor, remesh).
+  void start_mesh();
 
   MovingBodyOptions options_;
   std::unique_ptr<fem::NavierStokes> flow_;

@@ -571,9 +571,8 @@ void check_probes(const Reader& r, const YAML::Node& probes, const std::string& 
 }
 
 /// `gravity` and `moving_mesh` of the block, and what free bodies (a body with a density) need
-/// of the rest of it: an unsteady run from rest with fixed steps and no periodic checkpoints
-/// (a moving mesh is not kept in checkpoints yet). Gravity with no free body acts on nothing
-/// (the pressure is the dynamic one): a warning.
+/// of the rest of it: an unsteady run from rest with fixed steps. Gravity with no free body acts on
+/// nothing (the pressure is the dynamic one): a warning.
 void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig& cfg) {
   const std::string root = "fluid_fem";
   if (const auto g = block["gravity"]; g.IsDefined()) {
@@ -665,11 +664,6 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
   if (cfg.initial_steady)
     r.fail(time["initial"], tp + ".initial",
            fmt::format("rest: a run with free bodies starts from rest ({})", why));
-  if (cfg.output.checkpoint_every > 0)
-    r.fail(block["output"]["checkpoint_every"], root + ".output.checkpoint_every",
-           fmt::format("0: a run with free bodies writes no checkpoints ({}; the state of a "
-                       "moving mesh is not kept in checkpoints yet)",
-                       why));
 }
 
 }  // namespace
@@ -1309,12 +1303,15 @@ std::string kept_csv(const std::filesystem::path& file, const std::string& heade
 /// with a quarter of the step, down to 1/1024 of time.step (then StepFailure); cut steps grow
 /// back after a step whose Newton solve converged with room to spare.
 TimeStats integrate_moving(FemMovingFlow& run, const TimeControl& tc, const NewtonOptions& opt,
-                           const std::function<void(const NavierStokes&, double)>& observe) {
+                           const std::function<void(const NavierStokes&, double)>& observe,
+                           TimeLoopState& loop) {
   TimeStats st;
   const double dt_config = tc.dt;
   const double dt_floor = std::max(tc.dt_min, dt_config / 1024.0);
   const double eps = 1e-12 * std::max(1.0, std::abs(tc.t_end));
-  double dt = dt_config;
+  // a step cut to get past a hard stretch continues cut from a checkpoint (unless the case now
+  // asks for another step)
+  double dt = loop.dt > 0 && loop.dt_config == dt_config ? loop.dt : dt_config;
   while (run.flow().time() < tc.t_end - eps && (tc.max_steps < 0 || st.steps < tc.max_steps)) {
     if ((st.stop_signal = stop::requested())) break;
     const double t = run.flow().time();
@@ -1341,6 +1338,7 @@ TimeStats integrate_moving(FemMovingFlow& run, const TimeControl& tc, const Newt
     ++st.steps_at_order[run.flow().last_order()];
     if (dt < dt_config && 2 * r.newton.iterations <= opt.max_iterations)
       dt = std::min(dt_config, dt * (tc.order >= 3 ? 1.5 : 2.0));
+    loop = {dt, dt_config, tc.order, 0, 0};  // (the observer may checkpoint)
     if (observe) observe(run.flow(), h);
   }
   return st;
@@ -1377,11 +1375,9 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
   pb.gravity = cfg.gravity;
   // Free bodies: the flow lives in the moving run (a remesh replaces it); else here.
   const bool is_moving = cfg.has_free_bodies();
-  if (is_moving && io.resume)
-    throw InputError(fmt::format(
-        "{}: error: --restart: a fluid_fem run with free bodies writes no checkpoints (the state "
-        "of a moving mesh is not kept in them yet), so it cannot be continued",
-        cfg.file));
+  // the mesh the case starts on: a checkpoint of this case was written by a run that started on
+  // the same one (a moving run meshes again later)
+  const std::uint64_t start_mesh_hash = mesh_hash(pb.mesh);
   REQUIRE(!is_moving || moving_factory,
           "run_fluid_fem: a case with free bodies needs the moving-mesh driver (coupling layer)");
   std::unique_ptr<NavierStokes> fixed;
@@ -1446,12 +1442,20 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
           fmt::format("{}: error: --restart: a steady fluid_fem case has no time "
                       "steps to continue",
                       cfg.file));
-    if (resume->mesh_hash != mesh_hash(fixed->mesh()))
+    if (resume->mesh_hash != start_mesh_hash)
       throw InputError(fmt::format(
           "{}: error: --restart: the checkpoint belongs to another mesh (the case's domain, "
           "bodies or mesh sizes changed, or another build meshed it)",
           cfg.file));
-    fixed->restore(resume->flow);
+    if (resume->moving.has_value() != is_moving)
+      throw InputError(fmt::format(
+          "{}: error: --restart: the checkpoint is of a run {} free bodies and this case has {} "
+          "(a body's density changed)",
+          cfg.file, is_moving ? "without" : "with", is_moving ? "some" : "none"));
+    if (moving)
+      moving->restore(resume->flow, *resume->moving);
+    else
+      fixed->restore(resume->flow);
   }
   // (appending: the data sets up to and including the checkpoint's time stay; the state there
   // is not written again)
@@ -1539,16 +1543,17 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     }
     std::int64_t steps = steps_before;
     auto checkpoint = [&](const std::string& name) {
-      if (!io.save || moving) return;  // (a moving mesh is not kept in checkpoints yet)
+      if (!io.save) return;
       FemCheckpoint c;
-      c.flow = fixed->state();
+      c.flow = flow().state();
+      if (moving) c.moving = moving->state();
       c.loop = loop;
       c.steps = steps;
       c.next_vtk = next_vtk;
       c.next_csv = next_csv;
       c.next_checkpoint = next_ckpt;
       c.n_fields = fields_written();
-      c.mesh_hash = mesh_hash(fixed->mesh());
+      c.mesh_hash = start_mesh_hash;
       c.fields_until =
           series.size() > 0 ? series.last_time() : -std::numeric_limits<double>::infinity();
       c.runs = (resume ? resume->runs : 0) + 1;
@@ -1596,7 +1601,7 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     };
     TimeStats st;
     try {
-      st = moving ? integrate_moving(*moving, tc, cfg.newton, observe)
+      st = moving ? integrate_moving(*moving, tc, cfg.newton, observe, loop)
                   : integrate(*fixed, tc, cfg.newton, observe, &loop);
     } catch (const StepFailure& e) {
       throw diverged(e.what());

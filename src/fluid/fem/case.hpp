@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "fluid/fem/moving_state.hpp"
 #include "fluid/fem/navier_stokes.hpp"
 #include "fluid/fem/time_stepping.hpp"
 
@@ -137,6 +138,9 @@ struct FemCheckpoint {
   std::optional<double> fields_until;
   std::int64_t runs = 1;    ///< runs over restarts up to this checkpoint, its own included
   double wall_seconds = 0;  ///< their wall time up to this checkpoint [s] (NaN: not recorded)
+  /// A run with free bodies: the moving mesh and the bodies (mesh_hash is that of the mesh the
+  /// run started on).
+  std::optional<MovingFlowState> moving;
 };
 
 /// Checkpoint hooks of run_fluid_fem: `save` writes one (empty: none written); `resume`
@@ -165,6 +169,10 @@ class FemMovingFlow {
   [[nodiscard]] virtual double angle(int body) const = 0;
   /// Times the domain was meshed again.
   [[nodiscard]] virtual int remeshes() const = 0;
+  /// What a checkpoint keeps besides flow().state(), and the continuation from both (a state of
+  /// another problem throws gf::Error).
+  [[nodiscard]] virtual MovingFlowState state() const = 0;
+  virtual void restore(const NavierStokes::State& flow, const MovingFlowState& s) = 0;
 };
 
 /// Makes the moving flow of a case with free bodies from its problem (mesh built, bodies at
@@ -189,8 +197,8 @@ std::uint64_t mesh_hash(const Mesh& m);
 /// A case with free bodies runs on a moving mesh made by `moving` (required then): fixed steps
 /// (a failed step is retried with a quarter of the step, as on a fixed mesh), fem_forces.csv
 /// gains per body NAME.x, NAME.y, NAME.angle, NAME.vx, NAME.vy, NAME.omega, every field file
-/// holds the moved mesh, the summary counts the remeshes; no checkpoint is written (a moving
-/// mesh's state is not kept in checkpoints yet) and `io.resume` is an InputError.
+/// holds the moved mesh, the summary counts the remeshes; its checkpoints also keep the moving
+/// mesh and the bodies (FemCheckpoint::moving), and it continues from them bit-identically.
 int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_dir,
                   int max_steps = -1, const FemCheckpointIo& io = {},
                   const FemMovingFlowFactory& moving = {});

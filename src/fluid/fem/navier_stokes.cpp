@@ -224,8 +224,7 @@ void NavierStokes::move_mesh(const std::vector<Vec2>& nodes, const std::vector<V
       centres.size(), problem_.mesh.nodes.size(), problem_.spec.bodies.size());
   if (!moving_) {  // the mesh was fixed so far: every known state had these positions
     base_nodes_ = problem_.mesh.nodes;
-    base_centres_.clear();
-    for (const auto& b : problem_.spec.bodies) base_centres_.push_back(b.centre);
+    base_centres_ = body_centres();
     hist_nodes_.assign(hist_t_.size(), base_nodes_);
     hist_centres_.assign(hist_t_.size(), base_centres_);
     moving_ = true;
@@ -622,6 +621,11 @@ NewtonReport NavierStokes::newton(const NewtonOptions& opt) {
       factor_alpha0_ = alpha0_;
       factor_newton_ = newton_terms;
       factor_x_ = x_;
+      if (moving_) {  // (a checkpoint rebuilds these factors where they were assembled)
+        factor_nodes_ = problem_.mesh.nodes;
+        factor_centres_ = body_centres();
+        factor_w_ = mesh_w_;
+      }
       ++rep.factorizations;
       need_fresh = !opt.reuse_factorization;
     }
@@ -788,8 +792,7 @@ void NavierStokes::accept_step() {
   hist_x_.insert(hist_x_.begin(), x_);
   if (moving_) {  // (a fixed mesh keeps no copies of its nodes)
     base_nodes_ = problem_.mesh.nodes;
-    base_centres_.clear();
-    for (const auto& b : problem_.spec.bodies) base_centres_.push_back(b.centre);
+    base_centres_ = body_centres();
     hist_nodes_.insert(hist_nodes_.begin(), base_nodes_);
     hist_centres_.insert(hist_centres_.begin(), base_centres_);
   }
@@ -804,8 +807,6 @@ void NavierStokes::accept_step() {
 }
 
 NavierStokes::State NavierStokes::state() const {
-  REQUIRE(!moving_ && n_free_ == 0,
-          "the state of a moving mesh or of free bodies is not kept in checkpoints yet");
   State s;
   s.t = t_;
   s.last_order = last_order_;
@@ -820,7 +821,37 @@ NavierStokes::State NavierStokes::state() const {
     s.factor_alpha0 = factor_alpha0_;
     s.factor_newton = factor_newton_;
   }
+  s.moving = moving_;
+  if (moving_) {
+    s.nodes = problem_.mesh.nodes;
+    s.centres = body_centres();
+    s.hist_nodes = hist_nodes_;
+    s.hist_centres = hist_centres_;
+    s.mesh_w = mesh_w_;
+    if (s.factorized) {
+      s.factor_nodes = factor_nodes_;
+      s.factor_centres = factor_centres_;
+      s.factor_w = factor_w_;
+    }
+  }
+  s.body_load = body_load_;
   return s;
+}
+
+std::vector<Vec2> NavierStokes::body_centres() const {
+  std::vector<Vec2> c;
+  c.reserve(problem_.spec.bodies.size());
+  for (const auto& b : problem_.spec.bodies) c.push_back(b.centre);
+  return c;
+}
+
+void NavierStokes::place_mesh(const std::vector<Vec2>& nodes, const std::vector<Vec2>& centres,
+                              const std::vector<Vec2>& w) {
+  problem_.mesh.nodes = nodes;
+  for (std::size_t j = 0; j < centres.size(); ++j) problem_.spec.bodies[j].centre = centres[j];
+  mesh_w_ = w;
+  precompute_geometry();
+  locator_stale_ = true;
 }
 
 void NavierStokes::restore(const State& s) {
@@ -833,7 +864,27 @@ void NavierStokes::restore(const State& s) {
   for (const auto& h : s.hist_x)
     REQUIRE(h.size() == n, "fluid_fem state: a history state of {} unknowns, expected {}", h.size(),
             n);
+  const std::size_t nn = problem_.mesh.nodes.size(), nb = problem_.spec.bodies.size();
+  REQUIRE(s.body_load.empty() || s.body_load.size() == nb,
+          "fluid_fem state: loads of {} bodies, expected {}", s.body_load.size(), nb);
+  if (s.moving) {
+    auto fits = [&](const std::vector<Vec2>& nodes, const std::vector<Vec2>& centres) {
+      return nodes.size() == nn && centres.size() == nb;
+    };
+    bool ok = fits(s.nodes, s.centres) && s.hist_nodes.size() == s.hist_centres.size() &&
+              s.hist_nodes.size() <= s.hist_t.size() && (s.mesh_w.empty() || s.mesh_w.size() == nn);
+    for (std::size_t k = 0; ok && k < s.hist_nodes.size(); ++k)
+      ok = fits(s.hist_nodes[k], s.hist_centres[k]);
+    if (s.factorized)
+      ok = ok && fits(s.factor_nodes, s.factor_centres) &&
+           (s.factor_w.empty() || s.factor_w.size() == nn);
+    REQUIRE(ok, "fluid_fem state of a moving mesh of another size (expected {} nodes, {} bodies)",
+            nn, nb);
+  }
+  if (!s.body_load.empty()) body_load_ = s.body_load;
+  moving_ = s.moving;  // (before the factors: assemble() takes the ALE terms only when moving)
   if (s.factorized) {  // the same values in the same pattern give the same factors
+    if (s.moving) place_mesh(s.factor_nodes, s.factor_centres, s.factor_w);
     x_ = s.factor_x;
     alpha0_ = s.factor_alpha0;
     assemble(true, s.factor_newton);
@@ -841,10 +892,20 @@ void NavierStokes::restore(const State& s) {
     factor_x_ = s.factor_x;
     factor_alpha0_ = s.factor_alpha0;
     factor_newton_ = s.factor_newton;
+    factor_nodes_ = s.factor_nodes;
+    factor_centres_ = s.factor_centres;
+    factor_w_ = s.factor_w;
   } else {  // as without factors: the next Newton solve factorises afresh
     factor_alpha0_ = -1.0;
     factor_newton_ = false;
     factor_x_.clear();
+  }
+  if (s.moving) {
+    place_mesh(s.nodes, s.centres, s.mesh_w);
+    hist_nodes_ = s.hist_nodes;
+    hist_centres_ = s.hist_centres;
+    base_nodes_ = s.nodes;  // (between steps the accepted state is where the mesh is)
+    base_centres_ = s.centres;
   }
   hist_t_ = s.hist_t;
   hist_x_ = s.hist_x;

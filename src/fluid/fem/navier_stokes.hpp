@@ -183,7 +183,11 @@ class NavierStokes {
   /// What a checkpoint keeps to continue a time integration bit-identically: the solution and
   /// the BDF history, the last step's time-derivative coefficients (for the reaction forces),
   /// and the iterate and coefficient at which the kept LU factorisation (chord method) was
-  /// assembled, so that restore() can rebuild the very same factors.
+  /// assembled, so that restore() can rebuild the very same factors. On a moving mesh (ALE) also
+  /// where the nodes and body centres are, were at the history states and were when the kept
+  /// factorisation was assembled, the mesh velocities of the last step and of that assembly, and
+  /// the free bodies' loads; the solver it is restored into must have been built on the mesh as
+  /// it was before it moved (the same cells, nodes where they were built).
   struct State {
     double t = 0.0;  ///< [s]
     int last_order = 0;
@@ -196,6 +200,13 @@ class NavierStokes {
     std::vector<double> factor_x;  ///< iterate of the kept factorisation (empty if none)
     double factor_alpha0 = -1.0;
     bool factor_newton = false;
+    // moving mesh (empty unless `moving`)
+    bool moving = false;
+    std::vector<Vec2> nodes, centres;                          ///< now [m]
+    std::vector<std::vector<Vec2>> hist_nodes, hist_centres;   ///< at hist_t [m]
+    std::vector<Vec2> mesh_w;                                  ///< of the last step [m/s]
+    std::vector<Vec2> factor_nodes, factor_centres, factor_w;  ///< of the kept factorisation
+    std::vector<BodyForce> body_load;  ///< per body (set_body_load) [N/m, N]
   };
   [[nodiscard]] State state() const;
   /// Restores a state taken from a solver of the same problem (same mesh, sizes checked) and
@@ -223,6 +234,10 @@ class NavierStokes {
   void build_locator() const;
   /// Boundary values of free bodies' nodes from their current velocity unknowns.
   void refresh_free_body_values();
+  [[nodiscard]] std::vector<Vec2> body_centres() const;
+  /// Puts the nodes and body centres at the given places and sets the mesh velocity (restore).
+  void place_mesh(const std::vector<Vec2>& nodes, const std::vector<Vec2>& centres,
+                  const std::vector<Vec2>& w);
   /// Unknown index of hist_term_ entry i (velocities first, then free-body velocities).
   [[nodiscard]] int hist_dof(int i) const { return i < 2 * n2_ ? i : i + n1_; }
   [[nodiscard]] int body_dof(int body) const { return 2 * n2_ + n1_ + 3 * free_slot_[body]; }
@@ -278,6 +293,8 @@ class NavierStokes {
   double factor_alpha0_ = -1.0;
   bool factor_newton_ = false;
   std::vector<double> factor_x_;  // the iterate the factorisation was assembled at
+  // (moving mesh) where the nodes and centres were then, and the mesh velocity
+  std::vector<Vec2> factor_nodes_, factor_centres_, factor_w_;
 
   // Point location: uniform grid of buckets listing the cells whose bounding box meets them.
   // (mutable: rebuilt lazily by locate() after the mesh moved)
