@@ -113,6 +113,7 @@ void save_moving(io::h5::File& h, const fem::NavierStokes::State& f,
   h.write("moving/body_n_vertices", std::span<const std::int32_t>(n_vertices));
   dbl("body_centre_radius", body);
   pts("body_vertices", vertices);
+  dbl("body_density", m.body_density);
   // the mesh as built
   const auto& mesh = m.reference_mesh;
   pts("mesh_nodes", mesh.nodes);
@@ -140,12 +141,25 @@ void save_moving(io::h5::File& h, const fem::NavierStokes::State& f,
 }
 
 fem::MovingFlowState load_moving(const io::h5::File& h, fem::NavierStokes::State& f) {
+  // (what is read is checked before it reaches the solver: a damaged or foreign file is an
+  // IoError, which --restart reports as bad input)
+  auto bad = [&h](const std::string& what) {
+    return IoError(
+        fmt::format("{}: not a valid moving-mesh checkpoint: {}", h.path().string(), what));
+  };
   auto dbl = [&h](const std::string& name) { return h.read_double("moving/" + name); };
-  auto pts = [&](const std::string& name) { return points(dbl(name)); };
+  auto pts = [&](const std::string& name) {
+    const auto v = dbl(name);
+    if (v.size() % 2 != 0)
+      throw bad(fmt::format("'{}' holds {} numbers, not x, y pairs", name, v.size()));
+    return points(v);
+  };
   f.moving = h.read_int_attribute("moving", "flow_moving") != 0;
   f.nodes = pts("nodes");
   f.centres = pts("centres");
   const auto n_hist = h.read_int_attribute("moving", "hist_nodes");
+  if (n_hist < 0 || n_hist > fem::kMaxBdfOrder + 1)
+    throw bad(fmt::format("{} history node lists", n_hist));
   for (std::int64_t k = 0; k < n_hist; ++k) {
     f.hist_nodes.push_back(pts(fmt::format("hist_nodes_{}", k)));
     f.hist_centres.push_back(pts(fmt::format("hist_centres_{}", k)));
@@ -155,6 +169,7 @@ fem::MovingFlowState load_moving(const io::h5::File& h, fem::NavierStokes::State
   f.factor_centres = pts("factor_centres");
   f.factor_w = pts("factor_w");
   const auto loads = dbl("body_load");
+  if (loads.size() % 3 != 0) throw bad("body loads are not (fx, fy, torque) triples");
   for (std::size_t i = 0; i + 2 < loads.size(); i += 3)
     f.body_load.push_back({{loads[i], loads[i + 1]}, loads[i + 2]});
   fem::MovingFlowState m;
@@ -162,32 +177,59 @@ fem::MovingFlowState load_moving(const io::h5::File& h, fem::NavierStokes::State
   const auto n_vertices = h.read_int32("moving/body_n_vertices");
   const auto body = dbl("body_centre_radius");
   const auto vertices = pts("body_vertices");
+  m.body_density = dbl("body_density");
+  const std::size_t nb = kind.size();
+  if (n_vertices.size() != nb || body.size() != 3 * nb || m.body_density.size() != nb)
+    throw bad(fmt::format("{} bodies, but {} vertex counts, {} centre/radius numbers, {} densities",
+                          nb, n_vertices.size(), body.size(), m.body_density.size()));
   std::size_t next = 0;
-  for (std::size_t b = 0; b < kind.size(); ++b) {
+  for (std::size_t b = 0; b < nb; ++b) {
+    if (kind[b] != 0 && kind[b] != 1) throw bad(fmt::format("body {} of kind {}", b, kind[b]));
+    if (n_vertices[b] < 0 || static_cast<std::size_t>(n_vertices[b]) > vertices.size() - next)
+      throw bad(
+          fmt::format("body {}: {} vertices, {} left", b, n_vertices[b], vertices.size() - next));
     fem::BodyShape s;
     s.kind = kind[b] == 0 ? fem::BodyShape::Kind::Circle : fem::BodyShape::Kind::Polygon;
-    s.centre = {body.at(3 * b), body.at(3 * b + 1)};
-    s.radius = body.at(3 * b + 2);
-    const auto nv = static_cast<std::size_t>(n_vertices.at(b));
-    REQUIRE(next + nv <= vertices.size(), "checkpoint: {} body vertices, more needed",
-            vertices.size());
+    s.centre = {body[3 * b], body[3 * b + 1]};
+    s.radius = body[3 * b + 2];
+    const auto nv = static_cast<std::size_t>(n_vertices[b]);
     s.vertices.assign(vertices.begin() + static_cast<std::ptrdiff_t>(next),
                       vertices.begin() + static_cast<std::ptrdiff_t>(next + nv));
     next += nv;
     m.reference_bodies.push_back(std::move(s));
   }
+  if (next != vertices.size())
+    throw bad(fmt::format("{} body vertices, {} used", vertices.size(), next));
   auto& mesh = m.reference_mesh;
   mesh.nodes = pts("mesh_nodes");
   mesh.n_vertices = static_cast<int>(h.read_int_attribute("moving", "mesh_vertices"));
+  const auto n_nodes = static_cast<std::int64_t>(mesh.nodes.size());
   const auto cells = h.read_int32("moving/mesh_cells");
-  for (std::size_t i = 0; i + 5 < cells.size(); i += 6)
-    mesh.cells.push_back(
-        {cells[i], cells[i + 1], cells[i + 2], cells[i + 3], cells[i + 4], cells[i + 5]});
   mesh.curved = h.read_uint8("moving/mesh_curved");
   const auto boundary = h.read_int32("moving/mesh_boundary");
-  for (std::size_t i = 0; i + 6 < boundary.size(); i += 7)
-    mesh.boundary.push_back({boundary[i], boundary[i + 1], boundary[i + 2], boundary[i + 3],
-                             boundary[i + 4], boundary[i + 5], boundary[i + 6]});
+  if (mesh.n_vertices < 3 || mesh.n_vertices > n_nodes || cells.size() % 6 != 0 ||
+      boundary.size() % 7 != 0 || mesh.curved.size() != cells.size() / 6)
+    throw bad(
+        fmt::format("a mesh of {} nodes, {} vertices, {} cell indices, {} curved flags, {} "
+                    "boundary numbers",
+                    n_nodes, mesh.n_vertices, cells.size(), mesh.curved.size(), boundary.size()));
+  const auto n_cells = static_cast<std::int64_t>(cells.size() / 6);
+  for (std::size_t i = 0; i < cells.size(); ++i)
+    if (cells[i] < 0 || cells[i] >= (i % 6 < 3 ? mesh.n_vertices : n_nodes))
+      throw bad(fmt::format("cell {} refers to node {}", i / 6, cells[i]));
+  for (std::size_t i = 0; i < cells.size(); i += 6)
+    mesh.cells.push_back(
+        {cells[i], cells[i + 1], cells[i + 2], cells[i + 3], cells[i + 4], cells[i + 5]});
+  for (std::size_t i = 0; i < boundary.size(); i += 7) {
+    const fem::BoundaryEdge e{boundary[i],     boundary[i + 1], boundary[i + 2], boundary[i + 3],
+                              boundary[i + 4], boundary[i + 5], boundary[i + 6]};
+    const bool ok = e.a >= 0 && e.a < mesh.n_vertices && e.b >= 0 && e.b < mesh.n_vertices &&
+                    e.mid >= 0 && e.mid < n_nodes && e.cell >= 0 && e.cell < n_cells &&
+                    e.local_edge >= 0 && e.local_edge < 3 && e.outline_edge >= -1 && e.body >= -1 &&
+                    e.body < static_cast<int>(nb) && (e.outline_edge >= 0) != (e.body >= 0);
+    if (!ok) throw bad(fmt::format("boundary edge {}", i / 7));
+    mesh.boundary.push_back(e);
+  }
   m.reference_poses = dbl("reference_poses");
   m.poses = dbl("poses");
   m.previous_velocity = dbl("previous_velocity");
@@ -197,6 +239,16 @@ fem::MovingFlowState load_moving(const io::h5::File& h, fem::NavierStokes::State
   for (const auto k : h.read_int64("moving/history_keys"))
     m.history_keys.push_back(static_cast<std::uint64_t>(k));
   m.history_stretch = dbl("history_stretch");
+  auto per_body = [nb](const std::vector<double>& v, bool may_be_empty) {
+    return v.size() == 3 * nb || (may_be_empty && v.empty());
+  };
+  if (!per_body(m.reference_poses, false) || !per_body(m.poses, false) ||
+      !per_body(m.previous_velocity, true) || !per_body(m.external_loads, true) ||
+      !per_body(m.contact_loads, false))
+    throw bad(fmt::format("poses, velocities or loads not of {} bodies", nb));
+  if (m.history_keys.size() != m.history_stretch.size())
+    throw bad(fmt::format("{} friction-spring keys, {} stretches", m.history_keys.size(),
+                          m.history_stretch.size()));
   m.remeshes = h.read_int_attribute("moving", "remeshes");
   m.remesh_seconds = h.read_double_attribute("moving", "remesh_seconds");
   return m;
@@ -307,9 +359,12 @@ class MovingFlow final : public fem::FemMovingFlow {
   MovingFlow(fem::FlowProblem pb, const fem::FemCaseConfig& cfg)
       : run_(std::move(pb), moving_options(cfg)) {}
   [[nodiscard]] const fem::NavierStokes& flow() const override { return run_.flow(); }
-  fem::StepResult step(double dt, int order, const fem::NewtonOptions& newton) override {
-    return run_.step(dt, order, newton);
+  fem::StepResult try_step(double dt, int order, const fem::NewtonOptions& newton, double rtol,
+                           double atol, bool neighbour_errors) override {
+    return run_.try_step(dt, order, newton, rtol, atol, neighbour_errors);
   }
+  void accept_step() override { run_.accept_step(); }
+  void reject_step() override { run_.reject_step(); }
   [[nodiscard]] fem::Vec2 centre(int body) const override { return run_.poses()[body].centre; }
   [[nodiscard]] double angle(int body) const override { return run_.poses()[body].angle; }
   [[nodiscard]] int remeshes() const override { return run_.remeshes(); }

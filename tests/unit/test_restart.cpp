@@ -707,7 +707,79 @@ TEST(Restart, FluidFemMovingBodiesContinueBitIdentically) {
   ASSERT_EQ(run_fem_case(*cfg, unused, d), 0);
   expect_same_moving(end_a, load_fem_checkpoint(d.output / "fem_checkpoint_final.h5"));
 
-  // A checkpoint of the same geometry with the bodies fixed (or free) does not fit.
+  // From the step right before the remesh (checkpoints at every step): the remesh interpolates
+  // the restored velocities, the free bodies' surface nodes included, which must be the saved
+  // bits (not the rigid motion imposed again).
+  const auto cfg_each = load_fem_case(
+      tmp.write("each.yaml",
+                test::replaced(kFemMovingCase, "checkpoint_every: 0.1", "checkpoint_every: 0.005")),
+      unused);
+  ASSERT_TRUE(cfg_each);
+  RunOptions k;
+  k.output = tmp / "k";
+  k.steps = 40;
+  ASSERT_EQ(run_fem_case(*cfg_each, unused, k), 0);
+  std::filesystem::path before_remesh;
+  for (int step = 1; step <= 40; ++step) {
+    const auto file = k.output / fmt::format("fem_checkpoint_{:07d}.h5", step);
+    if (!std::filesystem::exists(file)) continue;
+    if (load_fem_checkpoint(file).moving->remeshes > 0) break;
+    before_remesh = file;
+  }
+  ASSERT_FALSE(before_remesh.empty());
+  RunOptions m;
+  m.output = tmp / "m";
+  m.restart = before_remesh;
+  ASSERT_EQ(run_fem_case(*cfg, unused, m), 0);
+  expect_same_moving(end_a, load_fem_checkpoint(m.output / "fem_checkpoint_final.h5"));
+
+  // Adaptive steps and automatic BDF order (the controller's state is in the checkpoint too):
+  // continued in its folder from its last periodic checkpoint, the same rows.
+  const auto cfg_adaptive = load_fem_case(
+      tmp.write("adaptive.yaml",
+                test::replaced(kFemMovingCase,
+                               "time: {mode: unsteady, scheme: bdf2, step: 0.005, end: 0.3}",
+                               "time: {mode: unsteady, scheme: auto, step: 0.002, end: 0.3,\n"
+                               "         adaptive: {rtol: 1.0e-3, atol: 1.0e-5, dt_max: 0.0035}}")),
+      unused);
+  ASSERT_TRUE(cfg_adaptive);
+  RunOptions g;
+  g.output = tmp / "g";
+  ASSERT_EQ(run_fem_case(*cfg_adaptive, unused, g), 0);
+  std::vector<std::filesystem::path> periodic;
+  for (const auto& p : std::filesystem::directory_iterator(g.output))
+    if (p.path().filename().string().rfind("fem_checkpoint_0", 0) == 0)
+      periodic.push_back(p.path());
+  std::sort(periodic.begin(), periodic.end());
+  ASSERT_GE(periodic.size(), 2u);
+  const auto end_g = load_fem_checkpoint(g.output / "fem_checkpoint_final.h5");
+  EXPECT_EQ(end_g.moving->remeshes, 1);
+  RunOptions h;
+  h.output = tmp / "h";
+  std::filesystem::copy(g.output, h.output);
+  h.restart = h.output / periodic.back().filename();
+  h.append = true;
+  ASSERT_EQ(run_fem_case(*cfg_adaptive, unused, h), 0);
+  EXPECT_EQ(read_text_file(g.output / "fem_forces.csv"),
+            read_text_file(h.output / "fem_forces.csv"));
+  expect_same_moving(end_g, load_fem_checkpoint(h.output / "fem_checkpoint_final.h5"));
+
+  // A checkpoint of bodies with other densities does not fit, nor one of the same geometry
+  // with the bodies fixed (or free).
+  const auto cfg_heavier = load_fem_case(
+      tmp.write("heavier.yaml", test::replaced(kFemMovingCase, "[0.0078, 0.0107]], density: 2500",
+                                               "[0.0078, 0.0107]], density: 2600")),
+      unused);
+  ASSERT_TRUE(cfg_heavier);
+  RunOptions n;
+  n.output = tmp / "n";
+  n.restart = a.output / "fem_checkpoint_0000020.h5";
+  try {
+    run_fem_case(*cfg_heavier, unused, n);
+    ADD_FAILURE() << "a checkpoint of lighter bodies was accepted";
+  } catch (const InputError& err) {
+    EXPECT_NE(std::string(err.what()).find("other densities"), std::string::npos) << err.what();
+  }
   const std::string fixed_bodies =
       std::regex_replace(std::string(kFemMovingCase), std::regex(", density: 2500"), "");
   const std::string no_gravity =

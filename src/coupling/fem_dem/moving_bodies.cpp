@@ -226,7 +226,37 @@ std::vector<RigidPose> MovingBodyFlow::mesh_poses(const std::vector<RigidPose>& 
 }
 
 fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOptions& newton) {
-  const std::vector<RigidPose> next = predicted_poses(dt);
+  fem::StepResult r = try_step(dt, order, newton);
+  if (!r.newton.converged) {
+    reject_step();
+    throw Error(!r.failure.empty()
+                    ? r.failure
+                    : fmt::format("at t = {} s: Newton did not converge in {} iterations (last "
+                                  "update {:.3g}) in the step of {} s: lower the time step",
+                                  flow_->time(), r.newton.iterations, r.newton.last_update, dt));
+  }
+  accept_step();
+  return r;
+}
+
+fem::StepResult MovingBodyFlow::try_step(double dt, int order, const fem::NewtonOptions& newton,
+                                         double rtol, double atol, bool neighbour_errors) {
+  REQUIRE(!pending_, "MovingBodyFlow::try_step: the last step was neither accepted nor rejected");
+  try {
+    return try_step_or_throw(dt, order, newton, rtol, atol, neighbour_errors);
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {  // the mesh could not follow: the flow is where it was
+    fem::StepResult r;
+    r.failure = e.what();
+    return r;
+  }
+}
+
+fem::StepResult MovingBodyFlow::try_step_or_throw(double dt, int order,
+                                                  const fem::NewtonOptions& newton, double rtol,
+                                                  double atol, bool neighbour_errors) {
+  std::vector<RigidPose> next = predicted_poses(dt);
   std::vector<Vec2> nodes = motion_->nodes(reference_poses_, mesh_poses(next));
   double worst = 0;
   if (quality_ratio(nodes, worst) < options_.remesh_ratio || worst < options_.remesh_quality) {
@@ -271,21 +301,37 @@ fem::StepResult MovingBodyFlow::step(double dt, int order, const fem::NewtonOpti
   std::vector<Vec2> centres;
   for (const auto& p : next) centres.push_back(p.centre);
   flow_->move_mesh(nodes, centres);
-  const fem::StepResult r = flow_->try_step(dt, order, newton, 1.0, 1.0);
-  if (!r.newton.converged) {
-    flow_->reject_step();
-    throw Error(fmt::format(
-        "at t = {} s: Newton did not converge in {} iterations (last update {:.3g}) in the step "
-        "of {} s: lower the time step",
-        flow_->time(), r.newton.iterations, r.newton.last_update, dt));
+  fem::StepResult r;
+  try {
+    r = flow_->try_step(dt, order, newton, rtol, atol, neighbour_errors);
+  } catch (...) {
+    flow_->reject_step();  // (moves the mesh back)
+    throw;
   }
-  flow_->accept_step();
-  poses_ = next;
-  if (options_.collision.friction > 0) history_ = std::move(history);
-  contact_loads_ = std::move(contact);
-  previous_velocity_ = std::move(velocity);
-  previous_dt_ = dt;
+  pending_ = true;
+  pending_poses_ = std::move(next);
+  pending_history_ = std::move(history);
+  pending_contact_ = std::move(contact);
+  pending_velocity_ = std::move(velocity);
+  pending_dt_ = dt;
   return r;
+}
+
+void MovingBodyFlow::accept_step() {
+  REQUIRE(pending_, "MovingBodyFlow::accept_step without a step");
+  flow_->accept_step();
+  poses_ = std::move(pending_poses_);
+  if (options_.collision.friction > 0) history_ = std::move(pending_history_);
+  contact_loads_ = std::move(pending_contact_);
+  previous_velocity_ = std::move(pending_velocity_);
+  previous_dt_ = pending_dt_;
+  pending_ = false;
+}
+
+void MovingBodyFlow::reject_step() {
+  if (!pending_) return;  // (a step that failed before solving left the flow as it was)
+  flow_->reject_step();
+  pending_ = false;
 }
 
 namespace {
@@ -313,8 +359,11 @@ std::vector<fem::BodyForce> take_loads(const std::vector<double>& v) {
 }  // namespace
 
 fem::MovingFlowState MovingBodyFlow::state() const {
+  REQUIRE(!pending_, "MovingBodyFlow::state between try_step and accept_step / reject_step");
   fem::MovingFlowState s;
   s.reference_bodies = reference_spec_.bodies;
+  s.body_density = flow_->problem().body_density;
+  s.body_density.resize(poses_.size(), 0.0);  // (an empty list: all prescribed)
   s.reference_mesh = flow_->mesh();
   s.reference_mesh.nodes = motion_->reference_nodes();
   put_poses(reference_poses_, s.reference_poses);
@@ -343,12 +392,17 @@ void MovingBodyFlow::restore(const fem::NavierStokes::State& flow, const fem::Mo
               per_body(s.poses, false) && per_body(s.previous_velocity, true) &&
               per_body(s.external_loads, true) && per_body(s.contact_loads, false);
   for (std::size_t b = 0; same && b < nb; ++b) {
+    same = s.body_density.size() == nb &&
+           s.body_density[b] ==
+               (flow_->is_free(static_cast<int>(b)) ? flow_->problem().body_density[b] : 0.0);
     const auto& now = reference_spec_.bodies[b];
     const auto& then = s.reference_bodies[b];
-    same = now.kind == then.kind && now.radius == then.radius &&
+    same = same && now.kind == then.kind && now.radius == then.radius &&
            now.vertices.size() == then.vertices.size();
   }
-  REQUIRE(same, "moving-body state of another problem ({} bodies, expected {} of these shapes)",
+  REQUIRE(same,
+          "moving-body state of another problem ({} bodies, expected {} of these shapes and "
+          "densities)",
           s.reference_bodies.size(), nb);
   for (std::size_t b = 0; b < nb && !s.external_loads.empty(); ++b)
     REQUIRE(flow_->is_free(static_cast<int>(b)) ||
@@ -380,6 +434,7 @@ void MovingBodyFlow::restore(const fem::NavierStokes::State& flow, const fem::Mo
   history_ = ContactHistory::from_entries(s.history_keys, s.history_stretch);
   remeshes_ = static_cast<int>(s.remeshes);
   remesh_seconds_ = s.remesh_seconds;
+  pending_ = false;
 }
 
 }  // namespace gf::fem_dem

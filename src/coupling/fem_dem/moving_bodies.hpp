@@ -92,6 +92,17 @@ class MovingBodyFlow {
   /// does not converge.
   fem::StepResult step(double dt, int order, const fem::NewtonOptions& newton);
 
+  /// The same step, tentative (for step-size control, fem::integrate): the flow is solved on the
+  /// moved (or new) mesh, and accept_step() takes the poses and contacts, reject_step() moves
+  /// the mesh back (a remesh done for the step stays: the flow on the new mesh is the same
+  /// state). rtol, atol: the error estimate's tolerances (fem::NavierStokes::try_step). A step
+  /// the mesh cannot follow, or whose Newton solve fails, returns newton.converged = false
+  /// (StepResult::failure says why when Newton was not the reason).
+  fem::StepResult try_step(double dt, int order, const fem::NewtonOptions& newton,
+                           double rtol = 1.0, double atol = 1.0, bool neighbour_errors = false);
+  void accept_step();
+  void reject_step();
+
   /// A force [N/m] and torque about the centre [N] on a free body, besides the fluid's, gravity
   /// and the repulsion (e.g. DEM contacts), applied in every following step until changed
   /// (remeshing keeps it).
@@ -110,6 +121,8 @@ class MovingBodyFlow {
   void restore(const fem::NavierStokes::State& flow, const fem::MovingFlowState& s);
 
  private:
+  fem::StepResult try_step_or_throw(double dt, int order, const fem::NewtonOptions& newton,
+                                    double rtol, double atol, bool neighbour_errors);
   [[nodiscard]] std::vector<RigidPose> predicted_poses(double dt) const;
   /// The spec's bodies placed at `poses` (polygons' vertices moved rigidly).
   [[nodiscard]] fem::MeshSpec placed_spec(const std::vector<RigidPose>& poses) const;
@@ -130,6 +143,13 @@ class MovingBodyFlow {
   std::vector<fem::BodyForce> external_;       // per body (set_external_load)
   std::vector<fem::BodyForce> contact_loads_;  // per body, of the last step
   ContactHistory history_;
+  // the tentative step's (try_step until accept_step / reject_step)
+  bool pending_ = false;
+  std::vector<RigidPose> pending_poses_;
+  ContactHistory pending_history_;
+  std::vector<fem::BodyForce> pending_contact_;
+  std::vector<fem::BodyMotion> pending_velocity_;
+  double pending_dt_ = 0.0;
   int remeshes_ = 0;
   double remesh_seconds_ = 0.0;
 };

@@ -570,6 +570,25 @@ void check_probes(const Reader& r, const YAML::Node& probes, const std::string& 
   }
 }
 
+/// Period [s] of the fastest contact mode of free body j (cfg.repulsion_range > 0). Repulsion
+/// and friction are explicit loads, fixed over each step, so this mode must span several steps.
+/// Its estimate: the stiffer of the repulsion at contact (2 F_0 / rho) and the friction spring,
+/// on two contacts (a body resting on a face), the tangential ones coupled to rocking about the
+/// centre at the equal-area radius r_e (effective stiffness x (1 + A r_e^2 / J): 3 for a disk,
+/// 2.9 for a square). In review the scheme was neutral down to ~3 steps per period of a single
+/// mode.
+double contact_period(const FemCaseConfig& cfg, std::size_t j) {
+  const BodyGeometry geo = body_geometry(cfg.mesh.bodies[j]);
+  const double k_n = 2 * cfg.repulsion_force / cfg.repulsion_range;
+  const double k_t =
+      cfg.repulsion_friction > 0
+          ? (cfg.repulsion_tangential_stiffness > 0 ? cfg.repulsion_tangential_stiffness : k_n)
+          : 0.0;
+  const double rocking = 1 + geo.area * (geo.area / std::numbers::pi) / geo.polar_moment;
+  const double k = 2 * std::max(k_n, k_t * rocking);
+  return 2 * std::numbers::pi * std::sqrt(cfg.body_density[j] * geo.area / k);
+}
+
 /// `gravity` and `moving_mesh` of the block, and what free bodies (a body with a density) need
 /// of the rest of it: an unsteady run from rest with fixed steps. Gravity with no free body acts on
 /// nothing (the pressure is the dynamic one): a warning.
@@ -656,11 +675,21 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
   const std::string tp = root + ".time";
   if (cfg.steady)
     r.fail(time["mode"], tp + ".mode", fmt::format("unsteady ({}, and moves in time)", why));
-  if (cfg.time.adaptive)
-    r.fail(time["adaptive"], tp + ".adaptive",
-           fmt::format("no adaptive block: a run with free bodies takes fixed steps ({}; "
-                       "adaptive steps on a moving mesh are not supported yet)",
-                       why));
+  if (cfg.time.adaptive && cfg.repulsion_range > 0) {
+    // the error estimate does not see the explicit contact loads' stability: dt_max must
+    double fastest = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < cfg.body_density.size(); ++j)
+      if (cfg.body_density[j] > 0) fastest = std::min(fastest, contact_period(cfg, j));
+    if (cfg.time.dt_max > fastest / 6) {
+      const auto ad = time["adaptive"];
+      cfg.warnings.push_back(r.warning(
+          ad["dt_max"].IsDefined() ? ad["dt_max"] : ad, tp + ".adaptive.dt_max",
+          fmt::format("{:g} s is more than 1/6 of the fastest contact period ({:.4g} s, `grainflow "
+                      "check`): the explicit contact loads may ring or blow up at such steps, "
+                      "which the error estimate does not see; {:.3g} s or less is safe",
+                      cfg.time.dt_max, fastest, fastest / 6)));
+    }
+  }
   if (cfg.initial_steady)
     r.fail(time["initial"], tp + ".initial",
            fmt::format("rest: a run with free bodies starts from rest ({})", why));
@@ -1198,25 +1227,17 @@ std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConf
         fmt::format("{:.4g}, {:.4g}", rho_s * area, rho_s * polar));
     row(who + "density ratio rho_s / rho_f", fmt::format("{:.4g}", ratio));
     if (cfg.repulsion_range > 0 && !cfg.steady) {
-      // Repulsion and friction are explicit loads, fixed over each step, so the fastest contact
-      // mode must span several steps. Its estimate: the stiffer of the repulsion at contact
-      // (2 F_0 / rho) and the friction spring, on two contacts (a body resting on a face), the
-      // tangential ones coupled to rocking about the centre at the equal-area radius r_e
-      // (effective stiffness x (1 + A r_e^2 / J): 3 for a disk, 2.9 for a square). In review
-      // the scheme was neutral down to ~3 steps per period of a single mode.
-      const double k_n = 2 * cfg.repulsion_force / cfg.repulsion_range;
-      const double k_t =
-          cfg.repulsion_friction > 0
-              ? (cfg.repulsion_tangential_stiffness > 0 ? cfg.repulsion_tangential_stiffness : k_n)
-              : 0.0;
-      const double rocking = 1 + area * (area / std::numbers::pi) / polar;
-      const double k = 2 * std::max(k_n, k_t * rocking);
-      const double period = 2 * std::numbers::pi * std::sqrt(rho_s * area / k);
-      const double steps = period / cfg.time.dt;
+      const double period = contact_period(cfg, j);
+      // (adaptive steps: counted in the largest step the controller may take)
+      const double step = cfg.time.adaptive ? cfg.time.dt_max : cfg.time.dt;
+      const double steps = period / step;
       row(who + "fastest contact period (s)",
-          fmt::format("{:.4g} = {:.3g} steps{}", period, steps,
-                      steps < 6 ? " (< 6: the explicit contact loads may ring or blow up; lower "
-                                  "the step, the force or the tangential stiffness)"
+          fmt::format("{:.4g} = {:.3g} {}{}", period, steps,
+                      cfg.time.adaptive ? "x time.adaptive.dt_max" : "steps",
+                      steps < 6 ? fmt::format(" (< 6: the explicit contact loads may ring or blow "
+                                              "up; lower the {}, the force or the tangential "
+                                              "stiffness)",
+                                              cfg.time.adaptive ? "dt_max" : "step")
                                 : ""));
     }
     if (g == 0) {
@@ -1296,52 +1317,6 @@ std::string kept_csv(const std::filesystem::path& file, const std::string& heade
            file, header, [until](double t) { return t <= until * (1 + 1e-8) + 1e-300; }))
     out += line + '\n';
   return out;
-}
-
-/// The fixed-step loop of a moving run, as integrate() takes fixed steps: a failed step (Newton
-/// not converging, or a body moving farther than the mesh next to it can follow) is retried
-/// with a quarter of the step, down to 1/1024 of time.step (then StepFailure); cut steps grow
-/// back after a step whose Newton solve converged with room to spare.
-TimeStats integrate_moving(FemMovingFlow& run, const TimeControl& tc, const NewtonOptions& opt,
-                           const std::function<void(const NavierStokes&, double)>& observe,
-                           TimeLoopState& loop) {
-  TimeStats st;
-  const double dt_config = tc.dt;
-  const double dt_floor = std::max(tc.dt_min, dt_config / 1024.0);
-  const double eps = 1e-12 * std::max(1.0, std::abs(tc.t_end));
-  // a step cut to get past a hard stretch continues cut from a checkpoint (unless the case now
-  // asks for another step)
-  double dt = loop.dt > 0 && loop.dt_config == dt_config ? loop.dt : dt_config;
-  while (run.flow().time() < tc.t_end - eps && (tc.max_steps < 0 || st.steps < tc.max_steps)) {
-    if ((st.stop_signal = stop::requested())) break;
-    const double t = run.flow().time();
-    double h = std::min(dt, tc.t_end - t);
-    if (tc.t_end - t - h < 0.01 * h) h = tc.t_end - t;  // avoid a sliver step at the end
-    StepResult r;
-    try {
-      r = run.step(h, tc.order, opt);
-    } catch (const InputError&) {
-      throw;
-    } catch (const Error& e) {
-      ++st.rejected;
-      if (h <= dt_floor * (1.0 + 1e-9))
-        throw StepFailure(fmt::format(
-            "the step from t = {} s failed even when cut to {:.3g} s (the smallest step allowed "
-            "is {:.3g} s): {}",
-            t, h, dt_floor, e.what()));
-      dt = std::max(0.25 * h, dt_floor);
-      continue;
-    }
-    st.newton_iterations += r.newton.iterations;
-    st.factorizations += r.newton.factorizations;
-    ++st.steps;
-    ++st.steps_at_order[run.flow().last_order()];
-    if (dt < dt_config && 2 * r.newton.iterations <= opt.max_iterations)
-      dt = std::min(dt_config, dt * (tc.order >= 3 ? 1.5 : 2.0));
-    loop = {dt, dt_config, tc.order, 0, 0};  // (the observer may checkpoint)
-    if (observe) observe(run.flow(), h);
-  }
-  return st;
 }
 
 }  // namespace
@@ -1452,9 +1427,16 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
           "{}: error: --restart: the checkpoint is of a run {} free bodies and this case has {} "
           "(a body's density changed)",
           cfg.file, is_moving ? "without" : "with", is_moving ? "some" : "none"));
-    if (moving)
+    if (moving) {
+      std::vector<double> density = cfg.body_density;
+      density.resize(nb, 0.0);
+      if (resume->moving->body_density != density)
+        throw InputError(fmt::format(
+            "{}: error: --restart: the checkpoint's bodies have other densities (which bodies are "
+            "free, or how heavy, changed since it was written)",
+            cfg.file));
       moving->restore(resume->flow, *resume->moving);
-    else
+    } else
       fixed->restore(resume->flow);
   }
   // (appending: the data sets up to and including the checkpoint's time stay; the state there
@@ -1601,7 +1583,7 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
     };
     TimeStats st;
     try {
-      st = moving ? integrate_moving(*moving, tc, cfg.newton, observe, loop)
+      st = moving ? integrate(*moving, tc, cfg.newton, observe, &loop)
                   : integrate(*fixed, tc, cfg.newton, observe, &loop);
     } catch (const StepFailure& e) {
       throw diverged(e.what());

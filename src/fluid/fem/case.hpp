@@ -156,14 +156,11 @@ struct FemCheckpointIo {
 /// A flow whose bodies move through the domain on a moving mesh (cases with free bodies). The
 /// coupling layer provides it (coupling/fem_dem MovingBodyFlow, wrapped by simulation/fem_case):
 /// fluid/fem does not depend on that module.
-class FemMovingFlow {
+/// Its flow() is the flow on the current mesh (a remesh replaces it: do not keep the
+/// reference); a step (Stepper) is taken with BDF of the given order, lower after the start and
+/// after a remesh.
+class FemMovingFlow : public Stepper {
  public:
-  virtual ~FemMovingFlow() = default;
-  /// The flow on the current mesh (a remesh replaces it: do not keep the reference).
-  [[nodiscard]] virtual const NavierStokes& flow() const = 0;
-  /// Advances by dt [s] with BDF of the given order (lower after the start and a remesh).
-  /// Throws gf::Error when the step fails; the flow then stays at the last accepted step.
-  virtual StepResult step(double dt, int order, const NewtonOptions& newton) = 0;
   /// Centre [m] and rotation angle since t = 0 [rad, counter-clockwise] of body j.
   [[nodiscard]] virtual Vec2 centre(int body) const = 0;
   [[nodiscard]] virtual double angle(int body) const = 0;

@@ -19,6 +19,7 @@ namespace gf::fem {
 
 struct MovingFlowState {
   std::vector<BodyShape> reference_bodies;  ///< the bodies the mesh was built around, there [m]
+  std::vector<double> body_density;         ///< [kg/m^3] per body (0: prescribed motion)
   Mesh reference_mesh;                      ///< that mesh, its nodes where they were built
   /// Per body x, y [m] and angle [rad]: when the mesh was built, and now.
   std::vector<double> reference_poses, poses;

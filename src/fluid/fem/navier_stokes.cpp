@@ -227,6 +227,11 @@ void NavierStokes::move_mesh(const std::vector<Vec2>& nodes, const std::vector<V
     base_centres_ = body_centres();
     hist_nodes_.assign(hist_t_.size(), base_nodes_);
     hist_centres_.assign(hist_t_.size(), base_centres_);
+    if (lu_.has_factors()) {  // assembled on the fixed mesh, without ALE terms
+      factor_nodes_ = base_nodes_;
+      factor_centres_ = base_centres_;
+      factor_w_.clear();
+    }
     moving_ = true;
   }
   // an inverted cell throws from precompute_geometry: the mesh then stays where it was
@@ -871,8 +876,9 @@ void NavierStokes::restore(const State& s) {
     auto fits = [&](const std::vector<Vec2>& nodes, const std::vector<Vec2>& centres) {
       return nodes.size() == nn && centres.size() == nb;
     };
-    bool ok = fits(s.nodes, s.centres) && s.hist_nodes.size() == s.hist_centres.size() &&
-              s.hist_nodes.size() <= s.hist_t.size() && (s.mesh_w.empty() || s.mesh_w.size() == nn);
+    // (a moving mesh has taken a step: its velocity and node history are known)
+    bool ok = fits(s.nodes, s.centres) && s.hist_nodes.size() == s.hist_t.size() &&
+              s.hist_centres.size() == s.hist_t.size() && s.mesh_w.size() == nn;
     for (std::size_t k = 0; ok && k < s.hist_nodes.size(); ++k)
       ok = fits(s.hist_nodes[k], s.hist_centres[k]);
     if (s.factorized)
@@ -912,8 +918,10 @@ void NavierStokes::restore(const State& s) {
   last_order_ = s.last_order;
   alpha0_ = s.alpha0;
   hist_term_ = s.hist_term;
-  x_ = s.x;
   set_time(s.t);
+  // (after set_time: it imposes a free body's rigid velocity on its nodes exactly, where Newton
+  // left it to rounding; a remesh interpolates those values)
+  x_ = s.x;
   assemble(false, true);  // residual and reactions of the restored state, as after a solve
 }
 

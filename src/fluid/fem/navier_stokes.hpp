@@ -18,6 +18,7 @@
 
 #include <array>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "fluid/fem/mesh.hpp"
@@ -100,6 +101,9 @@ struct StepResult {
   /// Estimates, in the same norm, of the local error the step would have had at order k - 1 and
   /// k + 1 (for order selection; < 0 where not asked for or not enough states are known).
   double error_lower = -1.0, error_higher = -1.0;
+  /// Why a step failed when not for Newton's method (e.g. a moving mesh could not follow its
+  /// bodies; newton.converged is then false); empty otherwise.
+  std::string failure;
 };
 
 /// P2-P1 discretisation of FlowProblem with one monolithic unknown vector

@@ -13,7 +13,34 @@
 
 namespace gf::fem {
 
+namespace {
+
+/// NavierStokes on its fixed mesh as a Stepper.
+class FixedMesh final : public Stepper {
+ public:
+  explicit FixedMesh(NavierStokes& ns) : ns_(ns) {}
+  [[nodiscard]] const NavierStokes& flow() const override { return ns_; }
+  StepResult try_step(double dt, int order, const NewtonOptions& opt, double rtol, double atol,
+                      bool neighbour_errors) override {
+    return ns_.try_step(dt, order, opt, rtol, atol, neighbour_errors);
+  }
+  void accept_step() override { ns_.accept_step(); }
+  void reject_step() override { ns_.reject_step(); }
+
+ private:
+  NavierStokes& ns_;
+};
+
+}  // namespace
+
 TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions& opt,
+                    const std::function<void(const NavierStokes&, double)>& observe,
+                    TimeLoopState* loop) {
+  FixedMesh s(ns);
+  return integrate(s, tc, opt, observe, loop);
+}
+
+TimeStats integrate(Stepper& s, const TimeControl& tc, const NewtonOptions& opt,
                     const std::function<void(const NavierStokes&, double)>& observe,
                     TimeLoopState* loop) {
   REQUIRE(tc.order >= 1 && tc.order <= kMaxBdfOrder, "BDF order must be 1 to {}, got {}",
@@ -49,26 +76,29 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
   auto factor = [](double err, int k) {
     return err > 0 ? 0.9 * std::pow(err, -1.0 / (k + 1)) : std::numeric_limits<double>::infinity();
   };
-  while (ns.time() < tc.t_end - eps && (tc.max_steps < 0 || st.steps < tc.max_steps)) {
+  while (s.flow().time() < tc.t_end - eps && (tc.max_steps < 0 || st.steps < tc.max_steps)) {
     if ((st.stop_signal = stop::requested())) break;
-    const double t = ns.time();
+    const double t = s.flow().time();
     double h = std::min(dt, tc.t_end - t);
     if (tc.t_end - t - h < 0.01 * h) h = tc.t_end - t;  // avoid a sliver step at the end
-    const int k = std::min(order, std::max(1, ns.available_order()));
-    const bool choose = tc.variable_order && k == order && same_order_steps >= k + 1;
-    const StepResult r = ns.try_step(h, k, opt, tc.rtol, tc.atol, choose);
+    const int asked = std::min(order, std::max(1, s.flow().available_order()));
+    const bool choose = tc.variable_order && asked == order && same_order_steps >= asked + 1;
+    const StepResult r = s.try_step(h, asked, opt, tc.rtol, tc.atol, choose);
+    // (a moving flow that meshed again restarts its BDF history: a lower order)
+    const int k = r.newton.converged ? s.flow().last_order() : asked;
     st.newton_iterations += r.newton.iterations;
     st.factorizations += r.newton.factorizations;
     if (!r.newton.converged) {
-      ns.reject_step();
+      s.reject_step();
       ++st.rejected;
       // A quarter of the step, but the floor itself is tried before giving up.
       if (h <= dt_floor * (1.0 + 1e-9))
         throw StepFailure(fmt::format(
-            "Newton's method failed on the step from t = {} s even with the step cut to {:.3g} s "
+            "{} on the step from t = {} s even with the step cut to {:.3g} s "
             "(the smallest step allowed is {:.3g} s): {}",
-            t, h, dt_floor,
-            std::isfinite(r.newton.last_update)
+            r.failure.empty() ? "Newton's method failed" : "the step failed", t, h, dt_floor,
+            !r.failure.empty() ? r.failure
+            : std::isfinite(r.newton.last_update)
                 ? fmt::format("no convergence in {} iterations (last relative update {:.3g})",
                               r.newton.iterations, r.newton.last_update)
                 : std::string("the velocity or pressure became non-finite")));
@@ -77,7 +107,7 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
     }
     double fac = factor(r.error, k);
     if (tc.adaptive && r.error > 1.0) {
-      ns.reject_step();
+      s.reject_step();
       ++st.rejected;
       if (tc.variable_order && ++error_rejections >= 2 && order > 1) {
         --order;
@@ -93,7 +123,7 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
       continue;
     }
     error_rejections = 0;
-    ns.accept_step();
+    s.accept_step();
     ++st.steps;
     ++st.steps_at_order[k];
     ++same_order_steps;
@@ -122,7 +152,7 @@ TimeStats integrate(NavierStokes& ns, const TimeControl& tc, const NewtonOptions
       // between cut and grown, one attempt in three rejected)
       dt = std::min(dt_config, dt * (order >= 3 ? 1.5 : 2.0));
     keep_state();  // the observer may checkpoint: the controller is ready for the next step
-    if (observe) observe(ns, h);
+    if (observe) observe(s.flow(), h);
   }
   keep_state();
   return st;

@@ -62,6 +62,30 @@ class StepFailure : public Error {
   using Error::Error;
 };
 
+/// What integrate() advances: tentative steps of a flow solver, each then accepted or rejected.
+/// NavierStokes on its fixed mesh (integrate(NavierStokes&, ...) wraps it), or a flow whose
+/// bodies move with it (FemMovingFlow, fluid/fem/case.hpp).
+class Stepper {
+ public:
+  virtual ~Stepper() = default;
+  /// The flow solver as it is now (at the new time after a tentative step).
+  [[nodiscard]] virtual const NavierStokes& flow() const = 0;
+  /// A tentative step, as NavierStokes::try_step. A step that cannot be taken at this size for
+  /// another reason than Newton's method (e.g. the mesh cannot follow the bodies) returns
+  /// newton.converged = false with StepResult::failure saying why.
+  virtual StepResult try_step(double dt, int order, const NewtonOptions& opt, double rtol,
+                              double atol, bool neighbour_errors) = 0;
+  virtual void accept_step() = 0;
+  virtual void reject_step() = 0;
+};
+
+/// Integrates the stepper from its flow's time to tc.t_end, as integrate(NavierStokes&, ...)
+/// below does (the steps' BDF order is the one the flow reports having used: lower than asked
+/// for after a moving flow meshed again).
+TimeStats integrate(Stepper& s, const TimeControl& tc, const NewtonOptions& opt,
+                    const std::function<void(const NavierStokes&, double dt)>& observe,
+                    TimeLoopState* loop = nullptr);
+
 /// Integrates from ns.time() to tc.t_end; calls observe after every accepted step (when *loop,
 /// if given, already holds the controller's choice for the next step); a step whose Newton solve
 /// fails is retried with a quarter of the step, down to tc.dt_min (fixed steps: also at least
