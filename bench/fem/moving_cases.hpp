@@ -143,7 +143,7 @@ inline fem_dem::MovingBodyFlow settle_on_floor(
 inline fem_dem::MovingBodyFlow square_on_slope(
     double tan_slope, double mu, double t_end,
     const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {},
-    StepTotals* totals = nullptr, double viscosity = 0.05) {
+    StepTotals* totals = nullptr, double viscosity = 0.05, const GravityTilt& tilt = {}) {
   const double cos_s = 1 / std::sqrt(1 + tan_slope * tan_slope), sin_s = tan_slope * cos_s;
   const double range = 0.03, weight = (2.0 - 1.0) * 10 * 0.04;
   const double y0 = 0.1 + range * (1 - std::sqrt(cos_s / 8));
@@ -162,6 +162,7 @@ inline fem_dem::MovingBodyFlow square_on_slope(
   pb.viscosity = viscosity;
   pb.body_density = {2.0};
   pb.gravity = {10 * sin_s, -10 * cos_s};
+  pb.tilt = tilt;
   fem_dem::MovingBodyOptions opt;
   opt.collision = {range, 4 * weight, mu};
   fem_dem::MovingBodyFlow run(std::move(pb), opt);

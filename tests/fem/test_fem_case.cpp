@@ -437,7 +437,8 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
       replaced(replaced(kGood, "angular_velocity: 1.0}", "angular_velocity: 1.0, density: 2.5}"),
                "[0.65, 0.25]]}", "[0.65, 0.25]], velocity: [0, -0.1], density: 800}"),
       "  mesh:",
-      "  gravity: [0.5, -9.81]\n  moving_mesh: {remesh_ratio: 0.4, repulsion: {range: 0.04, "
+      "  gravity: [0.5, -9.81]\n  tilt: {rate: 1.5, start: 0.1, end: 0.15}\n"
+      "  moving_mesh: {remesh_ratio: 0.4, repulsion: {range: 0.04, "
       "force: 2.5, friction: 0.4, tangential_stiffness: 300}}\n  mesh:");
   for (const auto& yaml : {std::string(kGood), adaptive, sine, steady, unnamed, free}) {
     auto cfg = parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml");
@@ -467,6 +468,9 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
     EXPECT_EQ(back.body_density, cfg.body_density);
     EXPECT_EQ(back.gravity.x, cfg.gravity.x);
     EXPECT_EQ(back.gravity.y, cfg.gravity.y);
+    EXPECT_EQ(back.tilt.rate, cfg.tilt.rate);
+    EXPECT_EQ(back.tilt.start, cfg.tilt.start);
+    EXPECT_EQ(back.tilt.end, cfg.tilt.end);
     EXPECT_EQ(back.remesh_ratio, cfg.remesh_ratio);
     EXPECT_EQ(back.remesh_quality, cfg.remesh_quality);
     EXPECT_EQ(back.repulsion_range, cfg.repulsion_range);
@@ -769,6 +773,21 @@ TEST(FemMovingCase, BadKeysAreLocatedErrors) {
                "fluid_fem.gravity", {"[gx, gy] in m/s^2", "a list of 3 items"});
   expect_error(replaced(kGood, "  mesh:", "  gravity: [0, yes]\n  mesh:"), 12,
                "fluid_fem.gravity[1]", {"a number"});
+  // a tilt turns the gravity on free bodies: it needs both, a rate and an end after its start
+  expect_error(replaced(kGood, "  mesh:", "  tilt: {rate: 1, end: 2}\n  mesh:"), 12,
+               "fluid_fem.tilt", {"without a free body"});
+  const std::string heavy = replaced(kGood, "[0.65, 0.25]]}", "[0.65, 0.25]], density: 2}");
+  expect_error(replaced(heavy, "  mesh:", "  tilt: {rate: 1, end: 2}\n  mesh:"), 12,
+               "fluid_fem.tilt", {"without gravity"});
+  const std::string falling = replaced(heavy, "  mesh:", "  gravity: [0, -9.81]\n  mesh:");
+  expect_error(replaced(falling, "  mesh:", "  tilt: {rate: 0, end: 2}\n  mesh:"), 13,
+               "fluid_fem.tilt.rate", {"other than 0", "found '0'"});
+  expect_error(replaced(falling, "  mesh:", "  tilt: {rate: 1, start: 2, end: 2}\n  mesh:"), 13,
+               "fluid_fem.tilt.end", {"after tilt.start (2 s)", "found '2'"});
+  expect_error(replaced(falling, "  mesh:", "  tilt: {rate: 1}\n  mesh:"), 13, "fluid_fem.tilt.end",
+               {"an end time"});
+  expect_error(replaced(falling, "  mesh:", "  tilt: {rate: 1, end: 2, axis: 1}\n  mesh:"), 13,
+               "fluid_fem.tilt.axis", {"{rate, start, end}", "found 'axis'"});
   expect_error(replaced(kGood, "  mesh:", "  moving_mesh: {remesh_ratio: 0.5}\n  mesh:"), 12,
                "fluid_fem.moving_mesh", {"without a free body"});
   const std::string free = with_free_disk();

@@ -576,3 +576,42 @@ TEST(ValidationFemMoving, SquareOnASlopeHoldsBelowTheFrictionAngleAndSlidesAbove
     EXPECT_NEAR(-c.force.x, mu * c.force.y, 1e-9);
   }
 }
+
+// Tilting the floor (a tilting-box test, `tilt`): the same square rests on a level floor, then
+// the domain turns at 4 deg/s. The square holds until tan(theta) = mu (26.57 deg for mu = 0.5)
+// and slides from there: quasi-statically the friction needed, W sin(theta), reaches mu N with
+// N = W cos(theta). The friction saturates within 0.5 deg of that angle (the contact's spring
+// period, ~0.1 s, is 0.4 deg of tilt; the film's normal load differs from W cos by < 1 %), and
+// the square gains 1 mm/s along the floor within 2 deg more (its sliding speed grows as
+// W (sin - mu cos) against the film's drag). In the thinner liquid of the slope test
+// (nu = 0.005): at nu = 0.05 the square's rocking as the load shifts to its downhill corner (it
+// turns 1.7 deg over the tilt) squeezes the films, whose lubrication forces add 5 % to the
+// normal load and delay the slip to 28.0 deg (measured 2026-12-04; 26.72 deg at nu = 0.005).
+TEST(ValidationFemMoving, TiltedFloorSlidesAtTheFrictionAngle) {
+  const double mu = 0.5;
+  GravityTilt tilt;
+  tilt.rate = 4.0;
+  tilt.start = 0.5;
+  tilt.end = 9.0;
+  double saturated = -1, moving = -1, x_before = 0;
+  const auto each = [&](const MovingBodyFlow& run) {
+    const double t = run.time();
+    const double theta = tilt.angle(t) * 180 / std::numbers::pi;
+    const auto& c = run.contact_loads()[0];
+    const double ft = std::abs(c.force.x), fn = c.force.y;  // (the floor is y = 0)
+    if (t > 0.6 && saturated < 0 && ft >= 0.999 * mu * fn) saturated = theta;
+    if (t > 0.6 && moving < 0 && std::abs(run.flow().body_velocity(0).velocity.x) > 1e-3)
+      moving = theta;
+    if (theta < 25) x_before = run.poses()[0].centre.x;
+  };
+  gf::fem_bench::square_on_slope(0.0, mu, 8.0, each, nullptr, 0.005, tilt);
+  const double critical = std::atan(mu) * 180 / std::numbers::pi;
+  std::printf(
+      "friction saturated at %.2f deg, moving at 1 mm/s at %.2f deg (atan mu = %.2f deg); "
+      "moved %.2e m before 25 deg\n",
+      saturated, moving, critical, x_before);
+  EXPECT_NEAR(saturated, critical, 0.5);
+  EXPECT_GT(moving, critical - 0.5);
+  EXPECT_LT(moving, critical + 2.0);
+  EXPECT_LT(std::abs(x_before), 1e-2);
+}

@@ -602,6 +602,28 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
   int first_free = -1;
   for (std::size_t j = 0; j < cfg.body_density.size(); ++j)
     if (cfg.body_density[j] > 0 && first_free < 0) first_free = static_cast<int>(j);
+  if (const auto tilt = block["tilt"]; tilt.IsDefined()) {
+    const std::string tp = root + ".tilt";
+    if (!tilt.IsMap()) r.fail(tilt, tp, "a map {rate: deg/s, start: s, end: s}");
+    r.keys(tilt, tp, {"rate", "start", "end"});
+    if (first_free < 0)
+      r.fail(tilt, tp, "no tilt without a free body (it turns the gravity on free bodies)");
+    if (cfg.gravity.x == 0 && cfg.gravity.y == 0)
+      r.fail(tilt, tp, "no tilt without gravity (fluid_fem.gravity: the tilt turns it)");
+    const double inf = std::numeric_limits<double>::infinity();
+    if (!tilt["rate"].IsDefined()) r.fail(tilt, tp + ".rate", "a rate in deg/s (the tilt's speed)");
+    const double rate = r.number(tilt["rate"], tp + ".rate", -inf, inf);
+    if (rate == 0) r.fail(tilt["rate"], tp + ".rate", "a rate other than 0 (deg/s)");
+    cfg.tilt.rate = rate;
+    cfg.tilt.start =
+        tilt["start"].IsDefined() ? r.number(tilt["start"], tp + ".start", 0, inf) : 0.0;
+    if (!tilt["end"].IsDefined())
+      r.fail(tilt, tp + ".end", "an end time in s (the tilt stops there)");
+    cfg.tilt.end = r.number(tilt["end"], tp + ".end", 0, inf);
+    if (!(cfg.tilt.end > cfg.tilt.start))
+      r.fail(tilt["end"], tp + ".end",
+             fmt::format("a time after tilt.start ({:g} s)", cfg.tilt.start));
+  }
   if (first_free < 0) {
     if (const auto mm = block["moving_mesh"]; mm.IsDefined())
       r.fail(mm, root + ".moving_mesh",
@@ -703,9 +725,9 @@ FemCaseConfig parse_fluid_fem(const YAML::Node& block, const std::string& file,
   const std::string root = "fluid_fem";
   FemCaseConfig cfg;
   cfg.file = file;
-  r.keys(
-      block, root,
-      {"fluid", "domain", "bodies", "mesh", "time", "newton", "output", "gravity", "moving_mesh"});
+  r.keys(block, root,
+         {"fluid", "domain", "bodies", "mesh", "time", "newton", "output", "gravity", "tilt",
+          "moving_mesh"});
 
   const auto fluid = r.need(block, "fluid", root);
   r.keys(fluid, root + ".fluid", {"density", "viscosity"});
@@ -1000,6 +1022,13 @@ std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& pro
   key("gravity");
   emit_point(out, cfg.gravity);
   out << YAML::Comment("m/s^2, on free bodies");
+  if (cfg.tilt.rate != 0) {
+    key("tilt") << YAML::Flow << YAML::BeginMap;
+    key("rate") << num(cfg.tilt.rate);
+    key("start") << num(cfg.tilt.start);
+    key("end") << num(cfg.tilt.end);
+    out << YAML::EndMap << YAML::Comment("deg/s (counter-clockwise), s, s");
+  }
 
   key("domain") << YAML::BeginMap;
   key("outline");
@@ -1211,6 +1240,14 @@ std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConf
                     "x the fresh quality or {:g}",
                     n_free, cfg.mesh.bodies.size(), cfg.remesh_ratio, cfg.remesh_quality));
     row("gravity (m/s^2)", fmt::format("[{:g}, {:g}]", cfg.gravity.x, cfg.gravity.y));
+    if (cfg.tilt.rate != 0) {
+      const Vec2 last = cfg.tilt.gravity(cfg.gravity, cfg.tilt.end);
+      row("tilt",
+          fmt::format("{:g} deg/s from {:g} s to {:g} s: {:g} deg, gravity then [{:.4g}, "
+                      "{:.4g}] m/s^2 in the domain's frame",
+                      cfg.tilt.rate, cfg.tilt.start, cfg.tilt.end,
+                      cfg.tilt.angle(cfg.tilt.end) * 180.0 / std::numbers::pi, last.x, last.y));
+    }
   }
   const double g = std::hypot(cfg.gravity.x, cfg.gravity.y);
   const double mu = cfg.density * cfg.viscosity;
@@ -1348,6 +1385,7 @@ int run_fluid_fem(const FemCaseConfig& cfg, const std::filesystem::path& output_
   pb.body_motion = cfg.body_motion;
   pb.body_density = cfg.body_density;
   pb.gravity = cfg.gravity;
+  pb.tilt = cfg.tilt;
   // Free bodies: the flow lives in the moving run (a remesh replaces it); else here.
   const bool is_moving = cfg.has_free_bodies();
   // the mesh the case starts on: a checkpoint of this case was written by a run that started on

@@ -57,7 +57,8 @@ struct FemCaseConfig {
   /// body runs on a moving mesh, on which every body moves with its velocity (see
   /// docs/models/fluid_fem.md, "Free bodies and moving meshes").
   std::vector<double> body_density;
-  Vec2 gravity;  ///< [m/s^2], acting on free bodies (the pressure is the dynamic one)
+  Vec2 gravity;      ///< [m/s^2], acting on free bodies (the pressure is the dynamic one)
+  GravityTilt tilt;  ///< `tilt`: the domain turning, gravity with it
   /// Moving mesh: remesh when a cell's shape quality falls below remesh_ratio x its value on the
   /// fresh mesh or below remesh_quality (the defaults of fem_dem::MovingBodyOptions).
   double remesh_ratio = 0.5;

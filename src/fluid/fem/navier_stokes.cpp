@@ -573,6 +573,7 @@ void NavierStokes::assemble_free_bodies(bool with_jacobian) {
   // I dOmega/dt + sum_i r_i x R_i + 2 mu A Omega = 0, where R_i are the momentum rows of the
   // body's nodes (minus the fluid's force on the body, see reaction_forces()).
   const double mu = problem_.density * problem_.viscosity;
+  const Vec2 gravity = problem_.tilt.gravity(problem_.gravity, t_);  // (at the step's end)
   for (std::size_t j = 0; j < free_slot_.size(); ++j) {
     if (free_slot_[j] < 0) continue;
     const int b = static_cast<int>(j);
@@ -590,9 +591,9 @@ void NavierStokes::assemble_free_bodies(bool with_jacobian) {
     }
     const BodyForce& load = body_load_[j];
     residual_[d] =
-        mass * (alpha0_ * x_[d] + hist_term_[h]) + fx - buoyant * problem_.gravity.x - load.force.x;
-    residual_[d + 1] = mass * (alpha0_ * x_[d + 1] + hist_term_[h + 1]) + fy -
-                       buoyant * problem_.gravity.y - load.force.y;
+        mass * (alpha0_ * x_[d] + hist_term_[h]) + fx - buoyant * gravity.x - load.force.x;
+    residual_[d + 1] =
+        mass * (alpha0_ * x_[d + 1] + hist_term_[h + 1]) + fy - buoyant * gravity.y - load.force.y;
     residual_[d + 2] = inertia * (alpha0_ * x_[d + 2] + hist_term_[h + 2]) + tz +
                        2.0 * mu * body_area_[j] * x_[d + 2] - load.torque;
     if (with_jacobian) {

@@ -16,8 +16,11 @@
 // "Benchmark computations of laminar flow around a cylinder", Notes Num. Fluid Mech. 52 (1996).
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <functional>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -47,6 +50,28 @@ struct BodyMotion {
   double angular_velocity = 0;  ///< [rad/s]
 };
 
+/// A domain tilting at a constant rate (a tilting-box or rotating-drum test seen in the domain's
+/// frame): between `start` and `end` the domain turns counter-clockwise by rate (t - start), so
+/// gravity turns clockwise by that angle in the domain's frame, where the flow is solved. The
+/// fictitious forces of the rotation (centrifugal rate^2 r, Euler 0 at a constant rate,
+/// Coriolis 2 rate u) are left out: at 1 deg/s and r = 0.1 m they are ~3e-6 g and ~4e-3 u/g s.
+struct GravityTilt {
+  double rate = 0.0;              ///< [deg/s], counter-clockwise; 0: no tilt
+  double start = 0.0, end = 0.0;  ///< [s]
+  /// The domain's tilt angle at time t [rad].
+  [[nodiscard]] double angle(double t) const {
+    return rate == 0 ? 0.0
+                     : rate * (std::numbers::pi / 180.0) * (std::clamp(t, start, end) - start);
+  }
+  /// Gravity g [m/s^2] (at no tilt) seen in the tilted domain at time t.
+  [[nodiscard]] Vec2 gravity(Vec2 g, double t) const {
+    const double a = angle(t);
+    if (a == 0) return g;
+    const double c = std::cos(a), s = std::sin(a);
+    return {c * g.x + s * g.y, -s * g.x + c * g.y};
+  }
+};
+
 /// Everything that defines the flow problem. The mesh is fixed unless NavierStokes::move_mesh
 /// moves it (arbitrary Lagrangian-Eulerian form, see there).
 struct FlowProblem {
@@ -66,6 +91,8 @@ struct FlowProblem {
   /// one (hydrostatic part rho g.x taken out), so a free body feels (m - rho A) g besides the
   /// flow's force.
   Vec2 gravity;
+  /// Gravity turning in time (a tilting domain); gravity above is its value before the tilt.
+  GravityTilt tilt;
 };
 
 /// Force [N/m] and torque about the body's centre [N] per unit depth, exerted by the fluid.
