@@ -177,6 +177,10 @@ fem::MovingFlowState load_moving(const io::h5::File& h, fem::NavierStokes::State
   const auto n_vertices = h.read_int32("moving/body_n_vertices");
   const auto body = dbl("body_centre_radius");
   const auto vertices = pts("body_vertices");
+  if (!h.exists("moving/body_density"))
+    throw bad(
+        "no body densities (written by a build of 2026-12-04 before they were kept: run "
+        "the case again from the start)");
   m.body_density = dbl("body_density");
   const std::size_t nb = kind.size();
   if (n_vertices.size() != nb || body.size() != 3 * nb || m.body_density.size() != nb)
@@ -239,6 +243,18 @@ fem::MovingFlowState load_moving(const io::h5::File& h, fem::NavierStokes::State
   for (const auto k : h.read_int64("moving/history_keys"))
     m.history_keys.push_back(static_cast<std::uint64_t>(k));
   m.history_stretch = dbl("history_stretch");
+  // the flow's moving mesh: node lists of this mesh, one per known state
+  auto fits = [&](const std::vector<fem::Vec2>& nodes, const std::vector<fem::Vec2>& centres) {
+    return static_cast<std::int64_t>(nodes.size()) == n_nodes && centres.size() == nb;
+  };
+  bool flow_ok = !f.moving || (fits(f.nodes, f.centres) && f.hist_nodes.size() == f.hist_t.size() &&
+                               static_cast<std::int64_t>(f.mesh_w.size()) == n_nodes);
+  for (std::size_t k = 0; flow_ok && k < f.hist_nodes.size(); ++k)
+    flow_ok = fits(f.hist_nodes[k], f.hist_centres[k]);
+  if (flow_ok && f.moving && f.factorized)
+    flow_ok = fits(f.factor_nodes, f.factor_centres) &&
+              (f.factor_w.empty() || static_cast<std::int64_t>(f.factor_w.size()) == n_nodes);
+  if (!flow_ok) throw bad("node lists that do not fit the mesh");
   auto per_body = [nb](const std::vector<double>& v, bool may_be_empty) {
     return v.size() == 3 * nb || (may_be_empty && v.empty());
   };

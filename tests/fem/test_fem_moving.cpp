@@ -456,6 +456,49 @@ TEST(FemMoving, ExternalLoadOutlastsARemesh) {
   EXPECT_LT(std::abs(run.flow().body_velocity(0).velocity.y), 1e-9);
 }
 
+// A tentative step (for step-size control) that is rejected leaves the run as it was: poses,
+// friction springs, contact loads, unknowns and time; the same step tried again (full Newton, no
+// kept LU) gives the same bits as the first try, and only acceptance moves the poses.
+TEST(FemMoving, RejectedTryLeavesTheRunAsItWas) {
+  MovingBodyFlow run = gf::fem_bench::square_on_slope(0.45, 0.5, 0.2);
+  const auto poses = run.poses();
+  const auto springs = run.contact_history().entries();
+  ASSERT_FALSE(springs.empty());
+  const auto loads = run.contact_loads();
+  const auto x = run.flow().solution();
+  const double t = run.time();
+  const NewtonOptions opt;
+  const auto first = run.try_step(0.01, 2, opt, 1e-3, 1e-5);
+  ASSERT_TRUE(first.newton.converged);
+  EXPECT_GE(first.error, 0.0);  // (an estimate: enough states known)
+  const auto x1 = run.flow().solution();
+  EXPECT_EQ(run.poses()[0].centre.x, poses[0].centre.x);  // pending until accepted
+  run.reject_step();
+  run.reject_step();  // (a second reject is harmless)
+  EXPECT_EQ(run.time(), t);
+  EXPECT_EQ(run.flow().solution(), x);
+  EXPECT_EQ(run.contact_history().entries(), springs);
+  EXPECT_EQ(run.contact_loads()[0].force.x, loads[0].force.x);
+  EXPECT_EQ(run.poses()[0].centre.x, poses[0].centre.x);
+  EXPECT_EQ(run.poses()[0].angle, poses[0].angle);
+  const auto again = run.try_step(0.01, 2, opt, 1e-3, 1e-5);
+  EXPECT_EQ(again.error, first.error);
+  EXPECT_EQ(run.flow().solution(), x1);
+  run.accept_step();
+  EXPECT_NE(run.poses()[0].centre.x, poses[0].centre.x);
+  EXPECT_NE(run.contact_history().entries(), springs);
+  EXPECT_NEAR(run.time(), t + 0.01, 1e-15);
+  // right after a remesh the history restarts: no estimate (-1) until k + 1 states are known
+  run.remesh();
+  const auto fresh = run.try_step(0.01, 2, opt, 1e-3, 1e-5);
+  EXPECT_EQ(fresh.error, -1.0);
+  run.accept_step();
+  EXPECT_EQ(run.try_step(0.01, 2, opt, 1e-3, 1e-5).error, -1.0);  // BDF2 from 2 states
+  run.accept_step();
+  EXPECT_GE(run.try_step(0.01, 2, opt, 1e-3, 1e-5).error, 0.0);
+  run.accept_step();
+}
+
 // A disk settles onto the floor of a closed box and comes to rest where the repulsion carries
 // its buoyant weight W: F_0 ((rho - g) / rho)^2 = W gives g = rho (1 - 1/2) = 0.015 m for
 // F_0 = 4 W. It falls 0.285 m through the fluid (Re ~ 10), remeshing on the way, and after
@@ -594,14 +637,17 @@ TEST(ValidationFemMoving, TiltedFloorSlidesAtTheFrictionAngle) {
   tilt.start = 0.5;
   tilt.end = 9.0;
   double saturated = -1, moving = -1, x_before = 0;
+  bool downhill = false;  // a counter-clockwise tilt turns gravity towards -x
   const auto each = [&](const MovingBodyFlow& run) {
     const double t = run.time();
     const double theta = tilt.angle(t) * 180 / std::numbers::pi;
     const auto& c = run.contact_loads()[0];
     const double ft = std::abs(c.force.x), fn = c.force.y;  // (the floor is y = 0)
     if (t > 0.6 && saturated < 0 && ft >= 0.999 * mu * fn) saturated = theta;
-    if (t > 0.6 && moving < 0 && std::abs(run.flow().body_velocity(0).velocity.x) > 1e-3)
+    if (t > 0.6 && moving < 0 && std::abs(run.flow().body_velocity(0).velocity.x) > 1e-3) {
       moving = theta;
+      downhill = run.flow().body_velocity(0).velocity.x < 0 && c.force.x > 0;
+    }
     if (theta < 25) x_before = run.poses()[0].centre.x;
   };
   gf::fem_bench::square_on_slope(0.0, mu, 8.0, each, nullptr, 0.005, tilt);
@@ -614,4 +660,8 @@ TEST(ValidationFemMoving, TiltedFloorSlidesAtTheFrictionAngle) {
   EXPECT_GT(moving, critical - 0.5);
   EXPECT_LT(moving, critical + 2.0);
   EXPECT_LT(std::abs(x_before), 1e-2);
+  EXPECT_TRUE(downhill);
+  const Vec2 g = tilt.gravity({0, -10}, 0.5 + 30 / 4.0);  // 30 degrees
+  EXPECT_NEAR(g.x, -5.0, 1e-12);
+  EXPECT_NEAR(g.y, -10 * std::sqrt(0.75), 1e-12);
 }

@@ -301,6 +301,11 @@ fem::StepResult MovingBodyFlow::try_step_or_throw(double dt, int order,
   std::vector<Vec2> centres;
   for (const auto& p : next) centres.push_back(p.centre);
   flow_->move_mesh(nodes, centres);
+  // The error estimate of order k needs k + 1 known states: after a remesh (and at the start)
+  // the history is shorter, and the step carries no estimate (error -1: the controller holds
+  // the step instead of reading 0 as a flow at rest and growing it).
+  const int known = std::max(1, flow_->available_order());
+  const int k = std::clamp(order, 1, std::min(fem::kMaxBdfOrder, known));
   fem::StepResult r;
   try {
     r = flow_->try_step(dt, order, newton, rtol, atol, neighbour_errors);
@@ -308,6 +313,7 @@ fem::StepResult MovingBodyFlow::try_step_or_throw(double dt, int order,
     flow_->reject_step();  // (moves the mesh back)
     throw;
   }
+  if (known < k + 1) r.error = -1.0;
   pending_ = true;
   pending_poses_ = std::move(next);
   pending_history_ = std::move(history);
@@ -400,6 +406,8 @@ void MovingBodyFlow::restore(const fem::NavierStokes::State& flow, const fem::Mo
     same = same && now.kind == then.kind && now.radius == then.radius &&
            now.vertices.size() == then.vertices.size();
   }
+  for (const auto& e : s.reference_mesh.boundary)
+    same = same && e.outline_edge < static_cast<int>(reference_spec_.outline.size());
   REQUIRE(same,
           "moving-body state of another problem ({} bodies, expected {} of these shapes and "
           "densities)",

@@ -222,6 +222,7 @@ void NavierStokes::move_mesh(const std::vector<Vec2>& nodes, const std::vector<V
       nodes.size() == problem_.mesh.nodes.size() && centres.size() == problem_.spec.bodies.size(),
       "move_mesh: {} nodes and {} centres for a mesh of {} nodes and {} bodies", nodes.size(),
       centres.size(), problem_.mesh.nodes.size(), problem_.spec.bodies.size());
+  const bool was_moving = moving_;
   if (!moving_) {  // the mesh was fixed so far: every known state had these positions
     base_nodes_ = problem_.mesh.nodes;
     base_centres_ = body_centres();
@@ -249,6 +250,13 @@ void NavierStokes::move_mesh(const std::vector<Vec2>& nodes, const std::vector<V
     for (std::size_t j = 0; j < centres.size(); ++j)
       problem_.spec.bodies[j].centre = old_centres[j];
     precompute_geometry();
+    if (!was_moving) {  // still a fixed mesh
+      moving_ = false;
+      hist_nodes_.clear();
+      hist_centres_.clear();
+      factor_nodes_.clear();
+      factor_centres_.clear();
+    }
     throw;
   }
   locator_stale_ = true;  // rebuilt when a point is located (probes, interpolation)
@@ -937,6 +945,7 @@ void NavierStokes::reject_step() {
     locator_stale_ = true;
   }
   set_time(hist_t_[0]);
+  x_ = hist_x_[0];  // (again: set_time imposes a free body's rigid velocity on its nodes exactly)
 }
 
 std::vector<BodyForce> NavierStokes::reaction_forces() const {

@@ -60,8 +60,9 @@ struct GravityTilt {
   double start = 0.0, end = 0.0;  ///< [s]
   /// The domain's tilt angle at time t [rad].
   [[nodiscard]] double angle(double t) const {
-    return rate == 0 ? 0.0
-                     : rate * (std::numbers::pi / 180.0) * (std::clamp(t, start, end) - start);
+    return rate == 0 || !(end > start)
+               ? 0.0
+               : rate * (std::numbers::pi / 180.0) * (std::clamp(t, start, end) - start);
   }
   /// Gravity g [m/s^2] (at no tilt) seen in the tilted domain at time t.
   [[nodiscard]] Vec2 gravity(Vec2 g, double t) const {
@@ -124,7 +125,9 @@ inline constexpr int kMaxBdfOrder = 3;
 
 struct StepResult {
   NewtonReport newton;
-  double error = 0.0;  ///< weighted RMS estimate of the local velocity error (<= 1: accept)
+  /// Weighted RMS estimate of the local velocity error (<= 1: accept); < 0: none (too few known
+  /// states, e.g. right after a moving flow meshed again: the step size is then held).
+  double error = 0.0;
   /// Estimates, in the same norm, of the local error the step would have had at order k - 1 and
   /// k + 1 (for order selection; < 0 where not asked for or not enough states are known).
   double error_lower = -1.0, error_higher = -1.0;

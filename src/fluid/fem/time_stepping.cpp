@@ -105,7 +105,8 @@ TimeStats integrate(Stepper& s, const TimeControl& tc, const NewtonOptions& opt,
       dt = std::max(0.25 * h, dt_floor);
       continue;
     }
-    double fac = factor(r.error, k);
+    // (no estimate: hold the step)
+    double fac = r.error < 0 ? 1.0 : factor(r.error, k);
     if (tc.adaptive && r.error > 1.0) {
       s.reject_step();
       ++st.rejected;
