@@ -171,6 +171,36 @@ inline fem_dem::MovingBodyFlow square_on_slope(
   return run;
 }
 
+/// A disk (radius 0.1, density 2) resting in its film on the floor of the slope's box (fluid
+/// density 1, viscosity nu, g = 10, repulsion range 0.03, force 4 W, friction mu, rolling
+/// friction mu_r), the domain tilting as `tilt` says; `each` after every step of 0.01 s to t_end.
+inline fem_dem::MovingBodyFlow disk_on_tilting_floor(
+    double mu, double mu_r, double t_end, const GravityTilt& tilt,
+    const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {},
+    double viscosity = 0.005) {
+  const double range = 0.03, weight = (2.0 - 1.0) * 10 * std::numbers::pi * 0.01;
+  FlowProblem pb;
+  pb.spec.outline = {{-0.5, 0}, {0.5, 0}, {0.5, 1.5}, {-0.5, 1.5}};
+  BodyShape b;
+  b.radius = 0.1;
+  b.centre = {0, 0.1 + range * 0.5};  // where 4 W (s)^2 = W: s = 1/2
+  pb.spec.bodies = {b};
+  pb.spec.h_body = 0.02;
+  pb.spec.h_max = 0.1;
+  pb.mesh = build_mesh(pb.spec);
+  pb.outline_bc.assign(4, OutlineBc{});
+  pb.viscosity = viscosity;
+  pb.body_density = {2.0};
+  pb.gravity = {0, -10};
+  pb.tilt = tilt;
+  fem_dem::MovingBodyOptions opt;
+  opt.collision = {range, 4 * weight, mu};
+  opt.collision.rolling_friction = mu_r;
+  fem_dem::MovingBodyFlow run(std::move(pb), opt);
+  run_steps(run, 0.01, t_end, each);
+  return run;
+}
+
 /// Upward force [N/m] of the fluid on a disk (radius 0.1) held at the origin of a channel of
 /// half-width 0.5 whose walls slide upwards at U, fed from below with the uniform velocity U
 /// (y from -2.5 to 4, outflow at the top; nu = 0.02): the steady flow around a disk settling

@@ -136,6 +136,8 @@ void save_moving(io::h5::File& h, const fem::NavierStokes::State& f,
   std::vector<std::int64_t> keys(m.history_keys.begin(), m.history_keys.end());
   h.write("moving/history_keys", std::span<const std::int64_t>(keys));
   dbl("history_stretch", m.history_stretch);
+  dbl("history_roll", m.history_roll);
+  dbl("history_roll", m.history_roll);
   h.set_attribute("moving", "remeshes", m.remeshes);
   h.set_attribute("moving", "remesh_seconds", m.remesh_seconds);
 }
@@ -243,6 +245,10 @@ fem::MovingFlowState load_moving(const io::h5::File& h, fem::NavierStokes::State
   for (const auto k : h.read_int64("moving/history_keys"))
     m.history_keys.push_back(static_cast<std::uint64_t>(k));
   m.history_stretch = dbl("history_stretch");
+  // (no rolling springs before 2026-12-04: none turned)
+  m.history_roll = h.exists("moving/history_roll")
+                       ? dbl("history_roll")
+                       : std::vector<double>(m.history_stretch.size(), 0.0);
   // the flow's moving mesh: node lists of this mesh, one per known state
   auto fits = [&](const std::vector<fem::Vec2>& nodes, const std::vector<fem::Vec2>& centres) {
     return static_cast<std::int64_t>(nodes.size()) == n_nodes && centres.size() == nb;
@@ -262,9 +268,10 @@ fem::MovingFlowState load_moving(const io::h5::File& h, fem::NavierStokes::State
       !per_body(m.previous_velocity, true) || !per_body(m.external_loads, true) ||
       !per_body(m.contact_loads, false))
     throw bad(fmt::format("poses, velocities or loads not of {} bodies", nb));
-  if (m.history_keys.size() != m.history_stretch.size())
-    throw bad(fmt::format("{} friction-spring keys, {} stretches", m.history_keys.size(),
-                          m.history_stretch.size()));
+  if (m.history_keys.size() != m.history_stretch.size() ||
+      m.history_keys.size() != m.history_roll.size())
+    throw bad(fmt::format("{} friction-spring keys, {} stretches, {} rotations",
+                          m.history_keys.size(), m.history_stretch.size(), m.history_roll.size()));
   m.remeshes = h.read_int_attribute("moving", "remeshes");
   m.remesh_seconds = h.read_double_attribute("moving", "remesh_seconds");
   return m;
@@ -364,7 +371,7 @@ fem_dem::MovingBodyOptions moving_options(const fem::FemCaseConfig& cfg) {
   o.remesh_ratio = cfg.remesh_ratio;
   o.remesh_quality = cfg.remesh_quality;
   o.collision = {cfg.repulsion_range, cfg.repulsion_force, cfg.repulsion_friction,
-                 cfg.repulsion_tangential_stiffness};
+                 cfg.repulsion_tangential_stiffness, cfg.repulsion_rolling_friction};
   return o;
 }
 

@@ -439,7 +439,8 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
       "  mesh:",
       "  gravity: [0.5, -9.81]\n  tilt: {rate: 1.5, start: 0.1, end: 0.15}\n"
       "  moving_mesh: {remesh_ratio: 0.4, repulsion: {range: 0.04, "
-      "force: 2.5, friction: 0.4, tangential_stiffness: 300}}\n  mesh:");
+      "force: 2.5, friction: 0.4, tangential_stiffness: 300, rolling_friction: 0.05}}\n"
+      "  mesh:");
   for (const auto& yaml : {std::string(kGood), adaptive, sine, steady, unnamed, free}) {
     auto cfg = parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml");
     cfg.name = "channel";
@@ -477,6 +478,7 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
     EXPECT_EQ(back.repulsion_force, cfg.repulsion_force);
     EXPECT_EQ(back.repulsion_friction, cfg.repulsion_friction);
     EXPECT_EQ(back.repulsion_tangential_stiffness, cfg.repulsion_tangential_stiffness);
+    EXPECT_EQ(back.repulsion_rolling_friction, cfg.repulsion_rolling_friction);
     for (std::size_t j = 0; j < cfg.mesh.bodies.size(); ++j) {
       EXPECT_EQ(back.mesh.bodies[j].centre.x, cfg.mesh.bodies[j].centre.x);
       EXPECT_EQ(back.mesh.bodies[j].centre.y, cfg.mesh.bodies[j].centre.y);
@@ -656,7 +658,7 @@ gf::fem_dem::MovingBodyOptions options(const FemCaseConfig& cfg) {
   o.remesh_ratio = cfg.remesh_ratio;
   o.remesh_quality = cfg.remesh_quality;
   o.collision = {cfg.repulsion_range, cfg.repulsion_force, cfg.repulsion_friction,
-                 cfg.repulsion_tangential_stiffness};
+                 cfg.repulsion_tangential_stiffness, cfg.repulsion_rolling_friction};
   return o;
 }
 
@@ -813,6 +815,15 @@ TEST(FemMovingCase, BadKeysAreLocatedErrors) {
                "  moving_mesh: {repulsion: {range: 0.01, force: 1, tangential_stiffness: 5}}\n"
                "  mesh:"),
       13, "fluid_fem.moving_mesh.repulsion.tangential_stiffness", {"without a friction"});
+  expect_error(
+      replaced(free, "  mesh:",
+               "  moving_mesh: {repulsion: {range: 0.01, force: 1, rolling_friction: 0.1}}\n"
+               "  mesh:"),
+      13, "fluid_fem.moving_mesh.repulsion.rolling_friction", {"without a friction"});
+  expect_error(replaced(free, "  mesh:",
+                        "  moving_mesh: {repulsion: {range: 0.01, force: 1, friction: 0.5, "
+                        "rolling_friction: -1}}\n  mesh:"),
+               13, "fluid_fem.moving_mesh.repulsion.rolling_friction", {"found '-1'"});
   // what a moving run cannot do yet, at the key that asks for it (time on line 14)
   expect_error(replaced(free, "mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2", "mode: steady"),
                14, "fluid_fem.time.mode",

@@ -421,6 +421,62 @@ TEST(FemMoving, CollisionFrictionSticksThenSlidesAtTheCoulombLimit) {
   }
 }
 
+// Rolling resistance (CollisionModel::rolling_friction): a disk on the floor at gap 0.05, turning
+// in place, loads its rotational spring k_r = k_t R^2 by omega dt per step (R = 0.125, the lever
+// from the centre to mid-gap) up to the cap mu_r R F_n, and the torque opposes the turning; a disk
+// rolling without slip on the floor gets the same torque (the rotation is relative to the floor),
+// a second disk turning with it (same omega) none between them; the springs unload on reversal.
+TEST(FemMoving, RollingResistanceLoadsToItsCapAndOpposesTheTurn) {
+  using gf::fem_dem::collision_loads;
+  using gf::fem_dem::CollisionModel;
+  using gf::fem_dem::ContactHistory;
+  MeshSpec spec;
+  spec.outline = {{-1, 0}, {1, 0}, {1, 2}, {-1, 2}};
+  BodyShape disk;
+  disk.radius = 0.1;
+  disk.centre = {0, 0.15};
+  spec.bodies = {disk};
+  const double mu = 0.5, mu_r = 0.1, k_t = 40.0, dt = 0.01, omega = 0.2;
+  CollisionModel model{0.1, 2.0, mu, k_t};
+  model.rolling_friction = mu_r;
+  const double f_n = 2.0 * 0.25, r = 0.125;
+  ContactHistory h;
+  std::vector<BodyMotion> v(1);
+  v[0].angular_velocity = omega;  // turning in place: the friction springs load too
+  for (int step = 1; step <= 8; ++step) {
+    const auto l = collision_loads(spec, model, v, dt, h);
+    const double roll = std::min(k_t * r * r * omega * dt * step, mu_r * r * f_n);
+    const double slide = std::min(k_t * omega * r * dt * step, mu * f_n);  // mid-gap speed omega r
+    EXPECT_NEAR(l[0].torque, -roll - r * slide, 1e-13) << "step " << step;
+    EXPECT_NEAR(h.rolled(0, 0, -1, 0), std::min(omega * dt * step, mu_r * f_n / (k_t * r)), 1e-15);
+  }
+  v[0].angular_velocity = -omega;  // reversal: unloads from the cap
+  collision_loads(spec, model, v, dt, h);
+  EXPECT_NEAR(h.rolled(0, 0, -1, 0), mu_r * f_n / (k_t * r) - omega * dt, 1e-15);
+  // rolling without slip (v = -omega r at mid-gap cancels): no sliding spring, the rolling one
+  ContactHistory rolling;
+  v[0].angular_velocity = omega;
+  v[0].velocity = {-omega * r, 0};
+  const auto l = collision_loads(spec, model, v, dt, rolling);
+  EXPECT_NEAR(l[0].force.x, 0.0, 1e-13);
+  EXPECT_NEAR(l[0].torque, -k_t * r * r * omega * dt, 1e-13);
+  // two disks side by side turning together: no rolling between them (only their floors')
+  BodyShape other = disk;
+  other.centre = {0.25, 0.15};
+  spec.bodies = {disk, other};
+  ContactHistory pair;
+  std::vector<BodyMotion> w(2);
+  w[0].angular_velocity = w[1].angular_velocity = omega;
+  collision_loads(spec, model, w, dt, pair);
+  EXPECT_EQ(pair.rolled(0, 0, 1, 0), 0.0);
+  EXPECT_NEAR(pair.rolled(0, 0, -1, 0), omega * dt, 1e-15);
+  // without rolling_friction nothing rolls
+  model.rolling_friction = 0;
+  ContactHistory none;
+  collision_loads(spec, model, w, dt, none);
+  EXPECT_EQ(none.rolled(0, 0, -1, 0), 0.0);
+}
+
 // A mesh motion that inverts a cell is refused (gf::Error) and leaves the mesh and the bodies
 // where they were, so the caller can retry with a shorter step.
 TEST(FemMoving, MoveMeshThatInvertsACellLeavesTheMeshWhereItWas) {
@@ -454,6 +510,54 @@ TEST(FemMoving, ExternalLoadOutlastsARemesh) {
   }
   EXPECT_EQ(run.remeshes(), 1);
   EXPECT_LT(std::abs(run.flow().body_velocity(0).velocity.y), 1e-9);
+}
+
+// A disk on a tilting floor (4 deg/s from t = 0.5 s; nu = 0.005, mu = 0.5): without rolling
+// resistance nothing holds it, it rolls from the first degrees; with mu_r = 0.2 it holds until
+// tan(theta) = mu_r (11.31 deg: the friction W sin at the lever R to mid-gap against the cap
+// mu_r R W cos, R cancels), within 0.5 deg as the square's slip (the spring period is ~0.4 deg of
+// tilt), then rolls (1 mm/s within 2 deg more) without sliding (friction below mu N).
+TEST(ValidationFemMoving, RollingResistanceHoldsADiskUpToItsAngle) {
+  GravityTilt tilt;
+  tilt.rate = 4.0;
+  tilt.start = 0.5;
+  tilt.end = 9.0;
+  auto tilt_deg = [&](double t) { return tilt.angle(t) * 180 / std::numbers::pi; };
+  double free_moving = -1;
+  gf::fem_bench::disk_on_tilting_floor(0.5, 0.0, 1.5, tilt, [&](const MovingBodyFlow& run) {
+    if (free_moving < 0 && std::abs(run.flow().body_velocity(0).velocity.x) > 1e-3)
+      free_moving = tilt_deg(run.time());
+  });
+  const double mu_r = 0.2, critical = std::atan(mu_r) * 180 / std::numbers::pi;
+  double saturated = -1, moving = -1, ratio = 0, x_before = 0;
+  gf::fem_bench::disk_on_tilting_floor(0.5, mu_r, 4.5, tilt, [&](const MovingBodyFlow& run) {
+    const double t = run.time(), theta = tilt_deg(t);
+    const auto& h = run.contact_history();
+    const auto& c = run.contact_loads()[0];
+    // the floor's rolling spring at its cap mu_r R F_n: rotation mu_r F_n / (k_t R)
+    const double k_t = 2 * (4 * std::numbers::pi * 0.1) / 0.03;  // 2 F_0 / range
+    const double r = 0.1 + 0.5 * (run.poses()[0].centre.y - 0.1);
+    const double cap = mu_r * c.force.y / (k_t * r);
+    if (t > 0.6 && saturated < 0 && std::abs(h.rolled(0, 0, -1, 0)) >= 0.999 * cap)
+      saturated = theta;
+    if (t > 0.6 && moving < 0 && std::abs(run.flow().body_velocity(0).velocity.x) > 1e-3) {
+      moving = theta;
+      ratio = std::abs(c.force.x) / (0.5 * c.force.y);
+    }
+    if (theta < critical - 1) x_before = run.poses()[0].centre.x;
+  });
+  std::printf(
+      "no rolling resistance: moving at 1 mm/s at %.2f deg; mu_r = %.1f: spring at its cap "
+      "at %.2f deg, moving at %.2f deg (atan mu_r = %.2f deg), friction / mu N %.3f; "
+      "moved %.2e m before\n",
+      free_moving, mu_r, saturated, moving, critical, ratio, x_before);
+  EXPECT_GT(free_moving, 0.0);
+  EXPECT_LT(free_moving, 3.0);
+  EXPECT_NEAR(saturated, critical, 0.5);
+  EXPECT_GT(moving, critical - 0.5);
+  EXPECT_LT(moving, critical + 2.0);
+  EXPECT_LT(ratio, 0.9);
+  EXPECT_LT(std::abs(x_before), 2e-3);
 }
 
 // A tentative step (for step-size control) that is rejected leaves the run as it was: poses,

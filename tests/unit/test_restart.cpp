@@ -619,7 +619,8 @@ constexpr const char* kFemMovingCase = R"(fluid_fem:
     - {name: b, polygon: [[0.0075, 0.0067], [0.0115, 0.0064], [0.0118, 0.0104], [0.0078, 0.0107]], density: 2500}
     - {name: c, circle: {centre: [0.015, 0.004], radius: 0.002}, density: 2500}
   mesh: {h_max: 0.003, h_body: 0.0008, grading: 0.3}
-  moving_mesh: {repulsion: {range: 0.0012, force: 0.6, friction: 0.5, tangential_stiffness: 400}}
+  moving_mesh: {repulsion: {range: 0.0012, force: 0.6, friction: 0.5, tangential_stiffness: 400,
+                            rolling_friction: 0.1}}
   time: {mode: unsteady, scheme: bdf2, step: 0.005, end: 0.3}
   newton: {reuse_factorization: true}
   output: {vtk_every: 0.1, checkpoint_every: 0.1}
@@ -633,6 +634,8 @@ void expect_same_moving(const fem::FemCheckpoint& a, const fem::FemCheckpoint& b
   EXPECT_EQ(a.moving->history_keys, b.moving->history_keys);
   EXPECT_TRUE(
       test::same_bits(std::span(a.moving->history_stretch), std::span(b.moving->history_stretch)));
+  EXPECT_TRUE(
+      test::same_bits(std::span(a.moving->history_roll), std::span(b.moving->history_roll)));
   ASSERT_EQ(a.flow.nodes.size(), b.flow.nodes.size());
   for (std::size_t k = 0; k < a.flow.nodes.size(); ++k)
     ASSERT_TRUE(a.flow.nodes[k].x == b.flow.nodes[k].x && a.flow.nodes[k].y == b.flow.nodes[k].y)
@@ -660,6 +663,8 @@ TEST(Restart, FluidFemMovingBodiesContinueBitIdentically) {
   EXPECT_EQ(at20.moving->remeshes, 0);
   EXPECT_EQ(at40.moving->remeshes, 1);
   EXPECT_GT(at40.moving->history_keys.size(), 2u);
+  EXPECT_TRUE(std::any_of(at40.moving->history_roll.begin(), at40.moving->history_roll.end(),
+                          [](double r) { return r != 0; }));  // rolling springs loaded
   EXPECT_TRUE(at40.flow.factorized && at40.flow.moving);
   EXPECT_NE(at40.flow.factor_x, at40.flow.x);  // factors of an earlier iterate
 
@@ -790,7 +795,8 @@ TEST(Restart, FluidFemMovingBodiesContinueBitIdentically) {
   const std::string no_gravity =
       test::replaced(test::replaced(fixed_bodies, "  gravity: [0, -9.81]\n", ""),
                      "  moving_mesh: {repulsion: {range: 0.0012, force: 0.6, friction: 0.5, "
-                     "tangential_stiffness: 400}}\n",
+                     "tangential_stiffness: 400,\n"
+                     "                            rolling_friction: 0.1}}\n",
                      "");
   const auto cfg_fixed = load_fem_case(tmp.write("fixed.yaml", no_gravity), unused);
   ASSERT_TRUE(cfg_fixed);

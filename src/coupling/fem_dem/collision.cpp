@@ -153,24 +153,32 @@ std::uint64_t ContactHistory::key(int body, int probe, int other, int edge) {
   return u(body) << 48 | u(probe) << 32 | u(other + 1) << 16 | u(edge);
 }
 
-std::vector<std::pair<std::uint64_t, double>> ContactHistory::entries() const {
-  std::vector<std::pair<std::uint64_t, double>> e(stretch_.begin(), stretch_.end());
-  std::sort(e.begin(), e.end());
+std::vector<std::pair<std::uint64_t, GapSprings>> ContactHistory::entries() const {
+  std::vector<std::pair<std::uint64_t, GapSprings>> e(springs_.begin(), springs_.end());
+  std::sort(e.begin(), e.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   return e;
 }
 
 ContactHistory ContactHistory::from_entries(const std::vector<std::uint64_t>& keys,
-                                            const std::vector<double>& stretch) {
-  REQUIRE(keys.size() == stretch.size(), "contact history: {} keys and {} stretches", keys.size(),
-          stretch.size());
+                                            const std::vector<double>& stretch,
+                                            const std::vector<double>& roll) {
+  REQUIRE(keys.size() == stretch.size() && keys.size() == roll.size(),
+          "contact history: {} keys, {} stretches and {} rotations", keys.size(), stretch.size(),
+          roll.size());
   ContactHistory h;
-  for (std::size_t i = 0; i < keys.size(); ++i) h.stretch_.emplace(keys[i], stretch[i]);
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    h.springs_.emplace(keys[i], GapSprings{stretch[i], roll[i]});
   return h;
 }
 
 double ContactHistory::stretch(int body, int probe, int other, int edge) const {
-  const auto it = stretch_.find(key(body, probe, other, edge));
-  return it == stretch_.end() ? 0.0 : it->second;
+  const auto it = springs_.find(key(body, probe, other, edge));
+  return it == springs_.end() ? 0.0 : it->second.slide;
+}
+
+double ContactHistory::rolled(int body, int probe, int other, int edge) const {
+  const auto it = springs_.find(key(body, probe, other, edge));
+  return it == springs_.end() ? 0.0 : it->second.roll;
 }
 
 namespace {
@@ -178,8 +186,8 @@ namespace {
 /// The loads of the repulsion and, with `history`, of friction (see the header).
 std::vector<fem::BodyForce> loads_of(const fem::MeshSpec& spec, const CollisionModel& model,
                                      const std::vector<fem::BodyMotion>* velocity, double dt,
-                                     const std::unordered_map<std::uint64_t, double>* history,
-                                     std::unordered_map<std::uint64_t, double>* next) {
+                                     const std::unordered_map<std::uint64_t, GapSprings>* history,
+                                     std::unordered_map<std::uint64_t, GapSprings>* next) {
   std::vector<fem::BodyForce> loads(spec.bodies.size());
   if (model.range <= 0 || model.force <= 0) return loads;
   auto add = [&](int body, Vec2 at, Vec2 force) {
@@ -197,7 +205,10 @@ std::vector<fem::BodyForce> loads_of(const fem::MeshSpec& spec, const CollisionM
                 m.velocity.y + m.angular_velocity * (x.x - c.x)};
   };
   const bool friction = history != nullptr && model.friction > 0;
+  const bool rolling = friction && model.rolling_friction > 0;
   const double k_t = friction ? model.spring() : 0.0;
+  auto omega = [&](int b) { return b < 0 ? 0.0 : (*velocity)[b].angular_velocity; };
+  auto lever = [&](int b, Vec2 x) { return dist(x, spec.bodies[b].centre); };
   for_each_gap(spec, [&](const Gap& gp, int a, int b, std::uint64_t key) {
     if (gp.g >= model.range || gp.weight == 0) return;
     const double s = (model.range - gp.g) / model.range;
@@ -209,16 +220,36 @@ std::vector<fem::BodyForce> loads_of(const fem::MeshSpec& spec, const CollisionM
       const Vec2 va = point_velocity(a, mid), vb = point_velocity(b, mid);
       const double v_t = (va.x - vb.x) * t.x + (va.y - vb.y) * t.y;
       const auto it = history->find(key);
-      double xi = (it == history->end() ? 0.0 : it->second) + v_t * dt;
+      const GapSprings before = it == history->end() ? GapSprings{} : it->second;
+      double xi = before.slide + v_t * dt;
       const double k = gp.weight * k_t, cap = model.friction * mag;
       double f_t = -k * xi;
       if (std::abs(f_t) > cap) {  // sliding: the spring stays at the Coulomb limit
         f_t = std::copysign(cap, f_t);
         xi = -f_t / k;
       }
-      (*next)[key] = xi;
       f.x += f_t * t.x;
       f.y += f_t * t.y;
+      double theta = 0.0, m_r = 0.0;
+      if (rolling) {
+        const double ra = lever(a, mid), rb = b < 0 ? 0.0 : lever(b, mid);
+        const double r = b < 0 ? ra : ra * rb / (ra + rb);
+        theta = before.roll + (omega(a) - omega(b)) * dt;
+        const double k_r = k * r * r, cap_r = model.rolling_friction * r * mag;
+        m_r = -k_r * theta;
+        if (std::abs(m_r) > cap_r) {  // rolling: the spring stays at its limit
+          m_r = std::copysign(cap_r, m_r);
+          theta = -m_r / k_r;
+        }
+      }
+      (*next)[key] = GapSprings{xi, theta};
+      add(a, mid, f);
+      loads[a].torque += m_r;
+      if (b >= 0) {
+        add(b, mid, {-f.x, -f.y});
+        loads[b].torque -= m_r;
+      }
+      return;
     }
     add(a, mid, f);
     if (b >= 0) add(b, mid, {-f.x, -f.y});
@@ -243,8 +274,8 @@ std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const Col
           "outline edges ({} and {})",
           spec.bodies.size(), spec.outline.size());
   REQUIRE(&before != &after, "collision_loads: before and after must be different histories");
-  after.stretch_.clear();
-  return loads_of(spec, model, &velocity, dt, &before.stretch_, &after.stretch_);
+  after.springs_.clear();
+  return loads_of(spec, model, &velocity, dt, &before.springs_, &after.springs_);
 }
 
 std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const CollisionModel& model,

@@ -29,6 +29,17 @@
 // resting gap the normal stiffness is lower, so k_t is then a few times the normal one). A grain
 // resting in a film on a slope then holds while tan(slope) < mu and slides above it, as a DEM grain
 // does; the history (xi per probe and facing surface) is ContactHistory, kept from step to step.
+//
+// Rolling resistance (optional, CollisionModel::rolling_friction > 0, with friction): each gap in
+// range also carries a torque, a rotational spring on the relative rotation accumulated while the
+// gap stays in range, capped at mu_r R F_n (the elastic-plastic spring-dashpot model of Iwashita &
+// Oda, J. Eng. Mech. 124 (1998) 285, and of Ai, Chen, Rotter & Ooi, Powder Technol. 206 (2011)
+// 269, without its dashpot):
+//   theta += (omega_probe - omega_facing) dt,   M = -k_r theta,   |M| <= mu_r R F_n,
+// on the probe body (-M on the facing one), with R = r_a r_b / (r_a + r_b) the lever arms r of
+// the two bodies from their centres to the middle of the gap (r_a against the outline) and
+// k_r = k_t R^2. A disk resting on a floor then holds while tan(slope) < mu_r and rolls above it.
+// A face resting on a face carries it at each corner, its cap with that corner's share of F_n.
 #pragma once
 
 #include <cstdint>
@@ -47,6 +58,7 @@ struct CollisionModel {
   double force = 0.0;                 ///< F_0 [N/m]
   double friction = 0.0;              ///< Coulomb coefficient mu of the tangential force; 0: none
   double tangential_stiffness = 0.0;  ///< k_t [N/m^2]; 0: 2 F_0 / rho
+  double rolling_friction = 0.0;      ///< mu_r of the rolling torque (needs friction > 0); 0: none
 
   /// The tangential stiffness in use [N/m^2].
   [[nodiscard]] double spring() const {
@@ -54,25 +66,35 @@ struct CollisionModel {
   }
 };
 
-/// Tangential spring stretch [m] of every gap in range (one per probe and facing surface),
-/// carried from one step to the next; a gap that opens past the range forgets its stretch.
+/// The springs of one gap in range: tangential stretch xi [m] and rolling rotation [rad].
+struct GapSprings {
+  double slide = 0.0;
+  double roll = 0.0;
+  bool operator==(const GapSprings&) const = default;
+};
+
+/// The springs of every gap in range (one per probe and facing surface), carried from one step
+/// to the next; a gap that opens past the range forgets them.
 class ContactHistory {
  public:
-  [[nodiscard]] std::size_t size() const { return stretch_.size(); }
-  /// Stretch of the gaps from probe `probe` of body `body` to the outline edge `edge`
+  [[nodiscard]] std::size_t size() const { return springs_.size(); }
+  /// Tangential stretch of the gaps from probe `probe` of body `body` to the outline edge `edge`
   /// (`other` = -1) or to body `other` (edge 0); 0 when not in range.
   [[nodiscard]] double stretch(int body, int probe, int other, int edge) const;
+  /// Rolling rotation of that gap [rad]; 0 when not in range.
+  [[nodiscard]] double rolled(int body, int probe, int other, int edge) const;
   [[nodiscard]] static std::uint64_t key(int body, int probe, int other, int edge);
-  /// Every gap's (key, stretch), by key (for checkpoints), and the history made of such a list.
-  [[nodiscard]] std::vector<std::pair<std::uint64_t, double>> entries() const;
+  /// Every gap's (key, springs), by key (for checkpoints), and the history made of such a list.
+  [[nodiscard]] std::vector<std::pair<std::uint64_t, GapSprings>> entries() const;
   static ContactHistory from_entries(const std::vector<std::uint64_t>& keys,
-                                     const std::vector<double>& stretch);
+                                     const std::vector<double>& stretch,
+                                     const std::vector<double>& roll);
 
  private:
   friend std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec&, const CollisionModel&,
                                                      const std::vector<fem::BodyMotion>&, double,
                                                      const ContactHistory&, ContactHistory&);
-  std::unordered_map<std::uint64_t, double> stretch_;
+  std::unordered_map<std::uint64_t, GapSprings> springs_;
 };
 
 /// Repulsion loads (force [N/m] and torque about the centre [N]) on the bodies of `spec`, placed

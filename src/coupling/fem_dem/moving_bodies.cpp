@@ -380,9 +380,10 @@ fem::MovingFlowState MovingBodyFlow::state() const {
   s.previous_dt = previous_dt_;
   put_loads(external_, s.external_loads);
   put_loads(contact_loads_, s.contact_loads);
-  for (const auto& [k, xi] : history_.entries()) {
+  for (const auto& [k, springs] : history_.entries()) {
     s.history_keys.push_back(k);
-    s.history_stretch.push_back(xi);
+    s.history_stretch.push_back(springs.slide);
+    s.history_roll.push_back(springs.roll);
   }
   s.remeshes = remeshes_;
   s.remesh_seconds = remesh_seconds_;
@@ -439,7 +440,9 @@ void MovingBodyFlow::restore(const fem::NavierStokes::State& flow, const fem::Mo
   previous_dt_ = s.previous_dt;
   external_ = take_loads(s.external_loads);
   contact_loads_ = take_loads(s.contact_loads);
-  history_ = ContactHistory::from_entries(s.history_keys, s.history_stretch);
+  history_ = ContactHistory::from_entries(
+      s.history_keys, s.history_stretch,
+      s.history_roll.empty() ? std::vector<double>(s.history_keys.size(), 0.0) : s.history_roll);
   remeshes_ = static_cast<int>(s.remeshes);
   remesh_seconds_ = s.remesh_seconds;
   pending_ = false;

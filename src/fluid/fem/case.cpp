@@ -584,7 +584,9 @@ double contact_period(const FemCaseConfig& cfg, std::size_t j) {
       cfg.repulsion_friction > 0
           ? (cfg.repulsion_tangential_stiffness > 0 ? cfg.repulsion_tangential_stiffness : k_n)
           : 0.0;
-  const double rocking = 1 + geo.area * (geo.area / std::numbers::pi) / geo.polar_moment;
+  // (a rolling spring k_t R^2 per contact doubles the rotational stiffness at most)
+  const double rocking = 1 + (cfg.repulsion_rolling_friction > 0 ? 2.0 : 1.0) * geo.area *
+                                 (geo.area / std::numbers::pi) / geo.polar_moment;
   const double k = 2 * std::max(k_n, k_t * rocking);
   return 2 * std::numbers::pi * std::sqrt(cfg.body_density[j] * geo.area / k);
 }
@@ -652,9 +654,10 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
       const std::string rp = mp + ".repulsion";
       if (!rep.IsMap())
         r.fail(rep, rp,
-               "a map {range: m, force: N/m, friction, tangential_stiffness: N/m^2} (repulsion "
+               "a map {range: m, force: N/m, friction, tangential_stiffness: N/m^2, "
+               "rolling_friction} (repulsion "
                "across narrow gaps, with optional Coulomb friction)");
-      r.keys(rep, rp, {"range", "force", "friction", "tangential_stiffness"});
+      r.keys(rep, rp, {"range", "force", "friction", "tangential_stiffness", "rolling_friction"});
       for (const char* k : {"range", "force"})
         if (!rep[k].IsDefined())
           r.fail(rep, rp + "." + k,
@@ -682,6 +685,14 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
                  "the friction force)");
         cfg.repulsion_tangential_stiffness =
             r.number(rep["tangential_stiffness"], rp + ".tangential_stiffness", 0, inf, true);
+      }
+      if (rep["rolling_friction"].IsDefined()) {
+        if (cfg.repulsion_friction == 0)
+          r.fail(rep["rolling_friction"], rp + ".rolling_friction",
+                 "no rolling_friction without a friction coefficient > 0 (the gaps' springs "
+                 "are kept only with friction)");
+        cfg.repulsion_rolling_friction =
+            r.number(rep["rolling_friction"], rp + ".rolling_friction", 0, inf);
       }
     }
   }
@@ -1122,6 +1133,8 @@ std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& pro
       if (cfg.repulsion_friction > 0) key("friction") << num(cfg.repulsion_friction);
       if (cfg.repulsion_tangential_stiffness > 0)
         key("tangential_stiffness") << num(cfg.repulsion_tangential_stiffness);
+      if (cfg.repulsion_rolling_friction > 0)
+        key("rolling_friction") << num(cfg.repulsion_rolling_friction);
       out << YAML::EndMap;
     }
     out << YAML::EndMap;

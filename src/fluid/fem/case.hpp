@@ -71,6 +71,8 @@ struct FemCaseConfig {
   /// [N/m^2] carrying it (0: 2 repulsion_force / repulsion_range).
   double repulsion_friction = 0.0;
   double repulsion_tangential_stiffness = 0.0;
+  /// Rolling resistance mu_r of the repulsion's gaps (0: none; only with friction).
+  double repulsion_rolling_friction = 0.0;
   bool steady = true;
   /// unsteady: start from the steady solution for the boundary data at t = 0 (consistent initial
   /// conditions by Newton) instead of from rest

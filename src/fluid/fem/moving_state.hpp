@@ -29,9 +29,10 @@ struct MovingFlowState {
   /// Per body fx, fy [N/m], torque [N]: loads set from outside (empty: none), and the contacts'
   /// loads of the last step.
   std::vector<double> external_loads, contact_loads;
-  /// Friction springs of the gaps in range: key (fem_dem::ContactHistory::key) and stretch [m].
+  /// Friction springs of the gaps in range: key (fem_dem::ContactHistory::key), tangential
+  /// stretch [m] and rolling rotation [rad].
   std::vector<std::uint64_t> history_keys;
-  std::vector<double> history_stretch;
+  std::vector<double> history_stretch, history_roll;
   std::int64_t remeshes = 0;
   double remesh_seconds = 0.0;  ///< [s] wall time of the remeshes so far
 };
