@@ -4,15 +4,23 @@
 # angles, circumradius 1.76-2.2 mm) on a 6.3 mm lattice jittered by 0.3 mm, from a fixed seed.
 #   /usr/bin/python3 cases/fluid_fem/polygons_sedimenting/grains.py
 # prints the `bodies:` entries (paste them into case.yaml); the gaps between neighbours stay
-# above the repulsion range (0.75 mm).
+# above the repulsion range (0.75 mm). Other blocks of the same grains (tilting_box):
+#   grains.py COLUMNS ROWS SPACING X0 Y0 JITTER     (lengths in m; the lattice's first centre)
+import sys
+
 import numpy as np
+
+cols, rows, spacing, x0, y0, jitter = 4, 6, 0.0063, 0.0052, 0.0060, 3e-4
+if len(sys.argv) == 7:
+    cols, rows = int(sys.argv[1]), int(sys.argv[2])
+    spacing, x0, y0, jitter = (float(a) for a in sys.argv[3:])
 rng = np.random.default_rng(11)
 lines = []
 k = 0
-for row in range(6):
-    for col in range(4):
-        cx = 0.0052 + 0.0063 * col + rng.uniform(-3e-4, 3e-4)
-        cy = 0.0060 + 0.0063 * row + rng.uniform(-3e-4, 3e-4)
+for row in range(rows):
+    for col in range(cols):
+        cx = x0 + spacing * col + rng.uniform(-jitter, jitter)
+        cy = y0 + spacing * row + rng.uniform(-jitter, jitter)
         n = int(rng.integers(5, 8))
         ang = np.sort((np.arange(n) + rng.uniform(-0.3, 0.3, n)) * 2 * np.pi / n + rng.uniform(0, 2*np.pi))
         r = 0.0022 * rng.uniform(0.8, 1.0, n)
