@@ -132,6 +132,24 @@ inline fem_dem::MovingBodyFlow settle_on_floor(
   return run;
 }
 
+/// One free body of density 2 in the closed box 1 x 1.5 (floor y = 0) of a fluid of density 1,
+/// meshed with h_body 0.02, h_max 0.1: the problem of square_on_slope and disk_on_tilting_floor.
+inline FlowProblem floor_box(const BodyShape& body, double viscosity, Vec2 gravity,
+                             const GravityTilt& tilt) {
+  FlowProblem pb;
+  pb.spec.outline = {{-0.5, 0}, {0.5, 0}, {0.5, 1.5}, {-0.5, 1.5}};
+  pb.spec.bodies = {body};
+  pb.spec.h_body = 0.02;
+  pb.spec.h_max = 0.1;
+  pb.mesh = build_mesh(pb.spec);
+  pb.outline_bc.assign(4, OutlineBc{});
+  pb.viscosity = viscosity;
+  pb.body_density = {2.0};
+  pb.gravity = gravity;
+  pb.tilt = tilt;
+  return pb;
+}
+
 /// The square of settle_on_floor (side 0.2, density 2, in fluid of density 1 and nu = 0.05 unless
 /// given, the
 /// box 1 x 1.5, repulsion range 0.03 and F_0 = 4 x its buoyant weight W = 0.4 N/m) resting flat
@@ -147,22 +165,12 @@ inline fem_dem::MovingBodyFlow square_on_slope(
   const double cos_s = 1 / std::sqrt(1 + tan_slope * tan_slope), sin_s = tan_slope * cos_s;
   const double range = 0.03, weight = (2.0 - 1.0) * 10 * 0.04;
   const double y0 = 0.1 + range * (1 - std::sqrt(cos_s / 8));
-  FlowProblem pb;
-  pb.spec.outline = {{-0.5, 0}, {0.5, 0}, {0.5, 1.5}, {-0.5, 1.5}};
   BodyShape b;
   b.kind = BodyShape::Kind::Polygon;
   for (const auto& [x, y] : {std::pair{-0.1, -0.1}, {0.1, -0.1}, {0.1, 0.1}, {-0.1, 0.1}})
     b.vertices.push_back({x, y0 + y});
   b.centre = {0, y0};
-  pb.spec.bodies = {b};
-  pb.spec.h_body = 0.02;
-  pb.spec.h_max = 0.1;
-  pb.mesh = build_mesh(pb.spec);
-  pb.outline_bc.assign(4, OutlineBc{});
-  pb.viscosity = viscosity;
-  pb.body_density = {2.0};
-  pb.gravity = {10 * sin_s, -10 * cos_s};
-  pb.tilt = tilt;
+  FlowProblem pb = floor_box(b, viscosity, {10 * sin_s, -10 * cos_s}, tilt);
   fem_dem::MovingBodyOptions opt;
   opt.collision = {range, 4 * weight, mu};
   fem_dem::MovingBodyFlow run(std::move(pb), opt);
@@ -179,20 +187,10 @@ inline fem_dem::MovingBodyFlow disk_on_tilting_floor(
     const std::function<void(const fem_dem::MovingBodyFlow&)>& each = {},
     double viscosity = 0.005) {
   const double range = 0.03, weight = (2.0 - 1.0) * 10 * std::numbers::pi * 0.01;
-  FlowProblem pb;
-  pb.spec.outline = {{-0.5, 0}, {0.5, 0}, {0.5, 1.5}, {-0.5, 1.5}};
   BodyShape b;
   b.radius = 0.1;
   b.centre = {0, 0.1 + range * 0.5};  // where 4 W (s)^2 = W: s = 1/2
-  pb.spec.bodies = {b};
-  pb.spec.h_body = 0.02;
-  pb.spec.h_max = 0.1;
-  pb.mesh = build_mesh(pb.spec);
-  pb.outline_bc.assign(4, OutlineBc{});
-  pb.viscosity = viscosity;
-  pb.body_density = {2.0};
-  pb.gravity = {0, -10};
-  pb.tilt = tilt;
+  FlowProblem pb = floor_box(b, viscosity, {0, -10}, tilt);
   fem_dem::MovingBodyOptions opt;
   opt.collision = {range, 4 * weight, mu};
   opt.collision.rolling_friction = mu_r;
