@@ -4,9 +4,9 @@
 #   grainflow run cases/fluid_fem/tilting_box/case.yaml --output out/tilting_box
 #   /usr/bin/python3 cases/fluid_fem/tilting_box/analyse.py out/tilting_box
 # prints, over time, the box's tilt theta, the bed surface's angle to the horizontal and the
-# grains' mean speed; the avalanche (the peak of the mean speed after the tilt starts), the
-# largest surface angle before it (the maximum angle of stability) and the angle kept in the
-# last second (the angle of repose); draws docs/validation/fem/tilting_box.png.
+# grains' mean speed; the avalanches (peaks of the mean speed while tilting), the largest surface
+# angle while tilting (the maximum angle of stability) and the angle kept in the last second
+# (the angle of repose); draws docs/validation/fem/tilting_box.png.
 #
 # Surface: the highest grain point in vertical strips of the box one mean grain diameter wide,
 # the strips at the side walls left out, fitted by a straight line in the box's frame (angle
@@ -61,11 +61,21 @@ def main(out_dir, case):
     idx = np.arange(0, len(t), every)
     alpha = np.array([surface(i)[0] for i in idx])
     beta = theta[idx] + alpha
-    tilting = t[idx] > t0
-    peak = idx[tilting][np.argmax(speed[idx][tilting])]
-    before = (t[idx] > t0) & (t[idx] < t[peak])
-    i_max = idx[before][np.argmax(beta[before])] if before.any() else peak
-    beta_max = beta[idx == i_max][0]
+    tilting = (t[idx] > t0) & (t[idx] <= t1)
+    k_max = np.flatnonzero(tilting)[np.argmax(beta[tilting])]
+    i_max, beta_max = idx[k_max], beta[k_max]
+    # avalanches: local peaks of the grains' mean speed while tilting, above twice its median
+    # then and at least 0.5 s apart
+    sp = speed[idx]
+    floor = 2 * np.median(sp[tilting])
+    peaks = []
+    for k in np.flatnonzero(tilting)[1:-1]:
+        if sp[k] > floor and sp[k] >= sp[k - 1] and sp[k] >= sp[k + 1]:
+            if peaks and t[idx[k]] - t[idx[peaks[-1]]] < 0.5:
+                if sp[k] > sp[peaks[-1]]:
+                    peaks[-1] = k
+            else:
+                peaks.append(k)
     last = t[idx] >= t[-1] - 1.0
     repose = beta[last].mean()
     print(f"grains {len(names)}, mean diameter of equal area {1e3 * d:.2f} mm, tilt {rate:g} deg/s "
@@ -74,17 +84,17 @@ def main(out_dir, case):
         i = idx[k]
         print(f"  t = {t[i]:6.2f} s  tilt {theta[i]:5.1f} deg  surface {beta[k]:5.1f} deg to the "
               f"horizontal  mean speed {1e3 * speed[i]:6.2f} mm/s")
-    print(f"avalanche: mean speed peaks at {1e3 * speed[peak]:.2f} mm/s at t = {t[peak]:.2f} s, "
-          f"tilt {theta[peak]:.1f} deg")
-    print(f"maximum angle of stability (largest surface angle before it): {beta_max:.1f} deg at "
-          f"tilt {theta[i_max]:.1f} deg")
+    print("avalanches (mean grain speed peaks above twice its median while tilting): " +
+          ", ".join(f"tilt {theta[idx[k]]:.1f} deg ({1e3 * sp[k]:.2f} mm/s)" for k in peaks))
+    print(f"maximum angle of stability (largest surface angle while tilting): {beta_max:.1f} deg "
+          f"at tilt {theta[i_max]:.1f} deg")
     print(f"angle of repose (surface to the horizontal, mean of the last second): {repose:.1f} deg")
     print(f"grains' mean speed at the end {1e3 * speed[-1]:.3f} mm/s")
 
     fig, ax = plt.subplots(1, 2, figsize=(11, 4.6))
     a = ax[0]
     for k, (i, label) in enumerate(((idx[np.searchsorted(t[idx], t0)], "bed before the tilt"),
-                                    (i_max, "before the avalanche"), (len(t) - 1, "end"))):
+                                    (i_max, "steepest"), (len(t) - 1, "end"))):
         th = np.radians(theta[i])
         rot = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
         box = np.array([[0, 0], [width, 0], [width, 0.045], [0, 0.045], [0, 0]]) @ rot.T
