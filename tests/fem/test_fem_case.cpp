@@ -892,7 +892,7 @@ TEST(FemMovingCase, AdaptiveStepsAboveTheContactPeriodAreWarnedOf) {
 // bound, FemMoving.FreeDiskSettlesAtFaxenTerminalVelocity) and the distance fallen in 0.3 s
 // matches a run with fixed steps of 2.5 ms to 0.3 %: the error of both is the BDF2 error of the
 // ~5 ms start transient (U tau = 0.5 mm of the 27.6 mm, at a few steps per tau); measured
-// 2026-12-04 against fixed steps of 0.5 ms (27.560 mm): adaptive +0.11 %, 2.5 ms -0.10 %.
+// 2026-12-04 against fixed steps of 0.5 ms (27.560 mm): adaptive +0.10 %, 2.5 ms -0.10 %.
 TEST(FemMovingCase, AdaptiveStepsFollowTheSettling) {
   const auto file = std::string(GF_SOURCE_DIR) + "/cases/fluid_fem/settling_disk/case.yaml";
   std::ifstream in(file);
