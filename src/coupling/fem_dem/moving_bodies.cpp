@@ -263,11 +263,13 @@ fem::StepResult MovingBodyFlow::try_step_or_throw(double dt, int order,
     remesh();
     nodes = motion_->nodes(reference_poses_, mesh_poses(next));
     const double ratio = quality_ratio(nodes, worst);
-    if (!(worst > 0))
+    if (!(worst > 0))  // (the narrowest gap: a film thinner than a cell inverts at any step)
       throw Error(fmt::format(
           "at t = {} s: a body moves farther in one step of {} s than the mesh next to it can "
-          "follow (a fresh mesh inverts; quality ratio {:.3g}): lower the time step",
-          flow_->time(), dt, ratio));
+          "follow (a fresh mesh inverts; quality ratio {:.3g}; narrowest gap {:.3g} m, mesh "
+          "size at the bodies {:.3g} m): lower the time step, or widen the gaps (a larger "
+          "repulsion range or force)",
+          flow_->time(), dt, ratio, smallest_gap(placed_spec(poses_)), reference_spec_.h_body));
   }
   std::vector<fem::BodyMotion> velocity;
   for (std::size_t b = 0; b < poses_.size(); ++b)
