@@ -371,7 +371,9 @@ fem_dem::MovingBodyOptions moving_options(const fem::FemCaseConfig& cfg) {
   o.remesh_ratio = cfg.remesh_ratio;
   o.remesh_quality = cfg.remesh_quality;
   o.collision = {cfg.repulsion_range, cfg.repulsion_force, cfg.repulsion_friction,
-                 cfg.repulsion_tangential_stiffness, cfg.repulsion_rolling_friction};
+                 cfg.repulsion_tangential_stiffness, cfg.repulsion_rolling_friction,
+                 cfg.repulsion_core};
+  o.body_names = cfg.body_names;
   return o;
 }
 

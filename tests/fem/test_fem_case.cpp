@@ -439,7 +439,8 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
       "  mesh:",
       "  gravity: [0.5, -9.81]\n  tilt: {rate: 1.5, start: 0.1, end: 0.15}\n"
       "  moving_mesh: {remesh_ratio: 0.4, repulsion: {range: 0.04, "
-      "force: 2.5, friction: 0.4, tangential_stiffness: 300, rolling_friction: 0.05}}\n"
+      "force: 2.5, friction: 0.4, tangential_stiffness: 300, rolling_friction: 0.05, "
+      "core: 0.004}}\n"
       "  mesh:");
   for (const auto& yaml : {std::string(kGood), adaptive, sine, steady, unnamed, free}) {
     auto cfg = parse_fluid_fem(YAML::Load(yaml)["fluid_fem"], "case.yaml");
@@ -479,6 +480,7 @@ TEST(FemCase, ResolvedCaseReadsBackToTheSameCase) {
     EXPECT_EQ(back.repulsion_friction, cfg.repulsion_friction);
     EXPECT_EQ(back.repulsion_tangential_stiffness, cfg.repulsion_tangential_stiffness);
     EXPECT_EQ(back.repulsion_rolling_friction, cfg.repulsion_rolling_friction);
+    EXPECT_EQ(back.repulsion_core, cfg.repulsion_core);
     for (std::size_t j = 0; j < cfg.mesh.bodies.size(); ++j) {
       EXPECT_EQ(back.mesh.bodies[j].centre.x, cfg.mesh.bodies[j].centre.x);
       EXPECT_EQ(back.mesh.bodies[j].centre.y, cfg.mesh.bodies[j].centre.y);
@@ -657,8 +659,13 @@ gf::fem_dem::MovingBodyOptions options(const FemCaseConfig& cfg) {
   gf::fem_dem::MovingBodyOptions o;
   o.remesh_ratio = cfg.remesh_ratio;
   o.remesh_quality = cfg.remesh_quality;
-  o.collision = {cfg.repulsion_range, cfg.repulsion_force, cfg.repulsion_friction,
-                 cfg.repulsion_tangential_stiffness, cfg.repulsion_rolling_friction};
+  o.collision = {cfg.repulsion_range,
+                 cfg.repulsion_force,
+                 cfg.repulsion_friction,
+                 cfg.repulsion_tangential_stiffness,
+                 cfg.repulsion_rolling_friction,
+                 cfg.repulsion_core};
+  o.body_names = cfg.body_names;
   return o;
 }
 
@@ -824,6 +831,13 @@ TEST(FemMovingCase, BadKeysAreLocatedErrors) {
                         "  moving_mesh: {repulsion: {range: 0.01, force: 1, friction: 0.5, "
                         "rolling_friction: -1}}\n  mesh:"),
                13, "fluid_fem.moving_mesh.repulsion.rolling_friction", {"found '-1'"});
+  expect_error(replaced(free, "  mesh:",
+                        "  moving_mesh: {repulsion: {range: 0.01, force: 1, core: 0.01}}\n"
+                        "  mesh:"),
+               13, "fluid_fem.moving_mesh.repulsion.core", {"below the range (0.01 m)"});
+  expect_error(replaced(free, "  mesh:",
+                        "  moving_mesh: {repulsion: {range: 0.01, force: 1, core: 0}}\n  mesh:"),
+               13, "fluid_fem.moving_mesh.repulsion.core", {"(0, inf]", "found '0'"});
   // what a moving run cannot do yet, at the key that asks for it (time on line 14)
   expect_error(replaced(free, "mode: unsteady, scheme: bdf2, step: 0.05, end: 0.2", "mode: steady"),
                14, "fluid_fem.time.mode",
@@ -860,6 +874,27 @@ TEST(FemMovingCase, CheckDerivesTheSettlingNumbers) {
   EXPECT_NE(text.find("settling speed estimate U (m/s) = 0.09501 "), std::string::npos) << text;
   EXPECT_NE(text.find("Reynolds number U d / nu of that speed = 0.019"), std::string::npos) << text;
   EXPECT_NE(text.find("steps = 100"), std::string::npos) << text;
+}
+
+// `grainflow check` says what the films can carry: the bounded law at most F_0 (polygons
+// sedimenting), and with the core of the tilting box (g_c = 7.5e-5 m, rho = 7.5e-4 m) the gap
+// holding 2 F_0: s^2 g_c / g = 2 with s = (rho - g) / rho gives g = 3.416e-5 m (by hand: s =
+// 0.95445, g = 7.5e-5 x 0.91098 / 2).
+TEST(FemMovingCase, CheckStatesWhatTheFilmsCarry) {
+  auto text_of = [](const std::string& name) {
+    const auto file = std::string(GF_SOURCE_DIR) + "/cases/fluid_fem/" + name + "/case.yaml";
+    const auto cfg = parse_fluid_fem(YAML::LoadFile(file)["fluid_fem"], file);
+    std::string text;
+    for (const auto& [k, v] : describe_case(cfg))
+      if (k == "repulsion") text += v;
+    return text;
+  };
+  const std::string bounded = text_of("polygons_sedimenting");
+  EXPECT_NE(bounded.find("at most F_0 per film"), std::string::npos) << bounded;
+  const std::string cored = text_of("tilting_box");
+  EXPECT_NE(cored.find("core 7.5e-05 m"), std::string::npos) << cored;
+  EXPECT_NE(cored.find("2 F_0 at 3.42e-05 m"), std::string::npos) << cored;
+  EXPECT_NE(cored.find("force scale F_0 0.6 N/m = "), std::string::npos) << cored;
 }
 
 // Adaptive steps with free bodies: the explicit contact loads bound the step, which the error

@@ -281,6 +281,9 @@ TEST(FemMoving, CollisionLoadsFollowTheRepulsionLaw) {
   EXPECT_NEAR(loads[1].force.x, f, 1e-14);
   EXPECT_NEAR(loads[0].force.y, 0, 1e-14);
   EXPECT_NEAR(loads[0].torque, 0, 1e-14);
+  EXPECT_NEAR(gf::fem_dem::narrowest_gap(spec).g, 0.05, 1e-15);
+  EXPECT_EQ(gf::fem_dem::narrowest_gap(spec).other, 1);
+  EXPECT_EQ(gf::fem_dem::narrowest_gap(spec).edge, -1);
   spec.bodies[1].centre = {0.31, 1};  // gap 0.11 > range
   loads = collision_loads(spec, model);
   EXPECT_EQ(loads[0].force.x, 0);
@@ -299,6 +302,24 @@ TEST(FemMoving, CollisionLoadsFollowTheRepulsionLaw) {
   EXPECT_NEAR(loads[0].force.y, 2 * 2.0 * 0.25, 1e-13);
   EXPECT_NEAR(loads[0].torque, 0, 1e-14);
   EXPECT_NEAR(gf::fem_dem::smallest_gap(spec), 0.05, 1e-15);
+  const auto narrow = gf::fem_dem::narrowest_gap(spec);  // a lower corner on the floor (edge 0)
+  EXPECT_EQ(narrow.body, 0);
+  EXPECT_EQ(narrow.other, -1);
+  EXPECT_EQ(narrow.edge, 0);
+  // with a core g_c = 0.04 the force at g = 0.02 is the law's times g_c / g, and deep in the
+  // core (and in an overlap) times 100 at most
+  spec.bodies = {a};
+  spec.bodies[0].centre = {0, 0.12};
+  CollisionModel cored = model;
+  cored.core = 0.04;
+  EXPECT_NEAR(collision_loads(spec, cored)[0].force.y, 2.0 * 0.64 * 2.0, 1e-13);
+  spec.bodies[0].centre = {0, 0.1 + 1e-5};
+  EXPECT_NEAR(collision_loads(spec, cored)[0].force.y, 2.0 * 0.9999 * 0.9999 * 100, 1e-11);
+  spec.bodies[0].centre = {0, 0.15};  // outside the core: the law as it was
+  EXPECT_NEAR(collision_loads(spec, cored)[0].force.y, 2.0 * 0.25, 1e-13);
+  EXPECT_NEAR(gf::fem_dem::repulsion_scale(cored, 0.05), 0.25, 1e-15);
+  EXPECT_NEAR(gf::fem_dem::repulsion_scale(cored, 0.02), 0.64 * 2.0, 1e-15);
+  EXPECT_EQ(gf::fem_dem::repulsion_scale(cored, 0.1), 0.0);
   // a disk in a corner is pushed by both walls
   spec.bodies = {a};
   spec.bodies[0].centre = {-0.88, 0.12};  // 0.02 from the side wall and from the floor
@@ -310,6 +331,9 @@ TEST(FemMoving, CollisionLoadsFollowTheRepulsionLaw) {
   spec.bodies[1].centre = {0.15, 1};  // overlap 0.05
   loads = collision_loads(spec, model);
   EXPECT_NEAR(loads[1].force.x, 2.0 * 1.5 * 1.5, 1e-13);
+  EXPECT_LT(gf::fem_dem::narrowest_gap(spec).g, 0.0);
+  // ... and with a core, 100 x that at most
+  EXPECT_NEAR(collision_loads(spec, cored)[1].force.x, 2.0 * 1.5 * 1.5 * 100, 1e-11);
   // two squares meeting corner to corner: one force in all, not one per probe
   BodyShape s1 = sq, s2 = sq;
   s1.vertices = {{0, 0.5}, {0.2, 0.5}, {0.2, 0.7}, {0, 0.7}};
@@ -510,6 +534,81 @@ TEST(FemMoving, ExternalLoadOutlastsARemesh) {
   }
   EXPECT_EQ(run.remeshes(), 1);
   EXPECT_LT(std::abs(run.flow().body_velocity(0).velocity.y), 1e-9);
+}
+
+// A film pressed by nearly the most the repulsion can push thins far below the mesh size: the run
+// warns when it falls below 5 % of the range and again each time it halves, naming the film
+// (here the disk and the floor, outline edge 0). A disk 4 mm above the floor (range 0.03 m,
+// F_0 = 4 W) carries W + 2.96 W: the balance F_0 s^2 = 3.96 W lies at a gap of 0.5 % of the range
+// (1.5e-4 m), so the film passes 1.5e-3 and 7.5e-4 m on its way (in ~1 s at nu = 0.005).
+TEST(FemMoving, ThinningFilmIsReportedWithItsBodies) {
+  BodyShape disk;
+  disk.radius = 0.1;
+  disk.centre = {0, 0.104};
+  const double w = (2.0 - 1.0) * 10 * std::numbers::pi * 0.01;
+  MovingBodyOptions opt;
+  opt.collision = {0.03, 4 * w};
+  opt.body_names = {"disk"};
+  MovingBodyFlow run(gf::fem_bench::floor_box(disk, 0.005, {0, -10}, {}), opt);
+  EXPECT_TRUE(std::isinf(run.narrowest_gap().g));  // (before the first step)
+  run.set_external_load(0, {0, -2.96 * w}, 0.0);
+  NewtonOptions newton;
+  newton.reuse_factorization = true;
+  double first = 0, before_first = 0, before = 0;
+  testing::internal::CaptureStderr();  // (the log goes to one of them, as set up or by default)
+  testing::internal::CaptureStdout();
+  for (int s = 0; s < 400 && run.gap_warnings() < 2; ++s) {
+    before = run.narrowest_gap().g;  // (the film before this step)
+    run.step(0.01, 2, newton);
+    if (run.gap_warnings() == 1 && first == 0) {
+      first = run.narrowest_gap().g;
+      before_first = before;
+    }
+  }
+  const std::string said =
+      testing::internal::GetCapturedStdout() + testing::internal::GetCapturedStderr();
+  std::printf("film %.3g m after %.2f s, %d warnings (first at %.3g m, %.3g m the step before)\n",
+              run.narrowest_gap().g, run.time(), run.gap_warnings(), first, before_first);
+  EXPECT_EQ(run.gap_warnings(), 2);
+  EXPECT_GE(before_first, 0.05 * 0.03);  // warned at the step that crossed 5 % of the range
+  EXPECT_LT(first, 0.05 * 0.03);
+  EXPECT_GE(before, 0.5 * first);  // ... and again at the one that halved it
+  EXPECT_LT(run.narrowest_gap().g, 0.5 * first);
+  EXPECT_NE(said.find("between 'disk' and the outline's edge 0"), std::string::npos) << said;
+  EXPECT_GT(run.narrowest_gap().g, 0.0);
+  EXPECT_EQ(run.narrowest_gap().body, 0);
+  EXPECT_EQ(run.narrowest_gap().other, -1);
+  EXPECT_EQ(run.narrowest_gap().edge, 0);
+}
+
+// The core keeps a film open under a load beyond the force scale: a disk pressed onto the floor
+// with 2 F_0 (its buoyant weight W plus 7 W; range 0.03 m, F_0 = 4 W, core 0.003 m) comes to rest
+// where F_0 ((rho - g) / rho)^2 g_c / g = 2 F_0 (g = 1.37e-3 m; without the core the film would
+// close). The rest gap within 1 %: the fluid carries no load at rest, the contact force is exact
+// (CollisionLoadsFollowTheRepulsionLaw), and after 2 s the disk still approaches at < 1e-5 m/s.
+TEST(ValidationFemMoving, CoreHoldsAFilmLoadedBeyondTheForceScale) {
+  BodyShape disk;
+  disk.radius = 0.1;
+  disk.centre = {0, 0.104};
+  const double w = (2.0 - 1.0) * 10 * std::numbers::pi * 0.01;
+  MovingBodyOptions opt;
+  opt.collision = {0.03, 4 * w};
+  opt.collision.core = 0.003;
+  MovingBodyFlow run(gf::fem_bench::floor_box(disk, 0.005, {0, -10}, {}), opt);
+  run.set_external_load(0, {0, -7 * w}, 0.0);
+  gf::fem_bench::run_steps(run, 0.01, 2.0);
+  double lo = 1e-6, hi = 0.003;  // F_0 s^2 g_c / g = 2 F_0, decreasing in g
+  for (int i = 0; i < 100; ++i) {
+    const double g = 0.5 * (lo + hi), s = (0.03 - g) / 0.03;
+    (s * s * 0.003 / g > 2 ? lo : hi) = g;
+  }
+  const double gap = run.poses()[0].centre.y - 0.1;
+  const auto v = run.flow().body_velocity(0).velocity;
+  std::printf("gap %.5g m (balance %.5g), speed %.2e m/s, narrowest %.5g m\n", gap, lo,
+              std::hypot(v.x, v.y), run.narrowest_gap().g);
+  EXPECT_NEAR(gap, lo, 0.01 * lo);
+  EXPECT_LT(std::hypot(v.x, v.y), 1e-5);
+  EXPECT_EQ(run.gap_warnings(), 0);  // (with a core, films warn at 5 % of the core)
 }
 
 // A disk on a tilting floor (4 deg/s from t = 0.5 s; nu = 0.005, mu = 0.5): without rolling

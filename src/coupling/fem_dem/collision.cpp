@@ -211,8 +211,7 @@ std::vector<fem::BodyForce> loads_of(const fem::MeshSpec& spec, const CollisionM
   auto lever = [&](int b, Vec2 x) { return dist(x, spec.bodies[b].centre); };
   for_each_gap(spec, [&](const Gap& gp, int a, int b, std::uint64_t key) {
     if (gp.g >= model.range || gp.weight == 0) return;
-    const double s = (model.range - gp.g) / model.range;
-    const double mag = gp.weight * model.force * s * s;
+    const double mag = gp.weight * model.force * repulsion_scale(model, gp.g);
     const Vec2 mid{0.5 * (gp.on_probe.x + gp.facing.x), 0.5 * (gp.on_probe.y + gp.facing.y)};
     Vec2 f{mag * gp.n.x, mag * gp.n.y};
     if (friction) {
@@ -259,6 +258,14 @@ std::vector<fem::BodyForce> loads_of(const fem::MeshSpec& spec, const CollisionM
 
 }  // namespace
 
+double repulsion_scale(const CollisionModel& model, double g) {
+  if (!(g < model.range)) return 0.0;
+  const double s = (model.range - g) / model.range;
+  // the core's g_c / g stops growing at 1 % of g_c (and so in an overlap)
+  const double core = model.core > 0 ? model.core / std::max(g, 0.01 * model.core) : 1.0;
+  return s * s * std::max(1.0, core);
+}
+
 std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec,
                                             const CollisionModel& model) {
   return loads_of(spec, model, nullptr, 0.0, nullptr, nullptr);
@@ -287,10 +294,16 @@ std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const Col
   return loads;
 }
 
+NarrowGap narrowest_gap(const fem::MeshSpec& spec) {
+  NarrowGap n;
+  for_each_gap(spec, [&](const Gap& gp, int a, int b, std::uint64_t key) {
+    if (gp.g < n.g) n = {gp.g, a, b, b < 0 ? static_cast<int>(key & 0xffffU) : -1};
+  });
+  return n;
+}
+
 double smallest_gap(const fem::MeshSpec& spec) {
-  double g = std::numeric_limits<double>::infinity();
-  for_each_gap(spec, [&](const Gap& gp, int, int, std::uint64_t) { g = std::min(g, gp.g); });
-  return g;
+  return narrowest_gap(spec).g;
 }
 
 }  // namespace gf::fem_dem

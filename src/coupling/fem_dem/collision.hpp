@@ -18,6 +18,12 @@
 // body (or outside the outline) has a negative gap and is pushed back out. (Glowinski et al. write
 // the same law with the centres' distance for disks; this is its extension to polygons.)
 //
+// The law is bounded (F_0 at contact): a film loaded with more than F_0 closes, and the mesh then
+// fails. An optional core g_c < rho (CollisionModel::core) makes the force grow as 1 / g inside
+// it, like a lubrication film's resistance,
+//   F = F_0 ((rho - g) / rho)^2 g_c / g,   g < g_c   (continuous at g_c; g_c / g capped at 100),
+// so that a film holds a load L > F_0 at g ~ g_c F_0 / L instead of closing.
+//
 // Friction (optional, CollisionModel::friction > 0): each gap in range also carries a tangential
 // force, a linear spring on the tangential displacement accumulated while the gap stays in range,
 // capped by Coulomb's law (Cundall & Strack, Geotechnique 29 (1979) 47):
@@ -43,6 +49,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -59,6 +66,7 @@ struct CollisionModel {
   double friction = 0.0;              ///< Coulomb coefficient mu of the tangential force; 0: none
   double tangential_stiffness = 0.0;  ///< k_t [N/m^2]; 0: 2 F_0 / rho
   double rolling_friction = 0.0;      ///< mu_r of the rolling torque (needs friction > 0); 0: none
+  double core = 0.0;  ///< g_c [m]: below it the force grows as g_c / g (see above); 0: none
 
   /// The tangential stiffness in use [N/m^2].
   [[nodiscard]] double spring() const {
@@ -97,6 +105,9 @@ class ContactHistory {
   std::unordered_map<std::uint64_t, GapSprings> springs_;
 };
 
+/// F / F_0 of the repulsion across a gap g [m]: ((rho - g) / rho)^2, times the core's g_c / g.
+double repulsion_scale(const CollisionModel& model, double g);
+
 /// Repulsion loads (force [N/m] and torque about the centre [N]) on the bodies of `spec`, placed
 /// where they are, from each other and from the outline (no friction).
 std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const CollisionModel& model);
@@ -115,7 +126,18 @@ std::vector<fem::BodyForce> collision_loads(const fem::MeshSpec& spec, const Col
                                             const std::vector<fem::BodyMotion>& velocity, double dt,
                                             const ContactHistory& before, ContactHistory& after);
 
-/// Smallest gap [m] between any two bodies of `spec` or between a body and the outline.
+/// The narrowest gap of a placement of the bodies: its width g [m] (negative: overlap) from a
+/// probe of body `body` to body `other`, or (other = -1) to the outline's edge `edge`.
+struct NarrowGap {
+  double g = std::numeric_limits<double>::infinity();
+  int body = -1;
+  int other = -1;
+  int edge = -1;
+};
+/// The narrowest gap between any two bodies of `spec` or between a body and the outline (g
+/// infinite, body -1 without bodies).
+NarrowGap narrowest_gap(const fem::MeshSpec& spec);
+/// Its width [m].
 double smallest_gap(const fem::MeshSpec& spec);
 
 }  // namespace gf::fem_dem

@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/log.hpp"
 
 namespace gf::fem_dem {
 
@@ -200,8 +201,8 @@ void MovingBodyFlow::remesh() {
   } catch (const InputError& e) {
     throw Error(fmt::format(
         "at t = {} s: the domain could not be meshed again around the bodies where they are "
-        "(narrowest gap {:.3g} m; a repulsion range of a few cells keeps them apart): {}",
-        flow_->time(), smallest_gap(pb.spec), e.what()));
+        "(narrowest gap {}; a repulsion range of a few cells keeps them apart): {}",
+        flow_->time(), describe(fem_dem::narrowest_gap(pb.spec)), e.what()));
   }
   auto next = std::make_unique<fem::NavierStokes>(std::move(pb));
   next->set_time(flow_->time());
@@ -266,10 +267,11 @@ fem::StepResult MovingBodyFlow::try_step_or_throw(double dt, int order,
     if (!(worst > 0))  // (the narrowest gap: a film thinner than a cell inverts at any step)
       throw Error(fmt::format(
           "at t = {} s: a body moves farther in one step of {} s than the mesh next to it can "
-          "follow (a fresh mesh inverts; quality ratio {:.3g}; narrowest gap {:.3g} m, mesh "
-          "size at the bodies {:.3g} m): lower the time step, or widen the gaps (a larger "
-          "repulsion range or force)",
-          flow_->time(), dt, ratio, smallest_gap(placed_spec(poses_)), reference_spec_.h_body));
+          "follow (a fresh mesh inverts; quality ratio {:.3g}; narrowest gap {}, mesh size at "
+          "the bodies {:.3g} m): lower the time step, or, where the gap is far below the mesh "
+          "size, widen it (a larger repulsion force or range)",
+          flow_->time(), dt, ratio, describe(fem_dem::narrowest_gap(placed_spec(poses_))),
+          reference_spec_.h_body));
   }
   std::vector<fem::BodyMotion> velocity;
   for (std::size_t b = 0; b < poses_.size(); ++b)
@@ -300,6 +302,8 @@ fem::StepResult MovingBodyFlow::try_step_or_throw(double dt, int order,
     if (flow_->is_free(static_cast<int>(b)))
       flow_->set_body_load(static_cast<int>(b), loads[b].force, loads[b].torque);
   }
+  NarrowGap gap;
+  if (options_.collision.range > 0) gap = fem_dem::narrowest_gap(placed_spec(next));
   std::vector<Vec2> centres;
   for (const auto& p : next) centres.push_back(p.centre);
   flow_->move_mesh(nodes, centres);
@@ -322,6 +326,7 @@ fem::StepResult MovingBodyFlow::try_step_or_throw(double dt, int order,
   pending_contact_ = std::move(contact);
   pending_velocity_ = std::move(velocity);
   pending_dt_ = dt;
+  pending_gap_ = gap;
   return r;
 }
 
@@ -333,7 +338,50 @@ void MovingBodyFlow::accept_step() {
   contact_loads_ = std::move(pending_contact_);
   previous_velocity_ = std::move(pending_velocity_);
   previous_dt_ = pending_dt_;
+  gap_ = pending_gap_;
   pending_ = false;
+  watch_gap();
+}
+
+std::string MovingBodyFlow::describe(const NarrowGap& gap) const {
+  const auto name = [this](int b) {
+    return b < static_cast<int>(options_.body_names.size())
+               ? fmt::format("'{}'", options_.body_names[b])
+               : fmt::format("body {}", b);
+  };
+  if (gap.body < 0) return "none (no bodies)";
+  return fmt::format(
+      "{:.3g} m, between {} and {}", gap.g, name(gap.body),
+      gap.other >= 0 ? name(gap.other) : fmt::format("the outline's edge {}", gap.edge));
+}
+
+void MovingBodyFlow::watch_gap() {
+  // Without a core the law is bounded: a film far inside the range carries nearly F_0, the most
+  // it can. With one, the force grows as the film thins, and a film deep in the core carries
+  // many F_0 in a gap that needs cells and steps as small.
+  const auto& model = options_.collision;
+  const double scale = model.core > 0 ? model.core : model.range;
+  const double f = options_.gap_warning;
+  if (!(model.range > 0 && f > 0) || gap_.body < 0) return;
+  if (gap_.g > 2.0 * f * scale) {  // the film opened again: warn anew when it next thins
+    warned_gap_ = std::numeric_limits<double>::infinity();
+    return;
+  }
+  // (an overlap, g <= 0, is said once until the film opens again)
+  if (!(gap_.g < f * scale && gap_.g < 0.5 * warned_gap_) || warned_gap_ <= 0) return;
+  warned_gap_ = gap_.g;
+  ++gap_warnings_;
+  log::warn(
+      "at t = {:.6g} s the narrowest film is {} ({:.2g} % of the repulsion's {}): a film this "
+      "thin pushes with up to {:.3g} x the force scale {:.3g} N/m{}. Raise "
+      "moving_mesh.repulsion.force{}; grainflow check gives the step that then needs",
+      flow_->time(), describe(gap_), 100.0 * gap_.g / scale, model.core > 0 ? "core" : "range",
+      repulsion_scale(model, gap_.g), model.force,
+      model.core > 0 ? " (at most 100 x, at 1 % of the core): so thin a film needs as small "
+                       "cells and steps, and a larger load closes it"
+                     : ", nearly the most it can: a larger load closes the film, and the mesh "
+                       "then fails",
+      model.core > 0 ? "" : ", or give it a core (moving_mesh.repulsion.core)");
 }
 
 void MovingBodyFlow::reject_step() {
@@ -447,6 +495,8 @@ void MovingBodyFlow::restore(const fem::NavierStokes::State& flow, const fem::Mo
       s.history_roll.empty() ? std::vector<double>(s.history_keys.size(), 0.0) : s.history_roll);
   remeshes_ = static_cast<int>(s.remeshes);
   remesh_seconds_ = s.remesh_seconds;
+  gap_ = options_.collision.range > 0 ? fem_dem::narrowest_gap(placed_spec(poses_)) : NarrowGap{};
+  warned_gap_ = std::numeric_limits<double>::infinity();
   pending_ = false;
 }
 

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "coupling/fem_dem/collision.hpp"
@@ -64,6 +65,14 @@ struct MovingBodyOptions {
   double remesh_quality = 0.2;
   /// Repulsion across narrow gaps, evaluated at the poses of the step's end (off by default).
   CollisionModel collision;
+  /// A warning when a film thins below this fraction of the repulsion range (then the bounded
+  /// law pushes with more than (1 - f)^2 of its force scale, nearly the most it can, and a larger
+  /// load closes the film, which the mesh cannot follow) or, with a core, of the core (the film
+  /// then carries 1 / f force scales in a gap that needs as small cells), and again each time it
+  /// halves; 0: none.
+  double gap_warning = 0.05;
+  /// The bodies' names for messages (empty: "body k").
+  std::vector<std::string> body_names;
 };
 
 /// A fluid_fem flow whose bodies move (fixed steps; see the file comment).
@@ -85,6 +94,10 @@ class MovingBodyFlow {
   [[nodiscard]] const ContactHistory& contact_history() const { return history_; }
   /// Wall time spent remeshing (meshing, new solver set-up, interpolation) [s].
   [[nodiscard]] double remesh_seconds() const { return remesh_seconds_; }
+  /// The narrowest film after the last step (with a repulsion; g infinite before the first).
+  [[nodiscard]] const NarrowGap& narrowest_gap() const { return gap_; }
+  /// How many thin-film warnings (MovingBodyOptions::gap_warning) the run gave so far.
+  [[nodiscard]] int gap_warnings() const { return gap_warnings_; }
 
   /// Advances by dt [s] with BDF of the given order (lower right after the start and after a
   /// remesh): predicts the poses at t + dt from the bodies' velocities (second-order
@@ -131,6 +144,10 @@ class MovingBodyFlow {
   [[nodiscard]] double quality_ratio(const std::vector<Vec2>& nodes, double& worst) const;
   /// The mesh motion and reference qualities of a freshly built flow_ (constructor, remesh).
   void start_mesh();
+  /// "2.5e-05 m, between 'a' and the outline's edge 3" for messages.
+  [[nodiscard]] std::string describe(const NarrowGap& gap) const;
+  /// The thin-film warning after an accepted step (MovingBodyOptions::gap_warning).
+  void watch_gap();
 
   MovingBodyOptions options_;
   std::unique_ptr<fem::NavierStokes> flow_;
@@ -150,6 +167,9 @@ class MovingBodyFlow {
   std::vector<fem::BodyForce> pending_contact_;
   std::vector<fem::BodyMotion> pending_velocity_;
   double pending_dt_ = 0.0;
+  NarrowGap pending_gap_, gap_;
+  double warned_gap_ = std::numeric_limits<double>::infinity();  // the last warning's gap
+  int gap_warnings_ = 0;
   int remeshes_ = 0;
   double remesh_seconds_ = 0.0;
 };

@@ -657,7 +657,8 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
                "a map {range: m, force: N/m, friction, tangential_stiffness: N/m^2, "
                "rolling_friction} (repulsion "
                "across narrow gaps, with optional Coulomb friction)");
-      r.keys(rep, rp, {"range", "force", "friction", "tangential_stiffness", "rolling_friction"});
+      r.keys(rep, rp,
+             {"range", "force", "friction", "tangential_stiffness", "rolling_friction", "core"});
       for (const char* k : {"range", "force"})
         if (!rep[k].IsDefined())
           r.fail(rep, rp + "." + k,
@@ -693,6 +694,14 @@ void parse_moving_bodies(const Reader& r, const YAML::Node& block, FemCaseConfig
                  "are kept only with friction)");
         cfg.repulsion_rolling_friction =
             r.number(rep["rolling_friction"], rp + ".rolling_friction", 0, inf);
+      }
+      if (rep["core"].IsDefined()) {
+        cfg.repulsion_core = r.number(rep["core"], rp + ".core", 0, inf, true);
+        if (!(cfg.repulsion_core < cfg.repulsion_range))
+          r.fail(rep["core"], rp + ".core",
+                 fmt::format("a gap below the range ({:g} m): the core is the innermost part of "
+                             "the repulsion",
+                             cfg.repulsion_range));
       }
     }
   }
@@ -1135,6 +1144,7 @@ std::string echo_fluid_fem_yaml(const FemCaseConfig& cfg, const std::string& pro
         key("tangential_stiffness") << num(cfg.repulsion_tangential_stiffness);
       if (cfg.repulsion_rolling_friction > 0)
         key("rolling_friction") << num(cfg.repulsion_rolling_friction);
+      if (cfg.repulsion_core > 0) key("core") << num(cfg.repulsion_core);
       out << YAML::EndMap;
     }
     out << YAML::EndMap;
@@ -1263,6 +1273,53 @@ std::vector<std::pair<std::string, std::string>> describe_case(const FemCaseConf
     }
   }
   const double g = std::hypot(cfg.gravity.x, cfg.gravity.y);
+  if (n_free > 0 && cfg.repulsion_range > 0) {
+    // What the films can carry: the bounded law at most F_0; a bed's lowest films carry the
+    // grains above them.
+    double heaviest = 0.0, total = 0.0;
+    for (std::size_t j = 0; j < cfg.body_density.size(); ++j)
+      if (cfg.body_density[j] > 0) {
+        const double w = std::abs(cfg.body_density[j] - cfg.density) * g *
+                         body_geometry(cfg.mesh.bodies[j]).area;
+        heaviest = std::max(heaviest, w);
+        total += w;
+      }
+    std::string load = heaviest > 0
+                           ? fmt::format(
+                                 " = {:.3g} x the heaviest free body's buoyant weight ({:.3g} "
+                                 "x all free bodies' together)",
+                                 cfg.repulsion_force / heaviest, cfg.repulsion_force / total)
+                           : "";
+    const double rc = cfg.repulsion_core, range = cfg.repulsion_range;
+    std::string core =
+        "at most F_0 per film: a film loaded beyond it closes and the run fails "
+        "(a core, repulsion.core, holds larger loads)";
+    if (rc > 0) {
+      // the gap that carries 2 F_0: s^2 g_c / g = 2 (decreasing in g; bisection)
+      double lo = 0.01 * rc, hi = rc;
+      for (int i = 0; i < 200; ++i) {
+        const double mid = 0.5 * (lo + hi), s = (range - mid) / range;
+        (s * s * rc / mid > 2.0 ? lo : hi) = mid;
+      }
+      // undamped period of the lightest free body on two such films (stiffness L^2 / (F_0 g)
+      // each, d/dg of F_0 s^2 g_c / g without the outer factor's slope)
+      double mass = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < cfg.body_density.size(); ++j)
+        if (cfg.body_density[j] > 0)
+          mass = std::min(mass, cfg.body_density[j] * body_geometry(cfg.mesh.bodies[j]).area);
+      const double k = 2.0 * 2.0 * cfg.repulsion_force / lo;
+      const double period = 2 * std::numbers::pi * std::sqrt(mass / k);
+      core = fmt::format(
+          "core {:g} m: a film holds a load L > F_0 in a gap ~ g_c F_0 / L (2 F_0 at {:.3g} m; at "
+          "most ~100 F_0, at g_c / 100); loaded with 2 F_0 the lightest free body's undamped "
+          "contact period is {:.3g} s = {:.3g} {} (the squeeze films damp it; a body that rings "
+          "there needs a smaller step)",
+          rc, lo, period, period / (cfg.time.adaptive ? cfg.time.dt_max : cfg.time.dt),
+          cfg.time.adaptive ? "x time.adaptive.dt_max" : "steps");
+    }
+    row("repulsion", fmt::format("range {:g} m, force scale F_0 {:g} N/m{}; {}", range,
+                                 cfg.repulsion_force, load, core));
+  }
   const double mu = cfg.density * cfg.viscosity;
   for (std::size_t j = 0; j < cfg.body_density.size(); ++j) {
     const double rho_s = cfg.body_density[j];

@@ -73,6 +73,8 @@ struct FemCaseConfig {
   double repulsion_tangential_stiffness = 0.0;
   /// Rolling resistance mu_r of the repulsion's gaps (0: none; only with friction).
   double repulsion_rolling_friction = 0.0;
+  /// Gap [m] below which the repulsion grows as 1 / gap (0: Glowinski's bounded law only).
+  double repulsion_core = 0.0;
   bool steady = true;
   /// unsteady: start from the steady solution for the boundary data at t = 0 (consistent initial
   /// conditions by Newton) instead of from rest
