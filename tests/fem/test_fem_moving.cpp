@@ -541,15 +541,29 @@ TEST(FemMoving, ExternalLoadOutlastsARemesh) {
 // (here the disk and the floor, outline edge 0). A disk 4 mm above the floor (range 0.03 m,
 // F_0 = 4 W) carries W + 2.96 W: the balance F_0 s^2 = 3.96 W lies at a gap of 0.5 % of the range
 // (1.5e-4 m), so the film passes 1.5e-3 and 7.5e-4 m on its way (in ~1 s at nu = 0.005).
-TEST(FemMoving, ThinningFilmIsReportedWithItsBodies) {
+namespace {
+
+/// Buoyant weight W [N/m] of the disk of disk_above_floor.
+const double kDiskWeight = (2.0 - 1.0) * 10 * std::numbers::pi * 0.01;
+
+/// The disk of floor_box (radius 0.1, density 2; nu = 0.005, g = 10) 4 mm above the floor, with a
+/// repulsion of range 0.03 m, F_0 = 4 W and the given core, named 'disk'.
+MovingBodyFlow disk_above_floor(double core) {
   BodyShape disk;
   disk.radius = 0.1;
   disk.centre = {0, 0.104};
-  const double w = (2.0 - 1.0) * 10 * std::numbers::pi * 0.01;
   MovingBodyOptions opt;
-  opt.collision = {0.03, 4 * w};
+  opt.collision = {0.03, 4 * kDiskWeight};
+  opt.collision.core = core;
   opt.body_names = {"disk"};
-  MovingBodyFlow run(gf::fem_bench::floor_box(disk, 0.005, {0, -10}, {}), opt);
+  return MovingBodyFlow(gf::fem_bench::floor_box(disk, 0.005, {0, -10}, {}), opt);
+}
+
+}  // namespace
+
+TEST(FemMoving, ThinningFilmIsReportedWithItsBodies) {
+  MovingBodyFlow run = disk_above_floor(0.0);
+  const double w = kDiskWeight;
   EXPECT_TRUE(std::isinf(run.narrowest_gap().g));  // (before the first step)
   run.set_external_load(0, {0, -2.96 * w}, 0.0);
   NewtonOptions newton;
@@ -587,14 +601,8 @@ TEST(FemMoving, ThinningFilmIsReportedWithItsBodies) {
 // close). The rest gap within 1 %: the fluid carries no load at rest, the contact force is exact
 // (CollisionLoadsFollowTheRepulsionLaw), and after 2 s the disk still approaches at < 1e-5 m/s.
 TEST(ValidationFemMoving, CoreHoldsAFilmLoadedBeyondTheForceScale) {
-  BodyShape disk;
-  disk.radius = 0.1;
-  disk.centre = {0, 0.104};
-  const double w = (2.0 - 1.0) * 10 * std::numbers::pi * 0.01;
-  MovingBodyOptions opt;
-  opt.collision = {0.03, 4 * w};
-  opt.collision.core = 0.003;
-  MovingBodyFlow run(gf::fem_bench::floor_box(disk, 0.005, {0, -10}, {}), opt);
+  MovingBodyFlow run = disk_above_floor(0.003);
+  const double w = kDiskWeight;
   run.set_external_load(0, {0, -7 * w}, 0.0);
   gf::fem_bench::run_steps(run, 0.01, 2.0);
   double lo = 1e-6, hi = 0.003;  // F_0 s^2 g_c / g = 2 F_0, decreasing in g

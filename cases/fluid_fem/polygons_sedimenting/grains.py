@@ -5,16 +5,21 @@
 #   /usr/bin/python3 cases/fluid_fem/polygons_sedimenting/grains.py
 # prints the `bodies:` entries (paste them into case.yaml); the gaps between neighbours stay
 # above the repulsion range (0.75 mm). Other blocks of the same grains (tilting_box):
-#   grains.py COLUMNS ROWS SPACING X0 Y0 JITTER     (lengths in m; the lattice's first centre)
+#   grains.py COLUMNS ROWS SPACING X0 Y0 JITTER [SEED]   (lengths in m; the lattice's first
+#   centre; SEED another draw of grains, default 11)
 import sys
 
 import numpy as np
 
-cols, rows, spacing, x0, y0, jitter = 4, 6, 0.0063, 0.0052, 0.0060, 3e-4
-if len(sys.argv) == 7:
+cols, rows, spacing, x0, y0, jitter, seed = 4, 6, 0.0063, 0.0052, 0.0060, 3e-4, 11
+if len(sys.argv) in (7, 8):
     cols, rows = int(sys.argv[1]), int(sys.argv[2])
-    spacing, x0, y0, jitter = (float(a) for a in sys.argv[3:])
-rng = np.random.default_rng(11)
+    spacing, x0, y0, jitter = (float(a) for a in sys.argv[3:7])
+    if len(sys.argv) == 8:
+        seed = int(sys.argv[7])
+elif len(sys.argv) != 1:
+    sys.exit("usage: grains.py [COLUMNS ROWS SPACING X0 Y0 JITTER [SEED]]")
+rng = np.random.default_rng(seed)
 lines = []
 k = 0
 for row in range(rows):
