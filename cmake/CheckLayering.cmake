@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Fails when a module includes a module below it in the layer order of DESIGN.md.
-set(order core particles neighbor contact integrators boundaries fluid coupling continuum analysis io simulation)
+set(order core particles neighbor contact integrators boundaries gpu fluid coupling continuum analysis io simulation)
 file(GLOB_RECURSE files ${SRC}/*.hpp ${SRC}/*.cpp)
 set(bad "")
 foreach(f IN LISTS files)

@@ -268,6 +268,11 @@ int main(int argc, char** argv) {
                 "series and samples up to the checkpoint")
       ->excludes("--overwrite");
   run->add_flag("-q,--quiet", quiet, "no progress output, warnings only");
+  std::string device = "cpu";
+  run->add_option("--device", device,
+                  "where the DEM steps run: cpu, or cuda (a GPU; 3D spheres, fixed plane walls: "
+                  "docs/gpu.md)")
+      ->check(CLI::IsMember({"cpu", "cuda"}));
   std::vector<std::string> sets;
   run->add_option("--set", sets, "replace a key of the case, e.g. --set shear.rate=100")
       ->type_name("KEY=VALUE");
@@ -332,18 +337,29 @@ int main(int argc, char** argv) {
       if (steps >= 0) opts.steps = steps;
       opts.quiet = quiet;
       if (!restart.empty()) opts.restart = restart;
+      opts.device = device == "cuda" ? gf::Device::Cuda : gf::Device::Cpu;
+      // The CUDA back end runs DEM steps; the other methods' cases run on the host.
+      auto host_only = [&](const char* what) {
+        if (opts.device == gf::Device::Cuda)
+          throw gf::InputError(fmt::format(
+              "{}: --device cuda: this is a {} case (the CUDA back end runs DEM cases of spheres)",
+              run_file, what));
+      };
       std::filesystem::path fem_dir;
       if (const auto fem_cfg = gf::load_fem_case(run_file, fem_dir, overrides(sets))) {
+        host_only("resolved-flow (fluid_fem)");
         gf::stop::install_handlers();
         const int sig = gf::run_fem_case(*fem_cfg, fem_dir, opts);
         return sig ? gf::stop::exit_status(sig) : 0;
       }
       if (const auto cc = gf::load_continuum_case(run_file, fem_dir, overrides(sets))) {
+        host_only("continuum");
         gf::stop::install_handlers();
         const int sig = gf::run_continuum_case(*cc, fem_dir, opts);
         return sig ? gf::stop::exit_status(sig) : 0;
       }
       if (const auto tc = gf::load_two_fluid_case(run_file, fem_dir, overrides(sets))) {
+        host_only("two-fluid");
         gf::stop::install_handlers();
         const int sig = gf::run_two_fluid_case(*tc, fem_dir, opts);
         return sig ? gf::stop::exit_status(sig) : 0;

@@ -73,14 +73,8 @@ std::int64_t pair_loop(ParticleStore& p, const Domain& domain, VerletList& list,
         continue;
       }
       ++touching;
-      ContactKinematics kin;
-      const double dist = std::sqrt(dist2);
-      kin.overlap = rs - dist;
-      kin.normal = dist > 0 ? (1.0 / dist) * d : Vec3{0, 0, 1};
-      const double arm_i = ri - 0.5 * kin.overlap;
-      const double arm_j = rj - 0.5 * kin.overlap;
-      kin.r_eff = ri * rj / rs;
-      kin.inv_r_sum = 1.0 / rs;
+      double arm_i, arm_j;
+      ContactKinematics kin = touching_spheres(d, dist2, ri, rj, arm_i, arm_j);
       kin.m_eff = reduced_mass(mi, m[j], fixed_i, fixed != nullptr && fixed[j] != 0);
       Vec3 vj = v[j];
       if constexpr (Sheared) vj += dom.image_velocity(xi, x[j]);

@@ -2,6 +2,7 @@
 // The particle-particle force stage: narrow phase + contact law over the Verlet list.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -31,6 +32,25 @@ GF_HOST_DEVICE inline bool sphere_sphere(const Domain& dom, const Vec3& xi, cons
   k.r_eff = ri * rj / rs;
   k.inv_r_sum = 1.0 / rs;
   return true;
+}
+
+/// Kinematics of two touching spheres from d = x_i - x_j, dist2 = |d|^2 < (r_i + r_j)^2:
+/// overlap, unit normal (from j to i), R*, 1/(r_i + r_j), and the distances arm_i, arm_j from
+/// the centres to the contact point, m. m*, v_rel and omega_rel are the caller's. Shared by the
+/// host's row loop and the device's force body (gpu/kernels.hpp), so that both compute the same
+/// bits.
+GF_HOST_DEVICE_INLINE ContactKinematics touching_spheres(const Vec3& d, double dist2, double ri,
+                                                         double rj, double& arm_i, double& arm_j) {
+  ContactKinematics kin;
+  const double rs = ri + rj;
+  const double dist = std::sqrt(dist2);
+  kin.overlap = rs - dist;
+  kin.normal = dist > 0 ? (1.0 / dist) * d : Vec3{0, 0, 1};
+  arm_i = ri - 0.5 * kin.overlap;
+  arm_j = rj - 0.5 * kin.overlap;
+  kin.r_eff = ri * rj / rs;
+  kin.inv_r_sum = 1.0 / rs;
+  return kin;
 }
 
 /// Reduced mass m* of a contact, kg: m_i m_j / (m_i + m_j), the mass of the two-body relative

@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -15,6 +16,7 @@
 #include "core/progress.hpp"
 #include "core/stop.hpp"
 #include "core/version.hpp"
+#include "gpu/sphere_dem.hpp"
 #include "io/csv/csv.hpp"
 #include "io/input/echo.hpp"
 #include "io/input/parse_case.hpp"
@@ -103,6 +105,19 @@ RunSummary Simulation::run(const RunOptions& opts) {
   check_append(dir, opts);
   if (opts.append) check_append_schedule(dir, cfg_);
   if (opts.restart) load_restart(*opts.restart, [this](const fs::path& f) { load_checkpoint(f); });
+  // --device cuda: the steps run on the GPU, from the state now (checked and set up before
+  // anything is written).
+  std::shared_ptr<gpu::SphereDem> device;
+  if (opts.device != Device::Cpu) {
+    std::string why = device_unsupported();
+    if (why.empty() && opts.device == Device::Cuda && !gpu::cuda_built())
+      why = "this grainflow was built without CUDA (CMake preset 'cuda', docs/gpu.md)";
+    if (!why.empty())
+      throw InputError(fmt::format("{}: --device cuda: {}", cfg_.file.string(), why));
+    if (opts.device == Device::Cuda && !gpu::device_available(&why))
+      throw Error(fmt::format("--device cuda: {}", why));
+    device = start_device(opts.device);
+  }
   OutputFolder folder(dir, opts);
   // --append: the outputs continue from the checkpoint's time; what the earlier run wrote after
   // it is dropped (rows, data sets) or rewritten when reached again (files named by the step).
@@ -238,7 +253,40 @@ RunSummary Simulation::run(const RunOptions& opts) {
     return sample || s >= last || due(s, vtk_every) || due(s, csv_every) ||
            (series && due(s, series_every)) || due(s, ckpt_every);
   };
-  while (step_ < last) {
+  // A device run advances on the GPU up to the next step whose state something reads (an
+  // output, the 1000-step check), then copies the state back for it; the lists and contact
+  // histories too where they are read (checkpoints, the elastic energy).
+  const bool energy_columns = std::any_of(columns.begin(), columns.end(), [](const std::string& c) {
+    return c == "elastic_energy" || c == "total_energy";
+  });
+  while (device && step_ < last) {
+    std::int64_t next = std::min(last, (step_ / 1000 + 1) * 1000);
+    for (std::int64_t s = step_ + 1; s < next; ++s)
+      if (observed_after(s, false)) {
+        next = s;
+        break;
+      }
+    {
+      StageTimers::Scope timer(timers_, Stage::Force);  // (the whole device step)
+      device->advance(next - step_);
+    }
+    step_ = next;
+    {
+      StageTimers::Scope timer(timers_, Stage::Output);
+      const bool checkpoint = due(step_, ckpt_every) && step_ != first;
+      sync_from_device(*device, checkpoint || (energy_columns && due(step_, series_every)));
+    }
+    write_outputs(false);
+    if (!opts.quiet)
+      progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first),
+                      n_contacts_);
+    if (stop::requested()) break;
+  }
+  if (device) {
+    StageTimers::Scope timer(timers_, Stage::Output);
+    sync_from_device(*device, true);  // (the final checkpoint)
+  }
+  while (!device && step_ < last) {
     const bool sample = rheology && rheology->due(step_ + 1);
     collect_virial(sample);
     collect_contacts(due(step_ + 1, contacts_every) || due(step_ + 1, contacts_vtk_every));
@@ -298,14 +346,16 @@ RunSummary Simulation::run(const RunOptions& opts) {
   write_atomically(dir / "summary.json", [&](std::ostream& o) {
     o << fmt::format(
         "{{\n  \"program\": \"grainflow {}\",\n  \"n_particles\": {},\n  \"steps\": {},\n  "
-        "\"threads\": {},\n"
+        "\"threads\": {},\n  \"device\": \"{}\",\n"
         "  \"loop_seconds\": {:.6f},\n  \"wall_seconds\": {:.6f},\n  "
         "\"particle_steps_per_second\": {:.6g},\n"
         "  \"peak_rss_bytes\": {},\n  \"neighbor_builds\": {},\n  \"stages\": {{{}}},\n"
         "  \"completed\": {},\n  \"stopped_by\": {},\n  \"time\": {:.17g},\n"
         "  \"step\": {},\n  \"runs\": {},\n  \"wall_seconds_all_runs\": {}\n}}\n",
-        version_string, s.n_particles, s.steps, exec::n_threads(), s.loop_seconds, wall,
-        s.particle_steps_per_second, s.peak_rss_bytes, nlist_.n_builds() - builds_before, stages,
+        version_string, s.n_particles, s.steps, exec::n_threads(),
+        device ? (opts.device == Device::Cuda ? "cuda" : "host_mirror") : "cpu", s.loop_seconds,
+        wall, s.particle_steps_per_second, s.peak_rss_bytes,
+        device ? device->counts().list_builds : nlist_.n_builds() - builds_before, stages,
         stop_signal ? "false" : "true",
         stop_signal ? fmt::format("\"{}\"", stop::signal_name(stop_signal)) : "null", time(), step_,
         runs_before_ + 1,

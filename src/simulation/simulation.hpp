@@ -27,6 +27,14 @@
 
 namespace gf {
 
+namespace gpu {
+class SphereDem;
+}
+
+/// Where the DEM steps run: on the host's cores, or on a CUDA device (docs/gpu.md); HostMirror
+/// runs the device's algorithm on the host (tests: it checks that algorithm where no GPU is).
+enum class Device { Cpu, Cuda, HostMirror };
+
 struct RunOptions {
   std::filesystem::path output;  ///< empty: the case's output.directory
   bool overwrite = false;        ///< allow writing into an existing, non-empty folder
@@ -38,6 +46,7 @@ struct RunOptions {
   bool quiet = false;                 ///< no progress output
   /// The case file, if any: --overwrite refuses a folder that holds it.
   std::filesystem::path case_file;
+  Device device = Device::Cpu;
 };
 
 /// Summary of a finished run (also written as summary.json).
@@ -93,6 +102,10 @@ class Simulation {
   const config::Case& config() const { return cfg_; }
   /// The CFD-DEM fluid and its coupling (cases with fluid: and coupling:), else nullptr.
   const CfdDemCoupling* cfd_dem() const { return cfd_.get(); }
+
+  /// Why this case cannot run its steps on the CUDA back end (`grainflow run --device cuda`,
+  /// docs/gpu.md): what it has that the back end lacks; empty when it can.
+  std::string device_unsupported() const;
 
   /// Total energy (kinetic + gravitational + elastic in contacts), J.
   double total_energy() const;
@@ -168,6 +181,12 @@ class Simulation {
   /// N m: sum of (x_i - c(t)) x (f_i - m_i g) + torque_i, x_i not wrapped.
   Vec3 fixed_group_torque() const;
   void compute_forces();
+  /// Device runs (device_run.cpp): the CUDA engine set up from the current state (grains,
+  /// walls, contact histories), and its state copied back: grains, contact counts and wall
+  /// forces; with `lists`, also the neighbour and wall lists, rebuilt in the current order with
+  /// the device's contact histories (for checkpoints and the elastic energy).
+  std::shared_ptr<gpu::SphereDem> start_device(Device device);
+  void sync_from_device(const gpu::SphereDem& d, bool lists);
 
   config::Case cfg_;
   ParticleStore particles_;

@@ -82,6 +82,26 @@ with tempfile.TemporaryDirectory() as TMP:
     check(not os.path.exists(os.path.join(TMP, "bad_out")), "a failed validation writes nothing")
     r = run("run", bad, "--output", "full", "--overwrite")
     check(r.returncode == 2 and open(a).read() == before, "failed validation leaves --overwrite target intact")
+    # --device cuda (docs/gpu.md): a case the CUDA back end cannot run, or a build without it,
+    # stops with exit 2 before anything is written; a machine without a GPU, with exit 1.
+    gear = os.path.join(TMP, "gear.yaml")
+    with open(gear, "w") as f:
+        f.write(CASE + "integrator: gear5\n")
+    r = run("run", gear, "--output", "gear_out", "--device", "cuda")
+    check(r.returncode == 2 and "--device cuda" in r.stderr and "gear.yaml" in r.stderr,
+          f"--device cuda on a gear5 case exits 2 naming the file: {r.returncode} {r.stderr}")
+    check(not os.path.exists(os.path.join(TMP, "gear_out")), "a refused device run writes nothing")
+    r = run("run", case, "--output", "cuda_out", "--device", "cuda", "--quiet")
+    if r.returncode == 0:
+        check(os.path.exists(os.path.join(TMP, "cuda_out", "checkpoint_final.h5")),
+              "a device run writes its checkpoint")
+    else:
+        check(r.returncode in (1, 2) and "--device cuda" in r.stderr,
+              f"no CUDA build or no device: exit 2 or 1 with the reason: {r.returncode} {r.stderr}")
+        check(not os.path.exists(os.path.join(TMP, "cuda_out")), "a refused device run writes nothing")
+    r = run("run", case, "--output", "gpu_out", "--device", "gpu")
+    check(r.returncode == 2 and not os.path.exists(os.path.join(TMP, "gpu_out")),
+          f"an unknown --device exits 2: {r.returncode}")
     r = run("check", bad)
     check(r.returncode == 2, "check of a bad case exits 2")
     r = run("check", case)
