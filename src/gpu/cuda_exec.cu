@@ -6,7 +6,6 @@
 #include <cuda_runtime.h>
 #include <thrust/device_ptr.h>
 #include <thrust/execution_policy.h>
-#include <thrust/functional.h>
 #include <thrust/reduce.h>
 #include <thrust/sort.h>
 
@@ -60,6 +59,9 @@ __global__ void fill_kernel(T* p, std::size_t n, T value) {
   if (i < n) p[i] = value;
 }
 
+struct IntMax {
+  __host__ __device__ int operator()(int a, int b) const { return a > b ? a : b; }
+};
 struct VecPlus {
   __host__ __device__ Vec3 operator()(const Vec3& a, const Vec3& b) const { return a + b; }
 };
@@ -79,8 +81,9 @@ struct CudaExec {
       if (n == size) return;
       cudaFree(ptr);
       ptr = nullptr;
-      size = n;
+      size = 0;
       if (n > 0) check(cudaMalloc(&ptr, n * sizeof(T)), "cudaMalloc");
+      size = n;
     }
     void upload(const T* host, std::size_t n) {
       resize(n);
@@ -131,7 +134,7 @@ struct CudaExec {
   }
   static int max(const int* a, int n) {
     const thrust::device_ptr<const int> p(a);
-    return thrust::reduce(p, p + n, 0, thrust::maximum<int>());
+    return thrust::reduce(p, p + n, 0, IntMax{});
   }
   static std::int64_t sum(const int* a, int n) {
     const thrust::device_ptr<const int> p(a);

@@ -27,6 +27,7 @@ class EngineBase {
   virtual std::int64_t n_contacts() const = 0;
   virtual std::int64_t n_wall_contacts() const = 0;
   virtual std::vector<Vec3> wall_forces() const = 0;
+  virtual std::vector<Vec3> wall_torques() const = 0;
   virtual std::vector<HistoryEntry> pair_history() const = 0;
   virtual std::vector<HistoryEntry> wall_history() const = 0;
   virtual DeviceCounts counts() const = 0;
@@ -44,7 +45,8 @@ class Engine final : public EngineBase {
     n_ = static_cast<int>(p.size());
     const std::size_t n = p.size();
     for (int a = 0; a < s_.pairs.n(); ++a)
-      for (int b = 0; b < s_.pairs.n(); ++b) laws_.cohesive |= s_.pairs(a, b).cohesion > 0;
+      for (int b = 0; b < s_.pairs.n(); ++b)
+        laws_.cohesive |= s_.pairs(a, b).model >= 0 && s_.pairs(a, b).cohesion > 0;
     x_.upload(p.x(), n);
     v_.upload(p.v(), n);
     om_.upload(p.omega(), n);
@@ -69,6 +71,8 @@ class Engine final : public EngineBase {
     wall_hist_.zero();
     wall_reaction_.resize(s_.walls.size() * n);
     wall_reaction_.zero();
+    wall_reaction_torque_.resize(s_.walls.size() * n);
+    wall_reaction_torque_.zero();
     for (auto& l : lists_) l.found.resize(n);
     double dmax = 0;
     for (std::size_t i = 0; i < n; ++i) dmax = std::max(dmax, 2 * p.radius()[i]);
@@ -110,6 +114,8 @@ class Engine final : public EngineBase {
       }
       wall_hist_.upload(wh.data(), wh.size());
     }
+    s_.pair_history = {};
+    s_.wall_history = {};
     build_list();
   }
 
@@ -124,6 +130,7 @@ class Engine final : public EngineBase {
       if (Exec::read(flag_.ptr) != 0) {
         Exec::write(flag_.ptr, 0);
         build_list();
+        ++counts_.list_builds;
       }
       Exec::force(grains(), view(lists_[cur_]), walls(), laws(), s_.domain, s_.dt, touching_.ptr,
                   wall_touching_.ptr);
@@ -153,6 +160,13 @@ class Engine final : public EngineBase {
     std::vector<Vec3> out(s_.walls.size());
     for (std::size_t w = 0; w < out.size() && n_ > 0; ++w)
       out[w] = Exec::sum(wall_reaction_.ptr + w * static_cast<std::size_t>(n_), n_);
+    return out;
+  }
+
+  std::vector<Vec3> wall_torques() const override {
+    std::vector<Vec3> out(s_.walls.size());
+    for (std::size_t w = 0; w < out.size() && n_ > 0; ++w)
+      out[w] = Exec::sum(wall_reaction_torque_.ptr + w * static_cast<std::size_t>(n_), n_);
     return out;
   }
 
@@ -206,8 +220,8 @@ class Engine final : public EngineBase {
                   x_ref_.ptr, r_.ptr, m_.ptr, inertia_.ptr, mat_.ptr};
   }
   Walls walls() {
-    return Walls{planes_.ptr, static_cast<int>(s_.walls.size()), wall_hist_.ptr,
-                 wall_reaction_.ptr};
+    return Walls{planes_.ptr, static_cast<int>(s_.walls.size()), wall_hist_.ptr, wall_reaction_.ptr,
+                 wall_reaction_torque_.ptr};
   }
   Laws laws() const { return Laws{coeffs_.ptr, s_.pairs.n(), laws_.cohesive}; }
 
@@ -264,7 +278,6 @@ class Engine final : public EngineBase {
     cur_ = nxt;
     have_list_ = true;
     Exec::copy(x_ref_.ptr, x_.ptr, static_cast<std::size_t>(n_));
-    ++counts_.list_builds;
     counts_.list_capacity = cap_;
   }
 
@@ -276,7 +289,7 @@ class Engine final : public EngineBase {
   Array<int> mat_, key_, sorted_, cell_start_, cell_end_, touching_, wall_touching_, flag_;
   Array<contact::PairCoeffs> coeffs_;
   Array<PlaneWall> planes_;
-  Array<Vec3> wall_hist_, wall_reaction_;
+  Array<Vec3> wall_hist_, wall_reaction_, wall_reaction_torque_;
   ListArrays lists_[2];
   int cur_ = 0;   ///< the list in use
   int cap_ = 32;  ///< slots per grain of the next build (grows)

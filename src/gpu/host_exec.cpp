@@ -14,6 +14,9 @@ struct HostExec {
     T* ptr = nullptr;
     std::size_t size = 0;
     std::vector<T> data;
+    Array() = default;
+    Array(const Array&) = delete;  // (as the device's: a copy would alias the data)
+    Array& operator=(const Array&) = delete;
     void resize(std::size_t n) {
       data.resize(n);
       size = n;

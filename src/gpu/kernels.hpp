@@ -56,12 +56,12 @@ struct List {
   Vec3* hist = nullptr;
 };
 
-/// Walls: their planes, one tangential history and one reaction (force on the wall) per grain
-/// and wall, at w * n + i.
+/// Walls: their planes, one tangential history and one reaction (force and torque on the wall,
+/// the torque about the plane's point) per grain and wall, at w * n + i.
 struct Walls {
   const PlaneWall* planes = nullptr;
   int n = 0;
-  Vec3 *hist = nullptr, *reaction = nullptr;
+  Vec3 *hist = nullptr, *reaction = nullptr, *reaction_torque = nullptr;
 };
 
 /// The per-pair constants (ContactModels' index in `model`).
@@ -160,7 +160,7 @@ GF_HOST_DEVICE inline void list_one(int i, const Grains& g, const Domain& dom, c
           if (j == i) continue;
           const Vec3 d = dom.delta(xi, g.x[j]);
           const double reach = ri + g.r[j] + skin;
-          if (norm2(d) >= reach * reach) continue;
+          if (!(norm2(d) < reach * reach)) continue;  // (a non-finite position lists nothing)
           if (found < l.cap) {
             Vec3 h{};
             for (int q = 0; q < n_old; ++q)
@@ -174,7 +174,26 @@ GF_HOST_DEVICE inline void list_one(int i, const Grains& g, const Domain& dom, c
           ++found;
         }
       }
-  l.count[i] = found < l.cap ? found : l.cap;
+  const int cnt = found < l.cap ? found : l.cap;
+  // Slots in increasing partner index: a grain's forces are then summed in an order that does
+  // not depend on where the cells were walked or when the list was built, so a run continued
+  // from a checkpoint (whose first build comes at another step) gives the same bits.
+  for (int k = 1; k < cnt; ++k) {
+    const std::size_t sk = static_cast<std::size_t>(k) * n + i;
+    const int j = l.nb[sk];
+    const Vec3 h = l.hist[sk];
+    int q = k - 1;
+    for (; q >= 0 && l.nb[static_cast<std::size_t>(q) * n + i] > j; --q) {
+      const std::size_t from = static_cast<std::size_t>(q) * n + i;
+      const std::size_t to = from + static_cast<std::size_t>(n);
+      l.nb[to] = l.nb[from];
+      l.hist[to] = l.hist[from];
+    }
+    const std::size_t at = static_cast<std::size_t>(q + 1) * n + i;
+    l.nb[at] = j;
+    l.hist[at] = h;
+  }
+  l.count[i] = cnt;
   l.found[i] = found;
 }
 
@@ -207,6 +226,9 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
     ++touch;
     double arm_i, arm_j;
     contact::ContactKinematics kin = contact::touching_spheres(d, dist2, ri, rj, arm_i, arm_j);
+    // Coincident centres: opposite normals for the two grains (the host's half list gives j
+    // the opposite force).
+    if (dist2 == 0 && i > j) kin.normal = -kin.normal;
     const double mj = g.m[j];
     kin.m_eff = mi * mj / (mi + mj);
     kin.v_rel = vi - g.v[j] - cross(arm_i * omi + arm_j * g.om[j], kin.normal);
@@ -225,6 +247,7 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
     if (gap >= 0) {
       w.hist[slot] = Vec3{};
       w.reaction[slot] = Vec3{};
+      w.reaction_torque[slot] = Vec3{};
       continue;
     }
     ++wtouch;
@@ -241,6 +264,8 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
     const contact::ContactResult res = evaluate(c_row[pw.material], kin, dt, h, law.cohesive);
     w.hist[slot] = h;
     w.reaction[slot] = -res.force;
+    // (as the host's wall loop: about the wall's point, the contact point x_i + arm)
+    w.reaction_torque[slot] = -(cross(xi + arm - pw.point, res.force) + res.rolling_torque);
     fi += res.force;
     ti += cross(arm, res.force) + res.rolling_torque;
   }

@@ -53,6 +53,9 @@ std::int64_t SphereDem::n_wall_contacts() const {
 std::vector<Vec3> SphereDem::wall_forces() const {
   return engine_->wall_forces();
 }
+std::vector<Vec3> SphereDem::wall_torques() const {
+  return engine_->wall_torques();
+}
 std::vector<HistoryEntry> SphereDem::pair_history() const {
   return engine_->pair_history();
 }

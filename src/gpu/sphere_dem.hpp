@@ -69,8 +69,8 @@ struct SphereDemSetup {
 /// Counters of the device run.
 struct DeviceCounts {
   std::int64_t steps = 0;
-  std::int64_t list_builds = 0;
-  int list_capacity = 0;  ///< neighbour slots per grain now (grows when a grain needs more)
+  std::int64_t list_builds = 0;  ///< during the steps (not counting the first, at set-up)
+  int list_capacity = 0;         ///< neighbour slots per grain now (grows when a grain needs more)
 };
 
 class SphereDem {
@@ -93,6 +93,8 @@ class SphereDem {
   std::int64_t n_wall_contacts() const;
   /// Force of the grains on each wall at the last force evaluation, N (setup.walls' order).
   std::vector<Vec3> wall_forces() const;
+  /// Their torques about each wall's point, N m.
+  std::vector<Vec3> wall_torques() const;
   /// The histories of the touching contacts now: grain pairs once each (i < j), grain-wall
   /// pairs; zero histories left out.
   std::vector<HistoryEntry> pair_history() const;

@@ -28,8 +28,9 @@ std::string Simulation::device_unsupported() const {
       return fmt::format("wall '{}' moves (the CUDA back end takes fixed walls)", w.group);
   }
   for (const auto& q : cfg_.output.quantities)
-    if (q.starts_with("wall_torque") || q.starts_with("wall_force_mean"))
-      return fmt::format("series quantity '{}' (device runs report wall_force of the step)", q);
+    if (q.starts_with("wall_torque_mean") || q.starts_with("wall_force_mean"))
+      return fmt::format(
+          "series quantity '{}' (device runs report the walls' force and torque of the step)", q);
   return {};
 }
 
@@ -66,7 +67,11 @@ void Simulation::sync_from_device(const gpu::SphereDem& d, bool lists) {
   n_contacts_ = d.n_contacts();
   n_wall_contacts_ = d.n_wall_contacts();
   const auto wf = d.wall_forces();
-  for (std::size_t k = 0; k < walls_.size(); ++k) walls_[k].force = wf[k];
+  const auto wt = d.wall_torques();
+  for (std::size_t k = 0; k < walls_.size(); ++k) {
+    walls_[k].force = wf[k];
+    walls_[k].torque = wt[k];
+  }
   if (!lists) return;
   // The lists in the device's (= the store's) order, their histories the device's: a checkpoint
   // then continues bit-identically on either back end, and the elastic energy sums the right

@@ -259,6 +259,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
   const bool energy_columns = std::any_of(columns.begin(), columns.end(), [](const std::string& c) {
     return c == "elastic_energy" || c == "total_energy";
   });
+  std::int64_t lists_synced_at = -1;  // the step whose state the host's lists hold, if any
   while (device && step_ < last) {
     std::int64_t next = std::min(last, (step_ / 1000 + 1) * 1000);
     for (std::int64_t s = step_ + 1; s < next; ++s)
@@ -274,7 +275,10 @@ RunSummary Simulation::run(const RunOptions& opts) {
     {
       StageTimers::Scope timer(timers_, Stage::Output);
       const bool checkpoint = due(step_, ckpt_every) && step_ != first;
-      sync_from_device(*device, checkpoint || (energy_columns && due(step_, series_every)));
+      const bool lists =
+          checkpoint || step_ == last || (energy_columns && due(step_, series_every));
+      sync_from_device(*device, lists);
+      lists_synced_at = lists ? step_ : -1;
     }
     write_outputs(false);
     if (!opts.quiet)
@@ -282,9 +286,11 @@ RunSummary Simulation::run(const RunOptions& opts) {
                       n_contacts_);
     if (stop::requested()) break;
   }
-  if (device) {
+  // The final checkpoint needs the lists of the last step (a run that took no step keeps the
+  // host's state as it was: the device has evaluated nothing).
+  if (device && step_ != first && lists_synced_at != step_) {
     StageTimers::Scope timer(timers_, Stage::Output);
-    sync_from_device(*device, true);  // (the final checkpoint)
+    sync_from_device(*device, true);
   }
   while (!device && step_ < last) {
     const bool sample = rheology && rheology->due(step_ + 1);

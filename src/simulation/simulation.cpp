@@ -682,6 +682,9 @@ void Simulation::update_neighbors(bool force) {
   drift_max_d2_ = -1;  // measured for this step only
   bool rebuild = force || (max_d2 >= 0 ? nlist_.needs_rebuild(domain_, max_d2, n)
                                        : nlist_.needs_rebuild(domain_, particles_.x(), n));
+  // A list built without re-ordering (a device run's checkpoint, docs/gpu.md) has no slabs, and
+  // the force loop would run on one thread until the next build: build it sorted now.
+  if (!rebuild && n > 0 && nlist_.n_slabs() == 0) rebuild = true;
   if (!rebuild && has_capsules_) rebuild = capsule_ends_moved();
   bool walls_moved = false;
   if (!rebuild && !walls_.empty()) {
