@@ -48,10 +48,10 @@ __global__ void list_kernel(Grains g, Domain dom, Cells c, double skin, List l, 
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < g.n) list_one(i, g, dom, c, skin, l, old);
 }
-__global__ void force_kernel(Grains g, List l, Walls w, Laws law, Domain dom, double dt,
+__global__ void force_kernel(Grains g, List l, Walls w, Laws law, Domain dom, double dt, double t,
                              int* touching, int* wall_touching) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
-  if (i < g.n) force_one(i, g, l, w, law, dom, dt, touching, wall_touching);
+  if (i < g.n) force_one(i, g, l, w, law, dom, dt, t, touching, wall_touching);
 }
 template <class T>
 __global__ void fill_kernel(T* p, std::size_t n, T value) {
@@ -125,8 +125,8 @@ struct CudaExec {
     check(cudaGetLastError(), "list kernel");
   }
   static void force(const Grains& g, const List& l, const Walls& w, const Laws& law,
-                    const Domain& dom, double dt, int* touching, int* wall_touching) {
-    force_kernel<<<blocks(g.n), kBlock>>>(g, l, w, law, dom, dt, touching, wall_touching);
+                    const Domain& dom, double dt, double t, int* touching, int* wall_touching) {
+    force_kernel<<<blocks(g.n), kBlock>>>(g, l, w, law, dom, dt, t, touching, wall_touching);
     check(cudaGetLastError(), "force kernel");
   }
   static void sort_by_key(int* key, int* val, int n) {

@@ -125,14 +125,28 @@ class Engine final : public EngineBase {
       return;
     }
     const double half_skin2 = 0.25 * s_.skin * s_.skin;
+    const bool walls_move =
+        std::any_of(s_.walls.begin(), s_.walls.end(), [](const PlaneWall& w) { return w.moves; });
     for (std::int64_t k = 0; k < steps; ++k) {
+      // The time of this step's end, where the host puts the walls (Simulation::step).
+      const double t = static_cast<double>(s_.first_step + counts_.steps + 1) * s_.dt;
       Exec::drift(grains(), s_.domain, s_.dt, s_.gravity, half_skin2, flag_.ptr);
       if (Exec::read(flag_.ptr) != 0) {
         Exec::write(flag_.ptr, 0);
         build_list();
         ++counts_.list_builds;
       }
-      Exec::force(grains(), view(lists_[cur_]), walls(), laws(), s_.domain, s_.dt, touching_.ptr,
+      if (walls_move) {
+        // Placed on the host, as Wall::update_geometry does (the same bits: the device's sine
+        // and cosine may differ in the last place), and copied over (a few planes).
+        for (auto& w : s_.walls)
+          if (w.moves) {
+            w.point = w.motion.point_at(w.point0, t) + Vec3{};
+            w.normal = w.motion.rotate(w.normal0, t);
+          }
+        planes_.upload(s_.walls.data(), s_.walls.size());
+      }
+      Exec::force(grains(), view(lists_[cur_]), walls(), laws(), s_.domain, s_.dt, t, touching_.ptr,
                   wall_touching_.ptr);
       Exec::kick(grains(), s_.dt);
       ++counts_.steps;

@@ -48,8 +48,8 @@ struct HostExec {
     for (int i = 0; i < g.n; ++i) list_one(i, g, dom, c, skin, l, old);
   }
   static void force(const Grains& g, const List& l, const Walls& w, const Laws& law,
-                    const Domain& dom, double dt, int* touching, int* wall_touching) {
-    for (int i = 0; i < g.n; ++i) force_one(i, g, l, w, law, dom, dt, touching, wall_touching);
+                    const Domain& dom, double dt, double t, int* touching, int* wall_touching) {
+    for (int i = 0; i < g.n; ++i) force_one(i, g, l, w, law, dom, dt, t, touching, wall_touching);
   }
   static void sort_by_key(int* key, int* val, int n) {
     std::vector<std::pair<int, int>> kv(static_cast<std::size_t>(n));

@@ -201,10 +201,11 @@ GF_HOST_DEVICE inline void list_one(int i, const Grains& g, const Domain& dom, c
 /// is evaluated by both of its grains: the two evaluations are exact mirror images (normal,
 /// relative velocity and history change sign; the same products and sums in the same order),
 /// so the grains get equal and opposite forces and the two histories stay exact negatives.
-/// Writes the grain's touching pairs and wall contacts, and its reaction on each wall.
+/// Writes the grain's touching pairs and wall contacts, and its reaction on each wall. t: the
+/// time of the step's end, where the walls are.
 GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, const Walls& w,
-                                     const Laws& law, const Domain& dom, double dt, int* touching,
-                                     int* wall_touching) {
+                                     const Laws& law, const Domain& dom, double dt, double t,
+                                     int* touching, int* wall_touching) {
   const int n = g.n;
   const Vec3 xi = g.x[i], vi = g.v[i], omi = g.om[i];
   const double ri = g.r[i], mi = g.m[i];
@@ -255,8 +256,9 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
     kin.overlap = -gap;
     kin.normal = pw.normal;
     const Vec3 arm = -(ri - 0.5 * kin.overlap) * kin.normal;
-    kin.v_rel = vi + cross(omi, arm);
-    kin.omega_rel = omi;
+    // (as the host's wall loop: the wall's velocity at the contact point x_i + arm)
+    kin.v_rel = (vi - pw.motion.velocity_at(xi + arm, t)) + cross(omi, arm);
+    kin.omega_rel = omi - pw.motion.omega();
     kin.r_eff = ri;
     kin.m_eff = mi;
     kin.inv_r_sum = 0;

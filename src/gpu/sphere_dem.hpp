@@ -7,8 +7,9 @@
 // (contact/laws, host/device), the same integrator, so the two agree to rounding (the order in
 // which a grain's contact forces are summed differs). It takes the cases of spheres with
 // velocity Verlet, any contact models of the registry (rolling resistance and cohesion
-// included), fixed (non-moving) plane walls and box walls, gravity, and periodic axes; the
-// Simulation refuses the others before it starts (Simulation::device_unsupported).
+// included), plane walls and box walls, fixed or with prescribed rigid motion, gravity, and
+// periodic axes; the Simulation refuses the others before it starts
+// (Simulation::device_unsupported).
 //
 // The CUDA back end is built with -DGF_ENABLE_CUDA=ON (CMake preset `cuda`). Every build has the
 // host mirror: the same orchestration and per-grain bodies (engine.hpp, kernels.hpp) run in
@@ -21,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "boundaries/motion.hpp"
 #include "contact/laws/contact_io.hpp"
 #include "core/domain.hpp"
 #include "particles/material.hpp"
@@ -41,10 +43,15 @@ namespace detail {
 class EngineBase;
 }
 
-/// A fixed plane wall: its surface through `point` with unit normal `normal` towards the grains.
+/// A plane wall: at time t its surface passes through motion.point_at(point0, t) with unit
+/// normal motion.rotate(normal0, t) towards the grains (as boundaries/wall.hpp's Wall); `point`
+/// and `normal` hold the current ones (set by the engine each step when the wall moves).
 struct PlaneWall {
-  Vec3 point, normal;
+  Vec3 point0, normal0;
+  RigidMotion motion;
+  bool moves = false;
   int material = 0;
+  Vec3 point, normal;
 };
 
 /// The tangential history of a touching pair (i, j) as i sees it (j's is its negative), or of
@@ -57,8 +64,9 @@ struct HistoryEntry {
 struct SphereDemSetup {
   Domain domain;
   Vec3 gravity;
-  double dt = 0;    ///< s
-  double skin = 0;  ///< m: pairs closer than r_i + r_j + skin are listed
+  double dt = 0;                ///< s
+  std::int64_t first_step = 0;  ///< the step the run starts from (time = step dt)
+  double skin = 0;              ///< m: pairs closer than r_i + r_j + skin are listed
   PairTable<contact::PairCoeffs> pairs;
   std::vector<PlaneWall> walls;
   /// Histories of the contacts at the start (a run continued from a state with contacts): each

@@ -24,8 +24,6 @@ std::string Simulation::device_unsupported() const {
       return fmt::format("wall '{}' is not a plane (the CUDA back end takes planes and boxes)",
                          w.group);
     if (w.servo) return fmt::format("wall '{}' has a servo", w.group);
-    if (w.motion.velocity != Vec3{} || w.motion.rate != 0)
-      return fmt::format("wall '{}' moves (the CUDA back end takes fixed walls)", w.group);
   }
   for (const auto& q : cfg_.output.quantities)
     if (q.starts_with("wall_torque_mean") || q.starts_with("wall_force_mean"))
@@ -41,7 +39,18 @@ std::shared_ptr<gpu::SphereDem> Simulation::start_device(Device device) {
   s.dt = dt_;
   s.skin = skin_;
   s.pairs = pairs_;
-  for (const auto& w : walls_) s.walls.push_back(gpu::PlaneWall{w.point, w.dir, w.material});
+  s.first_step = step_;
+  for (const auto& w : walls_) {
+    gpu::PlaneWall p;
+    p.point0 = w.point0;
+    p.normal0 = w.dir0;
+    p.motion = w.motion;
+    p.moves = w.motion.velocity != Vec3{} || w.motion.rate != 0;
+    p.material = w.material;
+    p.point = w.point;  // (where the host has placed it now)
+    p.normal = w.dir;
+    s.walls.push_back(p);
+  }
   // The contact histories of the current state (after the constructor's force evaluation, or a
   // restart's).
   const auto off = nlist_.offsets();
@@ -64,6 +73,7 @@ std::shared_ptr<gpu::SphereDem> Simulation::start_device(Device device) {
 
 void Simulation::sync_from_device(const gpu::SphereDem& d, bool lists) {
   d.download(particles_);
+  for (auto& w : walls_) w.update_geometry(time());  // (the device placed them likewise)
   n_contacts_ = d.n_contacts();
   n_wall_contacts_ = d.n_wall_contacts();
   const auto wf = d.wall_forces();

@@ -145,6 +145,41 @@ TEST_P(DeviceEngine, SettlingBedFollowsTheHostRun) {
               1e-6 * cpu->quantity("elastic_energy"));
 }
 
+// Walls with prescribed motion: a lid coming down on the bed while it turns about the vertical
+// (its in-plane velocity drags the grains it touches) and a side wall turning about a vertical
+// axis (its normal changes with time). Bound as above.
+TEST_P(DeviceEngine, MovingWallsFollowTheHostRun) {
+  test::TempDir tmp;
+  auto cfg = settling_case();
+  test::add_plane(cfg, "lid", {0.02, 0.02, 0.063}, {0, 0, -1}, "steel");
+  cfg.walls.back().motion.velocity = {0, 0, -0.3};
+  cfg.walls.back().motion.rotates = true;
+  cfg.walls.back().motion.rate = 20;  // rad/s, about z through the lid's centre
+  cfg.walls.back().motion.axis = {0, 0, 1};
+  cfg.walls.back().motion.center = {0.02, 0.02, 0.063};
+  test::add_plane(cfg, "flap", {0.002, 0.02, 0}, {1, 0, 0}, "steel");
+  cfg.walls.back().motion.rotates = true;
+  cfg.walls.back().motion.rate = 2;
+  cfg.walls.back().motion.axis = {0, 0, 1};
+  cfg.walls.back().motion.center = {0.002, 0.02, 0};
+  cfg.output.quantities = {"wall_force.lid", "wall_torque.lid", "wall_position.lid.z"};
+  const auto gpu = run_case(cfg, GetParam(), 3000, tmp / "gpu");
+  const auto cpu = run_case(cfg, Device::Cpu, 3000, tmp / "cpu");
+  const double gap = max_position_gap(*gpu, *cpu);
+  const Vec3 f = gpu->walls()[5].force, fc = cpu->walls()[5].force;
+  std::printf(
+      "[%s] moving walls, 3000 steps: largest position gap %.3e m; lid force %.6e / %.6e N, "
+      "torque %.6e N m; flap force %.6e N, %lld wall contacts\n",
+      name(), gap, f.z, fc.z, cpu->walls()[5].torque.z, cpu->walls()[6].force.x,
+      static_cast<long long>(cpu->n_wall_contacts()));
+  EXPECT_LT(gap, 1e-6 * 0.0015);
+  EXPECT_GT(std::abs(fc.z), 0.0);  // the lid reached the grains
+  EXPECT_NEAR(f.z, fc.z, 1e-6 * std::abs(fc.z));
+  EXPECT_NEAR(gpu->quantity("wall_position.lid.z"), cpu->quantity("wall_position.lid.z"), 1e-15);
+  const Vec3 tq = gpu->walls()[5].torque, tqc = cpu->walls()[5].torque;
+  EXPECT_LT(norm(tq - tqc), 1e-6 * norm(tqc) + 1e-15);
+}
+
 TEST_P(DeviceEngine, PeriodicCohesiveBedFollowsTheHostRun) {
   test::TempDir tmp;
   const auto cfg = periodic_case();

@@ -62,7 +62,7 @@ TEST(DeviceRun, NamesWhatTheBackEndCannotRun) {
   auto moving = spheres_in_a_box();
   test::add_plane(moving, "piston", {0, 0, 0.045}, {0, 0, -1}, "glass");
   moving.walls.back().motion.velocity = {0, 0, -0.1};
-  EXPECT_NE(Simulation(moving).device_unsupported().find("wall 'piston' moves"), std::string::npos);
+  EXPECT_EQ(Simulation(moving).device_unsupported(), "");  // prescribed motion: taken
   auto drum = spheres_in_a_box();
   config::Wall cyl;
   cyl.name = "drum";
