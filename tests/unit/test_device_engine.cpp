@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <map>
 #include <optional>
+#include <ostream>
 
 #include "case_builder.hpp"
 #include "gpu/sphere_dem.hpp"
@@ -17,6 +18,13 @@
 #include "temp_dir.hpp"
 
 using namespace gf;
+
+namespace gf {
+// (test names and failure messages print the back end by name)
+inline void PrintTo(Device d, std::ostream* os) {
+  *os << (d == Device::Cuda ? "cuda" : d == Device::HostMirror ? "host mirror" : "cpu");
+}
+}  // namespace gf
 
 namespace {
 
