@@ -42,6 +42,8 @@ class Engine final : public EngineBase {
   Engine(const ParticleStore& p, const SphereDemSetup& setup) : s_(setup) {
     REQUIRE(p.size() < (std::size_t{1} << 31), "the device back end takes fewer than 2^31 grains");
     REQUIRE(setup.skin > 0, "the device back end needs a positive neighbour skin");
+    REQUIRE(setup.initial_slots > 0, "the device back end needs at least one neighbour slot");
+    cap_ = setup.initial_slots;
     n_ = static_cast<int>(p.size());
     const std::size_t n = p.size();
     for (int a = 0; a < s_.pairs.n(); ++a)
@@ -217,7 +219,15 @@ class Engine final : public EngineBase {
     return out;
   }
 
-  DeviceCounts counts() const override { return counts_; }
+  DeviceCounts counts() const override {
+    DeviceCounts c = counts_;
+    auto add = [&c](const auto&... a) { ((c.bytes += a.size * sizeof(*a.ptr)), ...); };
+    add(x_, v_, om_, f_, tq_, x_ref_, r_, m_, inertia_, mat_, key_, sorted_, cell_start_, cell_end_,
+        touching_, wall_touching_, flag_, coeffs_, planes_, wall_hist_, wall_reaction_,
+        wall_reaction_torque_);
+    for (const auto& l : lists_) add(l.nb, l.count, l.found, l.hist);
+    return c;
+  }
 
  private:
   struct ListArrays {

@@ -66,7 +66,9 @@ struct SphereDemSetup {
   Vec3 gravity;
   double dt = 0;                ///< s
   std::int64_t first_step = 0;  ///< the step the run starts from (time = step dt)
-  double skin = 0;              ///< m: pairs closer than r_i + r_j + skin are listed
+  /// Neighbour slots per grain of the first list (more are taken when a grain needs them).
+  int initial_slots = 32;
+  double skin = 0;  ///< m: pairs closer than r_i + r_j + skin are listed
   PairTable<contact::PairCoeffs> pairs;
   std::vector<PlaneWall> walls;
   /// Histories of the contacts at the start (a run continued from a state with contacts): each
@@ -79,6 +81,7 @@ struct DeviceCounts {
   std::int64_t steps = 0;
   std::int64_t list_builds = 0;  ///< during the steps (not counting the first, at set-up)
   int list_capacity = 0;         ///< neighbour slots per grain now (grows when a grain needs more)
+  std::size_t bytes = 0;         ///< memory the engine holds on its device now
 };
 
 class SphereDem {

@@ -117,6 +117,11 @@ RunSummary Simulation::run(const RunOptions& opts) {
     if (opts.device == Device::Cuda && !gpu::device_available(&why))
       throw Error(fmt::format("--device cuda: {}", why));
     device = start_device(opts.device);
+    const auto c = device->counts();
+    log::info("device: {}, {} neighbour slots per grain, {:.1f} MB ({:.0f} bytes per grain)",
+              opts.device == Device::Cuda ? "cuda" : "host mirror", c.list_capacity,
+              static_cast<double>(c.bytes) / 1e6,
+              particles_.size() ? static_cast<double>(c.bytes) / particles_.size() : 0.0);
   }
   OutputFolder folder(dir, opts);
   // --append: the outputs continue from the checkpoint's time; what the earlier run wrote after

@@ -37,8 +37,8 @@ class DeviceEngine : public ::testing::TestWithParam<Device> {
 };
 
 /// A polydisperse bed settling in a box with an open top (Hertz-Mindlin, friction, rolling
-/// resistance, two materials with different laws); radii 1.5-3 mm, so that a large grain's list
-/// holds more than the device's first 32 slots and the list must grow.
+/// resistance, two materials with different laws); radii 1.5-3 mm (up to ~13 list partners per
+/// grain: ListGrowsWhenAGrainHasMorePartners starts the list with fewer slots).
 config::Case settling_case() {
   auto c = test::base_case(1e-5, 1.0, {0, 0, 0}, {0.04, 0.04, 0.08});
   c.name = "settling bed";
@@ -291,4 +291,43 @@ TEST_P(DeviceEngine, CheckpointContinuesBitIdentically) {
     for (std::size_t w = 0; w < whole->walls().size(); ++w)
       EXPECT_EQ(whole->walls()[w].force, rest->walls()[w].force);
   }
+}
+
+// The list's slots grow when a build finds a grain with more partners than slots: the engine is
+// started with two slots per grain on the settling bed (up to ~20 partners per grain) and must
+// give the host's run all the same.
+TEST_P(DeviceEngine, ListGrowsWhenAGrainHasMorePartners) {
+  auto cfg = settling_case();
+  cfg.walls.clear();
+  cfg.domain.periodic = {true, true, false};
+  test::add_plane(cfg, "floor", {0, 0, 0}, {0, 0, 1}, "steel");
+  Simulation host(cfg), dev(cfg);
+  gpu::SphereDemSetup s;
+  s.domain = dev.domain();
+  s.gravity = dev.gravity();
+  s.dt = dev.dt();
+  s.skin = dev.neighbor_list().skin();
+  s.pairs = dev.pairs();
+  for (const auto& w : dev.walls()) {
+    gpu::PlaneWall p;
+    p.point0 = p.point = w.point;
+    p.normal0 = p.normal = w.dir;
+    p.material = w.material;
+    s.walls.push_back(p);
+  }
+  s.initial_slots = 2;
+  gpu::SphereDem engine(dev.particles(), s,
+                        GetParam() == Device::Cuda ? gpu::Backend::Cuda : gpu::Backend::HostMirror);
+  const int steps = 3000;
+  engine.advance(steps);
+  engine.download(dev.particles());
+  for (int k = 0; k < steps; ++k) host.step();
+  host.complete_step();
+  const auto c = engine.counts();
+  const double gap = max_position_gap(dev, host);
+  std::printf("[%s] list grown to %d slots per grain, %lld builds; gap %.3e m\n", name(),
+              c.list_capacity, static_cast<long long>(c.list_builds), gap);
+  EXPECT_GT(c.list_capacity, 8);
+  EXPECT_LT(gap, 1e-6 * 0.0015);
+  EXPECT_EQ(engine.n_contacts(), host.n_contacts());
 }
