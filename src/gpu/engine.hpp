@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/stop.hpp"
 #include "gpu/kernels.hpp"
 
 namespace gf::gpu::detail {
@@ -22,7 +23,7 @@ namespace gf::gpu::detail {
 class EngineBase {
  public:
   virtual ~EngineBase() = default;
-  virtual void advance(std::int64_t n) = 0;
+  virtual std::int64_t advance(std::int64_t n) = 0;
   virtual void download(ParticleStore& p) const = 0;
   virtual std::int64_t n_contacts() const = 0;
   virtual std::int64_t n_wall_contacts() const = 0;
@@ -121,15 +122,19 @@ class Engine final : public EngineBase {
     build_list();
   }
 
-  void advance(std::int64_t steps) override {
+  std::int64_t advance(std::int64_t steps) override {
     if (n_ == 0) {
       counts_.steps += steps;
-      return;
+      return steps;
     }
     const double half_skin2 = 0.25 * s_.skin * s_.skin;
     const bool walls_move =
         std::any_of(s_.walls.begin(), s_.walls.end(), [](const PlaneWall& w) { return w.moves; });
-    for (std::int64_t k = 0; k < steps; ++k) {
+    std::int64_t k = 0;
+    for (; k < steps; ++k) {
+      // A stop request (SIGINT / SIGTERM / --max-hours) ends the chunk early: the run then
+      // writes its outputs and checkpoint at the step reached.
+      if (k > 0 && k % 64 == 0 && stop::requested()) break;
       // The time of this step's end, where the host puts the walls (Simulation::step).
       const double t = static_cast<double>(s_.first_step + counts_.steps + 1) * s_.dt;
       Exec::drift(grains(), s_.domain, s_.dt, s_.gravity, half_skin2, flag_.ptr);
@@ -154,6 +159,7 @@ class Engine final : public EngineBase {
       ++counts_.steps;
     }
     Exec::sync();
+    return k;
   }
 
   void download(ParticleStore& p) const override {

@@ -38,8 +38,8 @@ SphereDem::SphereDem(const ParticleStore& p, const SphereDemSetup& setup, Backen
 
 SphereDem::~SphereDem() = default;
 
-void SphereDem::advance(std::int64_t n) {
-  engine_->advance(n);
+std::int64_t SphereDem::advance(std::int64_t n) {
+  return engine_->advance(n);
 }
 void SphereDem::download(ParticleStore& p) const {
   engine_->download(p);

@@ -94,8 +94,9 @@ class SphereDem {
   SphereDem(const SphereDem&) = delete;
   SphereDem& operator=(const SphereDem&) = delete;
 
-  /// Runs n time steps on the device.
-  void advance(std::int64_t n);
+  /// Runs n time steps on the device, fewer when a stop is requested (core/stop.hpp; checked
+  /// every 64 steps); returns the steps taken.
+  std::int64_t advance(std::int64_t n);
   /// Copies positions, velocities, spins, forces and torques back into p (same grains, same
   /// order as given to the constructor).
   void download(ParticleStore& p) const;

@@ -274,7 +274,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
       }
     {
       StageTimers::Scope timer(timers_, Stage::Force);  // (the whole device step)
-      device->advance(next - step_);
+      next = step_ + device->advance(next - step_);     // (fewer on a stop request)
     }
     step_ = next;
     {
