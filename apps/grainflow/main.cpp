@@ -270,7 +270,7 @@ int main(int argc, char** argv) {
   run->add_flag("-q,--quiet", quiet, "no progress output, warnings only");
   std::string device = "cpu";
   run->add_option("--device", device,
-                  "where the DEM steps run: cpu, or cuda (a GPU; 3D spheres, fixed plane walls: "
+                  "where the DEM steps run: cpu, or cuda (a GPU; 3D spheres, plane and box walls: "
                   "docs/gpu.md)")
       ->check(CLI::IsMember({"cpu", "cuda"}));
   std::vector<std::string> sets;
