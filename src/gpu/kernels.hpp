@@ -256,7 +256,7 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
     kin.overlap = -gap;
     kin.normal = pw.normal;
     const Vec3 arm = -(ri - 0.5 * kin.overlap) * kin.normal;
-    // (as the host's wall loop: the wall's velocity at the contact point x_i + arm)
+    // (as the host's single-law wall loop: the wall's velocity at the contact point x_i + arm)
     kin.v_rel = (vi - pw.motion.velocity_at(xi + arm, t)) + cross(omi, arm);
     kin.omega_rel = omi - pw.motion.omega();
     kin.r_eff = ri;
@@ -266,7 +266,7 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
     const contact::ContactResult res = evaluate(c_row[pw.material], kin, dt, h, law.cohesive);
     w.hist[slot] = h;
     w.reaction[slot] = -res.force;
-    // (as the host's wall loop: about the wall's point, the contact point x_i + arm)
+    // (as the host's single-law wall loop: about the wall's point, the contact point x_i + arm)
     w.reaction_torque[slot] = -(cross(xi + arm - pw.point, res.force) + res.rolling_torque);
     fi += res.force;
     ti += cross(arm, res.force) + res.rolling_torque;

@@ -82,7 +82,9 @@ void Simulation::sync_from_device(const gpu::SphereDem& d, bool lists) {
     walls_[k].force = wf[k];
     walls_[k].torque = wt[k];
   }
-  if (!lists) return;
+  // A diverged run keeps its lists: the run reports the divergence before it writes anything
+  // (run.cpp, check_finite), and non-finite grains would not be in the host's lists.
+  if (!lists || first_non_finite_grain(particles_)) return;
   // The lists in the device's (= the store's) order, their histories the device's: a checkpoint
   // then continues bit-identically on either back end, and the elastic energy sums the right
   // pairs.

@@ -394,7 +394,8 @@ RunSummary Simulation::run(const RunOptions& opts) {
   log::info(
       "  {:<10} {:10.3f} s  ({:.3g} particle-steps/s without output, {} neighbour builds, peak "
       "memory {:.1f} MiB)",
-      "total", total, s.particle_steps_per_second, nlist_.n_builds() - builds_before,
+      "total", total, s.particle_steps_per_second,
+      device ? device->counts().list_builds : nlist_.n_builds() - builds_before,
       s.peak_rss_bytes / 1048576.0);
   if (stop_signal)
     log::warn(

@@ -132,7 +132,7 @@ const char* name() {
 }  // namespace
 
 // The device run follows the host run of the same case. The two sum each grain's contact forces
-// in different orders (and the device fuses multiply-adds), so they differ from the first step
+// in different orders (and the host may take another wall loop), so they differ from the first step
 // by rounding, ~1e-16 of the forces; a dense bed amplifies such differences (each collision
 // multiplies them by a factor of order one), so the comparison stops after 3000 steps (0.03 s,
 // ~20 contact times), while the grains are still falling and colliding. A wrong kernel (a
@@ -175,7 +175,7 @@ TEST_P(DeviceEngine, MovingWallsFollowTheHostRun) {
   cfg.walls.back().motion.rate = 2;
   cfg.walls.back().motion.axis = {0, 0, 1};
   cfg.walls.back().motion.center = {0.002, 0.02, 0};
-  cfg.output.quantities = {"wall_force.lid", "wall_torque.lid", "wall_position.lid.z"};
+  cfg.output.quantities = {"wall_force.lid", "wall_torque.lid"};
   const auto gpu = run_case(cfg, GetParam(), 3000, tmp / "gpu");
   const auto cpu = run_case(cfg, Device::Cpu, 3000, tmp / "cpu");
   const double gap = max_position_gap(*gpu, *cpu);
@@ -188,7 +188,6 @@ TEST_P(DeviceEngine, MovingWallsFollowTheHostRun) {
   EXPECT_LT(gap, 1e-6 * 0.0015);
   EXPECT_GT(std::abs(fc.z), 0.0);  // the lid reached the grains
   EXPECT_NEAR(f.z, fc.z, 1e-6 * std::abs(fc.z));
-  EXPECT_NEAR(gpu->quantity("wall_position.lid.z"), cpu->quantity("wall_position.lid.z"), 1e-15);
   const Vec3 tq = gpu->walls()[5].torque, tqc = cpu->walls()[5].torque;
   EXPECT_LT(norm(tq - tqc), 1e-6 * norm(tqc) + 1e-15);
 }
@@ -324,7 +323,7 @@ TEST_P(DeviceEngine, ListGrowsWhenAGrainHasMorePartners) {
   gpu::SphereDem engine(dev.particles(), s,
                         GetParam() == Device::Cuda ? gpu::Backend::Cuda : gpu::Backend::HostMirror);
   const int steps = 3000;
-  engine.advance(steps);
+  ASSERT_EQ(engine.advance(steps), steps);
   engine.download(dev.particles());
   for (int k = 0; k < steps; ++k) host.step();
   host.complete_step();
@@ -346,15 +345,14 @@ TEST_P(DeviceEngine, StoppedRunContinuesBitIdentically) {
   o.output = tmp / "stopped";
   o.quiet = true;
   o.device = GetParam();
-  o.steps = 20'000'000;  // ~hours: the signal must come first
+  o.steps = 2'000'000;  // ~a minute at least: the signal comes first
   stop::install_handlers();
-  std::thread sender([] {
+  std::jthread sender([] {  // (joined however the test ends)
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     ::kill(::getpid(), SIGTERM);
   });
   Simulation a(cfg);
   const RunSummary s = a.run(o);
-  sender.join();
   stop::reset();
   ASSERT_EQ(s.stop_signal, SIGTERM);
   ASSERT_GT(s.steps, 0);
@@ -369,5 +367,19 @@ TEST_P(DeviceEngine, StoppedRunContinuesBitIdentically) {
     const std::size_t k = at.at(whole->particles().id()[i]);
     ASSERT_EQ(whole->particles().x()[i], rest->particles().x()[k]);
     ASSERT_EQ(whole->particles().v()[i], rest->particles().v()[k]);
+  }
+}
+
+// A device run that diverges (a step far too long for the contacts) stops with the host's
+// message, before it writes the step: the copy back skips the lists of non-finite grains.
+TEST_P(DeviceEngine, DivergedRunIsReported) {
+  test::TempDir tmp;
+  auto cfg = settling_case();
+  cfg.time.step = 2e-3;  // 200 x: the contacts blow up
+  try {
+    run_case(cfg, GetParam(), 1000, tmp / "out");  // (the last step syncs the lists)
+    FAIL() << "the run did not diverge";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("the run diverged"), std::string::npos) << e.what();
   }
 }
