@@ -115,14 +115,35 @@ std::unique_ptr<Simulation> run_case(const config::Case& cfg, Device device, std
 }
 
 /// Largest distance between the positions of the same grains (by id) in two runs, m.
+/// Index of each grain (by id) in b's store: runs may order their grains differently.
+std::map<std::int64_t, std::size_t> index_by_id(const Simulation& b) {
+  std::map<std::int64_t, std::size_t> at;
+  for (std::size_t i = 0; i < b.particles().size(); ++i) at[b.particles().id()[i]] = i;
+  return at;
+}
+
+/// Largest distance between the positions of the same grains (by id) in two runs, m.
 double max_position_gap(const Simulation& a, const Simulation& b) {
-  std::map<std::int64_t, Vec3> xb;
-  for (std::size_t i = 0; i < b.particles().size(); ++i)
-    xb[b.particles().id()[i]] = b.particles().x()[i];
+  const auto at = index_by_id(b);
   double gap = 0;
   for (std::size_t i = 0; i < a.particles().size(); ++i)
-    gap = std::max(gap, norm(a.particles().x()[i] - xb.at(a.particles().id()[i])));
+    gap =
+        std::max(gap, norm(a.particles().x()[i] - b.particles().x()[at.at(a.particles().id()[i])]));
   return gap;
+}
+
+/// The same grains (by id) have the same bits of position, velocity and spin in both runs.
+void expect_same_grains(const Simulation& a, const Simulation& b, const std::string& what) {
+  ASSERT_EQ(a.particles().size(), b.particles().size()) << what;
+  const auto at = index_by_id(b);
+  const auto& pa = a.particles();
+  const auto& pb = b.particles();
+  for (std::size_t i = 0; i < pa.size(); ++i) {
+    const std::size_t k = at.at(pa.id()[i]);
+    ASSERT_EQ(pa.x()[i], pb.x()[k]) << what << ", grain " << pa.id()[i];
+    ASSERT_EQ(pa.v()[i], pb.v()[k]) << what << ", grain " << pa.id()[i];
+    ASSERT_EQ(pa.omega()[i], pb.omega()[k]) << what << ", grain " << pa.id()[i];
+  }
 }
 
 const char* name() {
@@ -282,16 +303,7 @@ TEST_P(DeviceEngine, CheckpointContinuesBitIdentically) {
     const auto rest =
         run_case(cfg, GetParam(), 2400, tmp / "rest", tmp / "first/checkpoint_final.h5");
     ASSERT_EQ(whole->step_count(), rest->step_count());
-    std::map<std::int64_t, std::size_t> at;
-    for (std::size_t i = 0; i < rest->particles().size(); ++i) at[rest->particles().id()[i]] = i;
-    const auto& a = whole->particles();
-    const auto& b = rest->particles();
-    for (std::size_t i = 0; i < a.size(); ++i) {
-      const std::size_t k = at.at(a.id()[i]);
-      ASSERT_EQ(a.x()[i], b.x()[k]) << cfg.name << ", grain " << a.id()[i];
-      ASSERT_EQ(a.v()[i], b.v()[k]) << cfg.name << ", grain " << a.id()[i];
-      ASSERT_EQ(a.omega()[i], b.omega()[k]) << cfg.name << ", grain " << a.id()[i];
-    }
+    expect_same_grains(*whole, *rest, cfg.name);
     for (std::size_t w = 0; w < whole->walls().size(); ++w)
       EXPECT_EQ(whole->walls()[w].force, rest->walls()[w].force);
   }
@@ -361,13 +373,7 @@ TEST_P(DeviceEngine, StoppedRunContinuesBitIdentically) {
   const auto rest = run_case(cfg, GetParam(), 500, tmp / "rest", s.checkpoint);
   const auto whole = run_case(cfg, GetParam(), s.steps + 500, tmp / "whole");
   ASSERT_EQ(rest->step_count(), whole->step_count());
-  std::map<std::int64_t, std::size_t> at;
-  for (std::size_t i = 0; i < rest->particles().size(); ++i) at[rest->particles().id()[i]] = i;
-  for (std::size_t i = 0; i < whole->particles().size(); ++i) {
-    const std::size_t k = at.at(whole->particles().id()[i]);
-    ASSERT_EQ(whole->particles().x()[i], rest->particles().x()[k]);
-    ASSERT_EQ(whole->particles().v()[i], rest->particles().v()[k]);
-  }
+  expect_same_grains(*whole, *rest, "stopped and continued");
 }
 
 // A device run that diverges (a step far too long for the contacts) stops with the host's
