@@ -269,9 +269,10 @@ int main(int argc, char** argv) {
       ->excludes("--overwrite");
   run->add_flag("-q,--quiet", quiet, "no progress output, warnings only");
   std::string device = "cpu";
-  run->add_option("--device", device,
-                  "where the DEM steps run: cpu, or cuda (a GPU; 3D spheres, plane and box walls: "
-                  "docs/gpu.md)")
+  run->add_option(
+         "--device", device,
+         "where the DEM steps run: cpu, or cuda (a GPU; 3D spheres, plane, box and cylinder walls: "
+         "docs/gpu.md)")
       ->check(CLI::IsMember({"cpu", "cuda"}));
   std::vector<std::string> sets;
   run->add_option("--set", sets, "replace a key of the case, e.g. --set shear.rate=100")

@@ -112,6 +112,9 @@ def main(argv=None) -> int:
                     help="steps of the dense runs: one value, or one per size")
     ap.add_argument("--threads", type=int, default=os.cpu_count() or 1,
                     help="host threads of the comparison runs (default: every core)")
+    ap.add_argument("--scan-threads", default="",
+                    help="also time the host's dense run at these thread counts (e.g. 1,4,8): "
+                         "its thread scaling on this machine")
     ap.add_argument("--grainflow", default=str(ROOT / "build" / "cuda" / "grainflow"))
     ap.add_argument("--timeout", type=float, default=1800.0)
     ap.add_argument("--device", default="cuda",
@@ -149,11 +152,19 @@ def main(argv=None) -> int:
             ckpt = root / f"settle_{geo.n}" / "checkpoint_final.h5"
             d_gpu = run(args.grainflow, dense, root / f"gpu_{geo.n}", args.device, 1, ckpt,
                         args.timeout)
+            scan = {}
+            for t in [int(x) for x in args.scan_threads.split(",") if x.strip()]:
+                if t != args.threads:
+                    scan[t] = rate(run(args.grainflow, dense, root / f"cpu{t}_{geo.n}", "cpu", t,
+                                       ckpt, args.timeout))
             d_cpu = run(args.grainflow, dense, root / f"cpu_{geo.n}", "cpu", args.threads, ckpt,
                         args.timeout)
             row = {"n": geo.n, "settle": rate(settle), "settle_steps": settle["steps"],
                    "gpu": rate(d_gpu), "cpu": rate(d_cpu), "dense_steps": d_gpu["steps"]}
             row["ratio"] = row["gpu"] / row["cpu"] if row["cpu"] > 0 else float("nan")
+            scan[args.threads] = row["cpu"]
+            row["scan"] = ", ".join(f"{t}: {scan[t]:.3g} ({scan[t] / scan[min(scan)]:.2f}x)"
+                                    for t in sorted(scan)) if len(scan) > 1 else ""
             # The same state, the same steps: the two ends differ only by the rounding the
             # chaotic dense bed amplifies (the unit tests pin the step itself to ~1e-15 m).
             eg, ec = last_series_row(root / f"gpu_{geo.n}"), last_series_row(root / f"cpu_{geo.n}")
@@ -165,7 +176,8 @@ def main(argv=None) -> int:
             print(f"N = {geo.n}: settle (device) {row['settle']:.3g} particle-steps/s over "
                   f"{row['settle_steps']} steps; dense: device {row['gpu']:.3g}, host "
                   f"({args.threads} threads) {row['cpu']:.3g}, ratio {row['ratio']:.2f}; device vs "
-                  f"host at the end: {row['agree']}",
+                  f"host at the end: {row['agree']}"
+                  + (f"; host by threads: {row['scan']}" if row["scan"] else ""),
                   flush=True)
             rows.append(row)
     if args.record and rows:
@@ -181,6 +193,8 @@ def main(argv=None) -> int:
         body += [f"| {r['n']} | {r['settle_steps']} | {r['settle']:.3g} | {r['dense_steps']} | "
                  f"{r['gpu']:.3g} | {r['cpu']:.3g} | {r['ratio']:.1f} | {r['agree']} |"
                  for r in rows]
+        body += [f"- Host dense run by threads, N = {r['n']} (particle-steps/s, speed-up over the "
+                 f"fewest): {r['scan']}" for r in rows if r["scan"]]
         append_section(Path(args.results), head, None, body + [""])
     return 0
 

@@ -12,6 +12,7 @@
 
 #include "boundaries/motion.hpp"
 #include "boundaries/triangle_mesh.hpp"
+#include "boundaries/wall_surface.hpp"
 #include "contact/laws/contact_io.hpp"
 #include "contact/pair_forces.hpp"
 #include "core/domain.hpp"
@@ -20,8 +21,6 @@
 #include "particles/particle_store.hpp"
 
 namespace gf {
-
-enum class WallKind : std::int32_t { Plane, Cylinder, Mesh };
 
 /// One wall surface. A `box` of the case file becomes several planes sharing a group.
 struct Wall {
@@ -106,24 +105,7 @@ struct Wall {
   /// points from the wall to the sphere centre. Planes and cylinders (a mesh: its triangles'
   /// TriangleMesh::sphere_contact).
   GF_HOST_DEVICE double gap(const Vec3& x, double r, Vec3& n) const {
-    if (kind == WallKind::Plane) {
-      n = dir;
-      return dot(x - point, dir) - r;
-    }
-    const Vec3 d = x - point;
-    Vec3 radial = d - dot(d, dir) * dir;
-    const double rho = norm(radial);
-    if (rho > 0)
-      radial = radial / rho;
-    else
-      radial = std::abs(dir.x) < 0.9 ? normalized(cross(dir, Vec3{1, 0, 0}))
-                                     : normalized(cross(dir, Vec3{0, 1, 0}));
-    if (inside) {
-      n = -radial;
-      return radius - rho - r;
-    }
-    n = radial;
-    return rho - radius - r;
+    return surface_gap(kind, point, dir, radius, inside, x, r, n);
   }
 
   /// Triangulated surface for output, sized to the domain.

@@ -69,7 +69,7 @@ class Engine final : public EngineBase {
     flag_.resize(1);
     flag_.zero();
     coeffs_.upload(s_.pairs.data(), static_cast<std::size_t>(s_.pairs.n()) * s_.pairs.n());
-    planes_.upload(s_.walls.data(), s_.walls.size());
+    walls_.upload(s_.walls.data(), s_.walls.size());
     wall_hist_.resize(s_.walls.size() * n);
     wall_hist_.zero();
     wall_reaction_.resize(s_.walls.size() * n);
@@ -129,7 +129,7 @@ class Engine final : public EngineBase {
     }
     const double half_skin2 = 0.25 * s_.skin * s_.skin;
     const bool walls_move =
-        std::any_of(s_.walls.begin(), s_.walls.end(), [](const PlaneWall& w) { return w.moves; });
+        std::any_of(s_.walls.begin(), s_.walls.end(), [](const DeviceWall& w) { return w.moves; });
     std::int64_t k = 0;
     for (; k < steps; ++k) {
       // A stop request (SIGINT / SIGTERM / --max-hours) ends the chunk early: the run then
@@ -145,13 +145,13 @@ class Engine final : public EngineBase {
       }
       if (walls_move) {
         // Placed on the host, as Wall::update_geometry does (the same bits: the device's sine
-        // and cosine may differ in the last place), and copied over (a few planes).
+        // and cosine may differ in the last place), and copied over (a few walls).
         for (auto& w : s_.walls)
           if (w.moves) {
             w.point = w.motion.point_at(w.point0, t) + Vec3{};
-            w.normal = w.motion.rotate(w.normal0, t);
+            w.dir = w.motion.rotate(w.dir0, t);
           }
-        planes_.upload(s_.walls.data(), s_.walls.size());
+        walls_.upload(s_.walls.data(), s_.walls.size());
       }
       Exec::force(grains(), view(lists_[cur_]), walls(), laws(), s_.domain, s_.dt, t, touching_.ptr,
                   wall_touching_.ptr);
@@ -229,7 +229,7 @@ class Engine final : public EngineBase {
     DeviceCounts c = counts_;
     auto add = [&c](const auto&... a) { ((c.bytes += a.size * sizeof(*a.ptr)), ...); };
     add(x_, v_, om_, f_, tq_, x_ref_, r_, m_, inertia_, mat_, key_, sorted_, cell_start_, cell_end_,
-        touching_, wall_touching_, flag_, coeffs_, planes_, wall_hist_, wall_reaction_,
+        touching_, wall_touching_, flag_, coeffs_, walls_, wall_hist_, wall_reaction_,
         wall_reaction_torque_);
     for (const auto& l : lists_) add(l.nb, l.count, l.found, l.hist);
     return c;
@@ -250,7 +250,7 @@ class Engine final : public EngineBase {
                   x_ref_.ptr, r_.ptr, m_.ptr, inertia_.ptr, mat_.ptr};
   }
   Walls walls() {
-    return Walls{planes_.ptr, static_cast<int>(s_.walls.size()), wall_hist_.ptr, wall_reaction_.ptr,
+    return Walls{walls_.ptr, static_cast<int>(s_.walls.size()), wall_hist_.ptr, wall_reaction_.ptr,
                  wall_reaction_torque_.ptr};
   }
   Laws laws() const { return Laws{coeffs_.ptr, s_.pairs.n(), laws_.cohesive}; }
@@ -318,7 +318,7 @@ class Engine final : public EngineBase {
   Array<double> r_, m_, inertia_;
   Array<int> mat_, key_, sorted_, cell_start_, cell_end_, touching_, wall_touching_, flag_;
   Array<contact::PairCoeffs> coeffs_;
-  Array<PlaneWall> planes_;
+  Array<DeviceWall> walls_;
   Array<Vec3> wall_hist_, wall_reaction_, wall_reaction_torque_;
   ListArrays lists_[2];
   int cur_ = 0;   ///< the list in use

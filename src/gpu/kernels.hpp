@@ -56,10 +56,10 @@ struct List {
   Vec3* hist = nullptr;
 };
 
-/// Walls: their planes, one tangential history and one reaction (force and torque on the wall,
-/// the torque about the plane's point) per grain and wall, at w * n + i.
+/// Walls: their surfaces, one tangential history and one reaction (force and torque on the wall,
+/// the torque about the wall's point) per grain and wall, at w * n + i.
 struct Walls {
-  const PlaneWall* planes = nullptr;
+  const DeviceWall* walls = nullptr;
   int n = 0;
   Vec3 *hist = nullptr, *reaction = nullptr, *reaction_torque = nullptr;
 };
@@ -242,9 +242,11 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
   }
   int wtouch = 0;
   for (int q = 0; q < w.n; ++q) {
-    const PlaneWall pw = w.planes[q];
+    const DeviceWall pw = w.walls[q];
     const std::size_t slot = static_cast<std::size_t>(q) * n + i;
-    const double gap = dot(xi - pw.point, pw.normal) - ri;
+    contact::ContactKinematics kin;
+    const double gap =
+        surface_gap(pw.kind, pw.point, pw.dir, pw.radius, pw.inside, xi, ri, kin.normal);
     if (gap >= 0) {
       w.hist[slot] = Vec3{};
       w.reaction[slot] = Vec3{};
@@ -252,9 +254,7 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
       continue;
     }
     ++wtouch;
-    contact::ContactKinematics kin;
     kin.overlap = -gap;
-    kin.normal = pw.normal;
     const Vec3 arm = -(ri - 0.5 * kin.overlap) * kin.normal;
     // (as the host's single-law wall loop: the wall's velocity at the contact point x_i + arm)
     kin.v_rel = (vi - pw.motion.velocity_at(xi + arm, t)) + cross(omi, arm);

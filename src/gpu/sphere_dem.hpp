@@ -7,7 +7,7 @@
 // (contact/laws, host/device), the same integrator, so the two agree to rounding (the order in
 // which a grain's contact forces are summed differs). It takes the cases of spheres with
 // velocity Verlet, any contact models of the registry (rolling resistance and cohesion
-// included), plane walls and box walls, fixed or with prescribed rigid motion, gravity, and
+// included), plane, box and cylinder walls, fixed or with prescribed rigid motion, gravity, and
 // periodic axes; the Simulation refuses the others before it starts
 // (Simulation::device_unsupported).
 //
@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "boundaries/motion.hpp"
+#include "boundaries/wall_surface.hpp"
 #include "contact/laws/contact_io.hpp"
 #include "core/domain.hpp"
 #include "particles/material.hpp"
@@ -43,15 +44,19 @@ namespace detail {
 class EngineBase;
 }
 
-/// A plane wall: at time t its surface passes through motion.point_at(point0, t) with unit
-/// normal motion.rotate(normal0, t) towards the grains (as boundaries/wall.hpp's Wall); `point`
-/// and `normal` hold the current ones (set by the engine each step when the wall moves).
-struct PlaneWall {
-  Vec3 point0, normal0;
+/// A plane or cylinder wall (as boundaries/wall.hpp's Wall): at time t its point is
+/// motion.point_at(point0, t) and its direction (a plane's unit normal towards the grains, a
+/// cylinder's unit axis) motion.rotate(dir0, t); `point` and `dir` hold the current ones (set by
+/// the engine each step when the wall moves).
+struct DeviceWall {
+  WallKind kind = WallKind::Plane;
+  Vec3 point0, dir0;
+  double radius = 0;   ///< cylinder, m
+  bool inside = true;  ///< cylinder: the grains are inside
   RigidMotion motion;
   bool moves = false;
   int material = 0;
-  Vec3 point, normal;
+  Vec3 point, dir;
 };
 
 /// The tangential history of a touching pair (i, j) as i sees it (j's is its negative), or of
@@ -70,7 +75,7 @@ struct SphereDemSetup {
   int initial_slots = 32;
   double skin = 0;  ///< m: pairs closer than r_i + r_j + skin are listed
   PairTable<contact::PairCoeffs> pairs;
-  std::vector<PlaneWall> walls;
+  std::vector<DeviceWall> walls;
   /// Histories of the contacts at the start (a run continued from a state with contacts): each
   /// grain pair once, in either order; grain-wall pairs.
   std::vector<HistoryEntry> pair_history, wall_history;

@@ -20,9 +20,9 @@ std::string Simulation::device_unsupported() const {
   if (cfg_.output.contacts_csv.every > 0 || cfg_.output.contacts_vtk.every > 0)
     return "the case writes contacts (output.contacts_csv / contacts_vtk)";
   for (const auto& w : walls_) {
-    if (w.kind != WallKind::Plane)
-      return fmt::format("wall '{}' is not a plane (the CUDA back end takes planes and boxes)",
-                         w.group);
+    if (w.kind == WallKind::Mesh)
+      return fmt::format(
+          "wall '{}' is a mesh (the CUDA back end takes planes, boxes and cylinders)", w.group);
     if (w.servo) return fmt::format("wall '{}' has a servo", w.group);
   }
   for (const auto& q : cfg_.output.quantities)
@@ -41,14 +41,17 @@ std::shared_ptr<gpu::SphereDem> Simulation::start_device(Device device) {
   s.pairs = pairs_;
   s.first_step = step_;
   for (const auto& w : walls_) {
-    gpu::PlaneWall p;
+    gpu::DeviceWall p;
+    p.kind = w.kind;
     p.point0 = w.point0;
-    p.normal0 = w.dir0;
+    p.dir0 = w.dir0;
+    p.radius = w.radius;
+    p.inside = w.inside;
     p.motion = w.motion;
     p.moves = w.motion.velocity != Vec3{} || w.motion.rate != 0;
     p.material = w.material;
     p.point = w.point;  // (where the host has placed it now)
-    p.normal = w.dir;
+    p.dir = w.dir;
     s.walls.push_back(p);
   }
   // The contact histories of the current state (after the constructor's force evaluation, or a

@@ -71,7 +71,11 @@ TEST(DeviceRun, NamesWhatTheBackEndCannotRun) {
   cyl.radius = 0.015;
   cyl.material = "glass";
   drum.walls.push_back(cyl);
-  EXPECT_NE(Simulation(drum).device_unsupported().find("wall 'drum' is not a plane"),
+  EXPECT_EQ(Simulation(drum).device_unsupported(), "");  // cylinders: taken
+  auto chute = spheres_in_a_box();
+  test::add_mesh(chute, "chute", {{0, 0, 0.01}, {0.03, 0, 0.01}, {0, 0.03, 0.02}}, {{0, 1, 2}},
+                 "glass");
+  EXPECT_NE(Simulation(chute).device_unsupported().find("wall 'chute' is a mesh"),
             std::string::npos);
   auto torque = spheres_in_a_box();
   torque.output.quantities = {"wall_torque.box"};  // the step's: the device has it
