@@ -59,6 +59,7 @@ class Engine final : public EngineBase {
     m_.upload(p.mass(), n);
     inertia_.upload(p.inertia(), n);
     mat_.upload(p.material(), n);
+    if (p.fixed() != nullptr) fixed_.upload(p.fixed(), n);
     x_ref_.resize(n);
     key_.resize(n);
     sorted_.resize(n);
@@ -228,8 +229,8 @@ class Engine final : public EngineBase {
   DeviceCounts counts() const override {
     DeviceCounts c = counts_;
     auto add = [&c](const auto&... a) { ((c.bytes += a.size * sizeof(*a.ptr)), ...); };
-    add(x_, v_, om_, f_, tq_, x_ref_, r_, m_, inertia_, mat_, key_, sorted_, cell_start_, cell_end_,
-        touching_, wall_touching_, flag_, coeffs_, walls_, wall_hist_, wall_reaction_,
+    add(x_, v_, om_, f_, tq_, x_ref_, r_, m_, inertia_, mat_, fixed_, key_, sorted_, cell_start_,
+        cell_end_, touching_, wall_touching_, flag_, coeffs_, walls_, wall_hist_, wall_reaction_,
         wall_reaction_torque_);
     for (const auto& l : lists_) add(l.nb, l.count, l.found, l.hist);
     return c;
@@ -246,8 +247,9 @@ class Engine final : public EngineBase {
   }
 
   Grains grains() {
-    return Grains{n_,         x_.ptr, v_.ptr, om_.ptr,      f_.ptr,  tq_.ptr,
-                  x_ref_.ptr, r_.ptr, m_.ptr, inertia_.ptr, mat_.ptr};
+    return Grains{n_,     x_.ptr,       v_.ptr,     om_.ptr,
+                  f_.ptr, tq_.ptr,      x_ref_.ptr, r_.ptr,
+                  m_.ptr, inertia_.ptr, mat_.ptr,   fixed_.size > 0 ? fixed_.ptr : nullptr};
   }
   Walls walls() {
     return Walls{walls_.ptr, static_cast<int>(s_.walls.size()), wall_hist_.ptr, wall_reaction_.ptr,
@@ -316,7 +318,7 @@ class Engine final : public EngineBase {
   Laws laws_;
   Array<Vec3> x_, v_, om_, f_, tq_, x_ref_;
   Array<double> r_, m_, inertia_;
-  Array<int> mat_, key_, sorted_, cell_start_, cell_end_, touching_, wall_touching_, flag_;
+  Array<int> mat_, fixed_, key_, sorted_, cell_start_, cell_end_, touching_, wall_touching_, flag_;
   Array<contact::PairCoeffs> coeffs_;
   Array<DeviceWall> walls_;
   Array<Vec3> wall_hist_, wall_reaction_, wall_reaction_torque_;

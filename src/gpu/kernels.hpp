@@ -22,6 +22,10 @@ struct Grains {
   Vec3* x_ref = nullptr;  ///< positions at the last list build
   const double *r = nullptr, *m = nullptr, *inertia = nullptr;
   const int* mat = nullptr;
+  /// Non-zero for the grains of fixed groups (ParticleStore::fixed; null: none): never
+  /// integrated, two of them never listed, no wall contacts, infinite mass in a contact.
+  const int* fixed = nullptr;
+  GF_HOST_DEVICE bool is_fixed(int i) const { return fixed != nullptr && fixed[i] != 0; }
 };
 
 /// Cell grid of the neighbour search: nc cells along each axis from lo, cell widths w.
@@ -86,6 +90,11 @@ GF_HOST_DEVICE inline contact::ContactResult evaluate(const contact::PairCoeffs&
 /// skin since the last build. The same operations in the same order as VelocityVerlet.
 GF_HOST_DEVICE inline void drift_one(int i, const Grains& g, const Domain& dom, double dt,
                                      const Vec3& gravity, double half_skin2, int* rebuild) {
+  if (g.is_fixed(i)) {  // at rest, bit for bit; its force reset as the others' (VelocityVerlet)
+    g.f[i] = g.m[i] * gravity;
+    g.tq[i] = Vec3{};
+    return;
+  }
   const double h = 0.5 * dt;
   const double hm = h / g.m[i], hw = h / g.inertia[i];
   Vec3 vi = g.v[i];
@@ -104,6 +113,7 @@ GF_HOST_DEVICE inline void drift_one(int i, const Grains& g, const Domain& dom, 
 
 /// Second half kick of grain i: v += dt/2 F/m, omega += dt/2 T/I.
 GF_HOST_DEVICE inline void kick_one(int i, const Grains& g, double dt) {
+  if (g.is_fixed(i)) return;
   const double h = 0.5 * dt;
   const double hm = h / g.m[i], hw = h / g.inertia[i];
   g.v[i] += hm * g.f[i];
@@ -131,6 +141,7 @@ GF_HOST_DEVICE inline void list_one(int i, const Grains& g, const Domain& dom, c
   const int n = g.n;
   const Vec3 xi = g.x[i];
   const double ri = g.r[i];
+  const bool fixed_i = g.is_fixed(i);
   const int n_old = old.count != nullptr ? old.count[i] : 0;
   // The distinct cells at offsets -1, 0, +1 along each axis (wrapped on periodic axes; fewer
   // than three cells along an axis would otherwise visit one twice).
@@ -157,7 +168,7 @@ GF_HOST_DEVICE inline void list_one(int i, const Grains& g, const Domain& dom, c
         const int s_end = c.end[cell];
         for (int s = c.start[cell]; s >= 0 && s < s_end; ++s) {
           const int j = c.sorted[s];
-          if (j == i) continue;
+          if (j == i || (fixed_i && g.is_fixed(j))) continue;  // (two fixed grains never meet)
           const Vec3 d = dom.delta(xi, g.x[j]);
           const double reach = ri + g.r[j] + skin;
           if (!(norm2(d) < reach * reach)) continue;  // (a non-finite position lists nothing)
@@ -209,6 +220,7 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
   const int n = g.n;
   const Vec3 xi = g.x[i], vi = g.v[i], omi = g.om[i];
   const double ri = g.r[i], mi = g.m[i];
+  const bool fixed_i = g.is_fixed(i);
   const contact::PairCoeffs* c_row = law.coeffs + static_cast<std::size_t>(g.mat[i]) * law.n_mat;
   Vec3 fi{}, ti{};
   int touch = 0;
@@ -230,8 +242,7 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
     // Coincident centres: opposite normals for the two grains (the host's half list gives j
     // the opposite force).
     if (dist2 == 0 && i > j) kin.normal = -kin.normal;
-    const double mj = g.m[j];
-    kin.m_eff = mi * mj / (mi + mj);
+    kin.m_eff = contact::reduced_mass(mi, g.m[j], fixed_i, g.is_fixed(j));
     kin.v_rel = vi - g.v[j] - cross(arm_i * omi + arm_j * g.om[j], kin.normal);
     kin.omega_rel = omi - g.om[j];
     Vec3 h = l.hist[slot];
@@ -245,8 +256,10 @@ GF_HOST_DEVICE inline void force_one(int i, const Grains& g, const List& l, cons
     const DeviceWall pw = w.walls[q];
     const std::size_t slot = static_cast<std::size_t>(q) * n + i;
     contact::ContactKinematics kin;
+    // (fixed grains: no wall contacts, as the host's wall list leaves them out)
     const double gap =
-        surface_gap(pw.kind, pw.point, pw.dir, pw.radius, pw.inside, xi, ri, kin.normal);
+        fixed_i ? 1.0
+                : surface_gap(pw.kind, pw.point, pw.dir, pw.radius, pw.inside, xi, ri, kin.normal);
     if (gap >= 0) {
       w.hist[slot] = Vec3{};
       w.reaction[slot] = Vec3{};

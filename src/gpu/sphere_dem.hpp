@@ -7,8 +7,8 @@
 // (contact/laws, host/device), the same integrator, so the two agree to rounding (the order in
 // which a grain's contact forces are summed differs). It takes the cases of spheres with
 // velocity Verlet, any contact models of the registry (rolling resistance and cohesion
-// included), plane, box and cylinder walls, fixed or with prescribed rigid motion, gravity, and
-// periodic axes; the Simulation refuses the others before it starts
+// included), plane, box and cylinder walls, fixed or with prescribed rigid motion, fixed grains
+// at rest, gravity, and periodic axes; the Simulation refuses the others before it starts
 // (Simulation::device_unsupported).
 //
 // The CUDA back end is built with -DGF_ENABLE_CUDA=ON (CMake preset `cuda`). Every build has the

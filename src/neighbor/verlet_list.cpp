@@ -59,12 +59,12 @@ std::span<const std::int64_t> VerletList::sort_and_build(ParticleStore& p, const
 }
 
 void VerletList::build(const Domain& domain, const Vec3* x, const double* r, std::size_t n,
-                       double skin) {
+                       double skin, const PairFilter& filter) {
   REQUIRE(n < (std::size_t{1} << 31), "{} particles exceed the 32-bit neighbour index", n);
   double r_max = 0;
   for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, r[i]);
   cells_.build(domain, x, n, 2 * r_max + skin);
-  build_rows(domain, x, r, n, skin, false);
+  build_rows(domain, x, r, n, skin, false, filter);
   perm_.resize(n);
   std::iota(perm_.begin(), perm_.end(), std::int64_t{0});
   carry_history(perm_);

@@ -29,7 +29,8 @@ class VerletList {
                                                const PairFilter& filter = {});
 
   /// Builds without re-ordering (the particle order is kept; no slabs for threading).
-  void build(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin);
+  void build(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin,
+             const PairFilter& filter = {});
 
   /// True when some particle moved more than displacement_limit() since the last build (or the
   /// count changed).

@@ -13,7 +13,8 @@ std::string Simulation::device_unsupported() const {
   if (particles_.has_shapes())
     return "the case has spherocylinders or polygons (the CUDA back end runs spheres)";
   if (gear_) return "integrator: gear5 (the CUDA back end integrates with velocity_verlet)";
-  if (particles_.has_fixed()) return "the case has fixed particle groups";
+  if (!fixed_motions_.empty())
+    return "the case has a fixed group with a prescribed motion (fixed groups at rest are taken)";
   if (cfg_.shear || domain_.sheared()) return "the case has a shear: block";
   if (cfd_) return "the case has a fluid (CFD-DEM)";
   if (cfg_.analysis.rheology) return "the case has analysis.rheology";
@@ -92,7 +93,11 @@ void Simulation::sync_from_device(const gpu::SphereDem& d, bool lists) {
   // then continues bit-identically on either back end, and the elastic energy sums the right
   // pairs.
   const std::size_t n = particles_.size();
-  nlist_.build(domain_, particles_.x(), particles_.radius(), n, skin_);
+  // (two fixed grains never meet: as update_neighbors, the list leaves their pairs out)
+  PairFilter filter;
+  if (const std::int32_t* fixed = particles_.fixed())
+    filter = [fixed](std::int32_t i, std::int32_t j) { return fixed[i] == 0 || fixed[j] == 0; };
+  nlist_.build(domain_, particles_.x(), particles_.radius(), n, skin_, filter);
   auto hist = nlist_.history();
   std::fill(hist.begin(), hist.end(), Vec3{});
   const auto off = nlist_.offsets();
@@ -106,7 +111,8 @@ void Simulation::sync_from_device(const gpu::SphereDem& d, bool lists) {
             e.j);
     hist[static_cast<std::size_t>(it - nb.begin())] = e.h;
   }
-  wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_, {}, nullptr, nullptr);
+  wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_, {}, nullptr,
+               particles_.fixed());
   auto wh = wlist_.history();
   std::fill(wh.begin(), wh.end(), Vec3{});
   const auto we = wlist_.entries();  // by grain, then wall

@@ -275,6 +275,44 @@ TEST_P(DeviceEngine, RotatingDrumFollowsTheHostRun) {
   EXPECT_EQ(gpu->n_wall_contacts(), cpu->n_wall_contacts());
 }
 
+// A rough base of fixed grains under the settling bed (periodic in x and y, no floor): the free
+// grains land on the fixed ones, which never move, never meet one another and act with infinite
+// mass (contact::reduced_mass). Bound as in SettlingBedFollowsTheHostRun; the base's load (the
+// series' fixed_force: the contact forces on the fixed grains) agrees to 1e-6 of itself.
+TEST_P(DeviceEngine, FixedBaseFollowsTheHostRun) {
+  test::TempDir tmp;
+  auto cfg = settling_case();
+  cfg.walls.clear();
+  cfg.domain.periodic = {true, true, false};
+  cfg.domain.min.z = -0.004;
+  // 8 x 8 glass spheres of r = 2.5 mm, 4.9 mm apart at z = -1 mm: the fixed neighbours overlap
+  // by 0.1 mm and must be left out of the lists (else they count as contacts); the free grains
+  // fall onto them.
+  test::add_fixed_sphere_layer(cfg, "glass", 0.0025, 0.0049, 0, 0.04, 0, 0.04, -0.001);
+  cfg.output.quantities = {"fixed_force"};
+  const auto gpu = run_case(cfg, GetParam(), 5000, tmp / "gpu");
+  const auto cpu = run_case(cfg, Device::Cpu, 5000, tmp / "cpu");
+  const double gap = max_position_gap(*gpu, *cpu);
+  const double load = gpu->quantity("fixed_force.z"), load_c = cpu->quantity("fixed_force.z");
+  std::printf(
+      "[%s] fixed base, 5000 steps: largest position gap %.3e m; load on the base %.6e / "
+      "%.6e N, %lld contacts\n",
+      name(), gap, load, load_c, static_cast<long long>(cpu->n_contacts()));
+  EXPECT_LT(gap, 1e-6 * 0.0015);
+  EXPECT_LT(load_c, 0.0);  // the bed presses on the base
+  EXPECT_NEAR(load, load_c, 1e-6 * std::abs(load_c));
+  EXPECT_EQ(gpu->n_contacts(), cpu->n_contacts());
+  // (summed over the host's lists rebuilt from the device's state: without the fixed pairs)
+  EXPECT_NEAR(gpu->quantity("elastic_energy"), cpu->quantity("elastic_energy"),
+              1e-6 * cpu->quantity("elastic_energy"));
+  const auto& p = gpu->particles();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.fixed()[i] != 0) {
+      ASSERT_EQ(p.v()[i], Vec3{}) << "fixed grain " << p.id()[i];
+      ASSERT_EQ(p.x()[i].z, -0.001) << "fixed grain " << p.id()[i];
+    }
+}
+
 TEST_P(DeviceEngine, PeriodicCohesiveBedFollowsTheHostRun) {
   test::TempDir tmp;
   const auto cfg = periodic_case();

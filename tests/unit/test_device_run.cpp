@@ -59,6 +59,13 @@ TEST(DeviceRun, NamesWhatTheBackEndCannotRun) {
   auto gear = spheres_in_a_box();
   gear.integrator = "gear5";
   EXPECT_NE(Simulation(gear).device_unsupported().find("gear5"), std::string::npos);
+  auto base = spheres_in_a_box();
+  test::add_fixed_sphere_layer(base, "glass", 0.002, 0.005, 0, 0.03, 0, 0.03, 0.035);
+  EXPECT_EQ(Simulation(base).device_unsupported(), "");  // fixed groups at rest: taken
+  base.particles.back().motion = config::Motion{};
+  base.particles.back().motion->velocity = {0.01, 0, 0};
+  EXPECT_NE(Simulation(base).device_unsupported().find("fixed group with a prescribed motion"),
+            std::string::npos);
   auto moving = spheres_in_a_box();
   test::add_plane(moving, "piston", {0, 0, 0.045}, {0, 0, -1}, "glass");
   moving.walls.back().motion.velocity = {0, 0, -0.1};
