@@ -258,6 +258,14 @@ RunSummary Simulation::run(const RunOptions& opts) {
     return sample || s >= last || due(s, vtk_every) || due(s, csv_every) ||
            (series && due(s, series_every)) || due(s, ckpt_every);
   };
+  // After each step (or device chunk) and its outputs: the progress line, and whether a stop was
+  // requested (SIGINT / SIGTERM / time limit: the run then ends with the outputs below).
+  auto reported_stop = [&] {
+    if (!opts.quiet)
+      progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first),
+                      n_contacts_);
+    return stop::requested() != 0;
+  };
   // A device run advances on the GPU up to the next step whose state something reads (an
   // output, the 1000-step check), then copies the state back for it; the lists and contact
   // histories too where they are read (checkpoints, the elastic energy).
@@ -286,10 +294,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
       lists_synced_at = lists ? step_ : -1;
     }
     write_outputs(false);
-    if (!opts.quiet)
-      progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first),
-                      n_contacts_);
-    if (stop::requested()) break;
+    if (reported_stop()) break;
   }
   // The final checkpoint needs the lists of the last step (a run that took no step keeps the
   // host's state as it was: the device has evaluated nothing).
@@ -308,10 +313,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
       reset_wall_means(WallMeans::Rheology);
     }
     write_outputs(sample);
-    if (!opts.quiet)
-      progress.update(time(), static_cast<std::int64_t>(particles_.size()) * (step_ - first),
-                      n_contacts_);
-    if (stop::requested()) break;  // SIGINT / SIGTERM / time limit: end with the outputs below
+    if (reported_stop()) break;
   }
   // An interrupted run may end on a step whose second half kick was deferred: complete it, so
   // that the checkpoint holds the same state as one written by an uninterrupted run.
