@@ -41,17 +41,24 @@ class DeviceEngine : public ::testing::TestWithParam<Device> {
   }
 };
 
-/// A polydisperse bed settling in a box with an open top (Hertz-Mindlin, friction, rolling
-/// resistance, two materials with different laws); radii 1.5-3 mm (up to ~13 list partners per
-/// grain: ListGrowsWhenAGrainHasMorePartners starts the list with fewer slots).
-config::Case settling_case() {
-  auto c = test::base_case(1e-5, 1.0, {0, 0, 0}, {0.04, 0.04, 0.08});
-  c.name = "settling bed";
+/// A case in the box [0, hi] under gravity, dt 1e-5 s, with glass grains (Hertz-Mindlin, friction,
+/// rolling resistance) and steel for the walls (their law: the caller's).
+config::Case glass_and_steel(const std::string& name, Vec3 hi) {
+  auto c = test::base_case(1e-5, 1.0, {0, 0, 0}, hi);
+  c.name = name;
   c.gravity = {0, 0, -9.81};
   test::add_material(c, "glass", 2500, 1e7, 0.3);
   test::add_material(c, "steel", 7800, 2e7, 0.28);
   test::add_contact(c, "glass", "glass", "hertz_mindlin",
                     {{"restitution", 0.5}, {"friction", 0.5}, {"rolling_friction", 0.05}});
+  return c;
+}
+
+/// A polydisperse bed settling in a box with an open top (Hertz-Mindlin, friction, rolling
+/// resistance, two materials with different laws); radii 1.5-3 mm (up to ~13 list partners per
+/// grain: ListGrowsWhenAGrainHasMorePartners starts the list with fewer slots).
+config::Case settling_case() {
+  auto c = glass_and_steel("settling bed", {0.04, 0.04, 0.08});
   test::add_contact(c, "glass", "steel", "hooke",
                     {{"restitution", 0.6}, {"friction", 0.3}, {"stiffness", 2e3}});
   auto& f = test::add_box_fill(c, "glass", 0.0015, 0.003, {0, 0, 0}, {0.04, 0.04, 0.06},
@@ -102,13 +109,7 @@ config::Case elastic_gas() {
 /// A rotating drum: a horizontal cylinder (axis y, radius 20 mm) turning at 6 rad/s between two
 /// fixed end plates, a polydisperse charge thrown in with random velocities.
 config::Case drum_case() {
-  auto c = test::base_case(1e-5, 1.0, {0, 0, 0}, {0.04, 0.03, 0.04});
-  c.name = "rotating drum";
-  c.gravity = {0, 0, -9.81};
-  test::add_material(c, "glass", 2500, 1e7, 0.3);
-  test::add_material(c, "steel", 7800, 2e7, 0.28);
-  test::add_contact(c, "glass", "glass", "hertz_mindlin",
-                    {{"restitution", 0.5}, {"friction", 0.5}, {"rolling_friction", 0.05}});
+  auto c = glass_and_steel("rotating drum", {0.04, 0.03, 0.04});
   test::add_contact(c, "glass", "steel", "hertz_mindlin",
                     {{"restitution", 0.6}, {"friction", 0.6}, {"rolling_friction", 0.02}});
   // (corners of the fill box within 17 mm of the axis: every grain starts inside)
