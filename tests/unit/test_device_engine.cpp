@@ -151,7 +151,6 @@ std::unique_ptr<Simulation> run_case(const config::Case& cfg, Device device, std
   return sim;
 }
 
-/// Largest distance between the positions of the same grains (by id) in two runs, m.
 /// Index of each grain (by id) in b's store: runs may order their grains differently.
 std::map<std::int64_t, std::size_t> index_by_id(const Simulation& b) {
   std::map<std::int64_t, std::size_t> at;
@@ -167,6 +166,20 @@ double max_position_gap(const Simulation& a, const Simulation& b) {
     gap =
         std::max(gap, norm(a.particles().x()[i] - b.particles().x()[at.at(a.particles().id()[i])]));
   return gap;
+}
+
+/// The same case run on `device` (into tmp/gpu) and on the host step (tmp/cpu), and the largest
+/// position gap between the two, m.
+struct BothRuns {
+  std::unique_ptr<Simulation> gpu, cpu;
+  double gap;
+};
+BothRuns run_on_both(const config::Case& cfg, Device device, std::int64_t steps,
+                     const std::filesystem::path& tmp) {
+  auto gpu = run_case(cfg, device, steps, tmp / "gpu");
+  auto cpu = run_case(cfg, Device::Cpu, steps, tmp / "cpu");
+  const double gap = max_position_gap(*gpu, *cpu);
+  return {std::move(gpu), std::move(cpu), gap};
 }
 
 /// The same grains (by id) have the same bits of position, velocity and spin in both runs.
@@ -202,9 +215,7 @@ const char* name() {
 TEST_P(DeviceEngine, SettlingBedFollowsTheHostRun) {
   test::TempDir tmp;
   const auto cfg = settling_case();
-  const auto gpu = run_case(cfg, GetParam(), 3000, tmp / "gpu");
-  const auto cpu = run_case(cfg, Device::Cpu, 3000, tmp / "cpu");
-  const double gap = max_position_gap(*gpu, *cpu);
+  const auto [gpu, cpu, gap] = run_on_both(cfg, GetParam(), 3000, tmp.path());
   std::printf("[%s] settling bed, 3000 steps: largest position gap %.3e m (%.3e of r_min)\n",
               name(), gap, gap / 0.0015);
   EXPECT_LT(gap, 1e-6 * 0.0015);
@@ -234,9 +245,7 @@ TEST_P(DeviceEngine, MovingWallsFollowTheHostRun) {
   cfg.walls.back().motion.axis = {0, 0, 1};
   cfg.walls.back().motion.center = {0.002, 0.02, 0};
   cfg.output.quantities = {"wall_force.lid", "wall_torque.lid"};
-  const auto gpu = run_case(cfg, GetParam(), 3000, tmp / "gpu");
-  const auto cpu = run_case(cfg, Device::Cpu, 3000, tmp / "cpu");
-  const double gap = max_position_gap(*gpu, *cpu);
+  const auto [gpu, cpu, gap] = run_on_both(cfg, GetParam(), 3000, tmp.path());
   const Vec3 f = gpu->walls()[5].force, fc = cpu->walls()[5].force;
   std::printf(
       "[%s] moving walls, 3000 steps: largest position gap %.3e m; lid force %.6e / %.6e N, "
@@ -261,9 +270,7 @@ TEST_P(DeviceEngine, RotatingDrumFollowsTheHostRun) {
   test::TempDir tmp;
   auto cfg = drum_case();
   cfg.output.quantities = {"wall_torque.drum"};
-  const auto gpu = run_case(cfg, GetParam(), 6000, tmp / "gpu");
-  const auto cpu = run_case(cfg, Device::Cpu, 6000, tmp / "cpu");
-  const double gap = max_position_gap(*gpu, *cpu);
+  const auto [gpu, cpu, gap] = run_on_both(cfg, GetParam(), 6000, tmp.path());
   const Vec3 tq = gpu->walls()[0].torque, tqc = cpu->walls()[0].torque;
   std::printf(
       "[%s] rotating drum, 6000 steps: largest position gap %.3e m; drum torque %.6e / "
@@ -291,9 +298,7 @@ TEST_P(DeviceEngine, FixedBaseFollowsTheHostRun) {
   // fall onto them.
   test::add_fixed_sphere_layer(cfg, "glass", 0.0025, 0.0049, 0, 0.04, 0, 0.04, -0.001);
   cfg.output.quantities = {"fixed_force"};
-  const auto gpu = run_case(cfg, GetParam(), 5000, tmp / "gpu");
-  const auto cpu = run_case(cfg, Device::Cpu, 5000, tmp / "cpu");
-  const double gap = max_position_gap(*gpu, *cpu);
+  const auto [gpu, cpu, gap] = run_on_both(cfg, GetParam(), 5000, tmp.path());
   const double load = gpu->quantity("fixed_force.z"), load_c = cpu->quantity("fixed_force.z");
   std::printf(
       "[%s] fixed base, 5000 steps: largest position gap %.3e m; load on the base %.6e / "
@@ -317,9 +322,7 @@ TEST_P(DeviceEngine, FixedBaseFollowsTheHostRun) {
 TEST_P(DeviceEngine, PeriodicCohesiveBedFollowsTheHostRun) {
   test::TempDir tmp;
   const auto cfg = periodic_case();
-  const auto gpu = run_case(cfg, GetParam(), 3000, tmp / "gpu");
-  const auto cpu = run_case(cfg, Device::Cpu, 3000, tmp / "cpu");
-  const double gap = max_position_gap(*gpu, *cpu);
+  const auto [gpu, cpu, gap] = run_on_both(cfg, GetParam(), 3000, tmp.path());
   std::printf("[%s] periodic cohesive bed, 3000 steps: largest position gap %.3e m\n", name(), gap);
   EXPECT_LT(gap, 1e-6 * 0.002);
   EXPECT_EQ(gpu->n_contacts(), cpu->n_contacts());
