@@ -30,7 +30,12 @@ struct RigidMotion {
   /// Rodrigues rotation of a direction by angle rate * t about axis.
   GF_HOST_DEVICE Vec3 rotate(const Vec3& d, double t) const {
     if (rate == 0) return d;
-    const double a = rate * t, c = std::cos(a), s = std::sin(a);
+    const double a = rate * t;
+    return rotate_by(d, std::cos(a), std::sin(a));
+  }
+  /// Rodrigues rotation about axis by the angle of cosine c and sine s (the device back end
+  /// takes them from the host: the same bits as rotate()).
+  GF_HOST_DEVICE Vec3 rotate_by(const Vec3& d, double c, double s) const {
     return c * d + s * cross(axis, d) + (1 - c) * dot(axis, d) * axis;
   }
   GF_HOST_DEVICE Vec3 point_at(const Vec3& p0, double t) const {

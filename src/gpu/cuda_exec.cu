@@ -32,6 +32,11 @@ __global__ void drift_kernel(Grains g, Domain dom, double dt, Vec3 gravity, doub
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < g.n) drift_one(i, g, dom, dt, gravity, half_skin2, flag);
 }
+__global__ void place_kernel(Grains g, const PlacedMotion* motions, Domain dom, double half_skin2,
+                             int* flag) {
+  const int i = blockIdx.x * blockDim.x + threadIdx.x;
+  if (i < g.n) place_one(i, g, motions, dom, half_skin2, flag);
+}
 __global__ void kick_kernel(Grains g, double dt) {
   const int i = blockIdx.x * blockDim.x + threadIdx.x;
   if (i < g.n) kick_one(i, g, dt);
@@ -106,6 +111,11 @@ struct CudaExec {
                     double half_skin2, int* flag) {
     drift_kernel<<<blocks(g.n), kBlock>>>(g, dom, dt, gravity, half_skin2, flag);
     check(cudaGetLastError(), "drift kernel");
+  }
+  static void place(const Grains& g, const PlacedMotion* motions, const Domain& dom,
+                    double half_skin2, int* flag) {
+    place_kernel<<<blocks(g.n), kBlock>>>(g, motions, dom, half_skin2, flag);
+    check(cudaGetLastError(), "place kernel");
   }
   static void kick(const Grains& g, double dt) {
     kick_kernel<<<blocks(g.n), kBlock>>>(g, dt);

@@ -60,6 +60,10 @@ class Engine final : public EngineBase {
     inertia_.upload(p.inertia(), n);
     mat_.upload(p.material(), n);
     if (p.fixed() != nullptr) fixed_.upload(p.fixed(), n);
+    if (!s_.fixed_motions.empty()) {
+      REQUIRE(p.fixed_x0() != nullptr, "fixed groups with a motion need their positions at t = 0");
+      x0_.upload(p.fixed_x0(), n);
+    }
     x_ref_.resize(n);
     key_.resize(n);
     sorted_.resize(n);
@@ -139,6 +143,18 @@ class Engine final : public EngineBase {
       // The time of this step's end, where the host puts the walls (Simulation::step).
       const double t = static_cast<double>(s_.first_step + counts_.steps + 1) * s_.dt;
       Exec::drift(grains(), s_.domain, s_.dt, s_.gravity, half_skin2, flag_.ptr);
+      if (!s_.fixed_motions.empty()) {
+        // Each motion placed on the host (its cosine and sine, as RigidMotion::rotate takes
+        // them), copied over (a few motions), its grains carried on the device.
+        std::vector<PlacedMotion> placed;
+        for (const auto& m : s_.fixed_motions) {
+          PlacedMotion pm{m, t};
+          if (m.rate != 0) pm.c = std::cos(m.rate * t), pm.s = std::sin(m.rate * t);
+          placed.push_back(pm);
+        }
+        placed_.upload(placed.data(), placed.size());
+        Exec::place(grains(), placed_.ptr, s_.domain, half_skin2, flag_.ptr);
+      }
       if (Exec::read(flag_.ptr) != 0) {
         Exec::write(flag_.ptr, 0);
         build_list();
@@ -229,9 +245,9 @@ class Engine final : public EngineBase {
   DeviceCounts counts() const override {
     DeviceCounts c = counts_;
     auto add = [&c](const auto&... a) { ((c.bytes += a.size * sizeof(*a.ptr)), ...); };
-    add(x_, v_, om_, f_, tq_, x_ref_, r_, m_, inertia_, mat_, fixed_, key_, sorted_, cell_start_,
-        cell_end_, touching_, wall_touching_, flag_, coeffs_, walls_, wall_hist_, wall_reaction_,
-        wall_reaction_torque_);
+    add(x_, v_, om_, f_, tq_, x_ref_, x0_, r_, m_, inertia_, mat_, fixed_, placed_, key_, sorted_,
+        cell_start_, cell_end_, touching_, wall_touching_, flag_, coeffs_, walls_, wall_hist_,
+        wall_reaction_, wall_reaction_torque_);
     for (const auto& l : lists_) add(l.nb, l.count, l.found, l.hist);
     return c;
   }
@@ -247,9 +263,11 @@ class Engine final : public EngineBase {
   }
 
   Grains grains() {
-    return Grains{n_,     x_.ptr,       v_.ptr,     om_.ptr,
-                  f_.ptr, tq_.ptr,      x_ref_.ptr, r_.ptr,
-                  m_.ptr, inertia_.ptr, mat_.ptr,   fixed_.size > 0 ? fixed_.ptr : nullptr};
+    Grains g{n_,         x_.ptr, v_.ptr, om_.ptr,      f_.ptr,  tq_.ptr,
+             x_ref_.ptr, r_.ptr, m_.ptr, inertia_.ptr, mat_.ptr};
+    if (fixed_.size > 0) g.fixed = fixed_.ptr;
+    if (x0_.size > 0) g.x0 = x0_.ptr;
+    return g;
   }
   Walls walls() {
     return Walls{walls_.ptr, static_cast<int>(s_.walls.size()), wall_hist_.ptr, wall_reaction_.ptr,
@@ -316,7 +334,8 @@ class Engine final : public EngineBase {
   SphereDemSetup s_;
   int n_ = 0;
   Laws laws_;
-  Array<Vec3> x_, v_, om_, f_, tq_, x_ref_;
+  Array<Vec3> x_, v_, om_, f_, tq_, x_ref_, x0_;
+  Array<PlacedMotion> placed_;
   Array<double> r_, m_, inertia_;
   Array<int> mat_, fixed_, key_, sorted_, cell_start_, cell_end_, touching_, wall_touching_, flag_;
   Array<contact::PairCoeffs> coeffs_;

@@ -34,6 +34,10 @@ struct HostExec {
                     double half_skin2, int* flag) {
     for (int i = 0; i < g.n; ++i) drift_one(i, g, dom, dt, gravity, half_skin2, flag);
   }
+  static void place(const Grains& g, const PlacedMotion* motions, const Domain& dom,
+                    double half_skin2, int* flag) {
+    for (int i = 0; i < g.n; ++i) place_one(i, g, motions, dom, half_skin2, flag);
+  }
   static void kick(const Grains& g, double dt) {
     for (int i = 0; i < g.n; ++i) kick_one(i, g, dt);
   }

@@ -25,8 +25,25 @@ struct Grains {
   /// Non-zero for the grains of fixed groups (ParticleStore::fixed; null: none): never
   /// integrated, two of them never listed, no wall contacts, infinite mass in a contact.
   const int* fixed = nullptr;
+  /// Positions at t = 0 of the grains of fixed groups with a prescribed motion (null: none).
+  const Vec3* x0 = nullptr;
   GF_HOST_DEVICE bool is_fixed(int i) const { return fixed != nullptr && fixed[i] != 0; }
 };
+
+/// The prescribed motion of a fixed group placed at time t by the host: the cosine and sine of
+/// its rotation angle come from the host's std::cos and std::sin, so that the device carries the
+/// grains with the bits of the host step (Simulation::place_fixed_groups, RigidMotion::carry).
+struct PlacedMotion {
+  RigidMotion m;
+  double t = 0, c = 1, s = 0;
+  GF_HOST_DEVICE Vec3 carry(const Vec3& p0) const {
+    if (m.rate == 0) return p0 + (t > m.start ? t - m.start : 0.0) * m.velocity;
+    return m.center_at(t) + m.rotate_by(p0 - m.center, c, s);
+  }
+};
+
+/// The first fixed[] value of a moving group (ParticleStore::kFixedMoving + its motion).
+constexpr int kFixedMoving = ParticleStore::kFixedMoving;
 
 /// Cell grid of the neighbour search: nc cells along each axis from lo, cell widths w.
 struct CellGrid {
@@ -109,6 +126,23 @@ GF_HOST_DEVICE inline void drift_one(int i, const Grains& g, const Domain& dom, 
   g.tq[i] = Vec3{};
   const Vec3 d = dom.any_periodic() ? dom.delta(xi, g.x_ref[i]) : xi - g.x_ref[i];
   if (norm2(d) > half_skin2) *rebuild = 1;
+}
+
+/// After the drift: grain i, when of a fixed group with a prescribed motion, is placed where its
+/// motion carries it at the step's end (position wrapped, velocity, spin), as the host step
+/// places it; raises *rebuild as the drift does when it moved more than half the skin.
+GF_HOST_DEVICE inline void place_one(int i, const Grains& g, const PlacedMotion* motions,
+                                     const Domain& dom, double half_skin2, int* rebuild) {
+  const int k = g.fixed[i] - kFixedMoving;
+  if (k < 0) return;
+  const PlacedMotion& pm = motions[k];
+  const Vec3 at = pm.carry(g.x0[i]);  // (the rigid body's own point: not wrapped)
+  Vec3 x = at;
+  if (dom.any_periodic()) dom.wrap(x);
+  g.x[i] = x;
+  g.v[i] = pm.m.velocity_at(at, pm.t);
+  g.om[i] = pm.m.omega();
+  if (norm2(dom.delta(x, g.x_ref[i])) > half_skin2) *rebuild = 1;
 }
 
 /// Second half kick of grain i: v += dt/2 F/m, omega += dt/2 T/I.

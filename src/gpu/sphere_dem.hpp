@@ -7,8 +7,8 @@
 // (contact/laws, host/device), the same integrator, so the two agree to rounding (the order in
 // which a grain's contact forces are summed differs). It takes the cases of spheres with
 // velocity Verlet, any contact models of the registry (rolling resistance and cohesion
-// included), plane, box and cylinder walls, fixed or with prescribed rigid motion, fixed grains
-// at rest, gravity, and periodic axes; the Simulation refuses the others before it starts
+// included), plane, box and cylinder walls, fixed or with prescribed rigid motion, fixed groups
+// (at rest or with a prescribed motion), gravity, and periodic axes; the Simulation refuses the others before it starts
 // (Simulation::device_unsupported).
 //
 // The CUDA back end is built with -DGF_ENABLE_CUDA=ON (CMake preset `cuda`). Every build has the
@@ -76,6 +76,9 @@ struct SphereDemSetup {
   double skin = 0;  ///< m: pairs closer than r_i + r_j + skin are listed
   PairTable<contact::PairCoeffs> pairs;
   std::vector<DeviceWall> walls;
+  /// The prescribed motions of the fixed groups that move (motion k for the grains with
+  /// ParticleStore::fixed = kFixedMoving + k; their fixed_x0 the positions at t = 0).
+  std::vector<RigidMotion> fixed_motions;
   /// Histories of the contacts at the start (a run continued from a state with contacts): each
   /// grain pair once, in either order; grain-wall pairs.
   std::vector<HistoryEntry> pair_history, wall_history;

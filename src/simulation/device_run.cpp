@@ -13,8 +13,6 @@ std::string Simulation::device_unsupported() const {
   if (particles_.has_shapes())
     return "the case has spherocylinders or polygons (the CUDA back end runs spheres)";
   if (gear_) return "integrator: gear5 (the CUDA back end integrates with velocity_verlet)";
-  if (!fixed_motions_.empty())
-    return "the case has a fixed group with a prescribed motion (fixed groups at rest are taken)";
   if (cfg_.shear || domain_.sheared()) return "the case has a shear: block";
   if (cfd_) return "the case has a fluid (CFD-DEM)";
   if (cfg_.analysis.rheology) return "the case has analysis.rheology";
@@ -41,6 +39,7 @@ std::shared_ptr<gpu::SphereDem> Simulation::start_device(Device device) {
   s.skin = skin_;
   s.pairs = pairs_;
   s.first_step = step_;
+  for (const auto& m : fixed_motions_) s.fixed_motions.push_back(m.motion);
   for (const auto& w : walls_) {
     gpu::DeviceWall p;
     p.kind = w.kind;
