@@ -8,8 +8,8 @@
 // which a grain's contact forces are summed differs). It takes the cases of spheres with
 // velocity Verlet, any contact models of the registry (rolling resistance and cohesion
 // included), plane, box and cylinder walls, fixed or with prescribed rigid motion, fixed groups
-// (at rest or with a prescribed motion), gravity, and periodic axes; the Simulation refuses the others before it starts
-// (Simulation::device_unsupported).
+// (at rest or with a prescribed motion), gravity, and periodic axes; the Simulation refuses the
+// others before it starts (Simulation::device_unsupported).
 //
 // The CUDA back end is built with -DGF_ENABLE_CUDA=ON (CMake preset `cuda`). Every build has the
 // host mirror: the same orchestration and per-grain bodies (engine.hpp, kernels.hpp) run in
