@@ -45,8 +45,15 @@ struct RigidMotion {
   /// that a translation alone carries p0 by exactly V max(0, t - start) (without the round-off
   /// of (p0 - center) + center): the grains of fixed groups (docs/models/fixed_particles.md).
   GF_HOST_DEVICE Vec3 carry(const Vec3& p0, double t) const {
+    if (rate == 0) return carry_by(p0, t, 1, 0);
+    const double a = rate * t;
+    return carry_by(p0, t, std::cos(a), std::sin(a));
+  }
+  /// carry() with the rotation angle's cosine c and sine s given (the device back end takes
+  /// them from the host: the same bits as carry()).
+  GF_HOST_DEVICE Vec3 carry_by(const Vec3& p0, double t, double c, double s) const {
     if (rate == 0) return p0 + (t > start ? t - start : 0.0) * velocity;
-    return point_at(p0, t);
+    return center_at(t) + rotate_by(p0 - center, c, s);
   }
   /// Orientation (body -> world) at time t of a body whose orientation is q0 at t = 0: q0 turned
   /// by the angle rate * t about axis, as rotate() turns directions.

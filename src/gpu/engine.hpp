@@ -146,13 +146,13 @@ class Engine final : public EngineBase {
       if (!s_.fixed_motions.empty()) {
         // Each motion placed on the host (its cosine and sine, as RigidMotion::rotate takes
         // them), copied over (a few motions), its grains carried on the device.
-        std::vector<PlacedMotion> placed;
+        placed_host_.clear();
         for (const auto& m : s_.fixed_motions) {
           PlacedMotion pm{m, t};
           if (m.rate != 0) pm.c = std::cos(m.rate * t), pm.s = std::sin(m.rate * t);
-          placed.push_back(pm);
+          placed_host_.push_back(pm);
         }
-        placed_.upload(placed.data(), placed.size());
+        placed_.upload(placed_host_.data(), placed_host_.size());
         Exec::place(grains(), placed_.ptr, s_.domain, half_skin2, flag_.ptr);
       }
       if (Exec::read(flag_.ptr) != 0) {
@@ -336,6 +336,7 @@ class Engine final : public EngineBase {
   Laws laws_;
   Array<Vec3> x_, v_, om_, f_, tq_, x_ref_, x0_;
   Array<PlacedMotion> placed_;
+  std::vector<PlacedMotion> placed_host_;  ///< (kept: no allocation per step)
   Array<double> r_, m_, inertia_;
   Array<int> mat_, fixed_, key_, sorted_, cell_start_, cell_end_, touching_, wall_touching_, flag_;
   Array<contact::PairCoeffs> coeffs_;

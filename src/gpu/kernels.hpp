@@ -36,10 +36,7 @@ struct Grains {
 struct PlacedMotion {
   RigidMotion m;
   double t = 0, c = 1, s = 0;
-  GF_HOST_DEVICE Vec3 carry(const Vec3& p0) const {
-    if (m.rate == 0) return p0 + (t > m.start ? t - m.start : 0.0) * m.velocity;
-    return m.center_at(t) + m.rotate_by(p0 - m.center, c, s);
-  }
+  GF_HOST_DEVICE Vec3 carry(const Vec3& p0) const { return m.carry_by(p0, t, c, s); }
 };
 
 /// The first fixed[] value of a moving group (ParticleStore::kFixedMoving + its motion).
