@@ -270,4 +270,36 @@ with validation_run.validation_run(args.build, "Validation*:AllLaws*:Laws*:*/Val
     fig.tight_layout()
     fig.savefig(os.path.join(PLOT_DIR, "dem_fixed_particles.png"), dpi=120)
 
+    # Disks with polygons, polygons in drums (tests/validation/test_disk_polygon_validation.cpp).
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    a = ax[0]
+    rows = [("disk on a square", "disk_square_stack_disk_on_top"),
+            ("square on a disk", "disk_square_stack_disk_below"),
+            ("square in a drum\n(on its two corners)", "square_in_drum_rest")]
+    x = np.arange(len(rows))
+    ratio = [float(load(os.path.join(out, f + ".csv"))["relative_error"]) for _, f in rows]
+    a.bar(x, np.abs(ratio) + 1e-16, color="C0")
+    a.axhline(1e-3, color="r", ls="--", lw=0.8, label="tolerance 1e-3")
+    a.set_yscale("log")
+    a.set_xticks(x, [n for n, _ in rows], fontsize=8)
+    a.set_ylabel("|A(measured depth) / (m g l_c / k) - 1|")
+    a.set_title("At rest: exact overlap area against the weight it carries", fontsize=10)
+    a.legend(fontsize=7)
+    a = ax[1]
+    d = load(os.path.join(out, "square_in_drum_turning.csv"))
+    s = load(os.path.join(out, "square_in_drum_slip.csv"))
+    a.plot(d["t"], d["angle_deg"], "-", label="square's angular position")
+    k = int(np.argmin(np.abs(d["t"] - 0.2)))  # (after the drop and first slide, ~0.05 s)
+    a.plot(d["t"], d["drum_deg"] - d["drum_deg"][k] + d["angle_deg"][k], "k--", lw=0.8,
+           label="turning with the drum")
+    a.axhline(float(s["friction_angle_deg"]), color="C2", lw=0.8, label="atan(mu)")
+    a.axhline(float(s["expected_deg"]), color="C3", ls=":", lw=1,
+              label="expected 10 % lag (load shift + deceleration)")
+    a.set_xlabel("t (s)")
+    a.set_ylabel("angle from the bottom (degrees)")
+    a.set_title("Square in a drum turning at 0.5 rad/s (R = 0.5 m, mu = 0.5)", fontsize=10)
+    a.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(PLOT_DIR, "dem2d_disk_polygon.png"), dpi=120)
+
 print("plots written to", PLOT_DIR)

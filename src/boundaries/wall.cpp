@@ -177,7 +177,8 @@ bool sphere_wall(const Wall& w, const Vec3& x, double r, WallGeometry& g) {
 /// Contact of slot `slot` of particle i with wall w; false when that slot is apart. Spheres and
 /// disks use slot 0; spherocylinders one slot per end sphere (plane, inside of a cylinder: the
 /// gap is smallest at the ends) or slot 0 at the closest point (outside of a cylinder); polygons
-/// slot 0, the overlap with the wall's half-plane with l_c = R (equal-area radius: the
+/// slot 0, the overlap with the wall's half-plane (or, for a cylinder, with the solid beyond its
+/// circle: contact/geometry/disk_polygon.hpp) with l_c = R (equal-area radius: the
 /// characteristic length against a rigid wall), see contact/shape_forces.hpp. Mesh walls: the
 /// contact of triangle `element` if the surface's contact is there, slot 0 for a sphere, the
 /// slots of TriangleMesh::capsule_contact for a spherocylinder (boundaries/triangle_mesh).
@@ -206,10 +207,14 @@ bool wall_slot_geometry(const Wall& w, std::int32_t element, const contact::Shap
   if (s == nullptr || s->code(i) == ShapeCode::Sphere || s->code(i) == ShapeCode::Disk)
     return slot == 0 && sphere_wall(w, x, r, g);
   if (s->code(i) == ShapeCode::Polygon) {
-    if (slot != 0 || w.kind != WallKind::Plane) return false;  // cylinders refused earlier
+    if (slot != 0) return false;
     contact::PolygonOverlap o;
-    if (!contact::polygon_halfplane_overlap(s->world_polygon(i, x), Vec2{w.point.x, w.point.y},
-                                            Vec2{w.dir.x, w.dir.y}, o))
+    const ConvexPolygon poly = s->world_polygon(i, x);
+    const Vec2 at{w.point.x, w.point.y};
+    // (2D: a cylinder's axis is z, its section the circle about w.point)
+    if (w.kind == WallKind::Cylinder
+            ? !contact::polygon_circle_wall_overlap(poly, at, w.radius, w.inside, o)
+            : !contact::polygon_halfplane_overlap(poly, at, Vec2{w.dir.x, w.dir.y}, o))
       return false;
     const double req = s->equivalent_radius(i);
     contact::polygon_law_inputs(o, contact::polygon_characteristic_length(req, 0.0), g);

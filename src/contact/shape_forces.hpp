@@ -16,12 +16,15 @@
 //     hitting a flat face realises the requested restitution (a vertex contact stiffens as it
 //     deepens, like Hertz's). Everything the law returns is scaled by s (the Coulomb cap
 //     mu F_n is then consistent); r_eff = R_i R_j / (R_i + R_j).
-// Disk-polygon pairs are not supported (the simulation refuses such cases before running).
+//   - a disk and a polygon: the same overlap-area law, with the exact overlap of the disk and
+//     the polygon (contact/geometry/disk_polygon.hpp) and R_disk as the disk's equal-area radius,
+//     so that a disk meets a polygon as the limit of a polygon of many sides would.
 #pragma once
 
 #include <cstdint>
 
 #include "contact/geometry/capsule.hpp"
+#include "contact/geometry/disk_polygon.hpp"
 #include "contact/geometry/polygon2d.hpp"
 #include "contact/laws/contact_io.hpp"
 #include "contact/pair_forces.hpp"
@@ -101,11 +104,24 @@ GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t 
   const double reach = s.radius[i] + s.radius[j];
   if (norm2(xi - xj) >= reach * reach) return false;
   if (ci == ShapeCode::Polygon || cj == ShapeCode::Polygon) {
-    if (ci != ShapeCode::Polygon || cj != ShapeCode::Polygon) return false;  // refused earlier
-    const ConvexPolygon pj = s.world_polygon(j, xj);
     PolygonOverlap o;
-    if (!polygon_overlap(*poly_i, pj, o)) return false;
-    const double ri = s.equivalent_radius(i), rj = s.equivalent_radius(j);
+    double ri = 0, rj = 0;
+    if (ci == cj) {
+      if (!polygon_overlap(*poly_i, s.world_polygon(j, xj), o)) return false;
+      ri = s.equivalent_radius(i);
+      rj = s.equivalent_radius(j);
+    } else if (ci == ShapeCode::Disk) {
+      ri = s.radius[i];
+      rj = s.equivalent_radius(j);
+      if (!disk_polygon_overlap(Vec2{xi.x, xi.y}, ri, s.world_polygon(j, xj), o)) return false;
+    } else if (cj == ShapeCode::Disk) {
+      ri = s.equivalent_radius(i);
+      rj = s.radius[j];
+      if (!disk_polygon_overlap(Vec2{xj.x, xj.y}, rj, *poly_i, o)) return false;
+      o.normal = -o.normal;  // from j (the disk) to i
+    } else {
+      return false;  // a polygon with a 3D shape: refused before the run
+    }
     polygon_law_inputs(o, polygon_characteristic_length(ri, rj), g);
     g.r_eff = ri * rj / (ri + rj);
     return true;

@@ -211,17 +211,11 @@ void Simulation::build_particles() {
   std::map<std::string, int> mat_index;
   for (std::size_t m = 0; m < cfg_.materials.size(); ++m)
     mat_index[cfg_.materials[m].name] = static_cast<int>(m);
-  bool disks = false, polygons = false, capsules = false;
+  bool polygons = false, capsules = false;
   for (const auto& g : cfg_.particles) {
-    disks |= g.kind == config::Shape::Disk;
     polygons |= g.kind == config::Shape::Polygon;
     capsules |= g.kind == config::Shape::Spherocylinder;
   }
-  if (disks && polygons)
-    throw InputError(fmt::format(
-        "{}: disks and polygons in one case are not supported yet (no disk-polygon contact); "
-        "use polygons only (e.g. regular 16-gons for round grains)",
-        cfg_.file.string()));
   if (gear_ && capsules)
     throw InputError(fmt::format(
         "{}: integrator 'gear5' is not available with spherocylinders (their rotation needs the "
@@ -436,14 +430,6 @@ void Simulation::build_walls() {
       if (used[m] && pairs_(static_cast<int>(m), it->second).model < 0)
         throw InputError(fmt::format("{}: no entry in 'contacts' for the material pair [{}, {}]",
                                      where(wc.loc), materials_[m].name, wc.material));
-    if (particles_.has_shapes() && wc.kind == config::Wall::Kind::Cylinder) {
-      for (std::size_t i = 0; i < particles_.size(); ++i)
-        if (static_cast<ShapeCode>(particles_.shape()[i]) == ShapeCode::Polygon)
-          throw InputError(fmt::format(
-              "{}: cylinder walls with polygon grains are not supported yet; use plane or box "
-              "walls",
-              where(wc.loc)));
-    }
     Wall w;
     w.name = wc.name;
     w.group = wc.name;

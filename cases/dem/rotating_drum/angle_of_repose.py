@@ -2,6 +2,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 # Dynamic angle of repose of the rotating drum from grainflow's particle CSV files.
 """Usage: /usr/bin/python3 angle_of_repose.py OUTPUT_DIR [--skip SECONDS] [--plot FILE.png]
+                         [--radius R] [--dt DT] [--up z|y] [--title TEXT]
 
 The free surface is the top of the bed in vertical columns (x bins) across the central 60 % of
 the drum diameter; a straight line fitted to the column tops gives the angle with the
@@ -19,6 +20,9 @@ ap.add_argument("--radius", type=float, default=0.1, help="drum radius (m)")
 ap.add_argument("--dt", type=float, default=2.0e-5, help="time step, to turn file numbers into times (s)")
 ap.add_argument("--skip", type=float, default=1.0, help="ignore snapshots before this time (s)")
 ap.add_argument("--plot", help="write a PNG of the last snapshot and its fit")
+ap.add_argument("--up", choices=["z", "y"], default="z",
+                help="the vertical axis: z (3D drum, axis along y) or y (2D drum)")
+ap.add_argument("--title", default="rotating drum, 15 rpm", help="title of the plot")
 args = ap.parse_args()
 
 angles = []
@@ -29,7 +33,7 @@ for path in sorted(glob.glob(os.path.join(args.output, "particles_*.csv"))):
     if t < args.skip:
         continue
     d = np.genfromtxt(path, delimiter=",", names=True)
-    x, z, r = d["x"], d["z"], d["radius"]
+    x, z, r = d["x"], d[args.up], d["radius"]
     edges = np.linspace(-0.6 * args.radius, 0.6 * args.radius, 25)
     xs, tops = [], []
     for a, b in zip(edges[:-1], edges[1:]):
@@ -62,6 +66,6 @@ if args.plot and last:
     xx = np.array([xs[0], xs[-1]])
     ax.plot(xx, slope * xx + icpt, "r-", label=f"fit: {angle:.1f} deg")
     ax.set_aspect("equal")
-    ax.set_title(f"rotating drum, 15 rpm, t = {t:.2f} s")
+    ax.set_title(f"{args.title}, t = {t:.2f} s")
     ax.legend()
     fig.savefig(args.plot, dpi=120)

@@ -1465,7 +1465,7 @@ void Reader::read_walls(const YamlMap& root) {
       if (two_d()) w.open.insert(w.open.end(), {"zmin", "zmax"});
     } else {
       // In 2D a cylinder is a circle in the plane (its axis is z): an obstacle (inside: false)
-      // or a vessel (inside: true) for disks.
+      // or a vessel (inside: true) for disks and polygons.
       YamlMap cm(wm.at("cylinder"),
                  two_d() ? std::vector<std::string>{"center", "radius", "inside"}
                          : std::vector<std::string>{"center", "axis", "radius", "inside"});
