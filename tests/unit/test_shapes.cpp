@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -71,6 +72,55 @@ config::Case polygons_case() {
   g.polygon.min_elongation = 1.0;
   g.polygon.max_elongation = 2.0;
   test::add_box(c, "box", {0, 0, 0}, {0.15, 0.4, 0}, {"ymax"}, "stone");
+  return c;
+}
+
+/// 2D disks and random polygons together in a turning drum (a circular wall), velocity Verlet:
+/// disk-polygon contacts and polygon-circle wall contacts.
+config::Case mixed_drum_case() {
+  auto c = test::base_case(5e-6, 1.0, {0, 0, 0}, {0.15, 0.15, 0});
+  c.dimension = 2;
+  c.domain.thickness = 0.01;
+  c.gravity = {0, -9.81, 0};
+  test::add_material(c, "stone", 2600, 1e7, 0.3);
+  test::add_contact(c, "stone", "stone", "hooke",
+                    {{"restitution", 0.5}, {"friction", 0.5}, {"stiffness", 1e5}});
+  // (boxes inside the drum: polygons below, near the drum's bottom, disks above)
+  auto& f = test::add_box_fill(c, "stone", 0.0015, 0.0025, {0.035, 0.02, 0}, {0.115, 0.065, 0},
+                               config::Fill::Lattice::Random);
+  f.count = 12;
+  f.velocity = {0, -1.0, 0};
+  f.seed = 9;
+  f.velocity_jitter = 0.5;
+  auto& g = c.particles.back();
+  g.kind = config::Shape::Polygon;
+  g.shape = "polygon";
+  g.polygon.kind = config::PolygonSpec::Kind::Random;
+  g.polygon.min_vertices = 4;
+  g.polygon.max_vertices = 9;
+  g.polygon.min_elongation = 1.0;
+  g.polygon.max_elongation = 1.5;
+  auto& fd = test::add_box_fill(c, "stone", 0.0015, 0.0025, {0.03, 0.067, 0}, {0.12, 0.12, 0},
+                                config::Fill::Lattice::Random);
+  fd.count = 60;
+  fd.velocity = {0, -1.0, 0};
+  fd.seed = 10;
+  fd.velocity_jitter = 0.5;
+  c.particles.back().kind = config::Shape::Disk;
+  c.particles.back().shape = "disk";
+  config::Wall drum;
+  drum.name = "drum";
+  drum.kind = config::Wall::Kind::Cylinder;
+  drum.center = {0.075, 0.075, 0};
+  drum.axis = {0, 0, 1};
+  drum.radius = 0.07;
+  drum.inside = true;
+  drum.material = "stone";
+  drum.motion.rotates = true;
+  drum.motion.axis = {0, 0, 1};
+  drum.motion.center = {0.075, 0.075, 0};
+  drum.motion.rate = 3;
+  c.walls.push_back(drum);
   return c;
 }
 
@@ -159,6 +209,28 @@ TEST(RestartShapes, PolygonsWithGearContinueBitIdentically) {
   check_restart(polygons_case(), 4000, "polygons");
 }
 
+TEST(RestartShapes, DisksAndPolygonsInADrumContinueBitIdentically) {
+  check_restart(mixed_drum_case(), 8000, "mixed_drum");
+  // The run has the new kinds of contact: disks touching polygons, polygons touching the drum.
+  Simulation sim(mixed_drum_case());
+  for (int s = 0; s < 16000; ++s) sim.step();
+  const auto& p = sim.particles();
+  const contact::ShapeView v(p);
+  int mixed = 0, on_drum = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (v.code(static_cast<std::int64_t>(i)) != ShapeCode::Polygon) continue;
+    const ConvexPolygon poly = v.world_polygon(static_cast<std::int64_t>(i), p.x()[i]);
+    contact::PolygonOverlap o;
+    on_drum += contact::polygon_circle_wall_overlap(poly, {0.075, 0.075}, 0.07, true, o);
+    for (std::size_t j = 0; j < p.size(); ++j)
+      mixed += v.code(static_cast<std::int64_t>(j)) == ShapeCode::Disk &&
+               contact::disk_polygon_overlap({p.x()[j].x, p.x()[j].y}, p.radius()[j], poly, o);
+  }
+  std::printf("after 0.08 s: %d disk-polygon contacts, %d polygons on the drum\n", mixed, on_drum);
+  EXPECT_GT(mixed, 5);
+  EXPECT_GT(on_drum, 0);
+}
+
 TEST(ShapeFill, GrainsDoNotOverlapAndOrientationsAreRandom) {
   const Simulation rods(rods_case(400, 0.08));
   EXPECT_EQ(rods.particles().size(), 400u);
@@ -177,6 +249,10 @@ TEST(ShapeFill, GrainsDoNotOverlapAndOrientationsAreRandom) {
   EXPECT_EQ(poly.particles().size(), 150u);
   EXPECT_GE(min_pair_gap(poly), 0.0);
   EXPECT_GT(poly.particles().polygons().size(), 100u);  // one outline per random grain
+  // Disks filled beside polygons: no disk-polygon pair overlaps either.
+  const Simulation mixed(mixed_drum_case());
+  EXPECT_EQ(mixed.particles().size(), 72u);
+  EXPECT_GE(min_pair_gap(mixed), 0.0);
 }
 
 TEST(ShapesThreadDeterminism, CapsulesOneAndTwoThreadsBitIdentical) {
