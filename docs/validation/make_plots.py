@@ -4,8 +4,8 @@
 """Usage: /usr/bin/python3 docs/validation/make_plots.py [--out DIR] [BUILD_DIR]
 (BUILD_DIR default build/release)
 
-Writes docs/validation/dem_*.png, or with --out DIR into DIR (created if missing). Uses Debian's
-python3-numpy and python3-matplotlib."""
+Writes docs/validation/dem_*.png and dem2d_disk_polygon.png, or with --out DIR into DIR (created
+if missing). Uses Debian's python3-numpy and python3-matplotlib."""
 import glob
 import math
 import os

@@ -47,6 +47,18 @@ config::Case rods_case(std::int64_t count, double size = 0.06,
   return c;
 }
 
+/// Makes the last group random irregular polygons of 4-9 vertices and elongations 1 to `elong`.
+void make_random_polygons(config::Case& c, double elong) {
+  auto& g = c.particles.back();
+  g.kind = config::Shape::Polygon;
+  g.shape = "polygon";
+  g.polygon.kind = config::PolygonSpec::Kind::Random;
+  g.polygon.min_vertices = 4;
+  g.polygon.max_vertices = 9;
+  g.polygon.min_elongation = 1.0;
+  g.polygon.max_elongation = elong;
+}
+
 /// Random irregular polygons falling into a 2D box, Gear integrator.
 config::Case polygons_case() {
   auto c = test::base_case(5e-6, 1.0, {0, 0, 0}, {0.15, 0.4, 0});
@@ -63,14 +75,7 @@ config::Case polygons_case() {
   f.seed = 9;
   f.velocity = {0, -1.0, 0};
   f.velocity_jitter = 0.8;
-  auto& g = c.particles.back();
-  g.kind = config::Shape::Polygon;
-  g.shape = "polygon";
-  g.polygon.kind = config::PolygonSpec::Kind::Random;
-  g.polygon.min_vertices = 4;
-  g.polygon.max_vertices = 9;
-  g.polygon.min_elongation = 1.0;
-  g.polygon.max_elongation = 2.0;
+  make_random_polygons(c, 2.0);
   test::add_box(c, "box", {0, 0, 0}, {0.15, 0.4, 0}, {"ymax"}, "stone");
   return c;
 }
@@ -92,14 +97,7 @@ config::Case mixed_drum_case() {
   f.velocity = {0, -1.0, 0};
   f.seed = 9;
   f.velocity_jitter = 0.5;
-  auto& g = c.particles.back();
-  g.kind = config::Shape::Polygon;
-  g.shape = "polygon";
-  g.polygon.kind = config::PolygonSpec::Kind::Random;
-  g.polygon.min_vertices = 4;
-  g.polygon.max_vertices = 9;
-  g.polygon.min_elongation = 1.0;
-  g.polygon.max_elongation = 1.5;
+  make_random_polygons(c, 1.5);
   auto& fd = test::add_box_fill(c, "stone", 0.0015, 0.0025, {0.03, 0.067, 0}, {0.12, 0.12, 0},
                                 config::Fill::Lattice::Random);
   fd.count = 60;

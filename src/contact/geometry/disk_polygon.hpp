@@ -158,8 +158,7 @@ GF_HOST_DEVICE inline bool finish_circle_overlap(const CircleCut& k, const Conve
     ++runs;
   }
   Vec2 n = perp(sum);
-  double len = norm(n);
-  o.chord = runs > 0 && len > tol;
+  o.chord = runs > 0 && norm(n) > tol;
   if (o.chord && runs == 1) {
     o.p1 = c + (outside ? first : last);  // the leave L
     o.p2 = c + (outside ? last : first);  // the entry E
@@ -170,13 +169,8 @@ GF_HOST_DEVICE inline bool finish_circle_overlap(const CircleCut& k, const Conve
   } else {
     o.p1 = o.p2 = o.centroid;
     n = fallback;
-    len = norm(n);
   }
-  if (!(len > 0)) {
-    n = {1, 0};
-    len = 1;
-  }
-  o.normal = (1.0 / len) * n;
+  set_unit_normal(o, n);
   return true;
 }
 

@@ -165,6 +165,16 @@ GF_HOST_DEVICE inline bool clip_left_of(const TaggedPolygon& in, const Vec2& a, 
   return true;
 }
 
+/// o.normal = n / |n|; (1, 0) when n is zero (both the chord and the fallback degenerate).
+GF_HOST_DEVICE inline void set_unit_normal(PolygonOverlap& o, Vec2 n) {
+  double len = norm(n);
+  if (!(len > 0)) {
+    n = {1, 0};
+    len = 1;
+  }
+  o.normal = (1.0 / len) * n;
+}
+
 /// Area, centroid, chord and normal of the clipped polygon `w`; `fallback` is used as the normal
 /// direction when the boundaries do not cross twice. False when the area is zero.
 GF_HOST_DEVICE inline bool finish_overlap(const TaggedPolygon& w, const Vec2& fallback,
@@ -196,13 +206,8 @@ GF_HOST_DEVICE inline bool finish_overlap(const TaggedPolygon& w, const Vec2& fa
   if (!o.chord) {
     o.p1 = o.p2 = o.centroid;
     n = fallback;
-    len = norm(n);
-    if (!(len > 0)) {
-      n = {1, 0};
-      len = 1;
-    }
   }
-  o.normal = (1.0 / len) * n;
+  set_unit_normal(o, n);
   return true;
 }
 }  // namespace detail
