@@ -54,6 +54,26 @@ GF_HOST_DEVICE inline double sector_area(const Vec2& p, const Vec2& q, double r)
   return 0.5 * r * r * std::atan2(cross(p, q), dot(p, q));
 }
 
+/// True when the disk (c, r) lies wholly beyond the line of one edge of the convex CCW polygon
+/// (touching at most): then P ∩ D is empty. A disk within the polygon's bounding circle that does
+/// not touch it, the common case of a neighbour list, is thus dismissed at n cross products
+/// without cutting the edges (a disk off a corner, beyond no edge's line, is cut and found apart).
+GF_HOST_DEVICE inline bool beyond_an_edge(const ConvexPolygon& poly, const Vec2& c, double r) {
+  for (int e = 0; e < poly.n; ++e) {
+    const Vec2 a = poly.v[e], d = poly.v[e + 1 == poly.n ? 0 : e + 1] - a;
+    const double s = cross(d, c - a);  // |d| times the signed distance, > 0 inside
+    if (s < 0 && s * s >= r * r * dot(d, d)) return true;
+  }
+  return false;
+}
+
+/// True when every vertex, hence the convex polygon, lies inside the circle: P \ D is empty.
+GF_HOST_DEVICE inline bool within_circle(const ConvexPolygon& poly, const Vec2& c, double r) {
+  for (int v = 0; v < poly.n; ++v)
+    if (!(dot(poly.v[v] - c, poly.v[v] - c) < r * r)) return false;
+  return true;
+}
+
 /// Cuts polygon `poly` by the circle (c, r); `outside`: the region P \ D instead of P ∩ D.
 GF_HOST_DEVICE inline void cut_by_circle(const ConvexPolygon& poly, const Vec2& c, double r,
                                          bool outside, CircleCut& k) {
@@ -181,6 +201,7 @@ GF_HOST_DEVICE inline bool finish_circle_overlap(const CircleCut& k, const Conve
 /// 1e-14 of the polygon's squared size).
 GF_HOST_DEVICE inline bool disk_polygon_overlap(const Vec2& c, double r, const ConvexPolygon& poly,
                                                 PolygonOverlap& o) {
+  if (detail::beyond_an_edge(poly, c, r)) return false;
   detail::CircleCut k;
   detail::cut_by_circle(poly, c, r, false, k);
   Vec2 mean{0, 0};
@@ -193,6 +214,8 @@ GF_HOST_DEVICE inline bool disk_polygon_overlap(const Vec2& c, double r, const C
 /// solid disk otherwise (a post; the normal points outwards). Normal from the wall to the grain.
 GF_HOST_DEVICE inline bool polygon_circle_wall_overlap(const ConvexPolygon& poly, const Vec2& c,
                                                        double r, bool inside, PolygonOverlap& o) {
+  if (inside ? detail::within_circle(poly, c, r) : detail::beyond_an_edge(poly, c, r))
+    return false;
   detail::CircleCut k;
   detail::cut_by_circle(poly, c, r, inside, k);
   Vec2 mean{0, 0};
