@@ -45,6 +45,7 @@ bool FillRegion::contains(const Vec3& p, double r, bool two_d) const {
     return true;
   }
   const Vec3 d = p - center;
+  if (two_d) return std::hypot(d.x, d.y) + r <= radius;  // a circle in the plane
   const double h = dot(d, axis);
   if (h - r < 0 || h + r > height) return false;
   return norm(d - h * axis) + r <= radius;

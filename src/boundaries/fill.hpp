@@ -28,7 +28,7 @@ struct FillRegion {
   Kind kind = Kind::Box;
   Vec3 min, max;  ///< box, m
   Vec3 center, axis{0, 0, 1};
-  double radius = 0, height = 0;  ///< cylinder, m
+  double radius = 0, height = 0;  ///< cylinder (2D: a circle, height 0), m
   /// Whether a sphere of radius r lies entirely inside the region (2D: a disk, z ignored).
   bool contains(const Vec3& p, double r, bool two_d = false) const;
   /// Axis-aligned bounds.
@@ -50,7 +50,8 @@ struct FillSpec {
   /// instead of the first ones.
   bool pick_random = false;
   /// 2D: grains in the plane z = 0 (the box's z range is ignored; cubic gives a square lattice,
-  /// hcp a triangular one, random insertion in the plane). Cylinder regions are 3D only.
+  /// hcp a triangular one, random insertion in the plane). A cylinder region is then the circle
+  /// of its radius about its centre (axis and height are not used).
   bool two_d = false;
 };
 

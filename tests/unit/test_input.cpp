@@ -287,7 +287,7 @@ const BadCase bad_cases[] = {
     {"mesh_missing_file.yaml", 13, "walls[0].mesh.file", "no such file"},
     {"mesh_not_stl.yaml", 11, "walls[0].mesh.file", "not a readable STL file"},
     {"mesh_wall_2d.yaml", 12, "walls[0].mesh", "not available in 2D"},
-    {"cylinder_fill_2d.yaml", 13, "particles[0].fill.cylinder", "not available in 2D"},
+    {"cylinder_fill_2d.yaml", 13, "particles[0].fill.cylinder.height", "unknown key"},
     {"spherocylinder_no_length.yaml", 9, "particles[0].length", "'length' (m"},
     {"spherocylinder_length_and_ratio.yaml", 12, "particles[0].aspect_ratio",
      "only one of length, aspect_ratio"},

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -251,6 +252,57 @@ TEST(ShapeFill, GrainsDoNotOverlapAndOrientationsAreRandom) {
   const Simulation mixed(mixed_drum_case());
   EXPECT_EQ(mixed.particles().size(), 72u);
   EXPECT_GE(min_pair_gap(mixed), 0.0);
+}
+
+// 2D fills in a circle (a `cylinder` region in 2D): a hexagonal lattice of disks and then,
+// in the same circle, random polygons and disks that avoid the grains already placed. Every
+// grain lies inside the circle and no two overlap (brute force over the exact shapes); the
+// lattice holds about the sites `grainflow check` estimates.
+TEST(ShapeFill, TwoDimensionalCircleRegions) {
+  auto c = test::base_case(5e-6, 1.0, {0, 0, 0}, {0.15, 0.15, 0});
+  c.dimension = 2;
+  c.domain.thickness = 0.01;
+  test::add_material(c, "stone", 2600, 1e7, 0.3);
+  test::add_contact(c, "stone", "stone", "hooke", {{"restitution", 0.5}, {"stiffness", 1e5}});
+  auto circle = [](config::Fill& f, double radius) {
+    f.region.kind = config::Region::Kind::Cylinder;
+    f.region.center = {0.075, 0.075, 0};
+    f.region.radius = radius;
+    f.region.height = 0;
+  };
+  auto& lat = test::add_box_fill(c, "stone", 0.002, 0.002, {}, {}, config::Fill::Lattice::Hcp);
+  circle(lat, 0.03);
+  lat.spacing = 0.0045;
+  c.particles.back().kind = config::Shape::Disk;
+  c.particles.back().shape = "disk";
+  const Simulation only_lattice(c);
+  const std::size_t n_lattice = only_lattice.particles().size();
+  // Sites of a hexagonal lattice of pitch s in the circle of radius R - r: ~ pi (R - r)^2 /
+  // (s^2 sqrt(3) / 2).
+  const double sites = 3.141592653589793 * 0.028 * 0.028 / (0.0045 * 0.0045 * std::sqrt(3.0) / 2);
+  EXPECT_NEAR(static_cast<double>(n_lattice) / sites, 1.0, 0.1) << n_lattice;
+  // A ring around it: random polygons, then random disks, in the circle of radius 0.07.
+  auto& rp = test::add_box_fill(c, "stone", 0.0015, 0.0025, {}, {}, config::Fill::Lattice::Random);
+  circle(rp, 0.07);
+  rp.count = 40;
+  rp.seed = 3;
+  make_random_polygons(c, 1.5);
+  auto& rd = test::add_box_fill(c, "stone", 0.0015, 0.0025, {}, {}, config::Fill::Lattice::Random);
+  circle(rd, 0.07);
+  rd.count = 60;
+  rd.seed = 4;
+  c.particles.back().kind = config::Shape::Disk;
+  c.particles.back().shape = "disk";
+  const Simulation sim(c);
+  const auto& p = sim.particles();
+  EXPECT_EQ(p.size(), n_lattice + 100);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double d = std::hypot(p.x()[i].x - 0.075, p.x()[i].y - 0.075);
+    const bool lattice = p.id()[i] < static_cast<std::int64_t>(n_lattice);  // (ids by group)
+    EXPECT_LE(d + p.radius()[i], (lattice ? 0.03 : 0.07) * (1 + 1e-12)) << i;
+    EXPECT_EQ(p.x()[i].z, 0.0);
+  }
+  EXPECT_GE(min_pair_gap(sim), 0.0);
 }
 
 TEST(ShapesThreadDeterminism, CapsulesOneAndTwoThreadsBitIdentical) {

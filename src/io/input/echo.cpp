@@ -121,9 +121,9 @@ void emit_fill(YAML::Emitter& out, const config::Fill& f, const config::Particle
   } else {
     out << YAML::Key << "cylinder" << YAML::Value << YAML::Flow << YAML::BeginMap;
     key_vec(out, "center", f.region.center, dim);
-    key_vec(out, "axis", f.region.axis, dim);
+    if (dim == 3) key_vec(out, "axis", f.region.axis, dim);
     key_number(out, "radius", f.region.radius);
-    key_number(out, "height", f.region.height);
+    if (dim == 3) key_number(out, "height", f.region.height);
     out << YAML::EndMap;
   }
   const bool random = f.lattice == config::Fill::Lattice::Random;

@@ -703,10 +703,14 @@ config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup
       if (!(f.region.max[k] > f.region.min[k]))
         bm.at("max").fail_expected(
             fmt::format("every component greater than that of min {}", text(f.region.min)));
+  } else if (two_d()) {
+    // In 2D a cylinder is a circle in the plane, as for walls: {center: [x, y], radius}.
+    YamlMap cm(fm.at("cylinder"), {"center", "radius"});
+    f.region.kind = config::Region::Kind::Cylinder;
+    f.region.center = vec(cm, "center");
+    f.region.radius = cm.number("radius", Range::positive());
+    f.region.height = 0;
   } else {
-    if (two_d())
-      fm.at("cylinder")
-          .fail("cylinder fill regions are not available in 2D (dimension: 2); use a box region");
     YamlMap cm(fm.at("cylinder"), {"center", "axis", "radius", "height"});
     f.region.kind = config::Region::Kind::Cylinder;
     f.region.center = cm.vec3("center");

@@ -128,7 +128,7 @@ Vec3 grain_extent(const config::Fill& f, const config::ParticleGroup& g, double 
 
 double region_measure(const config::Region& region, int dimension) {
   if (region.kind == config::Region::Kind::Cylinder)
-    return pi * region.radius * region.radius * region.height;
+    return pi * region.radius * region.radius * (dimension == 2 ? 1.0 : region.height);
   const Vec3 len = region.max - region.min;
   return dimension == 2 ? len.x * len.y : len.x * len.y * len.z;
 }
@@ -769,6 +769,15 @@ double estimate_fill(const config::Fill& f, double reach, const Vec3& extent, in
       const double inner = len[k] - 2 * (hcp ? r : extent[k]);
       est *= inner < 0 ? 0 : std::floor(inner / pitch[k] + 1e-9) + 1;
     }
+  } else if (dim == 2) {
+    // A circle: the sites of a square (hexagonal) lattice of pitch s that keep a grain inside,
+    // about the area of the inner circle per site.
+    region_measure = pi * f.region.radius * f.region.radius;
+    const double e = !hcp && !f.spacing ? std::max(extent.x, extent.y) : r;
+    const double pitch = !hcp && !f.spacing ? 2 * e * 1.01 : s;
+    const double rr = f.region.radius - e;
+    est = rr < 0 ? 0
+                 : std::floor(pi * rr * rr / (pitch * pitch) * (hcp ? 2 / std::sqrt(3.0) : 1.0));
   } else {
     region_measure = pi * f.region.radius * f.region.radius * f.region.height;
     const Vec3& ax = f.region.axis;
