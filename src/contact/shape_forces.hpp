@@ -58,10 +58,15 @@ struct ShapeView {
     const double h = half_length[i];
     return Capsule{x, h > 0 ? capsule_axis(orientation[i]) : Vec3{0, 0, 1}, h, radius[i] - h};
   }
-  /// World polygon of polygon grain i at position x.
+  /// World polygon of polygon grain i at position x. Its orientation is a turn by θ about z,
+  /// q = (cos θ/2, 0, 0, sin θ/2), so cos θ = w² - z² and sin θ = 2 w z (over w² + z², which
+  /// is 1 up to rounding): no trigonometric call in the narrow phase, where it took half the
+  /// time of a polygon run.
   GF_HOST_DEVICE ConvexPolygon world_polygon(std::int64_t i, const Vec3& x) const {
     const Quat& q = orientation[i];
-    return polygon_to_world(polygons[polygon[i]].body, Vec2{x.x, x.y}, 2.0 * std::atan2(q.z, q.w));
+    const double n2 = q.w * q.w + q.z * q.z;
+    return polygon_to_world(polygons[polygon[i]].body, Vec2{x.x, x.y}, (q.w * q.w - q.z * q.z) / n2,
+                            2 * q.w * q.z / n2);
   }
   GF_HOST_DEVICE double equivalent_radius(std::int64_t i) const {
     return polygons[polygon[i]].equivalent_radius;

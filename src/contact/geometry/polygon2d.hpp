@@ -74,16 +74,21 @@ GF_HOST_DEVICE inline PolygonProperties polygon_properties(const ConvexPolygon& 
   return polygon_properties(poly.v, poly.n);
 }
 
-/// World image of a body-frame polygon at `position` (m) turned by `angle` (rad, CCW).
+/// World image of a body-frame polygon at `position` (m) turned by the angle whose cosine and
+/// sine are c and s (CCW).
 GF_HOST_DEVICE inline ConvexPolygon polygon_to_world(const ConvexPolygon& body,
-                                                     const Vec2& position, double angle) {
-  const double c = std::cos(angle), s = std::sin(angle);
+                                                     const Vec2& position, double c, double s) {
   ConvexPolygon w;
   w.n = body.n;
   for (int k = 0; k < body.n; ++k)
     w.v[k] = {position.x + c * body.v[k].x - s * body.v[k].y,
               position.y + s * body.v[k].x + c * body.v[k].y};
   return w;
+}
+/// World image of a body-frame polygon at `position` (m) turned by `angle` (rad, CCW).
+GF_HOST_DEVICE inline ConvexPolygon polygon_to_world(const ConvexPolygon& body,
+                                                     const Vec2& position, double angle) {
+  return polygon_to_world(body, position, std::cos(angle), std::sin(angle));
 }
 
 /// Overlap of grain i with grain j (or a wall).
