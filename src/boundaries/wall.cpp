@@ -212,10 +212,12 @@ bool wall_slot_geometry(const Wall& w, std::int32_t element, const contact::Shap
     const ConvexPolygon poly = s->world_polygon(i, x);
     const Vec2 at{w.point.x, w.point.y};
     // (2D: a cylinder's axis is z, its section the circle about w.point)
-    if (w.kind == WallKind::Cylinder
-            ? !contact::polygon_circle_wall_overlap(poly, at, w.radius, w.inside, o)
-            : !contact::polygon_halfplane_overlap(poly, at, Vec2{w.dir.x, w.dir.y}, o))
+    if (w.kind == WallKind::Cylinder) {
+      if (!contact::polygon_circle_wall_overlap(poly, at, w.radius, w.inside, o)) return false;
+      o.centroid = contact::point_on_centre_line(o, at);  // radial, through the axis
+    } else if (!contact::polygon_halfplane_overlap(poly, at, Vec2{w.dir.x, w.dir.y}, o)) {
       return false;
+    }
     const double req = s->equivalent_radius(i);
     contact::polygon_law_inputs(o, contact::polygon_characteristic_length(req, 0.0), g);
     g.r_eff = req;

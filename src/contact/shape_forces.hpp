@@ -18,7 +18,8 @@
 //     mu F_n is then consistent); r_eff = R_i R_j / (R_i + R_j).
 //   - a disk and a polygon: the same overlap-area law, with the exact overlap of the disk and
 //     the polygon (contact/geometry/disk_polygon.hpp) and R_disk as the disk's equal-area radius,
-//     so that a disk meets a polygon as the limit of a polygon of many sides would.
+//     so that a disk meets a polygon as the limit of a polygon of many sides would; the force
+//     acts on the line through the disk's centre (no torque on it from the normal force).
 #pragma once
 
 #include <cstdint>
@@ -119,10 +120,12 @@ GF_HOST_DEVICE inline bool shape_pair_geometry(const ShapeView& s, std::int64_t 
       ri = s.radius[i];
       rj = s.equivalent_radius(j);
       if (!disk_polygon_overlap(Vec2{xi.x, xi.y}, ri, s.world_polygon(j, xj), o)) return false;
+      o.centroid = point_on_centre_line(o, Vec2{xi.x, xi.y});
     } else if (cj == ShapeCode::Disk) {
       ri = s.equivalent_radius(i);
       rj = s.radius[j];
       if (!disk_polygon_overlap(Vec2{xj.x, xj.y}, rj, *poly_i, o)) return false;
+      o.centroid = point_on_centre_line(o, Vec2{xj.x, xj.y});
       o.normal = -o.normal;  // from j (the disk) to i
     } else {
       return false;  // a polygon with a 3D shape: refused before the run

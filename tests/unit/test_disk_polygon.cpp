@@ -364,8 +364,26 @@ TEST(DiskPolygonOverlap, ExactCases) {
   EXPECT_TRUE(k.chord);
   EXPECT_NEAR(k.p1.x, k.p2.x, 1e-14);  // the chord across the right corner is vertical
   EXPECT_NEAR(k.normal.x, -1.0, 1e-14);
-  // The same kite inside a larger disk that touches only its left corner: no crossing at all.
-  ASSERT_TRUE(disk_polygon_overlap({0.75, 0}, 1.75, kite, k));
+  // A vertex inside the circle by one rounding step, its edge running radially out: the exit
+  // lies at the vertex itself (where rounding may put the root just behind it) and must still be
+  // found, or the entry of the other edge would have no exit and the chord would be wrong.
+  ConvexPolygon tri;
+  tri.n = 3;
+  tri.v[0] = {std::nextafter(1.0, 0.0), 0};
+  tri.v[1] = {2, 0};
+  tri.v[2] = {0, 0.5};
+  ASSERT_TRUE(disk_polygon_overlap({0, 0}, 1.0, tri, k));
+  const Moments ot = oracle(tri, {0, 0}, 1.0, false);
+  EXPECT_NEAR(k.area, ot.area, 1e-12);
+  EXPECT_TRUE(k.chord);
+  EXPECT_NEAR(norm(k.p1), 1.0, 1e-12);
+  EXPECT_NEAR(norm(k.p2), 1.0, 1e-12);
+  // (the vertex crosses the circle within the difference's step: a kink, an O(step) error)
+  EXPECT_NEAR(norm(area_gradient(tri, {0, 0}, 1.0, false) - norm(k.p2 - k.p1) * k.normal), 0.0,
+              1e-5);
+  // The same kite inside a larger disk that touches only its left corner (centre (0.8, 0),
+  // radius 1.8: the right corner is 1.7 from the centre): no crossing at all.
+  ASSERT_TRUE(disk_polygon_overlap({0.8, 0}, 1.8, kite, k));
   EXPECT_NEAR(k.area, polygon_properties(kite).area, 1e-14);
   EXPECT_FALSE(k.chord);
 }

@@ -235,6 +235,50 @@ TEST(RestartShapes, DisksAndPolygonsInADrumContinueBitIdentically) {
   EXPECT_GT(on_drum, 10);
 }
 
+// The narrow phase of a disk and a polygon in both orders of the pair (the disk grain i, then
+// grain j): the same overlap and contact point, opposite normals pointing from j to i, and the
+// point on the line through the disk's centre along the normal (no torque on the disk from the
+// normal force), also when the overlap is lopsided (a corner pressed in off the disk's centre).
+TEST(ShapePairs, DiskAndPolygonInBothOrders) {
+  auto c = test::base_case(5e-6, 1.0, {0, 0, 0}, {0.1, 0.1, 0});
+  c.dimension = 2;
+  c.domain.thickness = 0.01;
+  test::add_material(c, "stone", 2600, 1e7, 0.3);
+  test::add_contact(c, "stone", "stone", "hooke", {{"restitution", 0.5}, {"stiffness", 1e5}});
+  test::add_disks(c, "stone", 0.004, {{0.02, 0.05, 0}});
+  test::add_polygons(c, "stone", 0.005, 5, {{0.07, 0.05, 0}}, {turn_about_z(Quat{}, 0.3)});
+  const Simulation sim(c);
+  const auto& p = sim.particles();
+  const contact::ShapeView s(p);
+  const std::int64_t d = s.code(0) == ShapeCode::Disk ? 0 : 1, q = 1 - d;
+  const Vec3 xq{0.07, 0.05, 0};
+  const ConvexPolygon poly = s.world_polygon(q, xq);
+  int lopsided = 0;
+  for (int k = 0; k < 72; ++k) {
+    // The disk's centre on a circle about the polygon's, a little nearer than touching a vertex.
+    const double a = 0.0873 * k, reach = 0.004 + 0.0049;
+    const Vec3 xd = xq + Vec3{reach * std::cos(a), reach * std::sin(a), 0};
+    contact::ShapeGeometry g1, g2;
+    const bool t1 = contact::shape_pair_geometry(s, d, q, xd, xq, nullptr, g1);
+    const bool t2 = contact::shape_pair_geometry(s, q, d, xq, xd, &poly, g2);
+    ASSERT_EQ(t1, t2) << k;
+    if (!t1) continue;
+    EXPECT_EQ(g1.overlap, g2.overlap);
+    EXPECT_EQ(g1.normal.x, -g2.normal.x);
+    EXPECT_EQ(g1.normal.y, -g2.normal.y);
+    EXPECT_EQ(g1.point.x, g2.point.x);
+    EXPECT_GT(dot(g1.normal, xd - xq), 0.0) << k;  // from the polygon (j) to the disk (i)
+    EXPECT_NEAR(g1.r_eff, 0.004 * 0.005 / 0.009, 1e-18);
+    const Vec3 arm = g1.point - xd;
+    EXPECT_LT(std::abs(arm.x * g1.normal.y - arm.y * g1.normal.x), 1e-15) << k;
+    // (the overlap's centroid is off that line when the contact is lopsided)
+    contact::PolygonOverlap o;
+    ASSERT_TRUE(contact::disk_polygon_overlap({xd.x, xd.y}, 0.004, poly, o));
+    lopsided += std::abs(cross(o.centroid - Vec2{xd.x, xd.y}, o.normal)) > 1e-6;
+  }
+  EXPECT_GT(lopsided, 10);
+}
+
 TEST(ShapeFill, GrainsDoNotOverlapAndOrientationsAreRandom) {
   const Simulation rods(rods_case(400, 0.08));
   EXPECT_EQ(rods.particles().size(), 400u);

@@ -90,6 +90,42 @@ TEST(ValidationDiskPolygon, StackedDiskAndSquareOverlapByTheSegmentDepth) {
   }
 }
 
+// A frictionless disk falls onto the corner of a fixed square turned by 20°, 1.5 mm off the
+// corner's vertical: the overlap is lopsided, and its centroid lies off the disk's vertical, but
+// the contact force acts on the line through the disk's centre (contact/geometry/
+// disk_polygon.hpp), as the radial pressure on a circle would: without friction the disk must
+// not spin (at the centroid it would, by ~1 rad/s here). It bounces off sideways.
+TEST(ValidationDiskPolygon, FrictionlessDiskOffACornerDoesNotSpin) {
+  auto c = plane_case(1e-6, {-0.05, -0.05, 0}, {0.05, 0.05, 0});
+  c.contacts[0].params["friction"] = 0.0;
+  const double R = 0.005, r = 0.004;
+  const double circum = R * std::sqrt(kPi / 2);  // circumradius of the square of area pi R^2
+  // A regular 4-gon has its first vertex at angle 0; turned by 110° its top corner points at
+  // 110°, 20° off the vertical, between faces sloping at 65° and -25°.
+  const double turn = 110 * kPi / 180;
+  test::add_polygons(c, "pom", R, 4, {{0, 0, 0}}, {turn_about_z(Quat{}, turn)}).fixed = true;
+  const Vec3 top{circum * std::cos(turn), circum * std::sin(turn), 0};
+  test::add_disks(c, "pom", r, {{top.x + 0.0015, top.y + r + 2e-4, 0}});
+  Simulation sim(c);
+  const std::size_t d =
+      sim.particles().shape()[0] == static_cast<std::int32_t>(ShapeCode::Disk) ? 0 : 1;
+  double spin = 0, vx = 0;
+  int touching = 0;
+  for (int s = 0; s < 40000; ++s) {
+    sim.step();
+    touching += sim.n_contacts() > 0;
+    spin = std::max(spin, std::abs(sim.particles().omega()[d].z));
+    vx = sim.particles().v()[d].x;
+  }
+  std::printf(
+      "frictionless disk off a corner: %d steps in contact, largest spin %.3e rad/s, "
+      "v_x after %.3f m/s\n",
+      touching, spin, vx);
+  EXPECT_GT(touching, 100);
+  EXPECT_GT(vx, 0.01);    // pushed away from the corner, sideways
+  EXPECT_LT(spin, 1e-9);  // (rounding only)
+}
+
 // A square (R = 5 mm) at the bottom of a drum of radius 5 cm (a 2D cylinder wall, inside:
 // true): the flat bottom face cannot follow the arc, so the square rests on its two corners,
 // which cross the circle (two runs of boundary beyond it; contact/geometry/disk_polygon.hpp).

@@ -3,8 +3,12 @@
 // obstacle post) and with the outside of a circle (polygons in a drum or any circular vessel).
 //
 // The overlap is the region the polygonal-DEM force of polygon2d.hpp acts on: its area A, its
-// centroid (the contact point), and the chord between the two points where the boundaries cross,
-// the normal being perpendicular to the chord (Matuttis' rule, as for two polygons). A disk is
+// centroid, and the chord between the two points where the boundaries cross, the normal being
+// perpendicular to the chord (Matuttis' rule, as for two polygons). The force acts on the line
+// through the circle's centre along the normal (point_on_centre_line): the overlap does not change
+// when the polygon turns about that centre, so the contact exerts no torque about it, as the
+// radial pressure on a circular boundary would not (at the centroid itself a frictionless disk
+// would be spun by a polygon's corner). A disk is
 // round, so its overlap with a polygon is bounded by polygon edges and a circular arc; it is
 // computed exactly (no polygonal stand-in for the disk):
 //   - every edge a -> b of the polygon is cut where it crosses the circle, and each piece p -> q
@@ -12,16 +16,17 @@
 //     triangle itself when the piece lies inside, the circular sector between the directions of
 //     p and q when it lies outside (Green's theorem over the boundary of P ∩ D);
 //   - P \ D (the part of a polygon outside a vessel) sums, over the pieces outside, the triangle
-//     less the sector: it is then computed from small terms when the overlap is small, rather
-//     than as area(P) - area(P ∩ D), which would cancel.
+//     less the sector: only the pieces beyond the circle contribute, rather than the whole
+//     polygon in area(P) - area(P ∩ D) (each piece's triangle and sector still cancel to about
+//     the overlap's depth over the radius: 1e-12 relative for a 1e-4 deep overlap in a drum).
 // First moments the same way: a triangle's is its area times the mean of its corners, a sector's
 // from angle α to β is r^3/3 (sin β - sin α, cos α - cos β) about the centre.
 //
 // Crossings: E where the polygon's boundary (CCW) enters the disk, L where it leaves. Each run
 // of polygon boundary in the overlap (E -> L for P ∩ D, L -> E for P \ D) has the overlap on its
-// left and the arc beyond, so n = perp(E - L) points from the run to the arc: from the polygon
-// into the disk for P ∩ D, from the vessel's wall into the polygon for P \ D. With several runs
-// (deep overlaps only), the normals add: n = perp(ΣE - ΣL).
+// left, closed by an arc of the circle; n = perp(E - L) (perp: +90°) is perpendicular to the
+// chord and points from the polygon into the disk for P ∩ D, from the vessel's wall into the
+// polygon for P \ D. With several runs the normals add: n = perp(ΣE - ΣL).
 #pragma once
 
 #include <cmath>
@@ -85,18 +90,19 @@ GF_HOST_DEVICE inline void cut_by_circle(const ConvexPolygon& poly, const Vec2& 
     if (!(dd > 0)) continue;  // repeated vertex
     const bool in_a = dot(a, a) < r2, in_b = dot(b, b) < r2;
     // The part [t0, t1] of the edge inside the disk (empty when t0 >= t1), from the roots of
-    // |a + t d|^2 = r^2. An end strictly inside is inside; an end on the circle counts as outside,
-    // and the classification of the ends decides which crossings exist, so that every entry has
-    // its exit (a vertex on the circle gives a leave and an entry at the same point, harmless).
+    // |a + t d|^2 = r^2. An end strictly inside is inside; an end on the circle counts as outside.
+    // An edge with one end inside always crosses, once: the crossing is kept even where rounding
+    // puts the root a hair beyond the end (then at the end), so that every entry has its exit (a
+    // vertex on the circle gives a leave and an entry at the same point, which add nothing).
     double t0 = 1, t1 = 0;
     const double bh = dot(a, d), disc = bh * bh - dd * (dot(a, a) - r2);
-    if (disc > 0) {
-      const double sq = std::sqrt(disc);
+    if (disc > 0 || in_a != in_b) {
+      const double sq = std::sqrt(std::fmax(disc, 0.0));
       const double lo = (-bh - sq) / dd, hi = (-bh + sq) / dd;
-      t0 = in_a ? 0.0 : std::fmax(lo, 0.0);
-      t1 = in_b ? 1.0 : std::fmin(hi, 1.0);
+      t0 = in_a ? 0.0 : std::fmin(std::fmax(lo, 0.0), 1.0);
+      t1 = in_b ? 1.0 : std::fmax(std::fmin(hi, 1.0), 0.0);
     }
-    const bool cut = t0 < t1;
+    const bool cut = t0 < t1 || in_a != in_b;
     if (cut && !in_a) {
       k.cross[k.n_cross] = a + t0 * d;
       k.enters[k.n_cross++] = true;
@@ -135,9 +141,10 @@ GF_HOST_DEVICE inline void cut_by_circle(const ConvexPolygon& poly, const Vec2& 
 
 /// The overlap from a cut: area, centroid, chord and normal (see the file comment); `fallback`:
 /// the normal's direction when the boundaries do not cross (one shape inside the other).
-/// perp(ΣE - ΣL) = Σ w_k n_k (w_k, n_k: each run's chord width and normal) is the gradient of the
-/// overlap's area with respect to a translation of the disk, or of the polygon in a vessel: its
-/// direction is the normal and its length the rate dA/dδ at which the overlap grows along it,
+/// perp(ΣE - ΣL) = Σ w_k n_k (w_k, n_k: each run's chord width and normal) is, up to its sign,
+/// the gradient of the overlap's area with respect to a translation of the polygon: the overlap
+/// shrinks as the disk moves along it, or as the polygon in a vessel does; its direction is the
+/// normal and its length the rate dA/dδ at which the overlap changes along it,
 /// the width that polygon_law_inputs turns into the contact's stiffness factor s = w / l_c. With
 /// one run that is the chord's own length; with several (a flat face of a polygon in a vessel
 /// touches it at both corners) the chord is an equivalent one, through the centroid,
@@ -196,6 +203,12 @@ GF_HOST_DEVICE inline bool finish_circle_overlap(const CircleCut& k, const Conve
 
 }  // namespace detail
 
+/// The point where the contact force of an overlap with the circle of centre c acts: the centroid
+/// moved along the chord onto the line through c along the normal (see the file comment).
+GF_HOST_DEVICE inline Vec2 point_on_centre_line(const PolygonOverlap& o, const Vec2& c) {
+  return c + dot(o.centroid - c, o.normal) * o.normal;
+}
+
 /// Overlap of a disk (centre c, radius r) with a convex CCW world polygon; the normal points from
 /// the polygon into the disk (the disk is grain i). False when they do not overlap (area below
 /// 1e-14 of the polygon's squared size).
@@ -214,8 +227,7 @@ GF_HOST_DEVICE inline bool disk_polygon_overlap(const Vec2& c, double r, const C
 /// solid disk otherwise (a post; the normal points outwards). Normal from the wall to the grain.
 GF_HOST_DEVICE inline bool polygon_circle_wall_overlap(const ConvexPolygon& poly, const Vec2& c,
                                                        double r, bool inside, PolygonOverlap& o) {
-  if (inside ? detail::within_circle(poly, c, r) : detail::beyond_an_edge(poly, c, r))
-    return false;
+  if (inside ? detail::within_circle(poly, c, r) : detail::beyond_an_edge(poly, c, r)) return false;
   detail::CircleCut k;
   detail::cut_by_circle(poly, c, r, inside, k);
   Vec2 mean{0, 0};
