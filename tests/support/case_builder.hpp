@@ -73,6 +73,29 @@ inline void add_plane(config::Case& c, const std::string& name, Vec3 point, Vec3
   c.walls.push_back(w);
 }
 
+/// A cylinder wall of the given axis through `center` (2D: the circle about `center`, axis z),
+/// `inside` as a drum, turning at `rate` rad/s about its own axis when rate != 0.
+inline config::Wall& add_cylinder(config::Case& c, const std::string& name, Vec3 center, Vec3 axis,
+                                  double radius, bool inside, const std::string& material,
+                                  double rate = 0) {
+  config::Wall w;
+  w.name = name;
+  w.kind = config::Wall::Kind::Cylinder;
+  w.center = center;
+  w.axis = axis;
+  w.radius = radius;
+  w.inside = inside;
+  w.material = material;
+  if (rate != 0) {
+    w.motion.rotates = true;
+    w.motion.axis = axis;
+    w.motion.center = center;
+    w.motion.rate = rate;
+  }
+  c.walls.push_back(w);
+  return c.walls.back();
+}
+
 /// A triangle-mesh wall given in code (the case file reads it from STL: mesh: {file: ...}).
 inline void add_mesh(config::Case& c, const std::string& name, std::vector<Vec3> points,
                      std::vector<std::array<int, 3>> triangles, const std::string& material) {

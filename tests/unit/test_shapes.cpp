@@ -107,19 +107,7 @@ config::Case mixed_drum_case() {
   fd.velocity_jitter = 0.5;
   c.particles.back().kind = config::Shape::Disk;
   c.particles.back().shape = "disk";
-  config::Wall drum;
-  drum.name = "drum";
-  drum.kind = config::Wall::Kind::Cylinder;
-  drum.center = {0.075, 0.075, 0};
-  drum.axis = {0, 0, 1};
-  drum.radius = 0.07;
-  drum.inside = true;
-  drum.material = "stone";
-  drum.motion.rotates = true;
-  drum.motion.axis = {0, 0, 1};
-  drum.motion.center = {0.075, 0.075, 0};
-  drum.motion.rate = 3;
-  c.walls.push_back(drum);
+  test::add_cylinder(c, "drum", {0.075, 0.075, 0}, {0, 0, 1}, 0.07, true, "stone", 3);
   return c;
 }
 

@@ -140,15 +140,7 @@ TEST(ValidationDiskPolygon, SquareRestsInADrumAndRidesUpToTheFrictionAngle) {
   const double half = 0.5 * std::sqrt(kPi) * R;
   auto c = plane_case(2e-6, {-0.06, -0.06, 0}, {0.06, 0.06, 0});
   test::add_polygons(c, "pom", R, 4, {{0, -Rd + half + 1e-3, 0}}, {turn_about_z(Quat{}, kPi / 4)});
-  config::Wall drum;
-  drum.name = "drum";
-  drum.kind = config::Wall::Kind::Cylinder;
-  drum.center = {0, 0, 0};
-  drum.axis = {0, 0, 1};
-  drum.radius = Rd;
-  drum.inside = true;
-  drum.material = "pom";
-  c.walls.push_back(drum);
+  test::add_cylinder(c, "drum", {0, 0, 0}, {0, 0, 1}, Rd, true, "pom");
   {
     Simulation sim(c);
     for (int s = 0; s < 40000; ++s) sim.step();
