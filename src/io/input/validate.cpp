@@ -776,8 +776,8 @@ double estimate_fill(const config::Fill& f, double reach, const Vec3& extent, in
     const double e = !hcp && !f.spacing ? std::max(extent.x, extent.y) : r;
     const double pitch = !hcp && !f.spacing ? 2 * e * 1.01 : s;
     const double rr = f.region.radius - e;
-    est = rr < 0 ? 0
-                 : std::floor(pi * rr * rr / (pitch * pitch) * (hcp ? 2 / std::sqrt(3.0) : 1.0));
+    est =
+        rr < 0 ? 0 : std::floor(pi * rr * rr / (pitch * pitch) * (hcp ? 2 / std::sqrt(3.0) : 1.0));
   } else {
     region_measure = pi * f.region.radius * f.region.radius * f.region.height;
     const Vec3& ax = f.region.axis;
