@@ -139,8 +139,9 @@ GF_HOST_DEVICE inline void cut_by_circle(const ConvexPolygon& poly, const Vec2& 
   }
 }
 
-/// The overlap from a cut: area, centroid, chord and normal (see the file comment); `fallback`:
-/// the normal's direction when the boundaries do not cross (one shape inside the other).
+/// The overlap from a cut: area, centroid, chord and normal (see the file comment). When the
+/// boundaries do not cross (one shape inside the other) the normal points from the polygon's
+/// vertex mean to the circle's centre.
 /// perp(ΣE - ΣL) = Σ w_k n_k (w_k, n_k: each run's chord width and normal) is, up to its sign,
 /// the gradient of the overlap's area with respect to a translation of the polygon: the overlap
 /// shrinks as the disk moves along it, or as the polygon in a vessel does; its direction is the
@@ -150,8 +151,7 @@ GF_HOST_DEVICE inline void cut_by_circle(const ConvexPolygon& poly, const Vec2& 
 /// touches it at both corners) the chord is an equivalent one, through the centroid,
 /// perpendicular to the normal, of that width.
 GF_HOST_DEVICE inline bool finish_circle_overlap(const CircleCut& k, const ConvexPolygon& poly,
-                                                 const Vec2& c, bool outside, const Vec2& fallback,
-                                                 PolygonOverlap& o) {
+                                                 const Vec2& c, bool outside, PolygonOverlap& o) {
   Vec2 mean{0, 0};
   for (int v = 0; v < poly.n; ++v) mean = mean + poly.v[v];
   mean = (1.0 / poly.n) * mean;
@@ -195,7 +195,7 @@ GF_HOST_DEVICE inline bool finish_circle_overlap(const CircleCut& k, const Conve
     o.p2 = o.centroid - t;
   } else {
     o.p1 = o.p2 = o.centroid;
-    n = fallback;
+    n = c - mean;
   }
   set_unit_normal(o, n);
   return true;
@@ -217,9 +217,7 @@ GF_HOST_DEVICE inline bool disk_polygon_overlap(const Vec2& c, double r, const C
   if (detail::beyond_an_edge(poly, c, r)) return false;
   detail::CircleCut k;
   detail::cut_by_circle(poly, c, r, false, k);
-  Vec2 mean{0, 0};
-  for (int v = 0; v < poly.n; ++v) mean = mean + poly.v[v];
-  return detail::finish_circle_overlap(k, poly, c, false, c - (1.0 / poly.n) * mean, o);
+  return detail::finish_circle_overlap(k, poly, c, false, o);
 }
 
 /// Overlap of a polygon with a circular wall of centre c and radius r: with the solid outside the
@@ -230,11 +228,8 @@ GF_HOST_DEVICE inline bool polygon_circle_wall_overlap(const ConvexPolygon& poly
   if (inside ? detail::within_circle(poly, c, r) : detail::beyond_an_edge(poly, c, r)) return false;
   detail::CircleCut k;
   detail::cut_by_circle(poly, c, r, inside, k);
-  Vec2 mean{0, 0};
-  for (int v = 0; v < poly.n; ++v) mean = mean + poly.v[v];
-  mean = (1.0 / poly.n) * mean;
-  // (without crossings: towards the centre; turned below for a post)
-  if (!detail::finish_circle_overlap(k, poly, c, inside, c - mean, o)) return false;
+  // (without crossings the normal points towards the centre; turned below for a post)
+  if (!detail::finish_circle_overlap(k, poly, c, inside, o)) return false;
   if (!inside) {  // the run-to-arc normal points into the post: turn it to the grain
     o.normal = -o.normal;
     if (o.chord) {
