@@ -198,6 +198,18 @@ int check(const std::string& file, const std::vector<std::string>& sets) {
                gf::sweep_points(cfg).size());
   fmt::print("  {:<40} {}\n", "particles", sim.particles().size());
   fmt::print("  {:<40} {}\n", "walls (planes / cylinders / meshes)", sim.walls().size());
+  if (!cfg.outlets.empty()) {
+    std::string names;
+    std::int64_t taken = 0;
+    for (std::size_t k = 0; k < cfg.outlets.size(); ++k) {
+      names += (k > 0 ? ", " : "") + cfg.outlets[k].name;
+      taken += sim.outlet_tallies()[k].count;
+    }
+    // (grains placed inside an outlet leave at once: counted here, in the particles above not)
+    fmt::print("  {:<40} {} ({}){}\n", "outlets", cfg.outlets.size(), names,
+               taken > 0 ? fmt::format("; {} grain(s) placed inside them, taken at t = 0", taken)
+                         : std::string());
+  }
   for (const auto& w : sim.walls())
     if (w.kind == gf::WallKind::Mesh)
       fmt::print(

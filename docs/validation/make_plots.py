@@ -4,8 +4,8 @@
 """Usage: /usr/bin/python3 docs/validation/make_plots.py [--out DIR] [BUILD_DIR]
 (BUILD_DIR default build/release)
 
-Writes docs/validation/dem_*.png and dem2d_disk_polygon.png, or with --out DIR into DIR (created
-if missing). Uses Debian's python3-numpy and python3-matplotlib."""
+Writes docs/validation/dem_*.png, dem2d_disk_polygon.png and dem2d_silo.png, or with --out DIR
+into DIR (created if missing). Uses Debian's python3-numpy and python3-matplotlib."""
 import glob
 import math
 import os
@@ -301,5 +301,41 @@ with validation_run.validation_run(args.build, "Validation*:AllLaws*:Laws*:*/Val
     a.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(PLOT_DIR, "dem2d_disk_polygon.png"), dpi=120)
+
+    # Silo discharge through an orifice (tests/validation/test_silo_validation.cpp).
+    d = load(os.path.join(out, "silo_discharge.csv"))
+    r = load(os.path.join(out, "silo_rates.csv"))
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    a = ax[0]
+    for q, n in zip(r["D_over_d"], r["count"]):
+        s = (d["D_over_d"] == q) & (d["count"] == n)
+        a.plot(d["t"][s], d["mass"][s] * 1e3, "-" if n == 2000 else ":",
+               label=f"D = {q:g} d" + ("" if n == 2000 else ", half the grains"))
+    a.axvline(0.5, color="k", lw=0.5, ls="--")
+    a.set_xlabel("t (s); the gate opens at 0.3 s, the rate is fitted from 0.5 s")
+    a.set_ylabel("mass through the outlet (g)")
+    a.set_title("2D silo, 40 d wide, grains recirculated to the top", fontsize=10)
+    a.legend(fontsize=7)
+    a = ax[1]
+    full = r["count"] == 2000
+    dd = r["D_over_d"][full] * 0.002
+    w23 = r["rate"][full] ** (2 / 3)
+    slope, icpt = np.polyfit(dd, w23, 1)
+    k = -icpt / slope / 0.002
+    c = slope ** 1.5 / (np.mean(r["solid_fraction"][full]) * 2500 * math.sqrt(9.81) * 0.002)
+    line = np.linspace(k * 0.002, dd.max() * 1.05, 50)
+    a.plot(r["D_over_d"][full], w23, "o", label="grainflow, bed 85 mm")
+    a.plot(r["D_over_d"][~full], r["rate"][~full] ** (2 / 3), "s", mfc="none",
+           label="D = 8 d, bed 52 mm (Hagen: same rate)")
+    a.plot(line / 0.002, slope * line + icpt, "k-", lw=0.8,
+           label=f"Beverloo: C = {c:.2f}, k = {k:.2f}")
+    a.set_xlim(0, None)
+    a.set_ylim(0, None)
+    a.set_xlabel("orifice D / grain diameter d")
+    a.set_ylabel("W^(2/3) (kg/s)^(2/3)")
+    a.set_title("W = C rho_b sqrt(g) t (D - k d)^(3/2)", fontsize=10)
+    a.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(PLOT_DIR, "dem2d_silo.png"), dpi=120)
 
 print("plots written to", PLOT_DIR)

@@ -24,9 +24,15 @@ void release(V& v) {
 }  // namespace
 
 std::span<const std::int64_t> VerletList::sort_and_build(ParticleStore& p, const Domain& domain,
-                                                         double skin, const PairFilter& filter) {
+                                                         double skin, const PairFilter& filter,
+                                                         std::span<const std::int64_t> previous) {
   const std::size_t n = p.size();
+  // (the first build has no previous list: nothing to carry, whatever was removed before it)
+  const bool first = offsets_.empty();
+  const std::size_t n_before = previous.empty() || first ? n : n_particles();
   REQUIRE(n < (std::size_t{1} << 31), "{} particles exceed the 32-bit neighbour index", n);
+  REQUIRE(previous.empty() || previous.size() == n, "{} previous indices for {} particles",
+          previous.size(), n);
   double r_max = 0;
   for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, p.radius()[i]);
   cells_.build(domain, p.x(), n, 2 * r_max + skin);
@@ -34,7 +40,15 @@ std::span<const std::int64_t> VerletList::sort_and_build(ParticleStore& p, const
   perm_.assign(order.begin(), order.end());
   p.permute(perm_);
   build_rows(domain, p.x(), p.radius(), n, skin, true, filter);
-  carry_history(perm_);
+  if (!previous.empty() && !first) {
+    // (build_rows reads perm_ as store indices; from here on it names the previous build's)
+    for (auto& k : perm_) {
+      k = previous[static_cast<std::size_t>(k)];
+      REQUIRE(k >= 0 && static_cast<std::size_t>(k) < n_before,
+              "previous index {} outside the {} particles of the last build", k, n_before);
+    }
+  }
+  carry_history(perm_, n_before);
   x_ref_.assign(p.x(), p.x() + n);
 
   // Slabs: cell layers across the slab axis. With a periodic slab axis the first and the last
@@ -67,7 +81,7 @@ void VerletList::build(const Domain& domain, const Vec3* x, const double* r, std
   build_rows(domain, x, r, n, skin, false, filter);
   perm_.resize(n);
   std::iota(perm_.begin(), perm_.end(), std::int64_t{0});
-  carry_history(perm_);
+  carry_history(perm_, n);
   x_ref_.assign(x, x + n);
   slab_starts_.clear();
   n_phases_ = 1;
@@ -192,10 +206,10 @@ void VerletList::keep_old_histories() {
   release(history_);
 }
 
-void VerletList::carry_history(std::span<const std::int64_t> perm) {
+void VerletList::carry_history(std::span<const std::int64_t> perm, std::size_t n_before) {
   const std::size_t n = n_particles();
   history_ = std::vector<Vec3>(neighbors_.size());
-  if (old_offsets_.size() != n + 1) {  // first build, or the particle count changed
+  if (old_offsets_.size() != n_before + 1) {  // first build, or an unexplained count change
     release(old_offsets_);
     release(old_neighbors_);
     release(old_history_);

@@ -24,9 +24,12 @@ class VerletList {
   /// Re-orders every column of the store by cell (slab-major, see CellList), then builds the
   /// list of pairs i < j with |x_i - x_j| < r_i + r_j + skin (minimum image); histories of
   /// pairs already in the list are carried over (negated when the pair's orientation flips).
-  /// Returns the permutation: new index k holds the particle that had index perm[k].
+  /// Returns the permutation: new index k holds the particle that had index perm[k] at the
+  /// previous build. `previous` (grains removed since that build, the store compacted): the
+  /// index at the previous build of each grain of the store; empty = the store's own order.
   std::span<const std::int64_t> sort_and_build(ParticleStore& p, const Domain& domain, double skin,
-                                               const PairFilter& filter = {});
+                                               const PairFilter& filter = {},
+                                               std::span<const std::int64_t> previous = {});
 
   /// Builds without re-ordering (the particle order is kept; no slabs for threading).
   void build(const Domain& domain, const Vec3* x, const double* r, std::size_t n, double skin,
@@ -108,7 +111,9 @@ class VerletList {
   template <class ForNeighbours>
   void build_rows_in_chunks(std::size_t n, bool sorted, ForNeighbours& for_neighbours);
   void keep_old_histories();
-  void carry_history(std::span<const std::int64_t> perm);
+  /// Histories of the pairs of the previous list (of n_before grains) for the new one; `perm`
+  /// maps the new indices to those of the previous build.
+  void carry_history(std::span<const std::int64_t> perm, std::size_t n_before);
 
   double skin_ = 0;
   double shear_offset_ref_ = 0;

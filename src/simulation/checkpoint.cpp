@@ -88,6 +88,19 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
       h.set_attribute("walls", fmt::format("{}_sum_steps", name), s->steps);
     }
 
+    if (!outlet_tallies_.empty()) {
+      // The grains each outlet has taken so far, for the series' outlet_mass / outlet_count.
+      h.create_group("outlets");
+      std::vector<std::int64_t> count;
+      std::vector<double> mass;
+      for (const auto& t : outlet_tallies_) {
+        count.push_back(t.count);
+        mass.push_back(t.mass);
+      }
+      h.write("outlets/count", std::span<const std::int64_t>(count));
+      h.write("outlets/mass", std::span<const double>(mass));
+    }
+
     if (cfd_) {
       const auto st = cfd_->state();
       h.create_group("fluid");
@@ -256,6 +269,16 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
     if (s->force.size() != walls_.size() || s->torque.size() != walls_.size())
       throw InputError(fmt::format("{}: checkpoint has wall sums for {} walls, the case {}",
                                    file.string(), s->force.size(), walls_.size()));
+  }
+  // Outlet tallies (none in a checkpoint of a case without outlets: they start from zero).
+  outlet_tallies_.assign(outlet_regions_.size(), OutletTally{});
+  if (!outlet_tallies_.empty() && h.exists("outlets/count")) {
+    const auto count = h.read_int64("outlets/count");
+    const auto mass = h.read_double("outlets/mass");
+    if (count.size() != outlet_tallies_.size() || mass.size() != outlet_tallies_.size())
+      throw InputError(fmt::format("{}: checkpoint has {} outlets, the case {}", file.string(),
+                                   count.size(), outlet_tallies_.size()));
+    for (std::size_t k = 0; k < count.size(); ++k) outlet_tallies_[k] = {count[k], mass[k]};
   }
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     walls_[w].servo_offset = so[w];

@@ -16,6 +16,9 @@ std::string Simulation::device_unsupported() const {
   if (cfg_.shear || domain_.sheared()) return "the case has a shear: block";
   if (cfd_) return "the case has a fluid (CFD-DEM)";
   if (cfg_.analysis.rheology) return "the case has analysis.rheology";
+  if (!cfg_.outlets.empty())
+    return fmt::format("the case has outlets ('{}': the CUDA back end keeps every grain)",
+                       cfg_.outlets.front().name);
   if (cfg_.output.contacts_csv.every > 0 || cfg_.output.contacts_vtk.every > 0)
     return "the case writes contacts (output.contacts_csv / contacts_vtk)";
   for (const auto& w : walls_) {

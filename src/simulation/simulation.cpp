@@ -45,16 +45,21 @@ RadiusDistribution to_distribution(const config::SizeDistribution& s) {
   return d;
 }
 
+FillRegion to_region(const config::Region& r) {
+  FillRegion g;
+  g.kind = r.kind == config::Region::Kind::Box ? FillRegion::Kind::Box : FillRegion::Kind::Cylinder;
+  g.min = r.min;
+  g.max = r.max;
+  g.center = r.center;
+  g.axis = r.axis;
+  g.radius = r.radius;
+  g.height = r.height;
+  return g;
+}
+
 FillSpec to_fill(const config::Fill& f) {
   FillSpec s;
-  s.region.kind = f.region.kind == config::Region::Kind::Box ? FillRegion::Kind::Box
-                                                             : FillRegion::Kind::Cylinder;
-  s.region.min = f.region.min;
-  s.region.max = f.region.max;
-  s.region.center = f.region.center;
-  s.region.axis = f.region.axis;
-  s.region.radius = f.region.radius;
-  s.region.height = f.region.height;
+  s.region = to_region(f.region);
   s.lattice = static_cast<FillSpec::Lattice>(static_cast<int>(f.lattice));
   s.spacing = f.spacing;
   s.count = f.count;
@@ -137,6 +142,11 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   build_particles();
   build_materials_and_pairs();
   build_walls();
+  for (const auto& o : cfg.outlets) {
+    outlet_regions_.push_back(to_region(o.region));
+    outlet_reinsert_.push_back(o.reinsert ? std::optional(to_region(*o.reinsert)) : std::nullopt);
+  }
+  outlet_tallies_.assign(outlet_regions_.size(), OutletTally{});
 
   double r_max = 0, r_contact = 0, r_contact_free = 0;
   const std::int32_t* fixed = particles_.fixed();
@@ -661,9 +671,87 @@ bool Simulation::capsule_ends_moved() const {
                             }) > 0;
 }
 
+std::vector<std::int64_t> Simulation::take_outlet_grains() {
+  if (outlet_regions_.empty()) return {};
+  const std::size_t n = particles_.size();
+  const Vec3* x = particles_.x();
+  const std::int32_t* fixed = particles_.fixed();
+  // The grains left first, in their order, then those taken: one permutation and a shrink.
+  std::vector<std::int64_t> order, taken;
+  std::vector<std::vector<std::int64_t>> back(outlet_regions_.size());  // to reinsert
+  order.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t k = 0;
+    if (fixed == nullptr || fixed[i] == 0)
+      while (k < outlet_regions_.size() && !outlet_regions_[k].contains(x[i], 0.0, two_d_)) ++k;
+    else
+      k = outlet_regions_.size();  // fixed grains stay
+    if (k == outlet_regions_.size() || outlet_reinsert_[k]) {
+      order.push_back(static_cast<std::int64_t>(i));
+      if (k == outlet_regions_.size()) continue;
+      back[k].push_back(static_cast<std::int64_t>(i));
+    } else {
+      taken.push_back(static_cast<std::int64_t>(i));
+    }
+    ++outlet_tallies_[k].count;
+    outlet_tallies_[k].mass += particles_.mass()[i];
+  }
+  for (std::size_t k = 0; k < back.size(); ++k)
+    if (!back[k].empty()) reinsert_grains(back[k], *outlet_reinsert_[k], cfg_.outlets[k].name);
+  if (taken.empty()) return {};
+  const std::size_t left = order.size();
+  order.insert(order.end(), taken.begin(), taken.end());
+  particles_.permute(order);
+  particles_.resize(left);
+  order.resize(left);
+  return order;
+}
+
+void Simulation::reinsert_grains(std::span<const std::int64_t> grains, const FillRegion& region,
+                                 const std::string& outlet) {
+  auto& p = particles_;
+  const std::size_t n = p.size();
+  Vec3 lo, hi;
+  region.bounds(lo, hi);
+  double r_max = 0;
+  for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, p.radius()[i]);
+  // The grains that a grain placed in the region could touch (the moved ones join as they land).
+  std::vector<std::size_t> near;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool in = true;
+    for (int k = 0; k < (two_d_ ? 2 : 3); ++k)
+      in = in && p.x()[i][k] > lo[k] - 2 * r_max && p.x()[i][k] < hi[k] + 2 * r_max;
+    if (in) near.push_back(i);
+  }
+  for (const std::int64_t g : grains) {
+    const auto i = static_cast<std::size_t>(g);
+    const double r = p.radius()[i];
+    bool placed = false;
+    for (int attempt = 0; attempt < 1000 && !placed; ++attempt) {
+      Vec3 y;
+      for (int k = 0; k < 3; ++k) y[k] = two_d_ && k == 2 ? 0.0 : rng_.uniform(lo[k], hi[k]);
+      if (!region.contains(y, r, two_d_)) continue;
+      placed = std::none_of(near.begin(), near.end(), [&](std::size_t j) {
+        const double reach = r + p.radius()[j];
+        return j != i && norm2(domain_.delta(y, p.x()[j])) < reach * reach;
+      });
+      if (placed) p.x()[i] = y;
+    }
+    if (!placed)
+      throw Error(fmt::format(
+          "at t = {:.6g} s: outlet '{}' found no free place for a grain (r = {:g} m) in its "
+          "reinsert region after 1000 tries: make the region larger",
+          time(), outlet, r));
+    p.v()[i] = {};
+    p.omega()[i] = {};
+    if (p.has_shapes()) p.angular_momentum()[i] = {};
+    near.push_back(i);
+  }
+}
+
 void Simulation::update_neighbors(bool force) {
   StageTimers::Scope timer(timers_, Stage::Neighbor);
-  const std::size_t n = particles_.size();
+  std::size_t n = particles_.size();
   const double max_d2 = drift_max_d2_;
   drift_max_d2_ = -1;  // measured for this step only
   bool rebuild = force || (max_d2 >= 0 ? nlist_.needs_rebuild(domain_, max_d2, n)
@@ -695,6 +783,10 @@ void Simulation::update_neighbors(bool force) {
     return;
   }
   if (!rebuild) return;
+  // Grains reach the outlets between builds; they are taken at the next build (within the
+  // skin's travel of any grain), where the lists are made anew anyway.
+  const auto previous = take_outlet_grains();
+  n = particles_.size();
   // Re-ordering the particles by cell at every rebuild keeps neighbours close in memory and
   // gives the slabs the threaded force loop needs.
   // Spherocylinders: the bounding spheres of elongated grains overlap far more often than the
@@ -724,7 +816,7 @@ void Simulation::update_neighbors(bool force) {
       if (fixed[i] != 0 && fixed[j] != 0) return false;
       return !shapes || shapes(i, j);
     };
-  const auto perm = nlist_.sort_and_build(particles_, domain_, skin_, filter);
+  const auto perm = nlist_.sort_and_build(particles_, domain_, skin_, filter, previous);
   if (has_capsules_) {
     axis_ref_.resize(n);
     for (std::size_t i = 0; i < n; ++i)
@@ -1054,6 +1146,15 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       row.push_back(static_cast<double>(n_contacts_));
     } else if (name == "wall_contact_count") {
       row.push_back(static_cast<double>(n_wall_contacts_));
+    } else if (name == "particle_count") {
+      row.push_back(static_cast<double>(particles_.size()));
+    } else if (const auto prefix = input::outlet_series_prefix(name); !prefix.empty()) {
+      const std::string outlet = name.substr(prefix.size());
+      std::size_t k = 0;
+      while (k < cfg_.outlets.size() && cfg_.outlets[k].name != outlet) ++k;
+      REQUIRE(k < cfg_.outlets.size(), "no outlet named '{}'", outlet);
+      row.push_back(prefix == "outlet_mass." ? outlet_tallies_[k].mass
+                                             : static_cast<double>(outlet_tallies_[k].count));
     } else if (name == "coordination_number") {
       row.push_back(analysis::coordination_number(n_contacts_, particles_.size()));
     } else if (cfd_ && name == "fluid_pressure_drop") {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "analysis/rheology.hpp"
+#include "boundaries/fill.hpp"
 #include "boundaries/wall.hpp"
 #include "contact/laws/contact_io.hpp"
 #include "contact/pair_forces.hpp"
@@ -103,6 +104,13 @@ class Simulation {
   /// The CFD-DEM fluid and its coupling (cases with fluid: and coupling:), else nullptr.
   const CfdDemCoupling* cfd_dem() const { return cfd_.get(); }
 
+  /// The grains taken by each outlet so far (the case's outlets, in order).
+  struct OutletTally {
+    std::int64_t count = 0;
+    double mass = 0;  ///< kg
+  };
+  std::span<const OutletTally> outlet_tallies() const { return outlet_tallies_; }
+
   /// Why this case cannot run its steps on the CUDA back end (`grainflow run --device cuda`,
   /// docs/gpu.md): what it has that the back end lacks; empty when it can.
   std::string device_unsupported() const;
@@ -160,6 +168,16 @@ class Simulation {
   void build_particles();
   void build_walls();
   void update_neighbors(bool force);
+  /// Removes the free grains whose centre lies in an outlet's region and counts them there (the
+  /// first outlet that holds a grain takes it); an outlet with a reinsert region puts its grains
+  /// back there instead (reinsert_grains). Returns, for each grain left, its index before the
+  /// removal; empty when none was removed (the indices are unchanged).
+  std::vector<std::int64_t> take_outlet_grains();
+  /// Places each grain of `grains` (indices) at rest at a uniformly random place of `region`
+  /// where it lies wholly inside and overlaps no other grain (bounding spheres); Error when 1000
+  /// tries find none.
+  void reinsert_grains(std::span<const std::int64_t> grains, const FillRegion& region,
+                       const std::string& outlet);
   /// Whether an end of some spherocylinder moved more than skin/2 since the last build.
   bool capsule_ends_moved() const;
   /// h u of every grain now when spherocylinders meet mesh walls (the wall list then lists
@@ -198,6 +216,10 @@ class Simulation {
   std::vector<Material> materials_;
   PairTable<contact::PairCoeffs> pairs_;
   std::vector<Wall> walls_;
+  std::vector<FillRegion> outlet_regions_;  ///< cfg_.outlets' regions
+  /// Where outlet k puts its grains back (cfg_.outlets[k].reinsert), else nullopt: removed.
+  std::vector<std::optional<FillRegion>> outlet_reinsert_;
+  std::vector<OutletTally> outlet_tallies_;
   std::vector<Vec3> wall_point_at_build_, wall_dir_at_build_;
   VerletList nlist_;
   WallContactList wlist_;

@@ -268,7 +268,7 @@ with tempfile.TemporaryDirectory() as TMP:
                           "dem_energy_conservation.png", "dem_floor_force.png",
                           "dem_sliding_rolling.png", "dem_shapes.png", "dem_mesh_walls.png",
                           "dem_mesh_rods.png", "dem_fixed_particles.png",
-                          "dem2d_disk_polygon.png"]),
+                          "dem2d_disk_polygon.png", "dem2d_silo.png"]),
         ]
     else:
         print(f"note: {VALIDATION_TESTS} not built; the BUILD_DIR modes are not run")

@@ -320,6 +320,14 @@ const BadCase bad_cases[] = {
      "csv_z_in_2d.csv"},
     {"csv_partial_quaternion.yaml", 1, "particles[0].file", "qw, qx, qy, qz go together",
      "csv_partial_quaternion.csv"},
+    // Outlets.
+    {"outlet_outside_domain.yaml", 14, "outlets[0].box", "outlet 'bottom' lies outside the domain"},
+    {"duplicate_outlet_name.yaml", 14, "outlets[1].name", "first used at line 13"},
+    {"outlet_unknown_in_series.yaml", 15, "output.series.quantities[1]",
+     "unknown outlet 'holes' in 'outlet_mass.holes'; declared outlets: hole"},
+    {"outlet_reinsert_overlaps.yaml", 16, "outlets[0].reinsert.box", "would be taken again"},
+    {"outlet_reinsert_too_small.yaml", 16, "outlets[0].reinsert",
+     "0.008 m across at its narrowest, less than the largest grain (0.01 m across)"},
 };
 
 class InputBadCases : public ::testing::TestWithParam<BadCase> {};

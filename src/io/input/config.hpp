@@ -85,6 +85,17 @@ struct Region {
   double height = 0;   ///< Cylinder: extent from `center` along `axis`
 };
 
+/// An outlet: grains whose centre is inside `region` leave the simulation (removed at the next
+/// neighbour-list rebuild; fixed grains never), their number and mass counted per outlet. With
+/// `reinsert` they are put back instead, at rest, at a random free place of that region (a
+/// silo or hopper recirculated to a steady flow).
+struct Outlet {
+  std::string name;
+  Region region;
+  std::optional<Region> reinsert;
+  SourceLoc loc, reinsert_loc;
+};
+
 struct Fill {
   Region region;
   enum class Lattice { Cubic, Hcp, Random };
@@ -333,6 +344,7 @@ struct Case {
   std::vector<Contact> contacts;
   std::vector<ParticleGroup> particles;
   std::vector<Wall> walls;
+  std::vector<Outlet> outlets;
   Output output;
   Neighbor neighbor;
   std::string integrator = "velocity_verlet";  ///< velocity_verlet | gear5

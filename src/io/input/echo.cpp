@@ -111,21 +111,27 @@ void emit_radius(YAML::Emitter& out, const config::SizeDistribution& d) {
   out << YAML::EndMap;
 }
 
-void emit_fill(YAML::Emitter& out, const config::Fill& f, const config::ParticleGroup& g, int dim) {
-  out << YAML::Key << "fill" << YAML::Value << YAML::BeginMap;
-  if (f.region.kind == config::Region::Kind::Box) {
+/// The keys of a region (fills, outlets): box {min, max} or cylinder {center, axis, radius,
+/// height} (2D: {center, radius}).
+void emit_region(YAML::Emitter& out, const config::Region& r, int dim) {
+  if (r.kind == config::Region::Kind::Box) {
     out << YAML::Key << "box" << YAML::Value << YAML::Flow << YAML::BeginMap;
-    key_vec(out, "min", f.region.min, dim);
-    key_vec(out, "max", f.region.max, dim);
+    key_vec(out, "min", r.min, dim);
+    key_vec(out, "max", r.max, dim);
     out << YAML::EndMap;
   } else {
     out << YAML::Key << "cylinder" << YAML::Value << YAML::Flow << YAML::BeginMap;
-    key_vec(out, "center", f.region.center, dim);
-    if (dim == 3) key_vec(out, "axis", f.region.axis, dim);
-    key_number(out, "radius", f.region.radius);
-    if (dim == 3) key_number(out, "height", f.region.height);
+    key_vec(out, "center", r.center, dim);
+    if (dim == 3) key_vec(out, "axis", r.axis, dim);
+    key_number(out, "radius", r.radius);
+    if (dim == 3) key_number(out, "height", r.height);
     out << YAML::EndMap;
   }
+}
+
+void emit_fill(YAML::Emitter& out, const config::Fill& f, const config::ParticleGroup& g, int dim) {
+  out << YAML::Key << "fill" << YAML::Value << YAML::BeginMap;
+  emit_region(out, f.region, dim);
   const bool random = f.lattice == config::Fill::Lattice::Random;
   out << YAML::Key << "lattice" << YAML::Value
       << (f.lattice == config::Fill::Lattice::Cubic ? "cubic"
@@ -426,6 +432,20 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     out << YAML::Key << "walls" << YAML::Value << YAML::BeginSeq;
     for (const auto& w : c.walls)
       if (!w.from_shear) emit_wall(out, w, c.dimension);
+    out << YAML::EndSeq;
+  }
+  if (!c.outlets.empty()) {
+    out << YAML::Key << "outlets" << YAML::Value << YAML::BeginSeq;
+    for (const auto& o : c.outlets) {
+      out << YAML::BeginMap << YAML::Key << "name" << YAML::Value << o.name;
+      emit_region(out, o.region, c.dimension);
+      if (o.reinsert) {
+        out << YAML::Key << "reinsert" << YAML::Value << YAML::Flow << YAML::BeginMap;
+        emit_region(out, *o.reinsert, c.dimension);
+        out << YAML::EndMap;
+      }
+      out << YAML::EndMap;
+    }
     out << YAML::EndSeq;
   }
   if (c.shear) {

@@ -132,11 +132,15 @@ struct Reader {
   void read_cylinder_length(const YamlMap& gm, config::ParticleGroup& g, bool from_diameter);
   config::PolygonSpec read_polygon(const YamlNode& node) const;
   config::SizeDistribution read_radius(const YamlNode& node);
+  /// A region given by exactly one of the keys `box` {min, max} or `cylinder` (3D: {center,
+  /// axis, radius, height}; 2D: the circle {center, radius}) of `m`.
+  config::Region read_region(const YamlMap& m) const;
   config::Fill read_fill(const YamlNode& node, const config::ParticleGroup& g);
   void read_positions(const YamlMap& gm, const config::ParticleGroup& g, config::Explicit& ex);
   std::vector<double> read_csv(const YamlNode& file_node, const config::ParticleGroup& g,
                                config::Explicit& ex);
   void read_walls(const YamlMap& root);
+  void read_outlets(const YamlMap& root);
   void read_mesh_wall(const YamlNode& node, config::Wall& w) const;
   /// Refuses a scaled mesh whose coordinates are not finite or absurd next to the domain.
   void check_mesh_size(const YamlMap& mm, const config::Wall& w) const;
@@ -687,37 +691,43 @@ config::SizeDistribution Reader::read_radius(const YamlNode& node) {
   return d;
 }
 
+config::Region Reader::read_region(const YamlMap& m) const {
+  config::Region r;
+  const std::string region = m.exactly_one_of({"box", "cylinder"});
+  if (region == "box") {
+    YamlMap bm(m.at("box"), {"min", "max"});
+    r.kind = config::Region::Kind::Box;
+    r.min = vec(bm, "min");
+    r.max = vec(bm, "max");
+    for (int k = 0; k < c.dimension; ++k)
+      if (!(r.max[k] > r.min[k]))
+        bm.at("max").fail_expected(
+            fmt::format("every component greater than that of min {}", text(r.min)));
+  } else if (two_d()) {
+    // In 2D a cylinder is a circle in the plane, as for walls: {center: [x, y], radius}.
+    YamlMap cm(m.at("cylinder"), {"center", "radius"});
+    r.kind = config::Region::Kind::Cylinder;
+    r.center = vec(cm, "center");
+    r.radius = cm.number("radius", Range::positive());
+    r.height = 0;
+  } else {
+    YamlMap cm(m.at("cylinder"), {"center", "axis", "radius", "height"});
+    r.kind = config::Region::Kind::Cylinder;
+    r.center = cm.vec3("center");
+    if (auto a = cm.find("axis")) r.axis = a->as_direction();
+    r.radius = cm.number("radius", Range::positive());
+    r.height = cm.number("height", Range::positive());
+  }
+  return r;
+}
+
 config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup& g) {
   config::Fill f;
   YamlMap fm(node, {"box", "cylinder", "lattice", "spacing", "count", "volume_fraction", "seed",
                     "velocity", "velocity_jitter", "max_attempts", "orientation"});
   f.loc = node.loc();
-  const std::string region = fm.exactly_one_of({"box", "cylinder"});
-  f.region_loc = fm.at(region).key_loc();
-  if (region == "box") {
-    YamlMap bm(fm.at("box"), {"min", "max"});
-    f.region.kind = config::Region::Kind::Box;
-    f.region.min = vec(bm, "min");
-    f.region.max = vec(bm, "max");
-    for (int k = 0; k < c.dimension; ++k)
-      if (!(f.region.max[k] > f.region.min[k]))
-        bm.at("max").fail_expected(
-            fmt::format("every component greater than that of min {}", text(f.region.min)));
-  } else if (two_d()) {
-    // In 2D a cylinder is a circle in the plane, as for walls: {center: [x, y], radius}.
-    YamlMap cm(fm.at("cylinder"), {"center", "radius"});
-    f.region.kind = config::Region::Kind::Cylinder;
-    f.region.center = vec(cm, "center");
-    f.region.radius = cm.number("radius", Range::positive());
-    f.region.height = 0;
-  } else {
-    YamlMap cm(fm.at("cylinder"), {"center", "axis", "radius", "height"});
-    f.region.kind = config::Region::Kind::Cylinder;
-    f.region.center = cm.vec3("center");
-    if (auto a = cm.find("axis")) f.region.axis = a->as_direction();
-    f.region.radius = cm.number("radius", Range::positive());
-    f.region.height = cm.number("height", Range::positive());
-  }
+  f.region = read_region(fm);
+  f.region_loc = fm.at(f.region.kind == config::Region::Kind::Box ? "box" : "cylinder").key_loc();
   if (auto l = fm.find("lattice")) {
     const std::string s = l->as_choice({"cubic", "hcp", "random"});
     f.lattice = s == "cubic" ? config::Fill::Lattice::Cubic
@@ -1414,6 +1424,76 @@ void Reader::check_mesh_size(const YamlMap& mm, const config::Wall& w) const {
         size, away, text(lo), text(hi)));
 }
 
+/// Axis-aligned bounds of a region (a cylinder: of the disc swept along its axis).
+std::pair<Vec3, Vec3> region_bounds(const config::Region& r) {
+  if (r.kind == config::Region::Kind::Box) return {r.min, r.max};
+  Vec3 lo, hi;
+  const Vec3 a = r.axis, top = r.center + r.height * a;
+  for (int k = 0; k < 3; ++k) {
+    const double across = r.radius * std::sqrt(std::max(0.0, 1.0 - a[k] * a[k]));
+    lo[k] = std::min(r.center[k], top[k]) - across;
+    hi[k] = std::max(r.center[k], top[k]) + across;
+  }
+  return {lo, hi};
+}
+
+void Reader::read_outlets(const YamlMap& root) {
+  auto on = root.find("outlets");
+  if (!on) return;
+  std::map<std::string, int> names;  // name -> line
+  for (const auto& item : on->as_list()) {
+    YamlMap om(item, {"name", "box", "cylinder", "reinsert"});
+    config::Outlet o;
+    o.loc = item.loc();
+    const YamlNode name = om.at("name");
+    o.name = name.as_string();
+    if (!is_column_name(o.name))
+      name.fail_expected(
+          "an outlet name of letters, digits, '_' and '-', starting with a letter or '_'");
+    if (auto it = names.find(o.name); it != names.end())
+      name.fail(
+          fmt::format("duplicate outlet name '{}' (first used at line {})", o.name, it->second));
+    names.emplace(o.name, name.line());
+    o.region = read_region(om);
+    const auto key = [](const config::Region& r) {
+      return r.kind == config::Region::Kind::Box ? "box" : "cylinder";
+    };
+    // A region that misses the domain would never take a grain: surely a typo.
+    const auto [lo, hi] = region_bounds(o.region);
+    for (int k = 0; k < c.dimension; ++k)
+      if (!(hi[k] > c.domain.min[k] && lo[k] < c.domain.max[k]))
+        om.at(key(o.region))
+            .fail(fmt::format("outlet '{}' lies outside the domain {} - {}: it would never take "
+                              "a grain",
+                              o.name, text(c.domain.min), text(c.domain.max)));
+    if (auto rn = om.find("reinsert")) {
+      if (c.integrator == "gear5")
+        rn->fail(
+            "'reinsert' is not available with integrator: gear5 (a reinserted grain would keep "
+            "its higher time derivatives); use velocity_verlet");
+      const YamlMap rm(*rn, {"box", "cylinder"});
+      o.reinsert = read_region(rm);
+      o.reinsert_loc = rn->loc();
+      const auto [rlo, rhi] = region_bounds(*o.reinsert);
+      bool inside = true, apart = false;
+      for (int k = 0; k < c.dimension; ++k) {
+        inside = inside && rlo[k] >= c.domain.min[k] && rhi[k] <= c.domain.max[k];
+        apart = apart || rlo[k] >= hi[k] || rhi[k] <= lo[k];
+      }
+      if (!inside)
+        rm.at(key(*o.reinsert))
+            .fail_expected(fmt::format("a region inside the domain {} - {}", text(c.domain.min),
+                                       text(c.domain.max)));
+      if (!apart)
+        rm.at(key(*o.reinsert))
+            .fail(fmt::format("the reinsert region meets outlet '{}' itself: grains put back "
+                              "there would be taken again",
+                              o.name));
+    }
+    c.outlets.push_back(std::move(o));
+  }
+}
+
 void Reader::read_walls(const YamlMap& root) {
   auto wn = root.find("walls");
   if (!wn) return;
@@ -1612,7 +1692,18 @@ void Reader::read_output(const YamlMap& root) {
     if (auto q = sm.find("quantities")) {
       for (const auto& item : q->as_list()) {
         const std::string name = item.as_string();
-        if (!is_series_quantity(name, walls)) {
+        if (const auto outlet_prefix = outlet_series_prefix(name); !outlet_prefix.empty()) {
+          const std::string outlet = name.substr(outlet_prefix.size());
+          if (std::none_of(c.outlets.begin(), c.outlets.end(),
+                           [&](const config::Outlet& o) { return o.name == outlet; })) {
+            std::vector<std::string> outlets;
+            for (const auto& o : c.outlets) outlets.push_back(o.name);
+            item.fail(fmt::format("unknown outlet '{}' in '{}'; {}", outlet, name,
+                                  outlets.empty()
+                                      ? std::string("no outlets are declared")
+                                      : fmt::format("declared outlets: {}", join(outlets))));
+          }
+        } else if (!is_series_quantity(name, walls)) {
           for (std::string_view prefix : wall_series_prefixes()) {
             if (name.starts_with(prefix)) {
               std::string wall = name.substr(prefix.size());
@@ -1631,7 +1722,8 @@ void Reader::read_output(const YamlMap& root) {
           item.fail(fmt::format(
               "unknown series quantity '{}'{}; accepted: {}, wall_force.WALL, wall_torque.WALL, "
               "wall_force_mean.WALL, wall_torque_mean.WALL, wall_position.WALL (these, "
-              "fixed_force and fixed_torque optionally with .x, .y or .z)",
+              "fixed_force and fixed_torque optionally with .x, .y or .z), outlet_mass.OUTLET, "
+              "outlet_count.OUTLET",
               name, hint, join(series_quantity_names())));
         }
         if (!c.fluid && (name.rfind("fluid_", 0) == 0 || name == "superficial_velocity" ||
@@ -1714,8 +1806,8 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   c.file = file;
   Reader r{file.parent_path(), c, {}, {}, {}, {}, {}};
   YamlMap rm(root, {"name", "dimension", "time", "domain", "gravity", "integrator", "materials",
-                    "contacts", "particles", "walls", "output", "neighbor", "shear", "analysis",
-                    "sweep", "fluid", "coupling"});
+                    "contacts", "particles", "walls", "outlets", "output", "neighbor", "shear",
+                    "analysis", "sweep", "fluid", "coupling"});
   if (auto n = rm.find("name")) {
     c.name = n->as_string();
     if (c.name.empty()) n->fail_expected("a case name");
@@ -1736,6 +1828,7 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   r.read_contacts(rm);
   r.read_particles(rm);
   r.read_walls(rm);
+  r.read_outlets(rm);
   r.read_shear(rm);
   r.read_fluid(rm);
   r.read_coupling(rm);
@@ -1764,6 +1857,7 @@ const std::vector<std::string>& series_quantity_names() {
                                               "contact_count",
                                               "wall_contact_count",
                                               "coordination_number",
+                                              "particle_count",
                                               "fixed_force",
                                               "fixed_torque",
                                               "fluid_pressure_drop",
@@ -1782,6 +1876,12 @@ std::span<const std::string_view> wall_series_prefixes() {
   static constexpr std::string_view prefixes[] = {"wall_force.", "wall_torque.", "wall_force_mean.",
                                                   "wall_torque_mean.", "wall_position."};
   return prefixes;
+}
+
+std::string_view outlet_series_prefix(std::string_view quantity) {
+  for (std::string_view prefix : {"outlet_mass.", "outlet_count."})
+    if (quantity.starts_with(prefix)) return prefix;
+  return {};
 }
 
 bool is_series_quantity(std::string_view quantity, const std::vector<std::string>& wall_names) {

@@ -56,7 +56,12 @@ std::span<const std::string_view> vector_series_quantities();
 /// "wall_force_mean.", "wall_torque_mean.", "wall_position.".
 std::span<const std::string_view> wall_series_prefixes();
 
-/// Whether `quantity` is an accepted series quantity for a case with walls named `wall_names`.
+/// The outlet series prefix `quantity` starts with ("outlet_mass.": the mass that left through
+/// outlet OUTLET so far, kg; "outlet_count.": the number of grains), or empty.
+std::string_view outlet_series_prefix(std::string_view quantity);
+
+/// Whether `quantity` is an accepted series quantity for a case with walls named `wall_names`
+/// (the outlet quantities are checked against the outlets' names by the reader).
 bool is_series_quantity(std::string_view quantity, const std::vector<std::string>& wall_names);
 
 }  // namespace gf::input

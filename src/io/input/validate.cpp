@@ -246,6 +246,8 @@ class Validator {
   void check_basics() const;
   void check_materials();
   void check_fills();
+  /// An outlet's reinsert region must hold the largest free grain.
+  void check_outlets() const;
   void check_explicit();
   void check_overlaps(const std::vector<Placed>& all);
   void check_periodic() const;
@@ -1380,7 +1382,32 @@ CheckReport Validator::run() {
   check_fluid();
   check_shear_walls();
   check_fixed_motion();
+  check_outlets();
   return std::move(report_);
+}
+
+void Validator::check_outlets() const {
+  double reach_max = 0;  // bounding radius of the largest grain an outlet may take
+  for (std::size_t g = 0; g < c_.particles.size(); ++g)
+    if (!c_.particles[g].fixed)
+      reach_max = std::max(reach_max, reach(g, c_.particles[g].radius.largest()));
+  for (std::size_t k = 0; k < c_.outlets.size(); ++k) {
+    const auto& o = c_.outlets[k];
+    if (!o.reinsert) continue;
+    const auto& r = *o.reinsert;
+    double extent = 2 * r.radius;
+    if (r.kind == config::Region::Kind::Box)
+      for (int a = 0; a < dim_; ++a)
+        extent = a == 0 ? r.max[a] - r.min[a] : std::min(extent, r.max[a] - r.min[a]);
+    else if (dim_ == 3)
+      extent = std::min(extent, r.height);
+    if (extent < 2 * reach_max)
+      throw_input_error(at(o.reinsert_loc, fmt::format("outlets[{}].reinsert", k)),
+                        fmt::format("the reinsert region of outlet '{}' is {:.6g} m across at "
+                                    "its narrowest, less than the largest grain ({:.6g} m "
+                                    "across): no grain could be put back there",
+                                    o.name, extent, 2 * reach_max));
+  }
 }
 
 void Validator::check_fixed_motion() {

@@ -1,0 +1,315 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Outlets: grains whose centre enters an outlet region leave the run; the tallies, the mass
+// balance, the contact histories of the grains that stay, the series and the case file.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <set>
+
+#include "boundaries/fill.hpp"
+#include "case_builder.hpp"
+#include "core/error.hpp"
+#include "io/input/echo.hpp"
+#include "io/input/parse_case.hpp"
+#include "neighbor/verlet_list.hpp"
+#include "simulation/simulation.hpp"
+#include "state_compare.hpp"
+#include "temp_dir.hpp"
+
+using namespace gf;
+
+namespace {
+
+double total_mass(const ParticleStore& p) {
+  double m = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) m += p.mass()[i];
+  return m;
+}
+
+/// 3D: 150 spheres fall through a sieve of fixed spheres (gaps of one grain diameter) into two
+/// outlets below it, the floor's left and right halves; one fixed sphere sits inside the left
+/// outlet (fixed grains stay).
+config::Case sieve_case() {
+  auto c = test::base_case(2e-5, 1.0, {0, 0, -0.03}, {0.05, 0.05, 0.1});
+  c.gravity = {0, 0, -9.81};
+  test::add_material(c, "glass", 2500, 1e7, 0.3);
+  test::add_contact(c, "glass", "glass", "hertz_mindlin",
+                    {{"restitution", 0.5}, {"friction", 0.5}});
+  auto& f = test::add_box_fill(c, "glass", 0.0015, 0.0025, {0, 0, 0.01}, {0.05, 0.05, 0.08},
+                               config::Fill::Lattice::Random);
+  f.count = 150;
+  f.seed = 5;
+  test::add_fixed_sphere_layer(c, "glass", 0.002, 0.01, 0, 0.05, 0, 0.05, 0.0);
+  auto& lone = c.particles.back().explicit_particles->positions;
+  lone.push_back({0.01, 0.01, -0.02});  // inside the left outlet
+  test::add_box(c, "box", {0, 0, -0.03}, {0.05, 0.05, 0.1}, {"zmin", "zmax"}, "glass");
+  for (const auto& [name, x0, x1] : {std::tuple{"left", 0.0, 0.025}, {"right", 0.025, 0.05}}) {
+    config::Outlet o;
+    o.name = name;
+    o.region.kind = config::Region::Kind::Box;
+    o.region.min = {x0, 0, -0.03};
+    o.region.max = {x1, 0.05, -0.01};
+    c.outlets.push_back(o);
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST(Outlets, TakeTheGrainsThatFallInAndKeepTheMassBalance) {
+  const auto cfg = sieve_case();
+  Simulation sim(cfg);
+  const std::size_t n0 = sim.particles().size();
+  const double m0 = total_mass(sim.particles());
+  std::set<std::int64_t> ids0(sim.particles().id(), sim.particles().id() + n0);
+  ASSERT_EQ(sim.outlet_tallies().size(), 2u);
+  EXPECT_EQ(sim.outlet_tallies()[0].count + sim.outlet_tallies()[1].count, 0);
+  for (int s = 0; s < 9000; ++s) sim.step();  // 0.18 s: most grains have fallen through
+  const auto& p = sim.particles();
+  const auto t = sim.outlet_tallies();
+  const std::int64_t taken = t[0].count + t[1].count;
+  // Both halves take grains, and every grain taken left the store: the count and the mass add up
+  // (the mass to rounding: a sum of 150 positive terms in another order).
+  EXPECT_GT(t[0].count, 10);
+  EXPECT_GT(t[1].count, 10);
+  EXPECT_EQ(static_cast<std::int64_t>(p.size()) + taken, static_cast<std::int64_t>(n0));
+  EXPECT_NEAR(total_mass(p) + t[0].mass + t[1].mass, m0, 1e-13 * m0);
+  // The grains left are grains of the start, each once; the fixed one in the outlet is one.
+  std::set<std::int64_t> ids(p.id(), p.id() + p.size());
+  EXPECT_EQ(ids.size(), p.size());
+  EXPECT_TRUE(std::includes(ids0.begin(), ids0.end(), ids.begin(), ids.end()));
+  bool lone_fixed_kept = false;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.fixed()[i] != 0 && p.x()[i].z < -0.01) lone_fixed_kept = true;
+  EXPECT_TRUE(lone_fixed_kept);
+  // The series read the tallies.
+  EXPECT_EQ(sim.quantity("outlet_count.left"), static_cast<double>(t[0].count));
+  EXPECT_EQ(sim.quantity("outlet_mass.right"), t[1].mass);
+  EXPECT_EQ(sim.quantity("particle_count"), static_cast<double>(p.size()));
+  // Nothing is lost on the way: no free grain below the sieve is further down than the outlets'
+  // top by more than it can fall between two list builds (taken at the next one).
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (p.fixed()[i] != 0) continue;
+    EXPECT_GT(p.x()[i].z, -0.013) << "grain " << p.id()[i];
+  }
+}
+
+TEST(Outlets, GrainsInsideAtTheStartLeaveAtOnce) {
+  auto cfg = sieve_case();
+  cfg.outlets[0].region.min.z = -0.03;
+  cfg.outlets[0].region.max = {0.05, 0.05, 0.1};  // the left outlet holds the whole box
+  Simulation sim(cfg);
+  // Only the fixed grains are left: 25 in the sieve and the one below it.
+  EXPECT_EQ(sim.particles().size(), 26u);
+  EXPECT_EQ(sim.outlet_tallies()[0].count, 150);
+  EXPECT_EQ(sim.outlet_tallies()[1].count, 0);
+  for (int s = 0; s < 10; ++s) sim.step();
+  EXPECT_EQ(sim.particles().size(), 26u);
+}
+
+TEST(Outlets, TwoDimensionalCircleRegion) {
+  // 2D: disks on a line fall under gravity (-y) into a circular outlet around one of them.
+  auto c = test::base_case(1e-5, 1.0, {0, 0, 0}, {0.1, 0.1, 0});
+  c.dimension = 2;
+  c.gravity = {0, -9.81, 0};
+  test::add_material(c, "glass", 2500, 1e7, 0.3);
+  test::add_contact(c, "glass", "glass", "hooke", {{"restitution", 0.5}, {"stiffness", 1e3}});
+  test::add_disks(c, "glass", 0.002, {{0.02, 0.05, 0}, {0.05, 0.05, 0}, {0.08, 0.05, 0}});
+  config::Outlet o;
+  o.name = "hole";
+  o.region.kind = config::Region::Kind::Cylinder;
+  o.region.center = {0.05, 0.03, 0};
+  o.region.radius = 0.005;
+  c.outlets.push_back(o);
+  Simulation sim(c);
+  // The middle disk falls 0.015 m in sqrt(2 x 0.015 / 9.81) = 0.055 s; the others pass by.
+  for (int s = 0; s < 7000; ++s) sim.step();
+  ASSERT_EQ(sim.particles().size(), 2u);
+  EXPECT_EQ(sim.outlet_tallies()[0].count, 1);
+  for (std::size_t i = 0; i < 2; ++i) EXPECT_NE(sim.particles().x()[i].x, 0.05);
+}
+
+// With a reinsert region the grains come back instead: none is lost, each lands at rest where it
+// fits (a grain put onto another would be shot out at a speed far above the free fall's).
+TEST(Outlets, ReinsertPutsTheGrainsBackAtRestWhereTheyFit) {
+  auto cfg = sieve_case();
+  config::Region top;
+  top.min = {0, 0, 0.06};
+  top.max = {0.05, 0.05, 0.09};
+  cfg.outlets[1].reinsert = top;
+  Simulation sim(cfg);
+  const std::size_t n0 = sim.particles().size();
+  double v_max = 0;
+  for (int s = 0; s < 12000; ++s) {
+    sim.step();
+    for (std::size_t i = 0; i < sim.particles().size(); ++i)
+      v_max = std::max(v_max, norm(sim.particles().v()[i]));
+  }
+  const auto t = sim.outlet_tallies();
+  EXPECT_GT(t[0].count, 10);  // removed
+  EXPECT_GT(t[1].count, 10);  // put back
+  EXPECT_EQ(sim.particles().size() + static_cast<std::size_t>(t[0].count), n0);
+  // Free fall from the top of the box (0.1 m) to the outlets' top (-0.01 m): 1.47 m/s.
+  EXPECT_LT(v_max, 1.6);
+  EXPECT_EQ(sim.quantity("particle_count"), static_cast<double>(sim.particles().size()));
+}
+
+TEST(Outlets, ReinsertWithoutRoomStopsTheRun) {
+  // 2D: three disks fall together into the outlet; its reinsert region holds one disk.
+  auto c = test::base_case(1e-5, 1.0, {0, 0, 0}, {0.1, 0.1, 0});
+  c.dimension = 2;
+  c.gravity = {0, -9.81, 0};
+  test::add_material(c, "glass", 2500, 1e7, 0.3);
+  test::add_contact(c, "glass", "glass", "hooke", {{"restitution", 0.5}, {"stiffness", 1e3}});
+  test::add_disks(c, "glass", 0.002, {{0.02, 0.03, 0}, {0.05, 0.03, 0}, {0.08, 0.03, 0}});
+  config::Outlet o;
+  o.name = "floor";
+  o.region.min = {0, 0, 0};
+  o.region.max = {0.1, 0.02, 0};
+  config::Region slot;
+  slot.min = {0.045, 0.09, 0};
+  slot.max = {0.0495, 0.0945, 0};
+  o.reinsert = slot;
+  c.outlets.push_back(o);
+  Simulation sim(c);
+  try {
+    for (int s = 0; s < 10000; ++s) sim.step();
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("outlet 'floor' found no free place"), std::string::npos)
+        << e.what();
+  }
+}
+
+// The contact histories of the grains that stay are carried through a removal: a list built
+// after the store lost grains (VerletList::sort_and_build with the grains' previous indices)
+// holds, for every pair of grains left, the history the previous list held for it.
+TEST(Outlets, HistoriesOfTheGrainsLeftAreCarried) {
+  ParticleStore p;
+  Rng rng(7);
+  const int n = 400;
+  for (int i = 0; i < n; ++i)
+    p.add_sphere(i, 0, 0.5 + 0.1 * rng.uniform(), 1000,
+                 {7 * rng.uniform(), 7 * rng.uniform(), 7 * rng.uniform()});
+  Domain d;
+  d.lo = {0, 0, 0};
+  d.hi = {7, 7, 7};
+  d.periodic = {true, false, true};
+  const double skin = 0.2;
+  VerletList list;
+  list.sort_and_build(p, d, skin);
+  // A distinct history per pair: +v(a, b) seen from the grain of smaller id, -v from the other.
+  auto value = [](std::int64_t row_id, std::int64_t col_id) {
+    const double v =
+        static_cast<double>(std::min(row_id, col_id) * 1000 + std::max(row_id, col_id));
+    return row_id < col_id ? Vec3{v, 1, 2} : Vec3{-v, -1, -2};
+  };
+  auto for_entries = [&](auto&& visit) {
+    const auto off = list.offsets();
+    const auto nb = list.neighbors();
+    for (std::size_t i = 0; i + 1 < off.size(); ++i)
+      for (auto k = off[i]; k < off[i + 1]; ++k)
+        visit(p.id()[i], p.id()[nb[static_cast<std::size_t>(k)]], static_cast<std::size_t>(k));
+  };
+  std::set<std::pair<std::int64_t, std::int64_t>> had;
+  for_entries([&](std::int64_t a, std::int64_t b, std::size_t k) {
+    list.history()[k] = value(a, b);
+    had.insert({std::min(a, b), std::max(a, b)});
+  });
+  ASSERT_GT(had.size(), 500u);
+  // Remove every third grain (by position in the store), as Simulation does: the grains left
+  // first in their order, then a shrink.
+  std::vector<std::int64_t> order, gone;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    (i % 3 == 1 ? gone : order).push_back(static_cast<std::int64_t>(i));
+  const std::size_t left = order.size();
+  std::set<std::int64_t> gone_ids;
+  for (auto i : gone) gone_ids.insert(p.id()[i]);
+  order.insert(order.end(), gone.begin(), gone.end());
+  p.permute(order);
+  p.resize(left);
+  order.resize(left);
+  list.sort_and_build(p, d, skin, {}, order);
+  std::size_t carried = 0;
+  for_entries([&](std::int64_t a, std::int64_t b, std::size_t k) {
+    ASSERT_FALSE(gone_ids.count(a) || gone_ids.count(b));
+    if (had.count({std::min(a, b), std::max(a, b)})) {
+      EXPECT_EQ(list.history()[k], value(a, b)) << a << " " << b;
+      ++carried;
+    } else {
+      EXPECT_EQ(list.history()[k], Vec3{});
+    }
+  });
+  // (the positions did not change: every pair of grains left was in the list before)
+  std::size_t expected = 0;
+  for (const auto& [a, b] : had) expected += gone_ids.count(a) || gone_ids.count(b) ? 0 : 1;
+  EXPECT_EQ(carried, expected);
+  EXPECT_GT(carried, 200u);
+}
+
+TEST(Outlets, CaseFileRoundTrip) {
+  const std::string text = R"(dimension: 2
+time: {step: 1.0e-5, end: 0.1}
+domain: {min: [0, 0], max: [0.1, 0.1]}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+particles:
+  - radius: 0.005
+    material: glass
+    positions: [[0.05, 0.05]]
+outlets:
+  - {name: slot, box: {min: [0.04, 0], max: [0.06, 0.01]}}
+  - {name: pit, cylinder: {center: [0.09, 0.01], radius: 0.01}}
+output:
+  series: {every: 0.01, quantities: [particle_count, outlet_mass.pit, outlet_count.slot]}
+)";
+  const auto c = input::load_case_text(text, "outlets.yaml");
+  ASSERT_EQ(c.outlets.size(), 2u);
+  EXPECT_EQ(c.outlets[0].region.kind, config::Region::Kind::Box);
+  EXPECT_EQ(c.outlets[1].region.kind, config::Region::Kind::Cylinder);
+  EXPECT_EQ(c.outlets[1].region.radius, 0.01);
+  const auto again = input::load_case_text(input::echo_yaml(c, "1"), "echo.yaml");
+  ASSERT_EQ(again.outlets.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(again.outlets[k].name, c.outlets[k].name);
+    EXPECT_EQ(again.outlets[k].region.min, c.outlets[k].region.min);
+    EXPECT_EQ(again.outlets[k].region.max, c.outlets[k].region.max);
+    EXPECT_EQ(again.outlets[k].region.center, c.outlets[k].region.center);
+  }
+  EXPECT_EQ(again.output.quantities, c.output.quantities);
+  // The CUDA back end keeps every grain: it refuses the case, naming the outlet.
+  EXPECT_NE(Simulation(sieve_case()).device_unsupported().find("outlets ('left'"),
+            std::string::npos);
+}
+
+// A run continued from a checkpoint written between removals takes the same grains at the same
+// steps as the uninterrupted run: the same state bit for bit, and the same tallies.
+TEST(RestartOutlets, ContinueBitIdentically) {
+  auto cfg = sieve_case();
+  config::Region top;  // the right half's grains come back (random places: the generator's state)
+  top.min = {0, 0, 0.06};
+  top.max = {0.05, 0.05, 0.09};
+  cfg.outlets[1].reinsert = top;
+  test::TempDir dir;
+  const auto file = dir.path() / "outlets.h5";
+  Simulation a(cfg);
+  for (int s = 0; s < 5000; ++s) a.step();
+  const auto before = a.outlet_tallies()[0].count + a.outlet_tallies()[1].count;
+  EXPECT_GT(before, 0);
+  a.save_checkpoint(file);
+  for (int s = 0; s < 4000; ++s) a.step();
+  Simulation b(cfg);
+  b.load_checkpoint(file);
+  for (int s = 0; s < 4000; ++s) b.step();
+  EXPECT_GT(a.outlet_tallies()[0].count + a.outlet_tallies()[1].count, before + 10);
+  test::expect_same_state(a, b);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(a.outlet_tallies()[k].count, b.outlet_tallies()[k].count);
+    EXPECT_EQ(a.outlet_tallies()[k].mass, b.outlet_tallies()[k].mass);
+  }
+}
