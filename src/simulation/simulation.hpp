@@ -99,6 +99,7 @@ class Simulation {
   const std::vector<Wall>& walls() const { return walls_; }
   const PairTable<contact::PairCoeffs>& pairs() const { return pairs_; }
   const VerletList& neighbor_list() const { return nlist_; }
+  const WallContactList& wall_list() const { return wlist_; }
   const StageTimers& timers() const { return timers_; }
   const config::Case& config() const { return cfg_; }
   /// The CFD-DEM fluid and its coupling (cases with fluid: and coupling:), else nullptr.

@@ -539,6 +539,39 @@ TEST(InputEcho, RoundTripGivesTheSameCase) {
   EXPECT_EQ(again.neighbor.skin, c.neighbor.skin);
 }
 
+TEST(InputEcho, OutletsRoundTrip) {
+  const auto c = input::load_case_text(header_2d + R"(particles:
+  - radius: 0.005
+    material: glass
+    positions: [[0.05, 0.05]]
+outlets:
+  - {name: slot, box: {min: [0.04, 0], max: [0.06, 0.01]}}
+  - name: pit
+    cylinder: {center: [0.09, 0.01], radius: 0.01}
+    reinsert: {box: {min: [0, 0.08], max: [0.1, 0.1]}}
+output:
+  series: {every: 0.01, quantities: [particle_count, outlet_mass.pit, outlet_count.slot]}
+)",
+                                       "outlets.yaml");
+  ASSERT_EQ(c.outlets.size(), 2u);
+  EXPECT_EQ(c.outlets[0].region.kind, config::Region::Kind::Box);
+  EXPECT_EQ(c.outlets[1].region.kind, config::Region::Kind::Cylinder);
+  EXPECT_EQ(c.outlets[1].region.radius, 0.01);
+  EXPECT_FALSE(c.outlets[0].reinsert);
+  ASSERT_TRUE(c.outlets[1].reinsert);
+  const auto again = input::load_case_text(input::echo_yaml(c, "1"), "echo.yaml");
+  ASSERT_EQ(again.outlets.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(again.outlets[k].name, c.outlets[k].name);
+    EXPECT_EQ(again.outlets[k].region.min, c.outlets[k].region.min);
+    EXPECT_EQ(again.outlets[k].region.max, c.outlets[k].region.max);
+    EXPECT_EQ(again.outlets[k].region.center, c.outlets[k].region.center);
+    EXPECT_EQ(again.outlets[k].reinsert.has_value(), c.outlets[k].reinsert.has_value());
+  }
+  EXPECT_EQ(again.outlets[1].reinsert->max, c.outlets[1].reinsert->max);
+  EXPECT_EQ(again.output.quantities, c.output.quantities);
+}
+
 TEST(InputEcho, LongParticleListsAreSummarised) {
   std::string positions = "    positions:\n";
   for (int i = 0; i < 25; ++i)

@@ -1,15 +1,17 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Mass flow rate of a silo run against Beverloo's law (2D).
+"""Mass flow rate of a silo run against Beverloo's law (2D, or 3D with --dimension 3).
 
-Usage: /usr/bin/python3 flow_rate.py OUTPUT_DIR [--outlet below] [--from 0.5] [--orifice 0.016]
-           [--grain 0.002] [--depth 0.002] [--density 2500] [--solid-fraction 0.82] [--k 1.5]
-           [--plot FILE]
+Usage: /usr/bin/python3 flow_rate.py OUTPUT_DIR [--dimension 2] [--outlet below] [--from 0.5]
+           [--orifice 0.016] [--grain 0.002] [--depth 0.002] [--density 2500]
+           [--solid-fraction 0.82] [--k 1.5] [--plot FILE]
 
 Reads OUTPUT_DIR/series.csv (columns time and outlet_mass.OUTLET), fits a line to the outlet's
 mass from --from seconds on (the steady flow of a recirculated silo) and prints the rate W, its
 value over the window's two halves, and Beverloo's C for the given k:
-W = C rho_b sqrt(g) t (D - k d)^(3/2), rho_b = solid fraction x density, t the layer's depth."""
+2D: W = C rho_b sqrt(g) t (D - k d)^(3/2), t the layer's depth (domain.thickness);
+3D: W = C rho_b sqrt(g) (D - k d)^(5/2) (C = 0.58 in Beverloo et al. 1961);
+rho_b = solid fraction x density."""
 import argparse
 import math
 import os
@@ -18,6 +20,7 @@ import numpy as np
 
 ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
 ap.add_argument("output")
+ap.add_argument("--dimension", type=int, choices=(2, 3), default=2)
 ap.add_argument("--outlet", default="below")
 ap.add_argument("--from", dest="start", type=float, default=0.5, help="window start, s")
 ap.add_argument("--orifice", type=float, default=0.016, help="D, m")
@@ -43,11 +46,15 @@ tw, mw = t[w], m[w]
 h = len(tw) // 2
 first, second = np.polyfit(tw[:h], mw[:h], 1)[0], np.polyfit(tw[h:], mw[h:], 1)[0]
 rho_b = a.solid_fraction * a.density
-c = rate / (rho_b * math.sqrt(9.81) * a.depth * (a.orifice - a.k * a.grain) ** 1.5)
+if a.dimension == 2:
+    c = rate / (rho_b * math.sqrt(9.81) * a.depth * (a.orifice - a.k * a.grain) ** 1.5)
+else:
+    c = rate / (rho_b * math.sqrt(9.81) * (a.orifice - a.k * a.grain) ** 2.5)
 print(f"window {tw[0]:.3f}-{tw[-1]:.3f} s: W = {1e3 * rate:.3f} g/s "
       f"(halves {1e3 * first:.3f}, {1e3 * second:.3f})")
-print(f"Beverloo with k = {a.k}: C = {c:.3f} (rho_b = {rho_b:.0f} kg/m^3, "
-      f"D = {a.orifice * 1e3:g} mm, d = {a.grain * 1e3:g} mm, t = {a.depth * 1e3:g} mm)")
+depth = f", t = {a.depth * 1e3:g} mm" if a.dimension == 2 else ""
+print(f"Beverloo ({a.dimension}D) with k = {a.k}: C = {c:.3f} (rho_b = {rho_b:.0f} kg/m^3, "
+      f"D = {a.orifice * 1e3:g} mm, d = {a.grain * 1e3:g} mm{depth})")
 if a.plot:
     import matplotlib
 
