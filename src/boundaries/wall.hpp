@@ -123,7 +123,8 @@ class WallContactList {
   };
   /// Pairs with a gap below the skin (a mesh wall: one entry per triangle within the skin, in
   /// increasing order). `perm` maps new particle indices to those of the previous
-  /// build (empty: unchanged order), so that histories follow re-ordered particles. `r` is the
+  /// build (empty: unchanged order; -1: a grain added since), so that histories follow
+  /// re-ordered particles. `r` is the
   /// bounding radius. `half_axis` (optional): h u of each spherocylinder (zero for round grains),
   /// so that a mesh's triangles are listed by their distance from the axis (r - h the cap
   /// radius) rather than from the bounding sphere: the skin then bounds the move of any point of

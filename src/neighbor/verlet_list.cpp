@@ -43,8 +43,8 @@ std::span<const std::int64_t> VerletList::sort_and_build(ParticleStore& p, const
   if (!previous.empty() && !first) {
     // (build_rows reads perm_ as store indices; from here on it names the previous build's)
     for (auto& k : perm_) {
-      k = previous[static_cast<std::size_t>(k)];
-      REQUIRE(k >= 0 && static_cast<std::size_t>(k) < n_before,
+      k = previous[static_cast<std::size_t>(k)];  // -1: a grain new since then
+      REQUIRE(k >= -1 && k < static_cast<std::int64_t>(n_before),
               "previous index {} outside the {} particles of the last build", k, n_before);
     }
   }
@@ -218,9 +218,11 @@ void VerletList::carry_history(std::span<const std::int64_t> perm, std::size_t n
   exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t ii) {
     const auto i = static_cast<std::size_t>(ii);
     const std::int64_t oi = perm[i];
+    if (oi < 0) return;  // a new grain: no history yet
     for (std::int64_t k = offsets_[i]; k < offsets_[i + 1]; ++k) {
       const std::int64_t oj =
           perm[static_cast<std::size_t>(neighbors_[static_cast<std::size_t>(k)])];
+      if (oj < 0) continue;
       // The old list stored the pair in the row of its smaller (old) index.
       const std::int64_t a = std::min(oi, oj), b = std::max(oi, oj);
       const auto first = old_neighbors_.begin() + old_offsets_[static_cast<std::size_t>(a)];

@@ -25,8 +25,9 @@ class VerletList {
   /// list of pairs i < j with |x_i - x_j| < r_i + r_j + skin (minimum image); histories of
   /// pairs already in the list are carried over (negated when the pair's orientation flips).
   /// Returns the permutation: new index k holds the particle that had index perm[k] at the
-  /// previous build. `previous` (grains removed since that build, the store compacted): the
-  /// index at the previous build of each grain of the store; empty = the store's own order.
+  /// previous build (-1: a grain added since). `previous` (grains removed or added since that
+  /// build): the index at the previous build of each grain of the store, -1 for a grain added
+  /// since; empty = the store's own order.
   std::span<const std::int64_t> sort_and_build(ParticleStore& p, const Domain& domain, double skin,
                                                const PairFilter& filter = {},
                                                std::span<const std::int64_t> previous = {});

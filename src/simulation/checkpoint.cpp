@@ -101,6 +101,19 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
       h.write("outlets/mass", std::span<const double>(mass));
     }
 
+    h.set_attribute("/", "next_id", next_id_);
+    if (!inlets_.empty()) {
+      // What each inlet has inserted, and its batches (the next one's time).
+      h.create_group("inlets");
+      std::vector<std::int64_t> inserted, batches;
+      for (const auto& in : inlets_) {
+        inserted.push_back(in.inserted);
+        batches.push_back(in.batches);
+      }
+      h.write("inlets/inserted", std::span<const std::int64_t>(inserted));
+      h.write("inlets/batches", std::span<const std::int64_t>(batches));
+    }
+
     if (cfd_) {
       const auto st = cfd_->state();
       h.create_group("fluid");
@@ -279,6 +292,23 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
       throw InputError(fmt::format("{}: checkpoint has {} outlets, the case {}", file.string(),
                                    count.size(), outlet_tallies_.size()));
     for (std::size_t k = 0; k < count.size(); ++k) outlet_tallies_[k] = {count[k], mass[k]};
+  }
+  // The next inlet grain's id (older checkpoints: after the largest id present).
+  next_id_ = 1;
+  for (std::size_t i = 0; i < particles_.size(); ++i)
+    next_id_ = std::max(next_id_, particles_.id()[i] + 1);
+  if (h.has_attribute("/", "next_id")) next_id_ = h.read_int_attribute("/", "next_id");
+  for (auto& in : inlets_) in.inserted = in.batches = 0;
+  if (!inlets_.empty() && h.exists("inlets/inserted")) {
+    const auto inserted = h.read_int64("inlets/inserted");
+    const auto batches = h.read_int64("inlets/batches");
+    if (inserted.size() != inlets_.size() || batches.size() != inlets_.size())
+      throw InputError(fmt::format("{}: checkpoint has {} inlets, the case {}", file.string(),
+                                   inserted.size(), inlets_.size()));
+    for (std::size_t k = 0; k < inlets_.size(); ++k) {
+      inlets_[k].inserted = inserted[k];
+      inlets_[k].batches = batches[k];
+    }
   }
   for (std::size_t w = 0; w < walls_.size(); ++w) {
     walls_[w].servo_offset = so[w];

@@ -16,6 +16,8 @@ std::string Simulation::device_unsupported() const {
   if (cfg_.shear || domain_.sheared()) return "the case has a shear: block";
   if (cfd_) return "the case has a fluid (CFD-DEM)";
   if (cfg_.analysis.rheology) return "the case has analysis.rheology";
+  if (!inlets_.empty())
+    return "the case has an inlet (the CUDA back end runs a fixed set of grains)";
   if (!cfg_.outlets.empty())
     return fmt::format("the case has outlets ('{}': the CUDA back end keeps every grain)",
                        cfg_.outlets.front().name);

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
+#include <numeric>
 #include <optional>
 
 #include "analysis/measures.hpp"
@@ -147,6 +149,21 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
     outlet_reinsert_.push_back(o.reinsert ? std::optional(to_region(*o.reinsert)) : std::nullopt);
   }
   outlet_tallies_.assign(outlet_regions_.size(), OutletTally{});
+  for (std::size_t g = 0; g < cfg.particles.size(); ++g) {
+    const auto& group = cfg.particles[g];
+    if (!group.inlet) continue;
+    InletState s;
+    s.group = g;
+    s.region = to_region(group.inlet->region);
+    for (std::size_t m = 0; m < materials_.size(); ++m)
+      if (materials_[m].name == group.material) s.material = static_cast<int>(m);
+    s.rate = group.inlet->rate;
+    s.start = group.inlet->start;
+    s.stop = group.inlet->stop.value_or(std::numeric_limits<double>::infinity());
+    s.every = group.inlet->every;
+    s.velocity = group.inlet->velocity;
+    inlets_.push_back(s);
+  }
 
   double r_max = 0, r_contact = 0, r_contact_free = 0;
   const std::int32_t* fixed = particles_.fixed();
@@ -160,6 +177,12 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   // sized by their thickness, not by their (rotation-invariant) bounding sphere. The skin
   // bounds how far grains move between list builds, so fixed grains (which never move) do not
   // count: a large fixed obstacle does not inflate the lists of small free grains.
+  for (const auto& in : inlets_) {  // (round grains: the radius is the contact radius)
+    const double r = cfg.particles[in.group].radius.largest();
+    r_max = std::max(r_max, r);
+    r_contact = std::max(r_contact, r);
+    r_contact_free = std::max(r_contact_free, r);
+  }
   if (r_contact_free > 0) r_contact = r_contact_free;
   skin_ = cfg.neighbor.skin.value_or(0.5 * r_contact > 0 ? 0.5 * r_contact : 1e-3);
   if (two_d_) {
@@ -363,6 +386,7 @@ void Simulation::build_particles() {
       }
     }
   }
+  next_id_ = next_id;
   log::info("{} particles", particles_.size());
 }
 
@@ -380,6 +404,11 @@ void Simulation::build_materials_and_pairs() {
     auto& rr = r_ref[static_cast<std::size_t>(particles_.material()[i])];
     rr = std::max(rr, particles_.radius()[i]);
   }
+  for (const auto& g : cfg_.particles)  // (an inlet's group starts empty)
+    if (g.inlet) {
+      auto& rr = r_ref[static_cast<std::size_t>(mat_index.at(g.material))];
+      rr = std::max(rr, g.radius.largest());
+    }
   pairs_ = PairTable<contact::PairCoeffs>(nm);
   for (const auto& c : cfg_.contacts) {
     const auto a = mat_index.find(c.between[0]), b = mat_index.find(c.between[1]);
@@ -402,6 +431,8 @@ void Simulation::build_materials_and_pairs() {
   std::vector<bool> used(static_cast<std::size_t>(nm), false);
   for (std::size_t i = 0; i < particles_.size(); ++i)
     used[static_cast<std::size_t>(particles_.material()[i])] = true;
+  for (const auto& g : cfg_.particles)
+    if (g.inlet) used[static_cast<std::size_t>(mat_index.at(g.material))] = true;
   for (int a = 0; a < nm; ++a)
     for (int b = a; b < nm; ++b)
       if (used[static_cast<std::size_t>(a)] && used[static_cast<std::size_t>(b)] &&
@@ -732,46 +763,115 @@ std::vector<std::int64_t> Simulation::take_outlet_grains() {
   return order;
 }
 
+std::vector<std::size_t> Simulation::grains_near(const FillRegion& region, double reach) const {
+  Vec3 lo, hi;
+  region.bounds(lo, hi);
+  std::vector<std::size_t> near;
+  const Vec3* x = particles_.x();
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    bool in = true;
+    for (int k = 0; k < (two_d_ ? 2 : 3); ++k)
+      in = in && x[i][k] > lo[k] - reach && x[i][k] < hi[k] + reach;
+    if (in) near.push_back(i);
+  }
+  return near;
+}
+
+std::optional<Vec3> Simulation::free_place(const FillRegion& region, double r,
+                                           const std::vector<std::size_t>& near, std::size_t self) {
+  Vec3 lo, hi;
+  region.bounds(lo, hi);
+  const Vec3* x = particles_.x();
+  const double* radius = particles_.radius();
+  for (int attempt = 0; attempt < 1000; ++attempt) {
+    Vec3 y;
+    for (int k = 0; k < 3; ++k) y[k] = two_d_ && k == 2 ? 0.0 : rng_.uniform(lo[k], hi[k]);
+    if (!region.contains(y, r, two_d_)) continue;
+    const bool free = std::none_of(near.begin(), near.end(), [&](std::size_t j) {
+      const double reach = r + radius[j];
+      return j != self && norm2(domain_.delta(y, x[j])) < reach * reach;
+    });
+    if (free) return y;
+  }
+  return std::nullopt;
+}
+
 void Simulation::reinsert_grains(std::span<const std::int64_t> grains, const FillRegion& region,
                                  const std::string& outlet) {
   auto& p = particles_;
-  const std::size_t n = p.size();
-  Vec3 lo, hi;
-  region.bounds(lo, hi);
   double r_max = 0;
-  for (std::size_t i = 0; i < n; ++i) r_max = std::max(r_max, p.radius()[i]);
+  for (std::size_t i = 0; i < p.size(); ++i) r_max = std::max(r_max, p.radius()[i]);
   // The grains that a grain placed in the region could touch (the moved ones join as they land).
-  std::vector<std::size_t> near;
-  for (std::size_t i = 0; i < n; ++i) {
-    bool in = true;
-    for (int k = 0; k < (two_d_ ? 2 : 3); ++k)
-      in = in && p.x()[i][k] > lo[k] - 2 * r_max && p.x()[i][k] < hi[k] + 2 * r_max;
-    if (in) near.push_back(i);
-  }
+  std::vector<std::size_t> near = grains_near(region, 2 * r_max);
   for (const std::int64_t g : grains) {
     const auto i = static_cast<std::size_t>(g);
-    const double r = p.radius()[i];
-    bool placed = false;
-    for (int attempt = 0; attempt < 1000 && !placed; ++attempt) {
-      Vec3 y;
-      for (int k = 0; k < 3; ++k) y[k] = two_d_ && k == 2 ? 0.0 : rng_.uniform(lo[k], hi[k]);
-      if (!region.contains(y, r, two_d_)) continue;
-      placed = std::none_of(near.begin(), near.end(), [&](std::size_t j) {
-        const double reach = r + p.radius()[j];
-        return j != i && norm2(domain_.delta(y, p.x()[j])) < reach * reach;
-      });
-      if (placed) p.x()[i] = y;
-    }
-    if (!placed)
+    const auto y = free_place(region, p.radius()[i], near, i);
+    if (!y)
       throw Error(fmt::format(
           "at t = {:.6g} s: outlet '{}' found no free place for a grain (r = {:g} m) in its "
           "reinsert region after 1000 tries: make the region larger",
-          time(), outlet, r));
+          time(), outlet, p.radius()[i]));
+    p.x()[i] = *y;
     p.v()[i] = {};
     p.omega()[i] = {};
     if (p.has_shapes()) p.angular_momentum()[i] = {};
     near.push_back(i);
   }
+}
+
+std::int64_t Simulation::inserted_grains() const {
+  std::int64_t n = 0;
+  for (const auto& in : inlets_) n += in.inserted;
+  return n;
+}
+
+bool Simulation::inlets_due() const {
+  const double t = time();
+  for (const auto& in : inlets_)
+    if (t < in.stop && t >= in.start + static_cast<double>(in.batches) * in.every - 1e-9 * in.every)
+      return true;
+  return false;
+}
+
+std::size_t Simulation::insert_inlet_grains() {
+  const double t = time();
+  const std::size_t before = particles_.size();
+  for (auto& in : inlets_) {
+    if (!(t < in.stop &&
+          t >= in.start + static_cast<double>(in.batches) * in.every - 1e-9 * in.every))
+      continue;
+    in.batches = static_cast<std::int64_t>(std::floor((t - in.start) / in.every + 1e-9)) + 1;
+    // The grains due by the end of this batch's interval (never past the stop).
+    const double until = std::min(t - in.start + in.every, in.stop - in.start);
+    const auto due = static_cast<std::int64_t>(std::floor(in.rate * until + 1e-9));
+    const auto& g = cfg_.particles[in.group];
+    const double rho = materials_[static_cast<std::size_t>(in.material)].density;
+    ShapeBuilder builder(g, rho, cfg_.domain.thickness, 1 + in.group);
+    const RadiusDistribution dist = to_distribution(g.radius);
+    double r_max = g.radius.largest();
+    for (std::size_t i = 0; i < particles_.size(); ++i)
+      r_max = std::max(r_max, particles_.radius()[i]);
+    std::vector<std::size_t> near = grains_near(in.region, 2 * r_max);
+    while (in.inserted < due) {
+      const double r = dist.sample(rng_);
+      const auto y = free_place(in.region, r, near, particles_.size());
+      if (!y) {
+        // The region is full: the rest waits for the next batch (the grains below move on).
+        if (!inlet_short_warned_)
+          log::warn(
+              "at t = {:.6g} s: the inlet of particles[{}] found no free place for {} of its "
+              "grains; they wait for its next batch (a larger region or a shorter 'every' keeps "
+              "the rate)",
+              t, in.group, due - in.inserted);
+        inlet_short_warned_ = true;
+        break;
+      }
+      near.push_back(
+          builder.add(particles_, next_id_++, in.material, r, *y, in.velocity, Vec3{}, Quat{}));
+      ++in.inserted;
+    }
+  }
+  return particles_.size() - before;
 }
 
 void Simulation::update_neighbors(bool force) {
@@ -785,6 +885,7 @@ void Simulation::update_neighbors(bool force) {
   // the force loop would run on one thread until the next build: build it sorted now.
   if (!rebuild && n > 0 && nlist_.n_slabs() == 0) rebuild = true;
   if (!rebuild && has_capsules_) rebuild = capsule_ends_moved();
+  if (!rebuild && !inlets_.empty()) rebuild = inlets_due();  // new grains need a new list
   bool walls_moved = false;
   if (!rebuild && !walls_.empty()) {
     const double diag = norm(domain_.length());
@@ -810,7 +911,16 @@ void Simulation::update_neighbors(bool force) {
   if (!rebuild) return;
   // Grains reach the outlets between builds; they are taken at the next build (within the
   // skin's travel of any grain), where the lists are made anew anyway.
-  const auto previous = take_outlet_grains();
+  auto previous = take_outlet_grains();
+  const std::size_t kept = particles_.size();
+  if (const std::size_t added = insert_inlet_grains(); added > 0) {
+    // The new grains had no index at the last build.
+    if (previous.empty()) {
+      previous.resize(kept);
+      std::iota(previous.begin(), previous.end(), std::int64_t{0});
+    }
+    previous.resize(kept + added, -1);
+  }
   n = particles_.size();
   // Re-ordering the particles by cell at every rebuild keeps neighbours close in memory and
   // gives the slabs the threaded force loop needs.

@@ -111,6 +111,8 @@ class Simulation {
     double mass = 0;  ///< kg
   };
   std::span<const OutletTally> outlet_tallies() const { return outlet_tallies_; }
+  /// Grains the particle groups' inlets have inserted so far (all inlets).
+  std::int64_t inserted_grains() const;
 
   /// Why this case cannot run its steps on the CUDA back end (`grainflow run --device cuda`,
   /// docs/gpu.md): what it has that the back end lacks; empty when it can.
@@ -179,6 +181,17 @@ class Simulation {
   /// tries find none.
   void reinsert_grains(std::span<const std::int64_t> grains, const FillRegion& region,
                        const std::string& outlet);
+  /// The grains whose centre lies within `reach` of `region`'s bounds.
+  std::vector<std::size_t> grains_near(const FillRegion& region, double reach) const;
+  /// A uniformly random place of `region` where a grain of radius r lies wholly inside and
+  /// meets none of `near` but `self` (bounding spheres); nullopt when 1000 tries find none.
+  std::optional<Vec3> free_place(const FillRegion& region, double r,
+                                 const std::vector<std::size_t>& near, std::size_t self);
+  /// Whether an inlet's batch is due now.
+  bool inlets_due() const;
+  /// Appends the grains of the inlets' batches due now at the end of the store; returns how
+  /// many.
+  std::size_t insert_inlet_grains();
   /// Whether an end of some spherocylinder moved more than skin/2 since the last build.
   bool capsule_ends_moved() const;
   /// h u of every grain now when spherocylinders meet mesh walls (the wall list then lists
@@ -221,6 +234,18 @@ class Simulation {
   /// Where outlet k puts its grains back (cfg_.outlets[k].reinsert), else nullopt: removed.
   std::vector<std::optional<FillRegion>> outlet_reinsert_;
   std::vector<OutletTally> outlet_tallies_;
+  /// A particle group's inlet (config::Inlet) and what it has done.
+  struct InletState {
+    std::size_t group = 0;
+    FillRegion region;
+    int material = 0;
+    double rate = 0, start = 0, stop = 0, every = 0;  ///< stop: infinity without one
+    Vec3 velocity;
+    std::int64_t inserted = 0, batches = 0;
+  };
+  std::vector<InletState> inlets_;
+  std::int64_t next_id_ = 1;  ///< the id of the next grain an inlet inserts
+  bool inlet_short_warned_ = false;
   std::vector<Vec3> wall_point_at_build_, wall_dir_at_build_;
   VerletList nlist_;
   WallContactList wlist_;

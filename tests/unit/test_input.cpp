@@ -325,6 +325,9 @@ const BadCase bad_cases[] = {
     {"duplicate_outlet_name.yaml", 14, "outlets[1].name", "first used at line 13"},
     {"outlet_unknown_in_series.yaml", 15, "output.series.quantities[1]",
      "unknown outlet 'holes' in 'outlet_mass.holes'; declared outlets: hole"},
+    {"inlet_polygon.yaml", 14, "particles[0].inlet", "round grains (sphere, disk), not polygon"},
+    {"inlet_batch_too_dense.yaml", 12, "particles[0].inlet", "would fill 26 % of its region"},
+    {"inlet_outside_domain.yaml", 12, "particles[0].inlet", "reaches outside the domain"},
     {"outlet_reinsert_overlaps.yaml", 16, "outlets[0].reinsert.box", "would be taken again"},
     {"outlet_reinsert_too_small.yaml", 16, "outlets[0].reinsert",
      "0.008 m across at its narrowest, less than the largest grain (0.01 m across)"},
@@ -539,11 +542,14 @@ TEST(InputEcho, RoundTripGivesTheSameCase) {
   EXPECT_EQ(again.neighbor.skin, c.neighbor.skin);
 }
 
-TEST(InputEcho, OutletsRoundTrip) {
+TEST(InputEcho, OutletsAndInletsRoundTrip) {
   const auto c = input::load_case_text(header_2d + R"(particles:
   - radius: 0.005
     material: glass
     positions: [[0.05, 0.05]]
+  - radius: {distribution: uniform, min: 0.001, max: 0.002}
+    material: glass
+    inlet: {box: {min: [0, 0.08], max: [0.1, 0.1]}, rate: 50, velocity: [0, -1], stop: 0.05}
 outlets:
   - {name: slot, box: {min: [0.04, 0], max: [0.06, 0.01]}}
   - name: pit
@@ -569,6 +575,12 @@ output:
     EXPECT_EQ(again.outlets[k].reinsert.has_value(), c.outlets[k].reinsert.has_value());
   }
   EXPECT_EQ(again.outlets[1].reinsert->max, c.outlets[1].reinsert->max);
+  ASSERT_TRUE(again.particles[1].inlet);
+  EXPECT_EQ(again.particles[1].inlet->rate, 50);
+  EXPECT_EQ(again.particles[1].inlet->velocity, (Vec3{0, -1, 0}));
+  EXPECT_EQ(again.particles[1].inlet->stop, 0.05);
+  EXPECT_EQ(again.particles[1].inlet->every, 0.01);
+  EXPECT_EQ(again.particles[1].inlet->region.max, (Vec3{0.1, 0.1, 0}));
   EXPECT_EQ(again.output.quantities, c.output.quantities);
 }
 

@@ -218,8 +218,9 @@ TEST(Outlets, ReinsertWithoutRoomStopsTheRun) {
 }
 
 // The contact histories of the grains that stay are carried through a removal: a list built
-// after the store lost grains (VerletList::sort_and_build with the grains' previous indices)
-// holds, for every pair of grains left, the history the previous list held for it.
+// after the store lost grains and gained others (VerletList::sort_and_build with the grains'
+// previous indices, -1 for the new ones) holds, for every pair of grains left, the history the
+// previous list held for it, and none for a pair with a new grain.
 TEST(Outlets, HistoriesOfTheGrainsLeftAreCarried) {
   ParticleStore p;
   Rng rng(7);
@@ -265,10 +266,16 @@ TEST(Outlets, HistoriesOfTheGrainsLeftAreCarried) {
   p.permute(order);
   p.resize(left);
   order.resize(left);
+  // And 60 grains new since the last build (an inlet's): no index then, no history now.
+  for (int k = 0; k < 60; ++k) {
+    p.add_sphere(1000 + k, 0, 0.5, 1000, {7 * rng.uniform(), 7 * rng.uniform(), 7 * rng.uniform()});
+    order.push_back(-1);
+  }
   list.sort_and_build(p, d, skin, {}, order);
-  std::size_t carried = 0;
+  std::size_t carried = 0, with_new = 0;
   for_entries([&](std::int64_t a, std::int64_t b, std::size_t k) {
     ASSERT_FALSE(gone_ids.count(a) || gone_ids.count(b));
+    with_new += a >= 1000 || b >= 1000;
     if (had.count({std::min(a, b), std::max(a, b)})) {
       EXPECT_EQ(list.history()[k], value(a, b)) << a << " " << b;
       ++carried;
@@ -281,6 +288,7 @@ TEST(Outlets, HistoriesOfTheGrainsLeftAreCarried) {
   for (const auto& [a, b] : had) expected += gone_ids.count(a) || gone_ids.count(b) ? 0 : 1;
   EXPECT_EQ(carried, expected);
   EXPECT_GT(carried, 200u);
+  EXPECT_GT(with_new, 20u);
 }
 
 TEST(Outlets, TheCudaBackEndRefusesThem) {
@@ -314,4 +322,95 @@ TEST(RestartOutlets, ContinueBitIdentically) {
     EXPECT_EQ(a.outlet_tallies()[k].count, b.outlet_tallies()[k].count);
     EXPECT_EQ(a.outlet_tallies()[k].mass, b.outlet_tallies()[k].mass);
   }
+}
+
+namespace {
+
+/// 3D: an inlet pours spheres (r 1.5-2.5 mm) at 2000 per second from a layer at the top of an
+/// open box onto its floor; optionally an outlet in the floor's corner takes those that roll in.
+config::Case pour_case(bool outlet) {
+  auto c = test::base_case(2e-5, 1.0, {0, 0, 0}, {0.05, 0.05, 0.12});
+  c.gravity = {0, 0, -9.81};
+  test::add_material(c, "glass", 2500, 1e7, 0.3);
+  test::add_contact(c, "glass", "glass", "hertz_mindlin",
+                    {{"restitution", 0.5}, {"friction", 0.5}});
+  config::ParticleGroup g;
+  g.material = "glass";
+  g.radius.kind = config::SizeDistribution::Kind::Uniform;
+  g.radius.min = 0.0015;
+  g.radius.max = 0.0025;
+  config::Inlet in;
+  in.region.min = {0, 0, 0.09};
+  in.region.max = {0.05, 0.05, 0.12};
+  in.rate = 2000;
+  in.velocity = {0, 0, -0.5};
+  in.every = 0.01;
+  in.stop = 0.3;
+  g.inlet = in;
+  c.particles.push_back(g);
+  test::add_box(c, "box", {0, 0, 0}, {0.05, 0.05, 0.12}, {"zmax"}, "glass");
+  if (outlet) {
+    config::Outlet o;
+    o.name = "corner";
+    o.region.min = {0, 0, 0};
+    o.region.max = {0.015, 0.015, 0.012};
+    c.outlets.push_back(o);
+  }
+  return c;
+}
+
+}  // namespace
+
+// An inlet inserts its grains at the rate asked, in batches (a batch at t inserts those due by
+// t + every), each grain where it overlaps no other, with new ids; it stops at `stop`.
+TEST(Inlets, InsertAtTheRateWithoutOverlapsAndWithNewIds) {
+  Simulation sim(pour_case(false));
+  EXPECT_EQ(sim.particles().size(), 20u);  // the first batch, at t = 0: 2000/s x 0.01 s
+  std::set<std::int64_t> ids;
+  for (int s = 0; s < 20000; ++s) {  // 0.4 s
+    const std::size_t before = sim.particles().size();
+    sim.step();
+    const auto& p = sim.particles();
+    if (p.size() == before) continue;
+    // A batch: at t = k every, 20 more grains (due by t + every), none overlapping any grain.
+    EXPECT_EQ(p.size(), before + 20) << "t = " << sim.time();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      for (std::size_t j = i + 1; j < p.size(); ++j) {
+        if (p.x()[i].z < 0.09 || p.x()[j].z < 0.09) continue;  // (the new ones are up there)
+        const double gap = norm(p.x()[i] - p.x()[j]) - p.radius()[i] - p.radius()[j];
+        EXPECT_GT(gap, -1e-5) << "t = " << sim.time() << ", ids " << p.id()[i] << " " << p.id()[j];
+      }
+  }
+  const auto& p = sim.particles();
+  EXPECT_EQ(sim.inserted_grains(), 600);  // 2000/s x 0.3 s, then it stops
+  ASSERT_EQ(p.size(), 600u);
+  ids.insert(p.id(), p.id() + p.size());
+  EXPECT_EQ(ids.size(), 600u);
+  EXPECT_EQ(*ids.begin(), 1);
+  EXPECT_EQ(*ids.rbegin(), 600);
+  double z_max = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) z_max = std::max(z_max, p.x()[i].z);
+  EXPECT_LT(z_max, 0.06);  // all have fallen onto the heap
+  EXPECT_NE(sim.device_unsupported().find("inlet"), std::string::npos);
+}
+
+// Inlet and outlet together: what came in is what is there plus what left, and a run continued
+// from a checkpoint inserts and takes the same grains (ids, places: the generator's state).
+TEST(RestartInlets, ContinueBitIdentically) {
+  const auto cfg = pour_case(true);
+  test::TempDir dir;
+  const auto file = dir.path() / "inlets.h5";
+  Simulation a(cfg);
+  for (int s = 0; s < 6000; ++s) a.step();
+  a.save_checkpoint(file);
+  for (int s = 0; s < 6000; ++s) a.step();
+  Simulation b(cfg);
+  b.load_checkpoint(file);
+  for (int s = 0; s < 6000; ++s) b.step();
+  test::expect_same_state(a, b);
+  EXPECT_EQ(a.inserted_grains(), b.inserted_grains());
+  EXPECT_EQ(a.outlet_tallies()[0].count, b.outlet_tallies()[0].count);
+  EXPECT_GT(a.outlet_tallies()[0].count, 5);
+  EXPECT_EQ(a.inserted_grains(),
+            static_cast<std::int64_t>(a.particles().size()) + a.outlet_tallies()[0].count);
 }

@@ -161,6 +161,20 @@ struct Motion {
   double rate = 0;     ///< rad/s (from `rpm` or `rate`)
 };
 
+/// A particle group's inlet: round grains (spheres, disks) of the group inserted during the run
+/// at `rate` grains per second, in batches every `every` seconds from `start` to `stop`, each at
+/// a uniformly random place of `region` where it overlaps no grain, with `velocity`. A batch at
+/// time t inserts the grains due by t + every (so the first one, at `start`, rate x every).
+struct Inlet {
+  Region region;
+  double rate = 0;             ///< grains per second
+  Vec3 velocity;               ///< m/s
+  double start = 0;            ///< s
+  std::optional<double> stop;  ///< s; none: to the end of the run
+  double every = 0.01;         ///< s between batches
+  SourceLoc loc, rate_loc;
+};
+
 struct ParticleGroup {
   std::string shape = "sphere";  ///< as written; `kind` is the parsed value
   Shape kind = Shape::Sphere;
@@ -177,6 +191,7 @@ struct ParticleGroup {
   std::string material;
   std::optional<Fill> fill;
   std::optional<Explicit> explicit_particles;
+  std::optional<Inlet> inlet;  ///< grains inserted during the run (the group starts empty)
   /// `fixed: true`: the grains never move (a rough base, an obstacle made of grains): they keep
   /// their initial position and orientation with zero velocity and angular velocity, are never
   /// integrated, count as infinitely heavy in their contacts with free grains, and touch neither

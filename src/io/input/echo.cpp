@@ -242,6 +242,17 @@ void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config
   else
     out << g.fixed;
   if (g.fill) emit_fill(out, *g.fill, g, dim);
+  if (g.inlet) {
+    const auto& in = *g.inlet;
+    out << YAML::Key << "inlet" << YAML::Value << YAML::BeginMap;
+    emit_region(out, in.region, dim);
+    key_number(out, "rate", in.rate);
+    key_vec(out, "velocity", in.velocity, dim);
+    key_number(out, "start", in.start);
+    if (in.stop) key_number(out, "stop", *in.stop);
+    key_number(out, "every", in.every);
+    out << YAML::EndMap;
+  }
   if (g.explicit_particles) {
     const auto& ex = *g.explicit_particles;
     const std::size_t n = ex.positions.size();

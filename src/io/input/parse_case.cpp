@@ -136,6 +136,7 @@ struct Reader {
   /// axis, radius, height}; 2D: the circle {center, radius}) of `m`.
   config::Region read_region(const YamlMap& m) const;
   config::Fill read_fill(const YamlNode& node, const config::ParticleGroup& g);
+  config::Inlet read_inlet(const YamlNode& node) const;
   void read_positions(const YamlMap& gm, const config::ParticleGroup& g, config::Explicit& ex);
   std::vector<double> read_csv(const YamlNode& file_node, const config::ParticleGroup& g,
                                config::Explicit& ex);
@@ -721,6 +722,29 @@ config::Region Reader::read_region(const YamlMap& m) const {
   return r;
 }
 
+config::Inlet Reader::read_inlet(const YamlNode& node) const {
+  YamlMap im(node, {"box", "cylinder", "rate", "velocity", "start", "stop", "every"});
+  config::Inlet in;
+  in.loc = node.loc();
+  in.region = read_region(im);
+  const YamlNode rate = im.at("rate");
+  in.rate = rate.as_number(Range::positive());
+  in.rate_loc = rate.loc();
+  in.velocity = vec_or(im, "velocity", Vec3{});
+  if (auto s = im.find("start")) in.start = s->as_number(Range::at_least(0.0));
+  if (auto s = im.find("stop")) {
+    in.stop = s->as_number(Range::positive());
+    if (!(*in.stop > in.start))
+      s->fail_expected(fmt::format("a time after start ({} s)", number_text(in.start)));
+  }
+  if (auto e = im.find("every")) {
+    in.every = e->as_number(Range::positive());
+    if (in.every < c.time.step)
+      e->fail_expected(fmt::format("an interval >= time.step ({} s)", number_text(c.time.step)));
+  }
+  return in;
+}
+
 config::Fill Reader::read_fill(const YamlNode& node, const config::ParticleGroup& g) {
   config::Fill f;
   YamlMap fm(node, {"box", "cylinder", "lattice", "spacing", "count", "volume_fraction", "seed",
@@ -1200,7 +1224,7 @@ config::PolygonSpec Reader::read_polygon(const YamlNode& node) const {
 config::ParticleGroup Reader::read_group(const YamlNode& node) {
   YamlMap gm(node, {"shape", "radius", "equivalent_diameter", "length", "aspect_ratio", "polygon",
                     "material", "fill", "positions", "velocities", "angular_velocities", "axes",
-                    "angles", "file", "fixed"});
+                    "angles", "file", "fixed", "inlet"});
   config::ParticleGroup g;
   g.loc = node.loc();
   if (auto fx = gm.find("fixed")) read_fixed(*fx, g);
@@ -1212,7 +1236,7 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
     particle_material_ref[g.material] = mat.loc();
     particle_materials.push_back(g.material);
   }
-  const std::string source = gm.exactly_one_of({"fill", "positions", "file"});
+  const std::string source = gm.exactly_one_of({"fill", "positions", "file", "inlet"});
   if (source != "positions") {
     for (const char* k : {"velocities", "angular_velocities", "axes", "angles"}) {
       if (auto n = gm.find(k))
@@ -1222,7 +1246,8 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
                 ? (two_d()
                        ? " (a CSV file gives them as columns vx,vy / wz / angle)"
                        : " (a CSV file gives them as columns vx,vy,vz / wx,wy,wz / qw,qx,qy,qz)")
-                : " (a fill gives 'velocity' and 'orientation' inside 'fill:')"));
+            : source == "inlet" ? " (an inlet gives 'velocity' inside 'inlet:')"
+                                : " (a fill gives 'velocity' and 'orientation' inside 'fill:')"));
     }
   }
   if (source == "file") {
@@ -1259,7 +1284,18 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
     return g;
   }
   read_size(gm, g);
-  if (source == "fill") {
+  if (source == "inlet") {
+    const YamlNode in = gm.at("inlet");
+    if (g.fixed)
+      in.fail("a fixed group cannot have an inlet (inserted grains fall, fixed ones stay put)");
+    if (g.kind != config::Shape::Sphere && g.kind != config::Shape::Disk)
+      in.fail(fmt::format("an inlet inserts round grains (sphere, disk), not {}", g.shape));
+    if (c.integrator == "gear5")
+      in.fail(
+          "an inlet is not available with integrator: gear5 (a new grain has no higher time "
+          "derivatives); use velocity_verlet");
+    g.inlet = read_inlet(in);
+  } else if (source == "fill") {
     g.fill = read_fill(gm.at("fill"), g);
   } else {
     config::Explicit ex;
@@ -1422,19 +1458,6 @@ void Reader::check_mesh_size(const YamlMap& mm, const config::Wall& w) const {
         "expected a mesh near the domain ({:.3g} m across), found it {:.3g} m from the domain's "
         "centre (bounds {} - {})",
         size, away, text(lo), text(hi)));
-}
-
-/// Axis-aligned bounds of a region (a cylinder: of the disc swept along its axis).
-std::pair<Vec3, Vec3> region_bounds(const config::Region& r) {
-  if (r.kind == config::Region::Kind::Box) return {r.min, r.max};
-  Vec3 lo, hi;
-  const Vec3 a = r.axis, top = r.center + r.height * a;
-  for (int k = 0; k < 3; ++k) {
-    const double across = r.radius * std::sqrt(std::max(0.0, 1.0 - a[k] * a[k]));
-    lo[k] = std::min(r.center[k], top[k]) - across;
-    hi[k] = std::max(r.center[k], top[k]) + across;
-  }
-  return {lo, hi};
 }
 
 void Reader::read_outlets(const YamlMap& root) {

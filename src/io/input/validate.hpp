@@ -72,6 +72,9 @@ Vec3 grain_extent(const config::Fill& f, const config::ParticleGroup& g, double 
 /// Volume (3D) or area (2D) of a fill region, m^3 or m^2.
 double region_measure(const config::Region& region, int dimension);
 
+/// Axis-aligned bounds {lo, hi} of a region (a cylinder: of its disc swept along the axis).
+std::pair<Vec3, Vec3> region_bounds(const config::Region& region);
+
 /// Grains of a fill: round(volume_fraction x region measure / grain measure) when the fill
 /// gives a volume fraction, else its count (0 when none).
 std::int64_t volume_fraction_count(const config::Fill& f, const config::ParticleGroup& g,
