@@ -14,6 +14,7 @@
 
 #include "case_builder.hpp"
 #include "dump.hpp"
+#include "fit.hpp"
 #include "simulation/simulation.hpp"
 
 using namespace gf;
@@ -437,17 +438,7 @@ TEST(ValidationFixedMotion, SphereOnAConveyorSlidesAtMuGThenRolls) {
     }
   }
   // Least-squares slopes over the sliding phase.
-  auto slope = [&](const std::vector<double>& y) {
-    const double n = static_cast<double>(ts.size());
-    double st = 0, sy = 0, stt = 0, sty = 0;
-    for (std::size_t j = 0; j < ts.size(); ++j) {
-      st += ts[j];
-      sy += y[j];
-      stt += ts[j] * ts[j];
-      sty += ts[j] * y[j];
-    }
-    return (n * sty - st * sy) / (n * stt - st * st);
-  };
+  auto slope = [&](const std::vector<double>& y) { return test::least_squares_slope(ts, y); };
   const double a = slope(vs), alpha = -slope(ws);
   roll_v /= roll_n;
   roll_w /= roll_n;
@@ -518,15 +509,7 @@ TEST(ValidationFixedMotion, BlockOnAConveyorIsCarriedAlongAfterSlidingAtMuG) {
     }
     turn = std::max(turn, std::abs(p.omega()[i].z));
   }
-  const double n = static_cast<double>(ts.size());
-  double st = 0, sy = 0, stt = 0, sty = 0;
-  for (std::size_t j = 0; j < ts.size(); ++j) {
-    st += ts[j];
-    sy += vs[j];
-    stt += ts[j] * ts[j];
-    sty += ts[j] * vs[j];
-  }
-  const double a = (n * sty - st * sy) / (n * stt - st * st);
+  const double a = test::least_squares_slope(ts, vs);
   carried /= carried_n;
   std::printf(
       "block on conveyor: a = %.5f m/s^2 (mu g = %.5f, %.3f %%), carried from %.4e s "

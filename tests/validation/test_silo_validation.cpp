@@ -12,6 +12,7 @@
 
 #include "case_builder.hpp"
 #include "dump.hpp"
+#include "fit.hpp"
 #include "simulation/simulation.hpp"
 
 using namespace gf;
@@ -81,19 +82,6 @@ struct Discharge {
   double height = 0;          // of the settled bed (its highest grain), m
 };
 
-/// Slope of the least-squares line through (t, m).
-double slope(const std::vector<double>& t, const std::vector<double>& m) {
-  const auto n = static_cast<double>(t.size());
-  double st = 0, sm = 0, stt = 0, stm = 0;
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    st += t[i];
-    sm += m[i];
-    stt += t[i] * t[i];
-    stm += t[i] * m[i];
-  }
-  return (n * stm - st * sm) / (n * stt - st * st);
-}
-
 /// Runs the silo with orifice D; the rate is the slope of the outlet's mass against time from
 /// 0.2 s after the gate opened (the flow has set in) to 1.2 s.
 Discharge discharge(double orifice, std::int64_t count, Dump& curve) {
@@ -128,9 +116,9 @@ Discharge discharge(double orifice, std::int64_t count, Dump& curve) {
     m.push_back(mass);
   }
   const std::size_t h = t.size() / 2;
-  out.rate = slope(t, m);
-  out.first = slope({t.begin(), t.begin() + h}, {m.begin(), m.begin() + h});
-  out.second = slope({t.begin() + h, t.end()}, {m.begin() + h, m.end()});
+  out.rate = test::least_squares_slope(t, m);
+  out.first = test::least_squares_slope({t.begin(), t.begin() + h}, {m.begin(), m.begin() + h});
+  out.second = test::least_squares_slope({t.begin() + h, t.end()}, {m.begin() + h, m.end()});
   return out;
 }
 
@@ -190,7 +178,7 @@ TEST(ValidationSilo, DischargeRateFollowsHagenAndBeverloo) {
     dd[i] = ratios[i] * kD;
     w23[i] = std::pow(rate[i], 2.0 / 3.0);
   }
-  const double a = slope(dd, w23);
+  const double a = test::least_squares_slope(dd, w23);
   double b = 0;
   for (std::size_t i = 0; i < n; ++i) b += (w23[i] - a * dd[i]) / static_cast<double>(n);
   const double k = -b / (a * kD);
