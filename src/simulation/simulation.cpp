@@ -88,6 +88,16 @@ double contact_radius(const ParticleStore& p, std::size_t i) {
   }
 }
 
+/// The largest grain an inlet of group g inserts: its bounding radius and its contact radius
+/// (contact_radius), from one such grain built in a scratch store.
+std::pair<double, double> inlet_grain_radii(const config::ParticleGroup& g, double density,
+                                            double thickness) {
+  ParticleStore scratch;
+  if (g.kind != config::Shape::Sphere && g.kind != config::Shape::Disk) scratch.enable_shapes();
+  ShapeBuilder(g, density, thickness, 1).add(scratch, 0, 0, g.radius.largest(), {}, {}, {}, {});
+  return {scratch.radius()[0], contact_radius(scratch, 0)};
+}
+
 /// The force on all fixed grains but their weight, N: the sum over fixed grains of f - m g (their
 /// contacts with free grains and, in CFD-DEM runs, the fluid's force), serial so that it does not
 /// depend on the thread count. Zero without fixed grains.
@@ -177,11 +187,13 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
   // sized by their thickness, not by their (rotation-invariant) bounding sphere. The skin
   // bounds how far grains move between list builds, so fixed grains (which never move) do not
   // count: a large fixed obstacle does not inflate the lists of small free grains.
-  for (const auto& in : inlets_) {  // (round grains: the radius is the contact radius)
-    const double r = cfg.particles[in.group].radius.largest();
-    r_max = std::max(r_max, r);
-    r_contact = std::max(r_contact, r);
-    r_contact_free = std::max(r_contact_free, r);
+  for (const auto& in : inlets_) {  // (the groups start empty: their largest grain)
+    const auto [bounding, contact] = inlet_grain_radii(
+        cfg.particles[in.group], materials_[static_cast<std::size_t>(in.material)].density,
+        cfg.domain.thickness);
+    r_max = std::max(r_max, bounding);
+    r_contact = std::max(r_contact, contact);
+    r_contact_free = std::max(r_contact_free, contact);
   }
   if (r_contact_free > 0) r_contact = r_contact_free;
   skin_ = cfg.neighbor.skin.value_or(0.5 * r_contact > 0 ? 0.5 * r_contact : 1e-3);
@@ -404,10 +416,13 @@ void Simulation::build_materials_and_pairs() {
     auto& rr = r_ref[static_cast<std::size_t>(particles_.material()[i])];
     rr = std::max(rr, particles_.radius()[i]);
   }
-  for (const auto& g : cfg_.particles)  // (an inlet's group starts empty)
+  for (const auto& g : cfg_.particles)  // (an inlet's group starts empty: its largest grain)
     if (g.inlet) {
-      auto& rr = r_ref[static_cast<std::size_t>(mat_index.at(g.material))];
-      rr = std::max(rr, g.radius.largest());
+      const int m = mat_index.at(g.material);
+      auto& rr = r_ref[static_cast<std::size_t>(m)];
+      rr = std::max(rr, inlet_grain_radii(g, materials_[static_cast<std::size_t>(m)].density,
+                                          cfg_.domain.thickness)
+                            .first);
     }
   pairs_ = PairTable<contact::PairCoeffs>(nm);
   for (const auto& c : cfg_.contacts) {
@@ -848,13 +863,17 @@ std::size_t Simulation::insert_inlet_grains() {
     const double rho = materials_[static_cast<std::size_t>(in.material)].density;
     ShapeBuilder builder(g, rho, cfg_.domain.thickness, 1 + in.group);
     const RadiusDistribution dist = to_distribution(g.radius);
-    double r_max = g.radius.largest();
+    const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
+    // Spherocylinders are placed by a sphere that holds any of them, as a fill places them.
+    const double place = builder.placement_radius();
+    double r_max = place;
     for (std::size_t i = 0; i < particles_.size(); ++i)
       r_max = std::max(r_max, particles_.radius()[i]);
     std::vector<std::size_t> near = grains_near(in.region, 2 * r_max);
     while (in.inserted < due) {
       const double r = dist.sample(rng_);
-      const auto y = free_place(in.region, r, near, particles_.size());
+      const Quat q = round ? Quat{} : ShapeBuilder::random_orientation(rng_, two_d_);
+      const auto y = free_place(in.region, round ? r : place, near, particles_.size());
       if (!y) {
         // The region is full: the rest waits for the next batch (the grains below move on).
         if (!inlet_short_warned_)
@@ -867,7 +886,7 @@ std::size_t Simulation::insert_inlet_grains() {
         break;
       }
       near.push_back(
-          builder.add(particles_, next_id_++, in.material, r, *y, in.velocity, Vec3{}, Quat{}));
+          builder.add(particles_, next_id_++, in.material, r, *y, in.velocity, Vec3{}, q));
       ++in.inserted;
     }
   }

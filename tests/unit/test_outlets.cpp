@@ -11,6 +11,7 @@
 
 #include "boundaries/fill.hpp"
 #include "case_builder.hpp"
+#include "contact/geometry/capsule.hpp"
 #include "core/error.hpp"
 #include "neighbor/verlet_list.hpp"
 #include "simulation/simulation.hpp"
@@ -326,9 +327,10 @@ TEST(RestartOutlets, ContinueBitIdentically) {
 
 namespace {
 
-/// 3D: an inlet pours spheres (r 1.5-2.5 mm) at 2000 per second from a layer at the top of an
-/// open box onto its floor; optionally an outlet in the floor's corner takes those that roll in.
-config::Case pour_case(bool outlet) {
+/// 3D: an inlet pours spheres (r 1.5-2.5 mm; with `rods`, spherocylinders of aspect ratio 3) at
+/// 2000 per second from a layer at the top of an open box onto its floor; optionally an outlet
+/// in the floor's corner takes those that roll in.
+config::Case pour_case(bool outlet, bool rods = false) {
   auto c = test::base_case(2e-5, 1.0, {0, 0, 0}, {0.05, 0.05, 0.12});
   c.gravity = {0, 0, -9.81};
   test::add_material(c, "glass", 2500, 1e7, 0.3);
@@ -339,6 +341,13 @@ config::Case pour_case(bool outlet) {
   g.radius.kind = config::SizeDistribution::Kind::Uniform;
   g.radius.min = 0.0015;
   g.radius.max = 0.0025;
+  if (rods) {
+    g.shape = "spherocylinder";
+    g.kind = config::Shape::Spherocylinder;
+    g.radius.min = 0.001;
+    g.radius.max = 0.0012;
+    g.aspect_ratio = 3;
+  }
   config::Inlet in;
   in.region.min = {0, 0, 0.09};
   in.region.max = {0.05, 0.05, 0.12};
@@ -394,23 +403,59 @@ TEST(Inlets, InsertAtTheRateWithoutOverlapsAndWithNewIds) {
   EXPECT_NE(sim.device_unsupported().find("inlet"), std::string::npos);
 }
 
+// Spherocylinders come in randomly oriented, placed by the sphere that holds any of them: no two
+// overlap where they are inserted (distance of the axes against the sum of the cap radii).
+TEST(Inlets, SpherocylindersComeInRandomlyOrientedAndApart) {
+  Simulation sim(pour_case(false, true));
+  const auto& p = sim.particles();
+  ASSERT_TRUE(p.has_shapes());
+  double min_gap = INFINITY, mean_axis_z = 0;
+  int checked = 0;
+  for (int s = 0; s < 2000; ++s) {  // 0.04 s: four batches after the first, still near the top
+    const std::size_t before = p.size();
+    sim.step();
+    if (p.size() == before) continue;
+    for (std::size_t i = before; i < p.size(); ++i) {
+      const Vec3 ai = p.half_length()[i] * contact::capsule_axis(p.orientation()[i]);
+      mean_axis_z += std::abs(contact::capsule_axis(p.orientation()[i]).z);
+      ++checked;
+      for (std::size_t j = 0; j < p.size(); ++j) {
+        if (j == i) continue;
+        const Vec3 aj = p.half_length()[j] * contact::capsule_axis(p.orientation()[j]);
+        const auto c = contact::closest_points_segments(p.x()[i] - ai, p.x()[i] + ai, p.x()[j] - aj,
+                                                        p.x()[j] + aj);
+        const double caps = p.radius()[i] - p.half_length()[i] + p.radius()[j] - p.half_length()[j];
+        min_gap = std::min(min_gap, std::sqrt(c.dist2) - caps);
+      }
+    }
+  }
+  EXPECT_EQ(sim.inserted_grains(), 100);  // 2000/s, batches at 0, 0.01, 0.02, 0.03, 0.04 s
+  EXPECT_EQ(checked, 80);
+  EXPECT_GT(min_gap, 0.0);
+  // |axis . z| of uniformly random axes averages 1/2 (standard deviation of a mean of 80: 0.03).
+  EXPECT_NEAR(mean_axis_z / checked, 0.5, 0.1);
+}
+
 // Inlet and outlet together: what came in is what is there plus what left, and a run continued
 // from a checkpoint inserts and takes the same grains (ids, places: the generator's state).
 TEST(RestartInlets, ContinueBitIdentically) {
-  const auto cfg = pour_case(true);
-  test::TempDir dir;
-  const auto file = dir.path() / "inlets.h5";
-  Simulation a(cfg);
-  for (int s = 0; s < 6000; ++s) a.step();
-  a.save_checkpoint(file);
-  for (int s = 0; s < 6000; ++s) a.step();
-  Simulation b(cfg);
-  b.load_checkpoint(file);
-  for (int s = 0; s < 6000; ++s) b.step();
-  test::expect_same_state(a, b);
-  EXPECT_EQ(a.inserted_grains(), b.inserted_grains());
-  EXPECT_EQ(a.outlet_tallies()[0].count, b.outlet_tallies()[0].count);
-  EXPECT_GT(a.outlet_tallies()[0].count, 5);
-  EXPECT_EQ(a.inserted_grains(),
-            static_cast<std::int64_t>(a.particles().size()) + a.outlet_tallies()[0].count);
+  for (const bool rods : {false, true}) {
+    SCOPED_TRACE(rods ? "spherocylinders" : "spheres");
+    const auto cfg = pour_case(true, rods);
+    test::TempDir dir;
+    const auto file = dir.path() / "inlets.h5";
+    Simulation a(cfg);
+    for (int s = 0; s < 6000; ++s) a.step();
+    a.save_checkpoint(file);
+    for (int s = 0; s < 6000; ++s) a.step();
+    Simulation b(cfg);
+    b.load_checkpoint(file);
+    for (int s = 0; s < 6000; ++s) b.step();
+    test::expect_same_state(a, b);
+    EXPECT_EQ(a.inserted_grains(), b.inserted_grains());
+    EXPECT_EQ(a.outlet_tallies()[0].count, b.outlet_tallies()[0].count);
+    EXPECT_GT(a.outlet_tallies()[0].count, 5);
+    EXPECT_EQ(a.inserted_grains(),
+              static_cast<std::int64_t>(a.particles().size()) + a.outlet_tallies()[0].count);
+  }
 }

@@ -161,7 +161,8 @@ struct Motion {
   double rate = 0;     ///< rad/s (from `rpm` or `rate`)
 };
 
-/// A particle group's inlet: round grains (spheres, disks) of the group inserted during the run
+/// A particle group's inlet: grains of the group (spheres, disks, spherocylinders; the latter
+/// randomly oriented, placed by the sphere that holds any of them) inserted during the run
 /// at `rate` grains per second, in batches every `every` seconds from `start` to `stop`, each at
 /// a uniformly random place of `region` where it overlaps no grain, with `velocity`. A batch at
 /// time t inserts the grains due by t + every (so the first one, at `start`, rate x every).

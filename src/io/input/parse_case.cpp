@@ -1288,8 +1288,8 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
     const YamlNode in = gm.at("inlet");
     if (g.fixed)
       in.fail("a fixed group cannot have an inlet (inserted grains fall, fixed ones stay put)");
-    if (g.kind != config::Shape::Sphere && g.kind != config::Shape::Disk)
-      in.fail(fmt::format("an inlet inserts round grains (sphere, disk), not {}", g.shape));
+    if (g.kind == config::Shape::Polygon)
+      in.fail("an inlet inserts spheres, disks and spherocylinders, not polygons");
     if (c.integrator == "gear5")
       in.fail(
           "an inlet is not available with integrator: gear5 (a new grain has no higher time "

@@ -1411,7 +1411,11 @@ void Validator::check_inlets() {
     // fraction of 0.38 (3D; 0.55 in 2D), and slows down well before.
     const double batch = in.rate * in.every;
     const double r = group.radius.largest();
-    const double fraction = batch * grain_measure(group, r) / region_measure(in.region, dim_);
+    // (spherocylinders are placed by the sphere that holds any of them)
+    const double grain = group.kind == config::Shape::Spherocylinder
+                             ? 4.0 / 3.0 * pi * std::pow(reach(g, r), 3)
+                             : grain_measure(group, r);
+    const double fraction = batch * grain / region_measure(in.region, dim_);
     const double limit = dim_ == 2 ? 0.3 : 0.2;
     if (fraction > limit)
       throw_input_error(
