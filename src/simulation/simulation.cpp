@@ -742,39 +742,28 @@ std::vector<std::int64_t> Simulation::take_outlet_grains() {
     ++outlet_tallies_[k].count;
     outlet_tallies_[k].mass += particles_.mass()[i];
   }
-  std::vector<char> moved;  // grains put back elsewhere: their contacts so far are gone
+  // A grain put back elsewhere is a new grain to the list build: it keeps its place in the store
+  // but gets no index at the last build (-1), so that neither a pair history (two grains that
+  // touched in the outlet and land side by side) nor a wall history (a grain that slid along a
+  // wall into the outlet and lands against it again) of its old contacts is carried.
+  std::vector<char> moved;
   for (std::size_t k = 0; k < back.size(); ++k) {
     if (back[k].empty()) continue;
     reinsert_grains(back[k], *outlet_reinsert_[k], cfg_.outlets[k].name);
     moved.resize(n, 0);
     for (const auto i : back[k]) moved[static_cast<std::size_t>(i)] = 1;
   }
-  if (!moved.empty()) {
-    // The list build below carries histories by pair (grain-grain) or by grain and wall
-    // element: two grains that touched in the outlet and land side by side, or a grain that
-    // slid along a wall there and lands against it again, would carry a history of another
-    // contact. Forget every history of the moved grains.
-    const auto off = nlist_.offsets();
-    const auto nb = nlist_.neighbors();
-    const auto h = nlist_.history();
-    for (std::size_t i = 0; i + 1 < off.size(); ++i)
-      for (auto e = off[i]; e < off[i + 1]; ++e) {
-        const auto ue = static_cast<std::size_t>(e);
-        if (moved[i] || moved[static_cast<std::size_t>(nb[ue])]) h[ue] = Vec3{};
-      }
-    const auto entries = wlist_.entries();
-    const auto wh = wlist_.history();
-    const auto slots = static_cast<std::size_t>(wlist_.slots());
-    for (std::size_t e = 0; e < entries.size(); ++e)
-      if (moved[static_cast<std::size_t>(entries[e].particle)])
-        for (std::size_t s = 0; s < slots; ++s) wh[slots * e + s] = Vec3{};
-  }
-  if (taken.empty()) return {};
+  if (taken.empty() && moved.empty()) return {};
   const std::size_t left = order.size();
-  order.insert(order.end(), taken.begin(), taken.end());
-  particles_.permute(order);
-  particles_.resize(left);
-  order.resize(left);
+  if (!taken.empty()) {
+    order.insert(order.end(), taken.begin(), taken.end());
+    particles_.permute(order);
+    particles_.resize(left);
+    order.resize(left);
+  }
+  if (!moved.empty())
+    for (auto& o : order)
+      if (moved[static_cast<std::size_t>(o)]) o = -1;
   return order;
 }
 

@@ -174,7 +174,8 @@ class Simulation {
   /// Removes the free grains whose centre lies in an outlet's region and counts them there (the
   /// first outlet that holds a grain takes it); an outlet with a reinsert region puts its grains
   /// back there instead (reinsert_grains). Returns, for each grain left, its index before the
-  /// removal; empty when none was removed (the indices are unchanged).
+  /// removal, -1 for a grain put back (new to the list build: no contact history); empty when
+  /// none was removed or put back (the indices are unchanged).
   std::vector<std::int64_t> take_outlet_grains();
   /// Places each grain of `grains` (indices) at rest at a uniformly random place of `region`
   /// where it lies wholly inside and overlaps no other grain (bounding spheres); Error when 1000
