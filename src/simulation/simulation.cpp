@@ -829,21 +829,20 @@ std::int64_t Simulation::inserted_grains() const {
   return n;
 }
 
+bool Simulation::InletState::due(double t) const {
+  return t < stop && t >= start + static_cast<double>(batches) * every - 1e-9 * every;
+}
+
 bool Simulation::inlets_due() const {
-  const double t = time();
-  for (const auto& in : inlets_)
-    if (t < in.stop && t >= in.start + static_cast<double>(in.batches) * in.every - 1e-9 * in.every)
-      return true;
-  return false;
+  return std::any_of(inlets_.begin(), inlets_.end(),
+                     [t = time()](const InletState& in) { return in.due(t); });
 }
 
 std::size_t Simulation::insert_inlet_grains() {
   const double t = time();
   const std::size_t before = particles_.size();
   for (auto& in : inlets_) {
-    if (!(t < in.stop &&
-          t >= in.start + static_cast<double>(in.batches) * in.every - 1e-9 * in.every))
-      continue;
+    if (!in.due(t)) continue;
     in.batches = static_cast<std::int64_t>(std::floor((t - in.start) / in.every + 1e-9)) + 1;
     // The grains due by the end of this batch's interval (never past the stop).
     const double until = std::min(t - in.start + in.every, in.stop - in.start);

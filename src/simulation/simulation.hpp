@@ -243,6 +243,8 @@ class Simulation {
     double rate = 0, start = 0, stop = 0, every = 0;  ///< stop: infinity without one
     Vec3 velocity;
     std::int64_t inserted = 0, batches = 0;
+    /// Whether its next batch is due at time t (before the stop).
+    bool due(double t) const;
   };
   std::vector<InletState> inlets_;
   std::int64_t next_id_ = 1;  ///< the id of the next grain an inlet inserts
