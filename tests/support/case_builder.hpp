@@ -108,6 +108,26 @@ inline void add_mesh(config::Case& c, const std::string& name, std::vector<Vec3>
   c.walls.push_back(w);
 }
 
+/// A box region (fills, outlets, inlets) from its corners.
+inline config::Region box_region(Vec3 lo, Vec3 hi) {
+  config::Region r;
+  r.kind = config::Region::Kind::Box;
+  r.min = lo;
+  r.max = hi;
+  return r;
+}
+
+/// An outlet of the given region; returns it for further settings (reinsert), valid until the
+/// next push_back.
+inline config::Outlet& add_outlet(config::Case& c, const std::string& name,
+                                  const config::Region& region) {
+  config::Outlet o;
+  o.name = name;
+  o.region = region;
+  c.outlets.push_back(o);
+  return c.outlets.back();
+}
+
 /// A fill of a box region, uniform radii in [r_min, r_max] (equal: monodisperse); returns the
 /// fill for further settings (spacing, count, seed, ...), valid until the next push_back.
 inline config::Fill& add_box_fill(config::Case& c, const std::string& material, double r_min,

@@ -45,14 +45,8 @@ config::Case sieve_case() {
   auto& lone = c.particles.back().explicit_particles->positions;
   lone.push_back({0.01, 0.01, -0.02});  // inside the left outlet
   test::add_box(c, "box", {0, 0, -0.03}, {0.05, 0.05, 0.1}, {"zmin", "zmax"}, "glass");
-  for (const auto& [name, x0, x1] : {std::tuple{"left", 0.0, 0.025}, {"right", 0.025, 0.05}}) {
-    config::Outlet o;
-    o.name = name;
-    o.region.kind = config::Region::Kind::Box;
-    o.region.min = {x0, 0, -0.03};
-    o.region.max = {x1, 0.05, -0.01};
-    c.outlets.push_back(o);
-  }
+  test::add_outlet(c, "left", test::box_region({0, 0, -0.03}, {0.025, 0.05, -0.01}));
+  test::add_outlet(c, "right", test::box_region({0.025, 0, -0.03}, {0.05, 0.05, -0.01}));
   return c;
 }
 
@@ -117,12 +111,11 @@ TEST(Outlets, TwoDimensionalCircleRegion) {
   test::add_material(c, "glass", 2500, 1e7, 0.3);
   test::add_contact(c, "glass", "glass", "hooke", {{"restitution", 0.5}, {"stiffness", 1e3}});
   test::add_disks(c, "glass", 0.002, {{0.02, 0.05, 0}, {0.05, 0.05, 0}, {0.08, 0.05, 0}});
-  config::Outlet o;
-  o.name = "hole";
-  o.region.kind = config::Region::Kind::Cylinder;
-  o.region.center = {0.05, 0.03, 0};
-  o.region.radius = 0.005;
-  c.outlets.push_back(o);
+  config::Region hole;
+  hole.kind = config::Region::Kind::Cylinder;
+  hole.center = {0.05, 0.03, 0};
+  hole.radius = 0.005;
+  test::add_outlet(c, "hole", hole);
   Simulation sim(c);
   // The middle disk falls 0.015 m in sqrt(2 x 0.015 / 9.81) = 0.055 s; the others pass by.
   for (int s = 0; s < 7000; ++s) sim.step();
@@ -135,10 +128,7 @@ TEST(Outlets, TwoDimensionalCircleRegion) {
 // fits (a grain put onto another would be shot out at a speed far above the free fall's).
 TEST(Outlets, ReinsertPutsTheGrainsBackAtRestWhereTheyFit) {
   auto cfg = sieve_case();
-  config::Region top;
-  top.min = {0, 0, 0.06};
-  top.max = {0.05, 0.05, 0.09};
-  cfg.outlets[1].reinsert = top;
+  cfg.outlets[1].reinsert = test::box_region({0, 0, 0.06}, {0.05, 0.05, 0.09});
   Simulation sim(cfg);
   const std::size_t n0 = sim.particles().size();
   double v_max = 0;
@@ -167,15 +157,9 @@ TEST(Outlets, ReinsertedGrainsForgetTheirContacts) {
                     {{"restitution", 0.5}, {"friction", 0.1}});
   test::add_spheres(c, "glass", 0.004, {{0.004, 0.015, 0.05}});
   test::add_plane(c, "wall", {0, 0, 0}, {1, 0, 0}, "glass");
-  config::Outlet o;
-  o.name = "pit";
-  o.region.min = {0, 0, 0};
-  o.region.max = {0.03, 0.03, 0.02};
-  config::Region top;  // centres at x in [0.0037, 0.0039]: cutting into the wall
-  top.min = {-0.0003, 0.010, 0.09};
-  top.max = {0.0079, 0.020, 0.11};
-  o.reinsert = top;
-  c.outlets.push_back(o);
+  // Put back with centres at x in [0.0037, 0.0039]: cutting into the wall.
+  test::add_outlet(c, "pit", test::box_region({0, 0, 0}, {0.03, 0.03, 0.02})).reinsert =
+      test::box_region({-0.0003, 0.010, 0.09}, {0.0079, 0.020, 0.11});
   Simulation sim(c);
   double h_before = 0;
   while (sim.outlet_tallies()[0].count == 0 && sim.step_count() < 20000) {
@@ -199,15 +183,8 @@ TEST(Outlets, ReinsertWithoutRoomStopsTheRun) {
   test::add_material(c, "glass", 2500, 1e7, 0.3);
   test::add_contact(c, "glass", "glass", "hooke", {{"restitution", 0.5}, {"stiffness", 1e3}});
   test::add_disks(c, "glass", 0.002, {{0.02, 0.03, 0}, {0.05, 0.03, 0}, {0.08, 0.03, 0}});
-  config::Outlet o;
-  o.name = "floor";
-  o.region.min = {0, 0, 0};
-  o.region.max = {0.1, 0.02, 0};
-  config::Region slot;
-  slot.min = {0.045, 0.09, 0};
-  slot.max = {0.0495, 0.0945, 0};
-  o.reinsert = slot;
-  c.outlets.push_back(o);
+  test::add_outlet(c, "floor", test::box_region({0, 0, 0}, {0.1, 0.02, 0})).reinsert =
+      test::box_region({0.045, 0.09, 0}, {0.0495, 0.0945, 0});
   Simulation sim(c);
   try {
     for (int s = 0; s < 10000; ++s) sim.step();
@@ -302,10 +279,8 @@ TEST(Outlets, TheCudaBackEndRefusesThem) {
 // steps as the uninterrupted run: the same state bit for bit, and the same tallies.
 TEST(RestartOutlets, ContinueBitIdentically) {
   auto cfg = sieve_case();
-  config::Region top;  // the right half's grains come back (random places: the generator's state)
-  top.min = {0, 0, 0.06};
-  top.max = {0.05, 0.05, 0.09};
-  cfg.outlets[1].reinsert = top;
+  // The right half's grains come back (random places: the generator's state).
+  cfg.outlets[1].reinsert = test::box_region({0, 0, 0.06}, {0.05, 0.05, 0.09});
   test::TempDir dir;
   const auto file = dir.path() / "outlets.h5";
   Simulation a(cfg);
@@ -349,8 +324,7 @@ config::Case pour_case(bool outlet, bool rods = false) {
     g.aspect_ratio = 3;
   }
   config::Inlet in;
-  in.region.min = {0, 0, 0.09};
-  in.region.max = {0.05, 0.05, 0.12};
+  in.region = test::box_region({0, 0, 0.09}, {0.05, 0.05, 0.12});
   in.rate = 2000;
   in.velocity = {0, 0, -0.5};
   in.every = 0.01;
@@ -359,11 +333,7 @@ config::Case pour_case(bool outlet, bool rods = false) {
   c.particles.push_back(g);
   test::add_box(c, "box", {0, 0, 0}, {0.05, 0.05, 0.12}, {"zmax"}, "glass");
   if (outlet) {
-    config::Outlet o;
-    o.name = "corner";
-    o.region.min = {0, 0, 0};
-    o.region.max = {0.015, 0.015, 0.012};
-    c.outlets.push_back(o);
+    test::add_outlet(c, "corner", test::box_region({0, 0, 0}, {0.015, 0.015, 0.012}));
   }
   return c;
 }

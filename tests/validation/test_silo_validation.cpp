@@ -62,15 +62,9 @@ config::Case silo_case(double orifice, std::int64_t count) {
   test::add_plane(c, "gate", {0, 0, 0}, {0, 1, 0}, "glass");
   c.walls.back().motion.velocity = {0, -2, 0};
   c.walls.back().motion.start = kOpen;
-  config::Outlet out;
-  out.name = "below";
-  out.region.min = {-kHalf - 0.01, -0.03, 0};
-  out.region.max = {kHalf + 0.01, -0.01, 0};
-  config::Region back;
-  back.min = {-kHalf, top - 0.015, 0};
-  back.max = {kHalf, top + 0.015, 0};
-  out.reinsert = back;
-  c.outlets.push_back(out);
+  test::add_outlet(c, "below",
+                   test::box_region({-kHalf - 0.01, -0.03, 0}, {kHalf + 0.01, -0.01, 0}))
+      .reinsert = test::box_region({-kHalf, top - 0.015, 0}, {kHalf, top + 0.015, 0});
   return c;
 }
 
