@@ -141,10 +141,17 @@ class TriangleMesh {
   double segment_distance(std::int32_t tri, const Vec3& p0, const Vec3& p1) const;
   /// Distance from x to triangle `tri` (current vertices).
   double distance(std::int32_t tri, const Vec3& x) const;
+  /// A cheap lower bound of distance(tri, x) (never above it but for rounding, 1e-12 relative):
+  /// the larger of the distance to the triangle's plane and the distance to its bounding sphere
+  /// about the centroid. Lets a search skip the exact closest point for far triangles.
+  double distance_bound(std::int32_t tri, const Vec3& x) const;
+  /// The same for segment_distance(tri, p0, p1): the distance to the plane when both ends lie on
+  /// one side of it (0 otherwise), or to the bounding sphere when larger.
+  double segment_distance_bound(std::int32_t tri, const Vec3& p0, const Vec3& p1) const;
 
   /// Indexes the triangles on a grid (in the body frame, so valid for any placement) so that
   /// `candidates` returns, in increasing order, every triangle within `reach` of a point (and
-  /// some farther ones); cells of 2 x reach, at least `min_cell`. Kept while the reach does not
+  /// some farther ones); cells of the reach, at least `min_cell`. Kept while the reach does not
   /// change (a cache, hence const).
   void index(double reach, double min_cell = 0) const;
   /// Triangles possibly within the reach given to index() of x; empty outside the grid.

@@ -104,13 +104,18 @@ void WallContactList::build(std::span<const Wall> walls, const Vec3* x, const do
         const TriangleMesh& mesh = walls[w].mesh;
         const auto [lo, hi] = mesh.candidates(x[i]);
         const Vec3 h = half_axis != nullptr ? half_axis[i] : Vec3{};
+        // (the cheap bounds first: most candidates of a grain above a large flat part are
+        // farther from the plane than the reach)
         if (h == Vec3{}) {
           for (const std::int32_t* t = lo; t != hi; ++t)
-            if (mesh.distance(*t, x[i]) - r[i] < skin) entries_.push_back({ii, ww, *t});
+            if (mesh.distance_bound(*t, x[i]) - r[i] < skin &&
+                mesh.distance(*t, x[i]) - r[i] < skin)
+              entries_.push_back({ii, ww, *t});
         } else {
           const double r_cap = r[i] - norm(h);
           for (const std::int32_t* t = lo; t != hi; ++t)
-            if (mesh.segment_distance(*t, x[i] - h, x[i] + h) - r_cap < skin)
+            if (mesh.segment_distance_bound(*t, x[i] - h, x[i] + h) - r_cap < skin &&
+                mesh.segment_distance(*t, x[i] - h, x[i] + h) - r_cap < skin)
               entries_.push_back({ii, ww, *t});
         }
         continue;

@@ -899,6 +899,35 @@ TEST(TriangleMeshContact, DistanceMatchesBruteForce) {
   }
 }
 
+// distance_bound() and segment_distance_bound() (the wall list's cheap rejections) never exceed
+// the exact distances, and reject: points far from a triangle get a bound close to the distance.
+TEST(TriangleMeshContact, DistanceBoundsAreLowerBounds) {
+  const TriangleMesh m = bumpy(4, 0.3, 12);
+  std::mt19937_64 g(15);
+  std::uniform_real_distribution<double> u(-0.5, 1.5);
+  int tight = 0, checked = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Vec3 x{u(g), u(g), u(g)};
+    const Vec3 x1 = x + 0.3 * Vec3{u(g) - 0.5, u(g) - 0.5, u(g) - 0.5};
+    for (std::size_t t = 0; t < m.size(); ++t) {
+      const auto tri = static_cast<std::int32_t>(t);
+      const double d = m.distance(tri, x), b = m.distance_bound(tri, x);
+      ASSERT_LE(b, d) << "triangle " << t << " point " << describe(x, 0);
+      ASSERT_LE(m.segment_distance_bound(tri, x, x1), m.segment_distance(tri, x, x1)) << t;
+      ASSERT_EQ(m.segment_distance_bound(tri, x, x), b);
+      ++checked;
+      if (b > 0.5 * d) ++tight;
+    }
+  }
+  // Most random point-triangle pairs are far apart: the bound is useful for them.
+  EXPECT_GT(tight, checked / 2);
+  // Above a flat square's triangle: the plane's distance, less the mesh's tolerance (1e-9 of its
+  // size, here 1.4e-9); through it, 0 at most.
+  const TriangleMesh sq = square_grid(1, false);
+  EXPECT_NEAR(sq.distance_bound(0, {0.7, 0.2, 0.25}), 0.25, 2e-9);
+  EXPECT_LE(sq.segment_distance_bound(0, {0.7, 0.2, -0.5}, {0.7, 0.2, 0.5}), 0.0);
+}
+
 // ---------------------------------------------------------------------------------------------
 // 5. The grid.
 
