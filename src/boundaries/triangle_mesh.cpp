@@ -912,6 +912,7 @@ Vec3 TriangleMesh::body_point(const Vec3& x) const {
 
 std::pair<const std::int32_t*, const std::int32_t*> TriangleMesh::candidates(const Vec3& x) const {
   const std::uint64_t key = cell_key(body_point(x));
+  if (key == std::numeric_limits<std::uint64_t>::max()) return {nullptr, nullptr};  // off the grid
   const auto it = std::lower_bound(keys_.begin(), keys_.end(), key);
   if (it == keys_.end() || *it != key) return {nullptr, nullptr};
   const auto c = static_cast<std::size_t>(it - keys_.begin());
