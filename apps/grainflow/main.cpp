@@ -210,6 +210,12 @@ int check(const std::string& file, const std::vector<std::string>& sets) {
                taken > 0 ? fmt::format("; {} grain(s) placed inside them, taken at t = 0", taken)
                          : std::string());
   }
+  if (!cfg.flow_meters.empty()) {
+    std::string names;
+    for (std::size_t k = 0; k < cfg.flow_meters.size(); ++k)
+      names += (k > 0 ? ", " : "") + cfg.flow_meters[k].name;
+    fmt::print("  {:<40} {} ({})\n", "flow meters", cfg.flow_meters.size(), names);
+  }
   for (const auto& w : sim.walls())
     if (w.kind == gf::WallKind::Mesh)
       fmt::print(

@@ -101,6 +101,23 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
       h.write("outlets/mass", std::span<const double>(mass));
     }
 
+    if (!meter_tallies_.empty()) {
+      // The flow meters' net tallies, and their marks at the last series row (flow_rate).
+      h.create_group("flow_meters");
+      std::vector<std::int64_t> count;
+      std::vector<double> mass, mass_at_row, time_at_row;
+      for (const auto& t : meter_tallies_) {
+        count.push_back(t.count);
+        mass.push_back(t.mass);
+        mass_at_row.push_back(t.mass_at_row);
+        time_at_row.push_back(t.time_at_row);
+      }
+      h.write("flow_meters/count", std::span<const std::int64_t>(count));
+      h.write("flow_meters/mass", std::span<const double>(mass));
+      h.write("flow_meters/mass_at_row", std::span<const double>(mass_at_row));
+      h.write("flow_meters/time_at_row", std::span<const double>(time_at_row));
+    }
+
     h.set_attribute("/", "next_id", next_id_);
     if (!inlets_.empty()) {
       // What each inlet has inserted, and its batches (the next one's time).
@@ -293,6 +310,25 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
                                    count.size(), outlet_tallies_.size()));
     for (std::size_t k = 0; k < count.size(); ++k) outlet_tallies_[k] = {count[k], mass[k]};
   }
+  // Flow meters (a checkpoint of a case without them: they start from zero, now). Their
+  // crossings are counted from the positions restored.
+  meter_tallies_.assign(cfg_.flow_meters.size(), FlowMeterTally{});
+  for (auto& t : meter_tallies_) t.time_at_row = time();
+  if (!meter_tallies_.empty() && h.exists("flow_meters/count")) {
+    const auto count = h.read_int64("flow_meters/count");
+    const auto mass = h.read_double("flow_meters/mass");
+    const auto mass_at_row = h.read_double("flow_meters/mass_at_row");
+    const auto time_at_row = h.read_double("flow_meters/time_at_row");
+    if (count.size() != meter_tallies_.size() || mass.size() != count.size() ||
+        mass_at_row.size() != count.size() || time_at_row.size() != count.size())
+      throw InputError(fmt::format("{}: checkpoint has {} flow meters, the case {}",
+                                   file.string(), count.size(), meter_tallies_.size()));
+    for (std::size_t k = 0; k < count.size(); ++k)
+      meter_tallies_[k] = {count[k], mass[k], mass_at_row[k], time_at_row[k]};
+  }
+  meter_x_.clear();
+  if (!meter_tallies_.empty())
+    meter_x_.assign(particles_.x(), particles_.x() + particles_.size());
   // The next inlet grain's id (older checkpoints: after the largest id present).
   next_id_ = 1;
   for (std::size_t i = 0; i < particles_.size(); ++i)

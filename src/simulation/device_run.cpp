@@ -21,6 +21,9 @@ std::string Simulation::device_unsupported() const {
   if (!cfg_.outlets.empty())
     return fmt::format("the case has outlets ('{}': the CUDA back end keeps every grain)",
                        cfg_.outlets.front().name);
+  if (!cfg_.flow_meters.empty())
+    return fmt::format("the case has flow meters ('{}': counted on the host only)",
+                       cfg_.flow_meters.front().name);
   if (cfg_.output.contacts_csv.every > 0 || cfg_.output.contacts_vtk.every > 0)
     return "the case writes contacts (output.contacts_csv / contacts_vtk)";
   for (const auto& w : walls_) {

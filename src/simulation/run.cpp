@@ -225,7 +225,7 @@ RunSummary Simulation::run(const RunOptions& opts) {
     const bool row = series && due(step_, series_every);
     if (row) {
       series->append(t, series_row(columns));
-      reset_wall_means(WallMeans::Series);
+      series_row_written();
     }
     // Someone may be watching the time series of a long run: flush them every few seconds (on
     // steps that wrote a row), and before each checkpoint, so that a run killed later and

@@ -159,6 +159,7 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
     outlet_reinsert_.push_back(o.reinsert ? std::optional(to_region(*o.reinsert)) : std::nullopt);
   }
   outlet_tallies_.assign(outlet_regions_.size(), OutletTally{});
+  meter_tallies_.assign(cfg.flow_meters.size(), FlowMeterTally{});
   for (std::size_t g = 0; g < cfg.particles.size(); ++g) {
     const auto& group = cfg.particles[g];
     if (!group.inlet) continue;
@@ -717,6 +718,60 @@ bool Simulation::capsule_ends_moved() const {
                             }) > 0;
 }
 
+void Simulation::count_meter_crossings() {
+  StageTimers::Scope timer(timers_, Stage::Integrate);
+  const std::size_t n = particles_.size();
+  const Vec3* x = particles_.x();
+  if (meter_x_.size() != n) {  // (never after a build or restart; a start without one)
+    meter_x_.assign(x, x + n);
+    return;
+  }
+  const std::int32_t* fixed = particles_.fixed();
+  const double* mass = particles_.mass();
+  // In a box without periodic images the sides are plain signed distances, a short loop with
+  // one rarely taken branch (most grains cross nothing in a step).
+  const bool images = domain_.any_periodic() || domain_.sheared();
+  for (std::size_t k = 0; k < meter_tallies_.size(); ++k) {
+    const config::FlowMeter& f = cfg_.flow_meters[k];
+    const Vec3 p = f.point, nrm = f.normal;
+    const double r2 = f.radius ? *f.radius * *f.radius : std::numeric_limits<double>::infinity();
+    FlowMeterTally& t = meter_tallies_[k];
+    const auto crossed = [&](std::size_t i, const Vec3& rel, const Vec3& d, double s0, double s1) {
+      if (fixed != nullptr && fixed[i] != 0) return;
+      const Vec3 c = rel + (s0 / (s0 - s1)) * d;  // where the centre crossed, from the point
+      if (norm2(c - dot(c, nrm) * nrm) > r2) return;
+      const bool forward = s0 < 0;
+      t.count += forward ? 1 : -1;
+      t.mass += forward ? mass[i] : -mass[i];
+    };
+    if (!images) {
+      const double c0 = dot(p, nrm);
+      for (std::size_t i = 0; i < n; ++i) {
+        const double s0 = dot(meter_x_[i], nrm) - c0, s1 = dot(x[i], nrm) - c0;
+        if ((s0 < 0) != (s1 < 0)) crossed(i, meter_x_[i] - p, x[i] - meter_x_[i], s0, s1);
+      }
+      continue;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      // The side of the plane's nearest image before, and the displacement (minimum image: a
+      // wrap through a periodic boundary is the short step it is) after.
+      const Vec3 rel = domain_.delta(meter_x_[i], p);
+      const Vec3 d = domain_.delta(x[i], meter_x_[i]);
+      const double s0 = dot(rel, nrm), s1 = s0 + dot(d, nrm);
+      if ((s0 < 0) != (s1 < 0)) crossed(i, rel, d, s0, s1);
+    }
+  }
+  std::copy(x, x + n, meter_x_.begin());
+}
+
+void Simulation::series_row_written() {
+  reset_wall_means(WallMeans::Series);
+  for (auto& t : meter_tallies_) {
+    t.mass_at_row = t.mass;
+    t.time_at_row = time();
+  }
+}
+
 std::vector<std::int64_t> Simulation::take_outlet_grains() {
   if (outlet_regions_.empty()) return {};
   const std::size_t n = particles_.size();
@@ -967,6 +1022,7 @@ void Simulation::update_neighbors(bool force) {
   }
   wlist_.build(walls_, particles_.x(), particles_.radius(), n, skin_, perm, wall_half_axes(),
                particles_.fixed());
+  if (!meter_tallies_.empty()) meter_x_.assign(particles_.x(), particles_.x() + n);
   wall_point_at_build_.resize(walls_.size());
   wall_dir_at_build_.resize(walls_.size());
   for (std::size_t w = 0; w < walls_.size(); ++w) {
@@ -1080,6 +1136,7 @@ void Simulation::step(bool defer_kick) {
   ++step_;
   for (auto& w : walls_) w.update_geometry(time());
   place_fixed_groups(time());
+  if (!meter_tallies_.empty()) count_meter_crossings();
   update_neighbors(false);
   compute_forces();
   update_servos();
@@ -1290,6 +1347,18 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       row.push_back(static_cast<double>(n_wall_contacts_));
     } else if (name == "particle_count") {
       row.push_back(static_cast<double>(particles_.size()));
+    } else if (const auto meter_prefix = input::flow_meter_series_prefix(name);
+               !meter_prefix.empty()) {
+      const std::string meter = name.substr(meter_prefix.size());
+      std::size_t k = 0;
+      while (k < cfg_.flow_meters.size() && cfg_.flow_meters[k].name != meter) ++k;
+      REQUIRE(k < cfg_.flow_meters.size(), "no flow meter named '{}'", meter);
+      const FlowMeterTally& t = meter_tallies_[k];
+      const double span = time() - t.time_at_row;
+      row.push_back(meter_prefix == "flow_mass."    ? t.mass
+                    : meter_prefix == "flow_count." ? static_cast<double>(t.count)
+                    : span > 0                ? (t.mass - t.mass_at_row) / span
+                                              : 0.0);
     } else if (const auto prefix = input::outlet_series_prefix(name); !prefix.empty()) {
       const std::string outlet = name.substr(prefix.size());
       std::size_t k = 0;

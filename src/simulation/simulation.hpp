@@ -113,6 +113,15 @@ class Simulation {
   std::span<const OutletTally> outlet_tallies() const { return outlet_tallies_; }
   /// Grains the particle groups' inlets have inserted so far (all inlets).
   std::int64_t inserted_grains() const;
+  /// What each flow meter (the case's flow_meters, in order) has counted so far: the net number
+  /// and mass of grains that crossed its plane along its normal; and the mass and time at the
+  /// previous series row (flow_rate: the net mass per time since then).
+  struct FlowMeterTally {
+    std::int64_t count = 0;
+    double mass = 0;  ///< kg
+    double mass_at_row = 0, time_at_row = 0;
+  };
+  std::span<const FlowMeterTally> flow_meter_tallies() const { return meter_tallies_; }
 
   /// Why this case cannot run its steps on the CUDA back end (`grainflow run --device cuda`,
   /// docs/gpu.md): what it has that the back end lacks; empty when it can.
@@ -136,6 +145,9 @@ class Simulation {
   Vec3 wall_mean_torque(WallMeans who, std::size_t k) const;
   /// Starts `who`'s next interval.
   void reset_wall_means(WallMeans who) { wall_sums_[static_cast<int>(who)].clear(walls_.size()); }
+  /// A series row was written now: the interval quantities (wall_force_mean, wall_torque_mean,
+  /// flow_rate) start their next interval.
+  void series_row_written();
 
   /// Rheology (analysis.rheology): the measured layer, one grain length (2 x the largest
   /// bounding radius) or analysis.rheology.margin away from walls.
@@ -177,6 +189,11 @@ class Simulation {
   /// removal, -1 for a grain put back (new to the list build: no contact history); empty when
   /// none was removed or put back (the indices are unchanged).
   std::vector<std::int64_t> take_outlet_grains();
+  /// Counts the free grains whose centres crossed a flow meter's plane (within its radius)
+  /// since the last count, at each step after the drift (before any list build changes the
+  /// store): the displacement from meter_x_ (minimum image: a wrap through a periodic boundary
+  /// is the short step it is), the side of the plane's nearest image before and after.
+  void count_meter_crossings();
   /// Places each grain of `grains` (indices) at rest at a uniformly random place of `region`
   /// where it lies wholly inside and overlaps no other grain (bounding spheres); Error when 1000
   /// tries find none.
@@ -235,6 +252,10 @@ class Simulation {
   /// Where outlet k puts its grains back (cfg_.outlets[k].reinsert), else nullopt: removed.
   std::vector<std::optional<FillRegion>> outlet_reinsert_;
   std::vector<OutletTally> outlet_tallies_;
+  std::vector<FlowMeterTally> meter_tallies_;  ///< per cfg_.flow_meters entry
+  /// The grains' centres at the last crossing count (the store's order; set anew after every
+  /// list build, which may re-order, remove or insert grains, and at a restart).
+  std::vector<Vec3> meter_x_;
   /// A particle group's inlet (config::Inlet) and what it has done.
   struct InletState {
     std::size_t group = 0;

@@ -331,6 +331,14 @@ const BadCase bad_cases[] = {
     {"outlet_reinsert_overlaps.yaml", 16, "outlets[0].reinsert.box", "would be taken again"},
     {"outlet_reinsert_too_small.yaml", 16, "outlets[0].reinsert",
      "0.008 m across at its narrowest, less than the largest grain (0.01 m across)"},
+    // Flow meters.
+    {"flow_meter_outside_domain.yaml", 14, "flow_meters[0].point",
+     "misses the domain [0, 0] - [0.1, 0.1]: it would never count a grain"},
+    {"duplicate_flow_meter_name.yaml", 15, "flow_meters[1].name", "first used at line 14"},
+    {"flow_meter_unknown_in_series.yaml", 16, "output.series.quantities[1]",
+     "unknown flow meter 'nek' in 'flow_mass.nek'; declared flow meters: neck"},
+    {"flow_meter_zero_normal.yaml", 14, "flow_meters[0].normal", "non-zero vector"},
+    {"flow_meter_negative_radius.yaml", 14, "flow_meters[0].radius", "a number > 0"},
 };
 
 class InputBadCases : public ::testing::TestWithParam<BadCase> {};
@@ -581,6 +589,34 @@ output:
   EXPECT_EQ(again.particles[1].inlet->stop, 0.05);
   EXPECT_EQ(again.particles[1].inlet->every, 0.01);
   EXPECT_EQ(again.particles[1].inlet->region.max, (Vec3{0.1, 0.1, 0}));
+  EXPECT_EQ(again.output.quantities, c.output.quantities);
+}
+
+TEST(InputEcho, FlowMetersRoundTrip) {
+  const auto c = input::load_case_text(header_2d + R"(particles:
+  - radius: 0.005
+    material: glass
+    positions: [[0.05, 0.05]]
+flow_meters:
+  - {name: neck, point: [0.05, 0.02], normal: [0, -2], radius: 0.01}
+  - {name: wide, point: [0.05, 0.05], normal: [1, 1]}
+output:
+  series: {every: 0.01, quantities: [flow_mass.neck, flow_count.wide, flow_rate.neck]}
+)",
+                                       "meters.yaml");
+  ASSERT_EQ(c.flow_meters.size(), 2u);
+  EXPECT_EQ(c.flow_meters[0].normal, (Vec3{0, -1, 0}));  // made unit
+  EXPECT_EQ(c.flow_meters[0].radius, 0.01);
+  EXPECT_FALSE(c.flow_meters[1].radius);
+  EXPECT_NEAR(c.flow_meters[1].normal.x, std::sqrt(0.5), 1e-15);
+  const auto again = input::load_case_text(input::echo_yaml(c, "1"), "echo.yaml");
+  ASSERT_EQ(again.flow_meters.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(again.flow_meters[k].name, c.flow_meters[k].name);
+    EXPECT_EQ(again.flow_meters[k].point, c.flow_meters[k].point);
+    EXPECT_LT(norm(again.flow_meters[k].normal - c.flow_meters[k].normal), 1e-15);  // re-made unit
+    EXPECT_EQ(again.flow_meters[k].radius, c.flow_meters[k].radius);
+  }
   EXPECT_EQ(again.output.quantities, c.output.quantities);
 }
 

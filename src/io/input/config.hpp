@@ -96,6 +96,19 @@ struct Outlet {
   SourceLoc loc, reinsert_loc;
 };
 
+/// A flow meter: the grains whose centres cross a plane (through `point`, unit `normal`; in 2D
+/// a line of the plane) between two steps, counted net: +1 and +m along the normal, -1 and -m
+/// against it; with `radius`, only crossings within that distance of `point` (a disk; in 2D a
+/// segment). Fixed grains are never counted; a grain inserted or put back by an outlet starts
+/// where it is placed (the jump is no crossing). LIGGGHTS: fix massflow/mesh.
+struct FlowMeter {
+  std::string name;
+  Vec3 point;
+  Vec3 normal{0, 0, 1};
+  std::optional<double> radius;  ///< m; none: the whole plane
+  SourceLoc loc;
+};
+
 struct Fill {
   Region region;
   enum class Lattice { Cubic, Hcp, Random };
@@ -361,6 +374,7 @@ struct Case {
   std::vector<ParticleGroup> particles;
   std::vector<Wall> walls;
   std::vector<Outlet> outlets;
+  std::vector<FlowMeter> flow_meters;
   Output output;
   Neighbor neighbor;
   std::string integrator = "velocity_verlet";  ///< velocity_verlet | gear5

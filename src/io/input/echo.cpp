@@ -459,6 +459,17 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     }
     out << YAML::EndSeq;
   }
+  if (!c.flow_meters.empty()) {
+    out << YAML::Key << "flow_meters" << YAML::Value << YAML::BeginSeq;
+    for (const auto& f : c.flow_meters) {
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "name" << YAML::Value << f.name;
+      key_vec(out, "point", f.point, c.dimension);
+      key_vec(out, "normal", f.normal, c.dimension);
+      if (f.radius) key_number(out, "radius", *f.radius);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
   if (c.shear) {
     const auto& sh = *c.shear;
     const bool walls = sh.boundary == config::Shear::Boundary::Walls;

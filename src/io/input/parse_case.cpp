@@ -142,6 +142,7 @@ struct Reader {
                                config::Explicit& ex);
   void read_walls(const YamlMap& root);
   void read_outlets(const YamlMap& root);
+  void read_flow_meters(const YamlMap& root);
   void read_mesh_wall(const YamlNode& node, config::Wall& w) const;
   /// Refuses a scaled mesh whose coordinates are not finite or absurd next to the domain.
   void check_mesh_size(const YamlMap& mm, const config::Wall& w) const;
@@ -1517,6 +1518,46 @@ void Reader::read_outlets(const YamlMap& root) {
   }
 }
 
+void Reader::read_flow_meters(const YamlMap& root) {
+  auto fn = root.find("flow_meters");
+  if (!fn) return;
+  std::map<std::string, int> names;  // name -> line
+  for (const auto& item : fn->as_list()) {
+    YamlMap fm(item, {"name", "point", "normal", "radius"});
+    config::FlowMeter f;
+    f.loc = item.loc();
+    const YamlNode name = fm.at("name");
+    f.name = name.as_string();
+    if (!is_column_name(f.name))
+      name.fail_expected(
+          "a flow meter name of letters, digits, '_' and '-', starting with a letter or '_'");
+    if (auto it = names.find(f.name); it != names.end())
+      name.fail(fmt::format("duplicate flow meter name '{}' (first used at line {})", f.name,
+                            it->second));
+    names.emplace(f.name, name.line());
+    f.point = vec(fm, "point");
+    f.normal = direction(fm.at("normal"));
+    f.radius = fm.optional_number("radius", Range::positive());
+    // A plane that misses the domain would never count a grain: surely a typo. It meets the
+    // box when the box's corners are not all on one side of it.
+    double lo = 1e300, hi = -1e300;
+    for (int corner = 0; corner < (1 << c.dimension); ++corner) {
+      Vec3 q;
+      for (int k = 0; k < c.dimension; ++k)
+        q[k] = (corner >> k & 1) != 0 ? c.domain.max[k] : c.domain.min[k];
+      const double s = dot(q - f.point, f.normal);
+      lo = std::min(lo, s);
+      hi = std::max(hi, s);
+    }
+    if (!(lo < 0 && hi > 0))
+      fm.at("point").fail(fmt::format(
+          "flow meter '{}': its plane (through {}, normal {}) misses the domain {} - {}: it would "
+          "never count a grain",
+          f.name, text(f.point), text(f.normal), text(c.domain.min), text(c.domain.max)));
+    c.flow_meters.push_back(std::move(f));
+  }
+}
+
 void Reader::read_walls(const YamlMap& root) {
   auto wn = root.find("walls");
   if (!wn) return;
@@ -1715,17 +1756,22 @@ void Reader::read_output(const YamlMap& root) {
     if (auto q = sm.find("quantities")) {
       for (const auto& item : q->as_list()) {
         const std::string name = item.as_string();
+        // A quantity of a named outlet or flow meter: the name must be declared.
+        const auto named = [&](std::string_view prefix, const auto& list, const char* what) {
+          const std::string object = name.substr(prefix.size());
+          std::vector<std::string> names;
+          for (const auto& o : list) names.push_back(o.name);
+          if (std::find(names.begin(), names.end(), object) == names.end())
+            item.fail(fmt::format("unknown {} '{}' in '{}'; {}", what, object, name,
+                                  names.empty() ? fmt::format("no {}s are declared", what)
+                                                : fmt::format("declared {}s: {}", what,
+                                                              join(names))));
+        };
         if (const auto outlet_prefix = outlet_series_prefix(name); !outlet_prefix.empty()) {
-          const std::string outlet = name.substr(outlet_prefix.size());
-          if (std::none_of(c.outlets.begin(), c.outlets.end(),
-                           [&](const config::Outlet& o) { return o.name == outlet; })) {
-            std::vector<std::string> outlets;
-            for (const auto& o : c.outlets) outlets.push_back(o.name);
-            item.fail(fmt::format("unknown outlet '{}' in '{}'; {}", outlet, name,
-                                  outlets.empty()
-                                      ? std::string("no outlets are declared")
-                                      : fmt::format("declared outlets: {}", join(outlets))));
-          }
+          named(outlet_prefix, c.outlets, "outlet");
+        } else if (const auto meter_prefix = flow_meter_series_prefix(name);
+                   !meter_prefix.empty()) {
+          named(meter_prefix, c.flow_meters, "flow meter");
         } else if (!is_series_quantity(name, walls)) {
           for (std::string_view prefix : wall_series_prefixes()) {
             if (name.starts_with(prefix)) {
@@ -1746,7 +1792,7 @@ void Reader::read_output(const YamlMap& root) {
               "unknown series quantity '{}'{}; accepted: {}, wall_force.WALL, wall_torque.WALL, "
               "wall_force_mean.WALL, wall_torque_mean.WALL, wall_position.WALL (these, "
               "fixed_force and fixed_torque optionally with .x, .y or .z), outlet_mass.OUTLET, "
-              "outlet_count.OUTLET",
+              "outlet_count.OUTLET, flow_mass.METER, flow_count.METER, flow_rate.METER",
               name, hint, join(series_quantity_names())));
         }
         if (!c.fluid && (name.rfind("fluid_", 0) == 0 || name == "superficial_velocity" ||
@@ -1829,7 +1875,8 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   c.file = file;
   Reader r{file.parent_path(), c, {}, {}, {}, {}, {}};
   YamlMap rm(root, {"name", "dimension", "time", "domain", "gravity", "integrator", "materials",
-                    "contacts", "particles", "walls", "outlets", "output", "neighbor", "shear",
+                    "contacts", "particles", "walls", "outlets", "flow_meters", "output",
+                    "neighbor", "shear",
                     "analysis", "sweep", "fluid", "coupling"});
   if (auto n = rm.find("name")) {
     c.name = n->as_string();
@@ -1852,6 +1899,7 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   r.read_particles(rm);
   r.read_walls(rm);
   r.read_outlets(rm);
+  r.read_flow_meters(rm);
   r.read_shear(rm);
   r.read_fluid(rm);
   r.read_coupling(rm);
@@ -1903,6 +1951,12 @@ std::span<const std::string_view> wall_series_prefixes() {
 
 std::string_view outlet_series_prefix(std::string_view quantity) {
   for (std::string_view prefix : {"outlet_mass.", "outlet_count."})
+    if (quantity.starts_with(prefix)) return prefix;
+  return {};
+}
+
+std::string_view flow_meter_series_prefix(std::string_view quantity) {
+  for (std::string_view prefix : {"flow_mass.", "flow_count.", "flow_rate."})
     if (quantity.starts_with(prefix)) return prefix;
   return {};
 }

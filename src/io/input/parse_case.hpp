@@ -60,8 +60,14 @@ std::span<const std::string_view> wall_series_prefixes();
 /// outlet OUTLET so far, kg; "outlet_count.": the number of grains), or empty.
 std::string_view outlet_series_prefix(std::string_view quantity);
 
+/// The flow-meter series prefix `quantity` starts with ("flow_mass.": the net mass that crossed
+/// meter METER along its normal so far, kg; "flow_count.": the net number of grains;
+/// "flow_rate.": the net mass per time over the interval since the previous series row, kg/s),
+/// or empty.
+std::string_view flow_meter_series_prefix(std::string_view quantity);
+
 /// Whether `quantity` is an accepted series quantity for a case with walls named `wall_names`
-/// (the outlet quantities are checked against the outlets' names by the reader).
+/// (the outlet and flow-meter quantities are checked against their names by the reader).
 bool is_series_quantity(std::string_view quantity, const std::vector<std::string>& wall_names);
 
 }  // namespace gf::input
