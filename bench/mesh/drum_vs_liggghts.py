@@ -159,16 +159,31 @@ def bed_weight(beads) -> tuple[float, float]:
 # ---------------------------------------------------------------------------------------------
 # LIGGGHTS
 # ---------------------------------------------------------------------------------------------
-def liggghts_data(beads) -> str:
-    lines = ["LIGGGHTS data file: grainflow bench/mesh/drum_vs_liggghts.py", "",
+def liggghts_data(beads, lo=DOMAIN_MIN, hi=DOMAIN_MAX, script="drum_vs_liggghts.py",
+                  density=DENSITY) -> str:
+    """A LIGGGHTS data file of the beads [(x, y, z, r)] (atom type 1) in the box lo-hi, with two
+    atom types (2: the walls)."""
+    lines = [f"LIGGGHTS data file: grainflow bench/mesh/{script}", "",
              f"{len(beads)} atoms", "2 atom types", "",
-             f"{F(DOMAIN_MIN[0])} {F(DOMAIN_MAX[0])} xlo xhi",
-             f"{F(DOMAIN_MIN[1])} {F(DOMAIN_MAX[1])} ylo yhi",
-             f"{F(DOMAIN_MIN[2])} {F(DOMAIN_MAX[2])} zlo zhi", "", "Atoms", ""]
+             f"{F(lo[0])} {F(hi[0])} xlo xhi",
+             f"{F(lo[1])} {F(hi[1])} ylo yhi",
+             f"{F(lo[2])} {F(hi[2])} zlo zhi", "", "Atoms", ""]
     # atom_style granular: atom-ID atom-type diameter density x y z
     for i, (x, y, z, r) in enumerate(beads):
-        lines.append(f"{i + 1} 1 {2 * r:.15g} {F(DENSITY)} {x:.15g} {y:.15g} {z:.15g}")
+        lines.append(f"{i + 1} 1 {2 * r:.15g} {F(density)} {x:.15g} {y:.15g} {z:.15g}")
     return "\n".join(lines) + "\n"
+
+
+def make_run_root(keep: bool, tag: str) -> Path:
+    """The folder of a benchmark's runs: bench/runs/<tag>-<time>/ with --keep, else a temporary
+    one (removed at the end by the caller)."""
+    stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
+    root = (BENCH / "runs" / f"{tag}-{stamp}") if keep else Path(
+        tempfile.mkdtemp(prefix=f"gf-{tag}-"))
+    root.mkdir(parents=True, exist_ok=True)
+    print(f"run folders: {root}" + ("" if keep else " (removed at the end; --keep keeps)"),
+          flush=True)
+    return root
 
 
 def liggghts_input(n: int, fill_steps: int, run_steps: int, curvature: float | None) -> str:
@@ -181,23 +196,8 @@ def liggghts_input(n: int, fill_steps: int, run_steps: int, curvature: float | N
                                                if curvature >= 360.0 / SEGMENTS else "")
     return f"""\
 # grainflow bench/mesh/drum_vs_liggghts.py: {n} beads in a drum with lifters (STL mesh), 20 rpm
-{ts.LIGGGHTS_PREAMBLE}
-read_data data.drum
-
-neighbor {F(SKIN)} bin
-neigh_modify delay 0
-
-# type 1 = beads, type 2 = the drum (same E and nu)
-fix m1 all property/global youngsModulus peratomtype {F(YOUNGS)} {F(YOUNGS)}
-fix m2 all property/global poissonsRatio peratomtype {F(POISSON)} {F(POISSON)}
-fix m3 all property/global coefficientRestitution peratomtypepair 2 {F(RESTITUTION)} {F(RESTITUTION)} {F(RESTITUTION)} {F(RESTITUTION)}
-fix m4 all property/global coefficientFriction peratomtypepair 2 {F(FRICTION)} {F(FRICTION)} {F(FRICTION)} {F(FRICTION)}
-
-pair_style gran model hertz tangential history
-pair_coeff * *
-timestep {F(DT)}
-fix gravi all gravity {F(GRAVITY)} vector 0.0 0.0 -1.0
-
+{liggghts_head("data.drum", "the drum", SKIN, YOUNGS, POISSON, RESTITUTION, FRICTION, DT,
+               GRAVITY)}
 # mesh/surface/stress = mesh/surface + the total force and torque on the mesh (global vector:
 # force 1-3, torque about reference_point 4-6, default reference point the origin)
 fix cad all mesh/surface/stress file drum.stl type 2{curv}
@@ -216,7 +216,57 @@ run {run_steps}
 """
 
 
+def liggghts_head(data: str, walls: str, skin, youngs, poisson, restitution, friction, dt,
+                  gravity) -> str:
+    """The head of a LIGGGHTS deck of these benchmarks: the granular preamble, the data file,
+    the neighbour skin, per-type properties (type 1 the beads, type 2 `walls`, the same E and
+    nu), Hertz-Mindlin with tangential history, the step and gravity along -z."""
+    e, mu = F(restitution), F(friction)
+    return f"""{ts.LIGGGHTS_PREAMBLE}
+read_data {data}
+
+neighbor {F(skin)} bin
+neigh_modify delay 0
+
+# type 1 = beads, type 2 = {walls} (same E and nu)
+fix m1 all property/global youngsModulus peratomtype {F(youngs)} {F(youngs)}
+fix m2 all property/global poissonsRatio peratomtype {F(poisson)} {F(poisson)}
+fix m3 all property/global coefficientRestitution peratomtypepair 2 {e} {e} {e} {e}
+fix m4 all property/global coefficientFriction peratomtypepair 2 {mu} {mu} {mu} {mu}
+
+pair_style gran model hertz tangential history
+pair_coeff * *
+timestep {F(dt)}
+fix gravi all gravity {F(gravity)} vector 0.0 0.0 -1.0
+"""
+
+
 THERMO_RE = re.compile(r"^\s*(\d+)\s+(\d+)" + r"\s+(\S+)" * 5 + r"\s*$", re.M)
+
+
+def run_liggghts_two_loops(exe, deck: str, workdir: Path, args, res: dict):
+    """Runs LIGGGHTS on the input `deck` in `workdir` (log.liggghts); records its version,
+    warnings and the two timed phases (fill, run: its first two `Loop time` records) in `res`.
+    Returns (log text, loops), or None with res["why"] set when it failed."""
+    # No `-screen none`: LIGGGHTS 3.8 segfaults in InputMeshTri::meshtrifile (it prints to the
+    # null screen while reading the STL), so the screen output is captured instead.
+    proc = run_timed([exe, "-in", deck, "-log", "log.liggghts"], workdir, "liggghts",
+                     args.timeout)
+    logp = workdir / "log.liggghts"
+    log = logp.read_text(errors="replace") if logp.exists() else ""
+    loops = [dict(seconds=float(m.group(1)), steps=int(m.group(3)), atoms=int(m.group(4)))
+             for m in LOOP_RE.finditer(log)]
+    v = re.search(r"LIGGGHTS \(Version ([^,)]+)", log)
+    res["version"] = v.group(1) if v else "unknown"
+    res["warnings"] = sorted({l.strip() for l in log.splitlines() if "WARNING" in l})
+    if proc.rc != 0 or len(loops) < 2:
+        err = [l for l in (log + proc.stdout + proc.stderr).splitlines() if "ERROR" in l]
+        res["why"] = (f"exit {proc.rc}, {len(loops)} loop(s) in log; "
+                      + (" | ".join(err[:2]) if err else _tail(proc.stdout + proc.stderr + log)))
+        return None
+    res["phases"] = ts.peer_phases(proc, loops, ("fill", "run"))
+    res["maxrss"] = proc.maxrss_bytes
+    return log, loops
 
 
 def run_liggghts(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) -> dict:
@@ -229,26 +279,13 @@ def run_liggghts(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) -
     (workdir / "data.drum").write_text(liggghts_data(beads))
     (workdir / "in.drum").write_text(liggghts_input(len(beads), fill_steps, run_steps,
                                                     args.curvature))
-    # No `-screen none`: LIGGGHTS 3.8 segfaults in InputMeshTri::meshtrifile (it prints to the
-    # null screen while reading the STL), so the screen output is captured instead.
-    proc = run_timed([exe, "-in", "in.drum", "-log", "log.liggghts"], workdir, "liggghts",
-                     args.timeout)
-    logp = workdir / "log.liggghts"
-    log = logp.read_text(errors="replace") if logp.exists() else ""
-    loops = [dict(seconds=float(m.group(1)), steps=int(m.group(3)), atoms=int(m.group(4)))
-             for m in LOOP_RE.finditer(log)]
-    v = re.search(r"LIGGGHTS \(Version ([^,)]+)", log)
-    res["version"] = v.group(1) if v else "unknown"
-    res["warnings"] = sorted({l.strip() for l in log.splitlines() if "WARNING" in l})
+    got = run_liggghts_two_loops(exe, "in.drum", workdir, args, res)
+    if got is None:
+        return res
+    log, loops = got
     res["mesh_info"] = [l.strip() for l in log.splitlines()
                         if re.search(r"(?i)mesh|element|neighbor|curvature", l)
                         and not l.lstrip().startswith(("fix ", "#"))][:20]
-    if proc.rc != 0 or len(loops) < 2:
-        err = [l for l in (log + proc.stdout + proc.stderr).splitlines() if "ERROR" in l]
-        res["why"] = (f"exit {proc.rc}, {len(loops)} loop(s) in log; "
-                      + (" | ".join(err[:2]) if err else _tail(proc.stdout + proc.stderr + log)))
-        return res
-    res["phases"] = ts.peer_phases(proc, loops, ("fill", "run"))
     res["n_end"] = loops[1]["atoms"]
     rows = {}
     for m in THERMO_RE.finditer(log):
@@ -261,7 +298,6 @@ def run_liggghts(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) -
             pass
     res["series"] = [rows[k] for k in sorted(rows)]
     res["ok"] = True
-    res["maxrss"] = proc.maxrss_bytes
     return res
 
 
@@ -329,13 +365,45 @@ def _com_x(path: Path) -> float | None:
         return None
 
 
-def run_grainflow(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) -> dict:
+def run_grainflow_two_phases(exe, workdir: Path, args, res: dict) -> dict | None:
+    """Runs grainflow on workdir/fill.yaml, then on workdir/run.yaml from the fill's last
+    checkpoint, one thread each; records the two timed phases and their warnings in `res`.
+    Returns the two summary.json contents by phase, or None with res["why"] set."""
+    summ, procs = {}, {}
+    for tag in ("fill", "run"):
+        restart = None
+        if tag == "run":
+            restart = ts.last_checkpoint(workdir / "fill")
+            if restart is None:
+                res["why"] = "fill run wrote no checkpoint"
+                return None
+        proc, s, why = ts._grainflow_one(exe, workdir / f"{tag}.yaml", workdir / tag, 1,
+                                         restart, tag, args)
+        if why:
+            res["why"] = f"{tag} run: {why}"
+            return None
+        summ[tag], procs[tag] = s, proc
+    res["phases"] = {tag: {"steps": int(s["steps"]), "seconds": float(s["loop_seconds"]),
+                           "load": procs[tag].load, "cpu_share": procs[tag].cpu_share,
+                           "loop_fraction": float(s["loop_seconds"]) / max(procs[tag].wall, 1e-9)}
+                     for tag, s in summ.items()}
+    return summ
+
+
+def grainflow_result(exe) -> dict:
+    """The result record of a grainflow run with its version (and the binary's date)."""
     res = {"code": "grainflow", "ok": False, "version": "n/a"}
+    if exe is not None:
+        built = _dt.datetime.fromtimestamp(Path(exe).stat().st_mtime).strftime("%Y-%m-%d %H:%M")
+        res["version"] = ts.grainflow_version(exe) + f" (binary of {built})"
+    return res
+
+
+def run_grainflow(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) -> dict:
+    res = grainflow_result(exe)
     if exe is None:
         res["why"] = f"binary not found ({args.grainflow})"
         return res
-    built = _dt.datetime.fromtimestamp(Path(exe).stat().st_mtime).strftime("%Y-%m-%d %H:%M")
-    res["version"] = ts.grainflow_version(exe) + f" (binary of {built})"
     workdir.mkdir(parents=True, exist_ok=True)
     write_ascii_stl(workdir / "drum.stl", tris)
     (workdir / "particles.csv").write_text(
@@ -347,24 +415,9 @@ def run_grainflow(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) 
     # Run phase: no periodic checkpoints inside the timed loop; particle snapshots for the
     # bed's centre of mass.
     (workdir / "run.yaml").write_text(grainflow_case(n, t2, 0.0, SNAPSHOT_EVERY, "run"))
-    summ, procs = {}, {}
-    for tag in ("fill", "run"):
-        restart = None
-        if tag == "run":
-            restart = ts.last_checkpoint(workdir / "fill")
-            if restart is None:
-                res["why"] = "fill run wrote no checkpoint"
-                return res
-        proc, s, why = ts._grainflow_one(exe, workdir / f"{tag}.yaml", workdir / tag, 1,
-                                         restart, tag, args)
-        if why:
-            res["why"] = f"{tag} run: {why}"
-            return res
-        summ[tag], procs[tag] = s, proc
-    res["phases"] = {tag: {"steps": int(s["steps"]), "seconds": float(s["loop_seconds"]),
-                           "load": procs[tag].load, "cpu_share": procs[tag].cpu_share,
-                           "loop_fraction": float(s["loop_seconds"]) / max(procs[tag].wall, 1e-9)}
-                     for tag, s in summ.items()}
+    summ = run_grainflow_two_phases(exe, workdir, args, res)
+    if summ is None:
+        return res
     res["n"] = int(summ["fill"].get("n_particles", n))
     res["n_end"] = int(summ["run"].get("n_particles", 0))
     res["stages"] = {tag: s.get("stages") for tag, s in summ.items()}
@@ -514,6 +567,13 @@ def parse_args(argv=None):
     ap.add_argument("--curvature", type=float, default=None, metavar="DEG",
                     help="LIGGGHTS fix mesh/surface curvature in degrees (default: LIGGGHTS' own, "
                          "0.256; >= 3.75 adds curvature_tolerant yes)")
+    add_peer_args(ap)
+    return ap.parse_args(argv)
+
+
+def add_peer_args(ap) -> None:
+    """The options of the grainflow-vs-LIGGGHTS scripts: which codes, their binaries, waiting
+    for a quiet machine, and ts.add_run_args' (limit, --keep, where to record)."""
     ap.add_argument("--codes", default="liggghts,grainflow", help="default %(default)s")
     ap.add_argument("--grainflow", default=str(ROOT / "build" / "release" / "grainflow"))
     ap.add_argument("--liggghts", default="/usr/bin/liggghts")
@@ -523,17 +583,23 @@ def parse_args(argv=None):
     ap.add_argument("--wait-max", type=float, default=600.0,
                     help="longest wait for --wait-quiet, s (default %(default)s)")
     ts.add_run_args(ap)
-    return ap.parse_args(argv)
 
 
-def main(argv=None) -> int:
-    a = parse_args(argv)
+def peer_codes(a):
+    """(the codes asked for, grainflow's binary or None, LIGGGHTS' binary or None) from the
+    options of add_peer_args; exits without /usr/bin/time."""
     codes = {c.strip().lower() for c in a.codes.split(",")}
     ts.QUIET.update(load=a.wait_quiet, max_wait=a.wait_max)
     if not Path("/usr/bin/time").exists():
         sys.exit("/usr/bin/time missing: apt-get install -y time")
     gf = ts.resolve_exe(a.grainflow) if "grainflow" in codes else None
     lig = ts.resolve_exe(a.liggghts) if "liggghts" in codes else None
+    return codes, gf, lig
+
+
+def main(argv=None) -> int:
+    a = parse_args(argv)
+    codes, gf, lig = peer_codes(a)
     beads = lattice_beads(a.n, a.seed)
     tris = drum_triangles()
     mass, weight = bed_weight(beads)
@@ -543,12 +609,7 @@ def main(argv=None) -> int:
     print(f"N = {len(beads)} beads ({mass:.4f} kg, weight {weight:.3f} N), {len(tris)} triangles; "
           f"fill {fill_steps} + run {run_steps} steps; dt = {DT / t_r:.3f} t_R of the smallest "
           f"bead; load now {os.getloadavg()[0]:.2f}", flush=True)
-    stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
-    root = (BENCH / "runs" / f"mesh-drum-{stamp}") if a.keep else Path(
-        tempfile.mkdtemp(prefix="gf-mesh-"))
-    root.mkdir(parents=True, exist_ok=True)
-    print(f"run folders: {root}" + ("" if a.keep else " (removed at the end; --keep keeps)"),
-          flush=True)
+    root = make_run_root(a.keep, "mesh-drum")
 
     per = {}
     if "liggghts" in codes:

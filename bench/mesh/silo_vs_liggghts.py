@@ -45,7 +45,6 @@ from __future__ import annotations
 
 import argparse
 import datetime as _dt
-import importlib.util
 import json
 import math
 import os
@@ -53,7 +52,6 @@ import random
 import re
 import shutil
 import sys
-import tempfile
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -61,21 +59,17 @@ BENCH = HERE.parent
 ROOT = BENCH.parent
 
 
-def _load(name: str, path: Path):
-    spec = importlib.util.spec_from_file_location(name, path)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod  # dataclasses look their module up there
-    spec.loader.exec_module(mod)
-    return mod
+# The drum benchmark's helpers (ASCII STL writer, series reader, the two-phase runs of both
+# codes, rates and tables) and through it the measurement helpers of
+# bench/terrain_settling/run.py; the floor's triangles from the script that wrote
+# cases/dem/silo/floor.stl. (bench/ is a package, the scripts run as files, so its root goes on
+# the path.)
+sys.path.append(str(ROOT))
+from bench.mesh import drum_vs_liggghts as drum  # noqa: E402
 
-
-# The drum benchmark's helpers (ASCII STL writer, series reader, rates, stage shares, tables)
-# and through it the measurement helpers of bench/terrain_settling/run.py; the floor's
-# triangles from the script that wrote cases/dem/silo/floor.stl.
-drum = _load("_drum_vs_liggghts", HERE / "drum_vs_liggghts.py")
-floor_stl = _load("_make_silo_floor_stl", ROOT / "scripts" / "make_silo_floor_stl.py")
+floor_stl = drum._load("_make_silo_floor_stl", ROOT / "scripts" / "make_silo_floor_stl.py")
 ts = drum.ts
-F, run_timed, lscpu_model, _tail, LOOP_RE = ts.F, ts.run_timed, ts.lscpu_model, ts._tail, ts.LOOP_RE
+F, lscpu_model = ts.F, ts.lscpu_model
 
 # ---------------------------------------------------------------------------------------------
 # The case (identical for both codes)
@@ -137,40 +131,13 @@ def floor_triangles():
 # ---------------------------------------------------------------------------------------------
 # LIGGGHTS
 # ---------------------------------------------------------------------------------------------
-def liggghts_data(beads) -> str:
-    lines = ["LIGGGHTS data file: grainflow bench/mesh/silo_vs_liggghts.py", "",
-             f"{len(beads)} atoms", "2 atom types", "",
-             f"{F(DOMAIN_MIN[0])} {F(DOMAIN_MAX[0])} xlo xhi",
-             f"{F(DOMAIN_MIN[1])} {F(DOMAIN_MAX[1])} ylo yhi",
-             f"{F(DOMAIN_MIN[2])} {F(DOMAIN_MAX[2])} zlo zhi", "", "Atoms", ""]
-    # atom_style granular: atom-ID atom-type diameter density x y z
-    for i, (x, y, z, r) in enumerate(beads):
-        lines.append(f"{i + 1} 1 {2 * r:.15g} {F(DENSITY)} {x:.15g} {y:.15g} {z:.15g}")
-    return "\n".join(lines) + "\n"
-
-
 def liggghts_input(n: int, fill_steps: int, run_steps: int) -> str:
     thermo = max(1, round(SERIES_EVERY / DT))
     hertz = "model hertz tangential history"
     return f"""\
 # grainflow bench/mesh/silo_vs_liggghts.py: {n} beads discharging from a silo (STL floor)
-{ts.LIGGGHTS_PREAMBLE}
-read_data data.silo
-
-neighbor {F(SKIN)} bin
-neigh_modify delay 0
-
-# type 1 = beads, type 2 = barrel, floor and gate (same E and nu)
-fix m1 all property/global youngsModulus peratomtype {F(YOUNGS)} {F(YOUNGS)}
-fix m2 all property/global poissonsRatio peratomtype {F(POISSON)} {F(POISSON)}
-fix m3 all property/global coefficientRestitution peratomtypepair 2 {F(RESTITUTION)} {F(RESTITUTION)} {F(RESTITUTION)} {F(RESTITUTION)}
-fix m4 all property/global coefficientFriction peratomtypepair 2 {F(FRICTION)} {F(FRICTION)} {F(FRICTION)} {F(FRICTION)}
-
-pair_style gran {hertz}
-pair_coeff * *
-timestep {F(DT)}
-fix gravi all gravity {F(GRAVITY)} vector 0.0 0.0 -1.0
-
+{drum.liggghts_head("data.silo", "barrel, floor and gate", SKIN, YOUNGS, POISSON, RESTITUTION,
+                    FRICTION, DT, GRAVITY)}
 fix floorcad all mesh/surface file floor.stl type 2
 fix floor all wall/gran {hertz} mesh n_meshes 1 meshes floorcad
 fix barrel all wall/gran {hertz} primitive type 2 zcylinder {F(SILO_R)} 0.0 0.0
@@ -198,25 +165,13 @@ def run_liggghts(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) -
         return res
     workdir.mkdir(parents=True, exist_ok=True)
     drum.write_ascii_stl(workdir / "floor.stl", tris, "grainflow_silo_floor")
-    (workdir / "data.silo").write_text(liggghts_data(beads))
+    (workdir / "data.silo").write_text(
+        drum.liggghts_data(beads, DOMAIN_MIN, DOMAIN_MAX, "silo_vs_liggghts.py", DENSITY))
     (workdir / "in.silo").write_text(liggghts_input(len(beads), fill_steps, run_steps))
-    # Screen output captured, not `-screen none` (LIGGGHTS 3.8 crashes reading an STL with a
-    # null screen; see drum_vs_liggghts.py).
-    proc = run_timed([exe, "-in", "in.silo", "-log", "log.liggghts"], workdir, "liggghts",
-                     args.timeout)
-    logp = workdir / "log.liggghts"
-    log = logp.read_text(errors="replace") if logp.exists() else ""
-    loops = [dict(seconds=float(m.group(1)), steps=int(m.group(3)), atoms=int(m.group(4)))
-             for m in LOOP_RE.finditer(log)]
-    v = re.search(r"LIGGGHTS \(Version ([^,)]+)", log)
-    res["version"] = v.group(1) if v else "unknown"
-    res["warnings"] = sorted({l.strip() for l in log.splitlines() if "WARNING" in l})
-    if proc.rc != 0 or len(loops) < 2:
-        err = [l for l in (log + proc.stdout + proc.stderr).splitlines() if "ERROR" in l]
-        res["why"] = (f"exit {proc.rc}, {len(loops)} loop(s) in log; "
-                      + (" | ".join(err[:2]) if err else _tail(proc.stdout + proc.stderr + log)))
+    got = drum.run_liggghts_two_loops(exe, "in.silo", workdir, args, res)
+    if got is None:
         return res
-    res["phases"] = ts.peer_phases(proc, loops, ("fill", "run"))
+    log, loops = got
     res["n_fill_end"] = loops[0]["atoms"]
     res["n_end"] = loops[1]["atoms"]
     m0 = sum(bead_mass(r) for *_, r in beads)
@@ -235,8 +190,7 @@ def run_liggghts(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) -
 # ---------------------------------------------------------------------------------------------
 # grainflow
 # ---------------------------------------------------------------------------------------------
-def _vec(v) -> str:
-    return "[" + ", ".join(F(x) for x in v) + "]"
+_vec = drum._vec
 
 
 def grainflow_case(n: int, t_open: float, end: float, checkpoint_every: float,
@@ -296,12 +250,10 @@ def bed_solid_fraction(path: Path) -> tuple[float, float] | None:
 
 
 def run_grainflow(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) -> dict:
-    res = {"code": "grainflow", "ok": False, "version": "n/a"}
+    res = drum.grainflow_result(exe)
     if exe is None:
         res["why"] = f"binary not found ({args.grainflow})"
         return res
-    built = _dt.datetime.fromtimestamp(Path(exe).stat().st_mtime).strftime("%Y-%m-%d %H:%M")
-    res["version"] = ts.grainflow_version(exe) + f" (binary of {built})"
     workdir.mkdir(parents=True, exist_ok=True)
     drum.write_ascii_stl(workdir / "floor.stl", tris, "grainflow_silo_floor")
     (workdir / "particles.csv").write_text(
@@ -313,23 +265,9 @@ def run_grainflow(exe, beads, tris, fill_steps, run_steps, workdir: Path, args) 
     # checkpoints or snapshots inside the timed loop.
     (workdir / "fill.yaml").write_text(grainflow_case(n, t1, t1, t1, t1, "fill"))
     (workdir / "run.yaml").write_text(grainflow_case(n, t1, t2, 0.0, 0.0, "run"))
-    summ, procs = {}, {}
-    for tag in ("fill", "run"):
-        restart = None
-        if tag == "run":
-            restart = ts.last_checkpoint(workdir / "fill")
-            if restart is None:
-                res["why"] = "fill run wrote no checkpoint"
-                return res
-        proc, s, why = ts._grainflow_one(exe, workdir / f"{tag}.yaml", workdir / tag, 1,
-                                         restart, tag, args)
-        if why:
-            res["why"] = f"{tag} run: {why}"
-            return res
-        summ[tag], procs[tag] = s, proc
-    res["phases"] = {tag: {"steps": int(s["steps"]), "seconds": float(s["loop_seconds"]),
-                           "load": procs[tag].load, "cpu_share": procs[tag].cpu_share}
-                     for tag, s in summ.items()}
+    summ = drum.run_grainflow_two_phases(exe, workdir, args, res)
+    if summ is None:
+        return res
     res["stages"] = {tag: s.get("stages") for tag, s in summ.items()}
     res["warnings"] = sorted({l.strip() for tag in summ
                               for l in (workdir / f"{tag}.stderr").read_text(errors="replace")
@@ -370,31 +308,6 @@ def beverloo_c(w: float, solid_fraction: float) -> float:
     return w / (rho_b * math.sqrt(GRAVITY) * (ORIFICE_D - BEVERLOO_K * D_MEAN) ** 2.5)
 
 
-def format_table(n, per) -> str:
-    head = ("| N | code | phase | steps | loop s | particle-steps/s | gf/LIGGGHTS | "
-            "load (start/mean/max) | CPU share |")
-    out = [head, "|" + "---|" * head.count(" | ") + "---|"]
-    for phase in ("fill", "run"):
-        ref = per.get("LIGGGHTS")
-        ref_rate = drum.rate(n, ref["phases"][phase]) if ref and ref["ok"] else None
-        for code in ("LIGGGHTS", "grainflow"):
-            r = per.get(code)
-            if r is None:
-                continue
-            if not r["ok"]:
-                out.append(f"| {n} | {code} | {phase} | n/a | n/a | n/a | n/a | n/a | n/a |")
-                continue
-            ph = r["phases"][phase]
-            rt = drum.rate(n, ph)
-            ratio = 1.0 if code == "LIGGGHTS" else (rt / ref_rate if ref_rate else None)
-            ld = ph["load"]
-            out.append("| " + " | ".join([
-                str(n), code, phase, str(ph["steps"]), f"{ph['seconds']:.2f}", f"{rt:.3g}",
-                drum._f(ratio, ".2f"), f"{ld['start']:.2f}/{ld['mean']:.2f}/{ld['max']:.2f}",
-                drum._f(ph["cpu_share"], ".2f")]) + " |")
-    return "\n".join(out)
-
-
 def format_cross(per, checks, window) -> str:
     head = (f"| code | W, g/s (slope, t in [{window[0]:g}, {window[1]:g}] s) | largest deviation "
             "from the line, g | W first half / second half, g/s | beads out | beads at end | "
@@ -429,26 +342,13 @@ def parse_args(argv=None):
                     help="the flow rate is fitted from this long after the gate opens to the "
                          "end, s (default %(default)s)")
     ap.add_argument("--seed", type=int, default=7, help="seed of the start (default %(default)s)")
-    ap.add_argument("--codes", default="liggghts,grainflow", help="default %(default)s")
-    ap.add_argument("--grainflow", default=str(ROOT / "build" / "release" / "grainflow"))
-    ap.add_argument("--liggghts", default="/usr/bin/liggghts")
-    ap.add_argument("--wait-quiet", type=float, default=None, metavar="LOAD",
-                    help="before each process, wait until the 1-minute load average is below LOAD "
-                         "(at most --wait-max s)")
-    ap.add_argument("--wait-max", type=float, default=600.0,
-                    help="longest wait for --wait-quiet, s (default %(default)s)")
-    ts.add_run_args(ap)
+    drum.add_peer_args(ap)
     return ap.parse_args(argv)
 
 
 def main(argv=None) -> int:
     a = parse_args(argv)
-    codes = {c.strip().lower() for c in a.codes.split(",")}
-    ts.QUIET.update(load=a.wait_quiet, max_wait=a.wait_max)
-    if not Path("/usr/bin/time").exists():
-        sys.exit("/usr/bin/time missing: apt-get install -y time")
-    gf = ts.resolve_exe(a.grainflow) if "grainflow" in codes else None
-    lig = ts.resolve_exe(a.liggghts) if "liggghts" in codes else None
+    codes, gf, lig = drum.peer_codes(a)
     beads = lattice_beads(a.n, a.seed)
     tris = floor_triangles()
     mass = sum(bead_mass(r) for *_, r in beads)
@@ -460,12 +360,7 @@ def main(argv=None) -> int:
     print(f"N = {len(beads)} beads ({mass:.4f} kg), floor of {len(tris)} triangles, orifice "
           f"{ORIFICE_D * 1e3:g} mm = {ORIFICE_D / D_MEAN:g} d; fill {fill_steps} + run "
           f"{run_steps} steps; load now {os.getloadavg()[0]:.2f}", flush=True)
-    stamp = _dt.datetime.now().strftime("%Y%m%d-%H%M%S")
-    root = (BENCH / "runs" / f"mesh-silo-{stamp}") if a.keep else Path(
-        tempfile.mkdtemp(prefix="gf-silo-"))
-    root.mkdir(parents=True, exist_ok=True)
-    print(f"run folders: {root}" + ("" if a.keep else " (removed at the end; --keep keeps)"),
-          flush=True)
+    root = drum.make_run_root(a.keep, "mesh-silo")
 
     per = {}
     if "liggghts" in codes:
@@ -504,7 +399,7 @@ def main(argv=None) -> int:
     elif gfr and gfr["ok"]:
         notes.append("solid fraction of the bed: n/a (bed too shallow for the probe), no "
                      "Beverloo C")
-    table = format_table(len(beads), per)
+    table = drum.format_table(len(beads), per)
     cross = format_cross(per, checks, window)
     print("\n" + table + "\n\n" + cross + "\n\n" + "\n".join(notes))
     stages = drum.stage_shares(gfr) if gfr and gfr["ok"] else {}
