@@ -123,12 +123,15 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
       // What each inlet has inserted, and its batches (the next one's time).
       h.create_group("inlets");
       std::vector<std::int64_t> inserted, batches;
+      std::vector<double> inserted_mass;
       for (const auto& in : inlets_) {
         inserted.push_back(in.inserted);
         batches.push_back(in.batches);
+        inserted_mass.push_back(in.inserted_mass);
       }
       h.write("inlets/inserted", std::span<const std::int64_t>(inserted));
       h.write("inlets/batches", std::span<const std::int64_t>(batches));
+      h.write("inlets/inserted_mass", std::span<const double>(inserted_mass));
     }
 
     if (cfd_) {
@@ -334,16 +337,24 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   for (std::size_t i = 0; i < particles_.size(); ++i)
     next_id_ = std::max(next_id_, particles_.id()[i] + 1);
   if (h.has_attribute("/", "next_id")) next_id_ = h.read_int_attribute("/", "next_id");
-  for (auto& in : inlets_) in.inserted = in.batches = 0;
+  for (auto& in : inlets_) {
+    in.inserted = in.batches = 0;
+    in.inserted_mass = 0;
+  }
   if (!inlets_.empty() && h.exists("inlets/inserted")) {
     const auto inserted = h.read_int64("inlets/inserted");
     const auto batches = h.read_int64("inlets/batches");
-    if (inserted.size() != inlets_.size() || batches.size() != inlets_.size())
+    // (checkpoints written before mass rates: none, and no inlet with a mass rate then)
+    const auto mass = h.exists("inlets/inserted_mass") ? h.read_double("inlets/inserted_mass")
+                                                        : std::vector<double>(inserted.size());
+    if (inserted.size() != inlets_.size() || batches.size() != inlets_.size() ||
+        mass.size() != inlets_.size())
       throw InputError(fmt::format("{}: checkpoint has {} inlets, the case {}", file.string(),
                                    inserted.size(), inlets_.size()));
     for (std::size_t k = 0; k < inlets_.size(); ++k) {
       inlets_[k].inserted = inserted[k];
       inlets_[k].batches = batches[k];
+      inlets_[k].inserted_mass = mass[k];
     }
   }
   for (std::size_t w = 0; w < walls_.size(); ++w) {

@@ -169,6 +169,7 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
     for (std::size_t m = 0; m < materials_.size(); ++m)
       if (materials_[m].name == group.material) s.material = static_cast<int>(m);
     s.rate = group.inlet->rate;
+    s.mass_rate = group.inlet->mass_rate.value_or(0.0);
     s.start = group.inlet->start;
     s.stop = group.inlet->stop.value_or(std::numeric_limits<double>::infinity());
     s.every = group.inlet->every;
@@ -899,9 +900,15 @@ std::size_t Simulation::insert_inlet_grains() {
   for (auto& in : inlets_) {
     if (!in.due(t)) continue;
     in.batches = static_cast<std::int64_t>(std::floor((t - in.start) / in.every + 1e-9)) + 1;
-    // The grains due by the end of this batch's interval (never past the stop).
+    // The grains (or the mass) due by the end of this batch's interval (never past the stop).
+    // By mass, grains come until the mass inserted reaches the mass due: each batch's last
+    // grain overshoots by part of a grain, which the next batch owes less.
     const double until = std::min(t - in.start + in.every, in.stop - in.start);
     const auto due = static_cast<std::int64_t>(std::floor(in.rate * until + 1e-9));
+    const double due_mass = in.mass_rate * until;
+    const auto owed = [&] {
+      return in.mass_rate > 0 ? in.inserted_mass < due_mass * (1 - 1e-12) : in.inserted < due;
+    };
     const auto& g = cfg_.particles[in.group];
     const double rho = materials_[static_cast<std::size_t>(in.material)].density;
     ShapeBuilder builder(g, rho, cfg_.domain.thickness, 1 + in.group);
@@ -913,7 +920,7 @@ std::size_t Simulation::insert_inlet_grains() {
     for (std::size_t i = 0; i < particles_.size(); ++i)
       r_max = std::max(r_max, particles_.radius()[i]);
     std::vector<std::size_t> near = grains_near(in.region, 2 * r_max);
-    while (in.inserted < due) {
+    while (owed()) {
       const double r = dist.sample(rng_);
       const Quat q = round ? Quat{} : ShapeBuilder::random_orientation(rng_, two_d_);
       const auto y = free_place(in.region, round ? r : place, near, particles_.size());
@@ -924,13 +931,16 @@ std::size_t Simulation::insert_inlet_grains() {
               "at t = {:.6g} s: the inlet of particles[{}] found no free place for {} of its "
               "grains; they wait for its next batch (a larger region or a shorter 'every' keeps "
               "the rate)",
-              t, in.group, due - in.inserted);
+              t, in.group,
+              in.mass_rate > 0 ? fmt::format("{:.4g} kg", due_mass - in.inserted_mass)
+                               : fmt::format("{}", due - in.inserted));
         inlet_short_warned_ = true;
         break;
       }
       near.push_back(
           builder.add(particles_, next_id_++, in.material, r, *y, in.velocity, Vec3{}, q));
       ++in.inserted;
+      in.inserted_mass += particles_.mass()[near.back()];
     }
   }
   return particles_.size() - before;

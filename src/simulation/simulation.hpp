@@ -262,8 +262,10 @@ class Simulation {
     FillRegion region;
     int material = 0;
     double rate = 0, start = 0, stop = 0, every = 0;  ///< stop: infinity without one
+    double mass_rate = 0;  ///< kg/s (0: `rate` grains per second)
     Vec3 velocity;
     std::int64_t inserted = 0, batches = 0;
+    double inserted_mass = 0;  ///< kg
     /// Whether its next batch is due at time t (before the stop).
     bool due(double t) const;
   };

@@ -327,6 +327,10 @@ const BadCase bad_cases[] = {
      "unknown outlet 'holes' in 'outlet_mass.holes'; declared outlets: hole"},
     {"inlet_polygon.yaml", 14, "particles[0].inlet", "spheres, disks and spherocylinders, not"},
     {"inlet_batch_too_dense.yaml", 12, "particles[0].inlet", "would fill 26 % of its region"},
+    {"inlet_mass_rate_too_dense.yaml", 12, "particles[0].inlet",
+     "(mass_rate / mean grain mass x every = 49.66 grains) would fill 26 % of its region"},
+    {"inlet_rate_and_mass_rate.yaml", 14, "particles[0].inlet.mass_rate",
+     "give only one of rate, mass_rate"},
     {"inlet_outside_domain.yaml", 12, "particles[0].inlet", "reaches outside the domain"},
     {"outlet_reinsert_overlaps.yaml", 16, "outlets[0].reinsert.box", "would be taken again"},
     {"outlet_reinsert_too_small.yaml", 16, "outlets[0].reinsert",
@@ -558,6 +562,9 @@ TEST(InputEcho, OutletsAndInletsRoundTrip) {
   - radius: {distribution: uniform, min: 0.001, max: 0.002}
     material: glass
     inlet: {box: {min: [0, 0.08], max: [0.1, 0.1]}, rate: 50, velocity: [0, -1], stop: 0.05}
+  - radius: 0.001
+    material: glass
+    inlet: {box: {min: [0, 0.08], max: [0.1, 0.1]}, mass_rate: 0.002, start: 0.01}
 outlets:
   - {name: slot, box: {min: [0.04, 0], max: [0.06, 0.01]}}
   - name: pit
@@ -589,6 +596,10 @@ output:
   EXPECT_EQ(again.particles[1].inlet->stop, 0.05);
   EXPECT_EQ(again.particles[1].inlet->every, 0.01);
   EXPECT_EQ(again.particles[1].inlet->region.max, (Vec3{0.1, 0.1, 0}));
+  EXPECT_FALSE(again.particles[1].inlet->mass_rate);
+  ASSERT_TRUE(again.particles[2].inlet);
+  EXPECT_EQ(again.particles[2].inlet->mass_rate, 0.002);
+  EXPECT_EQ(again.particles[2].inlet->rate, 0);
   EXPECT_EQ(again.output.quantities, c.output.quantities);
 }
 

@@ -181,7 +181,8 @@ struct Motion {
 /// time t inserts the grains due by t + every (so the first one, at `start`, rate x every).
 struct Inlet {
   Region region;
-  double rate = 0;             ///< grains per second
+  double rate = 0;                 ///< grains per second (0 with a mass_rate)
+  std::optional<double> mass_rate;  ///< kg/s instead of a count: grains until the mass is due
   Vec3 velocity;               ///< m/s
   double start = 0;            ///< s
   std::optional<double> stop;  ///< s; none: to the end of the run

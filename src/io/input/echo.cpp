@@ -246,7 +246,10 @@ void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config
     const auto& in = *g.inlet;
     out << YAML::Key << "inlet" << YAML::Value << YAML::BeginMap;
     emit_region(out, in.region, dim);
-    key_number(out, "rate", in.rate);
+    if (in.mass_rate)
+      key_number(out, "mass_rate", *in.mass_rate);
+    else
+      key_number(out, "rate", in.rate);
     key_vec(out, "velocity", in.velocity, dim);
     key_number(out, "start", in.start);
     if (in.stop) key_number(out, "stop", *in.stop);

@@ -724,12 +724,17 @@ config::Region Reader::read_region(const YamlMap& m) const {
 }
 
 config::Inlet Reader::read_inlet(const YamlNode& node) const {
-  YamlMap im(node, {"box", "cylinder", "rate", "velocity", "start", "stop", "every"});
+  YamlMap im(node,
+             {"box", "cylinder", "rate", "mass_rate", "velocity", "start", "stop", "every"});
   config::Inlet in;
   in.loc = node.loc();
   in.region = read_region(im);
-  const YamlNode rate = im.at("rate");
-  in.rate = rate.as_number(Range::positive());
+  const std::string which = im.exactly_one_of({"rate", "mass_rate"});
+  const YamlNode rate = im.at(which);
+  if (which == "rate")
+    in.rate = rate.as_number(Range::positive());
+  else
+    in.mass_rate = rate.as_number(Range::positive());
   in.rate_loc = rate.loc();
   in.velocity = vec_or(im, "velocity", Vec3{});
   if (auto s = im.find("start")) in.start = s->as_number(Range::at_least(0.0));

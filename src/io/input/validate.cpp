@@ -227,6 +227,34 @@ class Validator {
     return materials_.at(group.material)->density * grain_measure(group, r) *
            (dim_ == 2 ? c_.domain.thickness : 1.0);
   }
+  /// Mean mass of a grain of group g over its radius distribution (kg): midpoint quadrature
+  /// of the (truncated) density on 400 points of [min, max].
+  double mean_mass(std::size_t g) const {
+    const auto& d = c_.particles[g].radius;
+    using K = config::SizeDistribution::Kind;
+    if (d.kind == K::Fixed || !(d.max > d.min)) return mass(g, d.largest());
+    const double sl2 = d.kind == K::Lognormal ? std::log1p(d.std * d.std / (d.mean * d.mean)) : 0;
+    const double ml = d.kind == K::Lognormal ? std::log(d.mean) - 0.5 * sl2 : 0;
+    double sw = 0, swm = 0;
+    constexpr int kPoints = 400;
+    for (int k = 0; k < kPoints; ++k) {
+      const double r = d.min + (k + 0.5) * (d.max - d.min) / kPoints;
+      double w = 1;  // uniform
+      if (d.kind == K::Normal && d.std > 0)
+        w = std::exp(-0.5 * (r - d.mean) * (r - d.mean) / (d.std * d.std));
+      else if (d.kind == K::Lognormal && sl2 > 0)
+        w = std::exp(-0.5 * (std::log(r) - ml) * (std::log(r) - ml) / sl2) / r;
+      sw += w;
+      swm += w * mass(g, r);
+    }
+    return sw > 0 ? swm / sw : mass(g, d.largest());
+  }
+  /// Grains per second an inlet of group g inserts: its rate, or its mass_rate over the mean
+  /// grain's mass.
+  double inlet_rate(std::size_t g) const {
+    const auto& in = *c_.particles[g].inlet;
+    return in.mass_rate ? *in.mass_rate / mean_mass(g) : in.rate;
+  }
   /// Bounding radius of a grain of group g with radius r (cached factor for polygons).
   double reach(std::size_t g, double r) const {
     const auto& group = c_.particles[g];
@@ -894,12 +922,13 @@ void Validator::estimate_counts() {
     } else if (group.inlet) {
       const auto& in = *group.inlet;
       const double until = std::min(in.stop.value_or(c_.time.end), c_.time.end);
-      const double n = std::ceil(in.rate * std::max(0.0, until - in.start + in.every));
+      const double n = std::ceil(inlet_rate(g) * std::max(0.0, until - in.start + in.every));
       report_.derived.emplace_back(fmt::format("particles[{}]: grains (inlet, by the end)", g),
                                    fmt::format("{:.0f}", n));
       total += n;
       n_grains_ += n;
-      memory_.push_back({at(in.rate_loc, fmt::format("particles[{}].inlet.rate", g)),
+      memory_.push_back({at(in.rate_loc, fmt::format("particles[{}].inlet.{}", g,
+                                                     in.mass_rate ? "mass_rate" : "rate")),
                          fmt::format("the {:.0f} grains of particles[{}]", n, g),
                          n * bytes_per_grain(group.kind)});
     } else if (group.explicit_particles) {
@@ -1409,7 +1438,7 @@ void Validator::check_inlets() {
     const auto loc = at(in.loc, fmt::format("particles[{}].inlet", g));
     // One batch must fit the region loosely: random sequential placement jams near a solid
     // fraction of 0.38 (3D; 0.55 in 2D), and slows down well before.
-    const double batch = in.rate * in.every;
+    const double batch = inlet_rate(g) * in.every;
     const double r = group.radius.largest();
     // (spherocylinders are placed by the sphere that holds any of them)
     const double grain = group.kind == config::Shape::Spherocylinder
@@ -1419,10 +1448,11 @@ void Validator::check_inlets() {
     const double limit = dim_ == 2 ? 0.3 : 0.2;
     if (fraction > limit)
       throw_input_error(
-          loc, fmt::format("a batch of the inlet (rate x every = {:.4g} grains) would fill {:.0f} "
+          loc, fmt::format("a batch of the inlet ({} x every = {:.4g} grains) would fill {:.0f} "
                            "% of its region; at most {:.0f} % fit at random: make the region "
                            "larger or 'every' shorter",
-                           batch, 100 * fraction, 100 * limit));
+                           in.mass_rate ? "mass_rate / mean grain mass" : "rate", batch,
+                           100 * fraction, 100 * limit));
     const auto [lo, hi] = region_bounds(in.region);
     for (int k = 0; k < dim_; ++k)
       if (lo[k] < c_.domain.min[k] || hi[k] > c_.domain.max[k])
