@@ -911,7 +911,13 @@ std::size_t Simulation::insert_inlet_grains() {
     };
     const auto& g = cfg_.particles[in.group];
     const double rho = materials_[static_cast<std::size_t>(in.material)].density;
-    ShapeBuilder builder(g, rho, cfg_.domain.thickness, 1 + in.group);
+    // Random polygon outlines come from a generator seeded by the group and the batch: new
+    // outlines every batch, the same ones in a run continued from a checkpoint (which keeps the
+    // batch count and the outlines made so far). A batch's grains of one outline (given
+    // vertices, regular polygons of one size) share one new entry of the outline table.
+    ShapeBuilder builder(
+        g, rho, cfg_.domain.thickness,
+        (1 + in.group) * 0x9e3779b97f4a7c15ull + static_cast<std::uint64_t>(in.batches));
     const RadiusDistribution dist = to_distribution(g.radius);
     const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
     // Spherocylinders are placed by a sphere that holds any of them, as a fill places them.
@@ -1367,8 +1373,8 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       const double span = time() - t.time_at_row;
       row.push_back(meter_prefix == "flow_mass."    ? t.mass
                     : meter_prefix == "flow_count." ? static_cast<double>(t.count)
-                    : span > 0                ? (t.mass - t.mass_at_row) / span
-                                              : 0.0);
+                    : span > 0                      ? (t.mass - t.mass_at_row) / span
+                                                    : 0.0);
     } else if (const auto prefix = input::outlet_series_prefix(name); !prefix.empty()) {
       const std::string outlet = name.substr(prefix.size());
       std::size_t k = 0;

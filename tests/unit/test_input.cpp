@@ -325,7 +325,6 @@ const BadCase bad_cases[] = {
     {"duplicate_outlet_name.yaml", 14, "outlets[1].name", "first used at line 13"},
     {"outlet_unknown_in_series.yaml", 15, "output.series.quantities[1]",
      "unknown outlet 'holes' in 'outlet_mass.holes'; declared outlets: hole"},
-    {"inlet_polygon.yaml", 14, "particles[0].inlet", "spheres, disks and spherocylinders, not"},
     {"inlet_batch_too_dense.yaml", 12, "particles[0].inlet", "would fill 26 % of its region"},
     {"inlet_mass_rate_too_dense.yaml", 12, "particles[0].inlet",
      "(mass_rate / mean grain mass x every = 49.66 grains) would fill 26 % of its region"},

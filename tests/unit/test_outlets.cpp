@@ -464,3 +464,84 @@ TEST(Inlets, MassRateInsertsTheMassDueWithinAGrain) {
   test::expect_same_state(a, b);
   EXPECT_EQ(a.inserted_grains(), b.inserted_grains());
 }
+
+namespace {
+
+/// 2D: an inlet pours random convex polygons (5-8 vertices, elongation 1-1.6, equal-area radius
+/// 1.5-2.5 mm) at 500 per second from a layer at the top of a box open above onto its floor.
+config::Case polygon_pour_case() {
+  auto c = test::base_case(2e-5, 1.0, {0, 0, 0}, {0.1, 0.12, 0});
+  c.dimension = 2;
+  c.domain.thickness = 0.004;
+  c.gravity = {0, -9.81, 0};
+  test::add_material(c, "glass", 2500, 1e7, 0.3);
+  test::add_contact(c, "glass", "glass", "hooke",
+                    {{"stiffness", 1e3}, {"restitution", 0.5}, {"friction", 0.5}});
+  config::ParticleGroup g;
+  g.material = "glass";
+  g.shape = "polygon";
+  g.kind = config::Shape::Polygon;
+  g.polygon.kind = config::PolygonSpec::Kind::Random;
+  g.polygon.min_elongation = 1.0;
+  g.polygon.max_elongation = 1.6;
+  g.radius.kind = config::SizeDistribution::Kind::Uniform;
+  g.radius.min = 0.0015;
+  g.radius.max = 0.0025;
+  config::Inlet in;
+  in.region = test::box_region({0, 0.09, 0}, {0.1, 0.12, 0});
+  in.rate = 500;
+  in.velocity = {0, -0.5, 0};
+  g.inlet = in;
+  c.particles.push_back(g);
+  test::add_plane(c, "floor", {0, 0, 0}, {0, 1, 0}, "glass");
+  test::add_plane(c, "left", {0, 0, 0}, {1, 0, 0}, "glass");
+  test::add_plane(c, "right", {0.1, 0, 0}, {-1, 0, 0}, "glass");
+  return c;
+}
+
+}  // namespace
+
+// Polygons come in at the rate, randomly turned, apart (their circumcircles: the placement),
+// each batch with new random outlines; a continued run inserts the same outlines in the same
+// places (the batch count seeds them; the outline table is in the checkpoint).
+TEST(Inlets, PolygonsComeInWithNewOutlinesEveryBatch) {
+  const auto cfg = polygon_pour_case();
+  test::TempDir dir;
+  const auto file = dir.path() / "polygon_inlet.h5";
+  Simulation a(cfg);
+  const auto& p = a.particles();
+  ASSERT_TRUE(p.has_shapes());
+  double min_gap = INFINITY;
+  std::int64_t last_id = 0;  // the new grains of a step: ids above (the list build re-orders)
+  for (int s = 1; s <= 10000; ++s) {  // 0.2 s
+    a.step();
+    if (s == 5000) a.save_checkpoint(file);
+    std::int64_t top = last_id;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p.id()[i] <= last_id) continue;
+      top = std::max(top, p.id()[i]);
+      for (std::size_t j = 0; j < p.size(); ++j)
+        if (j != i)
+          min_gap = std::min(min_gap, norm(p.x()[i] - p.x()[j]) - p.radius()[i] - p.radius()[j]);
+    }
+    last_id = top;
+  }
+  // 500/s: 5 a batch at 0, 0.01, ..., 0.2 s (the batch at 0.2 s inserts those due by 0.21 s).
+  EXPECT_EQ(a.inserted_grains(), 105);
+  EXPECT_EQ(p.size(), 105u);
+  EXPECT_GT(min_gap, 0.0);
+  // Random outlines: every grain its own, across batches too.
+  std::set<std::vector<double>> outlines;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto& shape = p.polygons()[static_cast<std::size_t>(p.polygon()[i])];
+    std::vector<double> key;
+    for (int k = 0; k < shape.body.n; ++k) key.push_back(shape.body.v[k].x);
+    outlines.insert(key);
+  }
+  EXPECT_EQ(outlines.size(), 105u);
+  Simulation b(cfg);
+  b.load_checkpoint(file);
+  for (int s = 5000; s < 10000; ++s) b.step();
+  test::expect_same_state(a, b);
+  ASSERT_EQ(a.particles().polygons().size(), b.particles().polygons().size());
+}

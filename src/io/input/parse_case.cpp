@@ -1294,8 +1294,6 @@ config::ParticleGroup Reader::read_group(const YamlNode& node) {
     const YamlNode in = gm.at("inlet");
     if (g.fixed)
       in.fail("a fixed group cannot have an inlet (inserted grains fall, fixed ones stay put)");
-    if (g.kind == config::Shape::Polygon)
-      in.fail("an inlet inserts spheres, disks and spherocylinders, not polygons");
     if (c.integrator == "gear5")
       in.fail(
           "an inlet is not available with integrator: gear5 (a new grain has no higher time "
