@@ -1375,6 +1375,23 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
                     : meter_prefix == "flow_count." ? static_cast<double>(t.count)
                     : span > 0                      ? (t.mass - t.mass_at_row) / span
                                                     : 0.0);
+    } else if (const auto region_prefix = input::region_series_prefix(name);
+               !region_prefix.empty()) {
+      const std::string region = name.substr(region_prefix.size());
+      std::size_t k = 0;
+      while (k < cfg_.regions.size() && cfg_.regions[k].name != region) ++k;
+      REQUIRE(k < cfg_.regions.size(), "no region named '{}'", region);
+      // The free grains whose centres lie in it (serial: the same sum at any thread count).
+      const FillRegion where = to_region(cfg_.regions[k].region);
+      const std::int32_t* fixed = particles_.fixed();
+      double count = 0, mass = 0;
+      for (std::size_t i = 0; i < particles_.size(); ++i) {
+        if ((fixed != nullptr && fixed[i] != 0) || !where.contains(particles_.x()[i], 0, two_d_))
+          continue;
+        count += 1;
+        mass += particles_.mass()[i];
+      }
+      row.push_back(region_prefix == "region_count." ? count : mass);
     } else if (const auto prefix = input::outlet_series_prefix(name); !prefix.empty()) {
       const std::string outlet = name.substr(prefix.size());
       std::size_t k = 0;

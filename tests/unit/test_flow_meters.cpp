@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Flow meters: the net number and mass of grains whose centres cross a plane (within a radius),
 // against trajectories known in closed form; periodic wraps, outlets that put grains back,
-// restarts and the series quantities.
+// restarts and the series quantities. Regions: the grains in them, against a brute force.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -186,4 +186,34 @@ TEST(FlowMeters, TheCudaBackEndRefusesThem) {
   add_meter(c, "mid", {0, 0, -0.05}, {0, 0, -1});
   const Simulation sim(c);
   EXPECT_NE(sim.device_unsupported().find("flow meters ('mid'"), std::string::npos);
+}
+
+// region_count / region_mass: the free grains whose centres lie in a box or a cylinder, against
+// a count over the store; the falling square of grains leaves a low box as it enters a lower one.
+TEST(Regions, CountAndMassOfTheGrainsInside) {
+  auto c = rain_case();
+  config::NamedRegion low, core;
+  low.name = "low";
+  low.region = test::box_region({-0.05, -0.05, -0.2}, {0.05, 0.05, -0.05});
+  core.name = "core";
+  core.region.kind = config::Region::Kind::Cylinder;
+  core.region.center = {0, 0, -0.2};
+  core.region.axis = {0, 0, 1};
+  core.region.radius = 0.012;
+  core.region.height = 0.3;
+  c.regions = {low, core};
+  Simulation sim(c);
+  const double m = sphere_mass(0.001, 2500);
+  EXPECT_EQ(sim.quantity("region_count.low"), 0);
+  EXPECT_EQ(sim.quantity("region_count.core"), 5);  // (0, 0), (+-10, 0), (0, +-10) mm
+  EXPECT_NEAR(sim.quantity("region_mass.core"), 5 * m, 1e-15);
+  for (int s = 0; s < 1500; ++s) sim.step();  // 0.15 s: z = 0.05 - 0.11 = -0.06 m, all in "low"
+  const auto& p = sim.particles();
+  double n_low = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.x()[i].z < -0.05) n_low += 1;
+  EXPECT_EQ(n_low, 25);
+  EXPECT_EQ(sim.quantity("region_count.low"), n_low);
+  EXPECT_NEAR(sim.quantity("region_mass.low"), 25 * m, 1e-12 * m);
+  EXPECT_EQ(sim.quantity("region_count.core"), 5);
 }

@@ -334,6 +334,12 @@ const BadCase bad_cases[] = {
     {"outlet_reinsert_overlaps.yaml", 16, "outlets[0].reinsert.box", "would be taken again"},
     {"outlet_reinsert_too_small.yaml", 16, "outlets[0].reinsert",
      "0.008 m across at its narrowest, less than the largest grain (0.01 m across)"},
+    // Regions.
+    {"region_outside_domain.yaml", 14, "regions[0].box",
+     "region 'pit' lies outside the domain [0, 0] - [0.1, 0.1]: it would never hold a grain"},
+    {"duplicate_region_name.yaml", 15, "regions[1].name", "duplicate region name 'pit'"},
+    {"region_unknown_in_series.yaml", 16, "output.series.quantities[0]",
+     "unknown region 'pits' in 'region_mass.pits'; declared regions: pit"},
     // Flow meters.
     {"flow_meter_outside_domain.yaml", 14, "flow_meters[0].point",
      "misses the domain [0, 0] - [0.1, 0.1]: it would never count a grain"},
@@ -599,6 +605,32 @@ output:
   ASSERT_TRUE(again.particles[2].inlet);
   EXPECT_EQ(again.particles[2].inlet->mass_rate, 0.002);
   EXPECT_EQ(again.particles[2].inlet->rate, 0);
+  EXPECT_EQ(again.output.quantities, c.output.quantities);
+}
+
+TEST(InputEcho, RegionsRoundTrip) {
+  const auto c = input::load_case_text(header_3d + R"(particles:
+  - radius: 0.005
+    material: glass
+    positions: [[0.05, 0.05, 0.05]]
+regions:
+  - {name: low, box: {min: [0, 0, 0], max: [0.1, 0.1, 0.03]}}
+  - name: core
+    cylinder: {center: [0.05, 0.05, 0], axis: [0, 0, 1], radius: 0.02, height: 0.1}
+output:
+  series: {every: 0.01, quantities: [region_count.low, region_mass.core]}
+)",
+                                       "regions.yaml");
+  ASSERT_EQ(c.regions.size(), 2u);
+  EXPECT_EQ(c.regions[1].region.kind, config::Region::Kind::Cylinder);
+  const auto again = input::load_case_text(input::echo_yaml(c, "1"), "echo.yaml");
+  ASSERT_EQ(again.regions.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    EXPECT_EQ(again.regions[k].name, c.regions[k].name);
+    EXPECT_EQ(again.regions[k].region.kind, c.regions[k].region.kind);
+    EXPECT_EQ(again.regions[k].region.max, c.regions[k].region.max);
+    EXPECT_EQ(again.regions[k].region.radius, c.regions[k].region.radius);
+  }
   EXPECT_EQ(again.output.quantities, c.output.quantities);
 }
 

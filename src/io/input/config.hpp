@@ -109,6 +109,14 @@ struct FlowMeter {
   SourceLoc loc;
 };
 
+/// A named region for the series (region_count, region_mass: the free grains whose centres
+/// lie in it, e.g. the hold-up of a hopper).
+struct NamedRegion {
+  std::string name;
+  Region region;
+  SourceLoc loc;
+};
+
 struct Fill {
   Region region;
   enum class Lattice { Cubic, Hcp, Random };
@@ -376,6 +384,7 @@ struct Case {
   std::vector<Wall> walls;
   std::vector<Outlet> outlets;
   std::vector<FlowMeter> flow_meters;
+  std::vector<NamedRegion> regions;
   Output output;
   Neighbor neighbor;
   std::string integrator = "velocity_verlet";  ///< velocity_verlet | gear5

@@ -462,6 +462,15 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     }
     out << YAML::EndSeq;
   }
+  if (!c.regions.empty()) {
+    out << YAML::Key << "regions" << YAML::Value << YAML::BeginSeq;
+    for (const auto& r : c.regions) {
+      out << YAML::BeginMap << YAML::Key << "name" << YAML::Value << r.name;
+      emit_region(out, r.region, c.dimension);
+      out << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
   if (!c.flow_meters.empty()) {
     out << YAML::Key << "flow_meters" << YAML::Value << YAML::BeginSeq;
     for (const auto& f : c.flow_meters) {

@@ -143,6 +143,14 @@ struct Reader {
   void read_walls(const YamlMap& root);
   void read_outlets(const YamlMap& root);
   void read_flow_meters(const YamlMap& root);
+  void read_regions(const YamlMap& root);
+  /// The `name` of an entry of a named list (outlets, flow meters, regions; `what` says which):
+  /// a column-safe name, unique in the list (`names`: name -> line, updated).
+  static std::string read_entry_name(const YamlMap& m, std::map<std::string, int>& names,
+                                     std::string_view what);
+  /// Fails at `key` of `m` when the region misses the domain (`who` would never see a grain).
+  void require_region_meets_domain(const YamlMap& m, const config::Region& r,
+                                   const std::string& who, std::string_view never) const;
   void read_mesh_wall(const YamlNode& node, config::Wall& w) const;
   /// Refuses a scaled mesh whose coordinates are not finite or absurd next to the domain.
   void check_mesh_size(const YamlMap& mm, const config::Wall& w) const;
@@ -1472,27 +1480,13 @@ void Reader::read_outlets(const YamlMap& root) {
     YamlMap om(item, {"name", "box", "cylinder", "reinsert"});
     config::Outlet o;
     o.loc = item.loc();
-    const YamlNode name = om.at("name");
-    o.name = name.as_string();
-    if (!is_column_name(o.name))
-      name.fail_expected(
-          "an outlet name of letters, digits, '_' and '-', starting with a letter or '_'");
-    if (auto it = names.find(o.name); it != names.end())
-      name.fail(
-          fmt::format("duplicate outlet name '{}' (first used at line {})", o.name, it->second));
-    names.emplace(o.name, name.line());
+    o.name = read_entry_name(om, names, "outlet");
     o.region = read_region(om);
     const auto key = [](const config::Region& r) {
       return r.kind == config::Region::Kind::Box ? "box" : "cylinder";
     };
-    // A region that misses the domain would never take a grain: surely a typo.
     const auto [lo, hi] = region_bounds(o.region);
-    for (int k = 0; k < c.dimension; ++k)
-      if (!(hi[k] > c.domain.min[k] && lo[k] < c.domain.max[k]))
-        om.at(key(o.region))
-            .fail(fmt::format("outlet '{}' lies outside the domain {} - {}: it would never take "
-                              "a grain",
-                              o.name, text(c.domain.min), text(c.domain.max)));
+    require_region_meets_domain(om, o.region, fmt::format("outlet '{}'", o.name), "take");
     if (auto rn = om.find("reinsert")) {
       if (c.integrator == "gear5")
         rn->fail(
@@ -1529,15 +1523,7 @@ void Reader::read_flow_meters(const YamlMap& root) {
     YamlMap fm(item, {"name", "point", "normal", "radius"});
     config::FlowMeter f;
     f.loc = item.loc();
-    const YamlNode name = fm.at("name");
-    f.name = name.as_string();
-    if (!is_column_name(f.name))
-      name.fail_expected(
-          "a flow meter name of letters, digits, '_' and '-', starting with a letter or '_'");
-    if (auto it = names.find(f.name); it != names.end())
-      name.fail(fmt::format("duplicate flow meter name '{}' (first used at line {})", f.name,
-                            it->second));
-    names.emplace(f.name, name.line());
+    f.name = read_entry_name(fm, names, "flow meter");
     f.point = vec(fm, "point");
     f.normal = direction(fm.at("normal"));
     f.radius = fm.optional_number("radius", Range::positive());
@@ -1558,6 +1544,46 @@ void Reader::read_flow_meters(const YamlMap& root) {
           "never count a grain",
           f.name, text(f.point), text(f.normal), text(c.domain.min), text(c.domain.max)));
     c.flow_meters.push_back(std::move(f));
+  }
+}
+
+std::string Reader::read_entry_name(const YamlMap& m, std::map<std::string, int>& names,
+                                    std::string_view what) {
+  const YamlNode name = m.at("name");
+  std::string text = name.as_string();
+  if (!is_column_name(text))
+    name.fail_expected(fmt::format(
+        "a{} {} name of letters, digits, '_' and '-', starting with a letter or '_'",
+        what.front() == 'o' ? "n" : "", what));
+  if (auto it = names.find(text); it != names.end())
+    name.fail(fmt::format("duplicate {} name '{}' (first used at line {})", what, text, it->second));
+  names.emplace(text, name.line());
+  return text;
+}
+
+void Reader::require_region_meets_domain(const YamlMap& m, const config::Region& r,
+                                         const std::string& who, std::string_view never) const {
+  // A region that misses the domain would never see a grain: surely a typo.
+  const auto [lo, hi] = region_bounds(r);
+  for (int k = 0; k < c.dimension; ++k)
+    if (!(hi[k] > c.domain.min[k] && lo[k] < c.domain.max[k]))
+      m.at(r.kind == config::Region::Kind::Box ? "box" : "cylinder")
+          .fail(fmt::format("{} lies outside the domain {} - {}: it would never {} a grain", who,
+                            text(c.domain.min), text(c.domain.max), never));
+}
+
+void Reader::read_regions(const YamlMap& root) {
+  auto rn = root.find("regions");
+  if (!rn) return;
+  std::map<std::string, int> names;  // name -> line
+  for (const auto& item : rn->as_list()) {
+    YamlMap rm(item, {"name", "box", "cylinder"});
+    config::NamedRegion r;
+    r.loc = item.loc();
+    r.name = read_entry_name(rm, names, "region");
+    r.region = read_region(rm);
+    require_region_meets_domain(rm, r.region, fmt::format("region '{}'", r.name), "hold");
+    c.regions.push_back(std::move(r));
   }
 }
 
@@ -1775,6 +1801,9 @@ void Reader::read_output(const YamlMap& root) {
         } else if (const auto meter_prefix = flow_meter_series_prefix(name);
                    !meter_prefix.empty()) {
           named(meter_prefix, c.flow_meters, "flow meter");
+        } else if (const auto region_prefix = region_series_prefix(name);
+                   !region_prefix.empty()) {
+          named(region_prefix, c.regions, "region");
         } else if (!is_series_quantity(name, walls)) {
           for (std::string_view prefix : wall_series_prefixes()) {
             if (name.starts_with(prefix)) {
@@ -1795,7 +1824,8 @@ void Reader::read_output(const YamlMap& root) {
               "unknown series quantity '{}'{}; accepted: {}, wall_force.WALL, wall_torque.WALL, "
               "wall_force_mean.WALL, wall_torque_mean.WALL, wall_position.WALL (these, "
               "fixed_force and fixed_torque optionally with .x, .y or .z), outlet_mass.OUTLET, "
-              "outlet_count.OUTLET, flow_mass.METER, flow_count.METER, flow_rate.METER",
+              "outlet_count.OUTLET, flow_mass.METER, flow_count.METER, flow_rate.METER, "
+              "region_count.REGION, region_mass.REGION",
               name, hint, join(series_quantity_names())));
         }
         if (!c.fluid && (name.rfind("fluid_", 0) == 0 || name == "superficial_velocity" ||
@@ -1878,8 +1908,8 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   c.file = file;
   Reader r{file.parent_path(), c, {}, {}, {}, {}, {}};
   YamlMap rm(root, {"name", "dimension", "time", "domain", "gravity", "integrator", "materials",
-                    "contacts", "particles", "walls", "outlets", "flow_meters", "output",
-                    "neighbor", "shear",
+                    "contacts", "particles", "walls", "outlets", "flow_meters", "regions",
+                    "output", "neighbor", "shear",
                     "analysis", "sweep", "fluid", "coupling"});
   if (auto n = rm.find("name")) {
     c.name = n->as_string();
@@ -1903,6 +1933,7 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   r.read_walls(rm);
   r.read_outlets(rm);
   r.read_flow_meters(rm);
+  r.read_regions(rm);
   r.read_shear(rm);
   r.read_fluid(rm);
   r.read_coupling(rm);
@@ -1954,6 +1985,12 @@ std::span<const std::string_view> wall_series_prefixes() {
 
 std::string_view outlet_series_prefix(std::string_view quantity) {
   for (std::string_view prefix : {"outlet_mass.", "outlet_count."})
+    if (quantity.starts_with(prefix)) return prefix;
+  return {};
+}
+
+std::string_view region_series_prefix(std::string_view quantity) {
+  for (std::string_view prefix : {"region_count.", "region_mass."})
     if (quantity.starts_with(prefix)) return prefix;
   return {};
 }

@@ -66,6 +66,10 @@ std::string_view outlet_series_prefix(std::string_view quantity);
 /// or empty.
 std::string_view flow_meter_series_prefix(std::string_view quantity);
 
+/// The region series prefix `quantity` starts with ("region_count.": the number of free grains
+/// whose centres lie in region REGION now; "region_mass.": their mass, kg), or empty.
+std::string_view region_series_prefix(std::string_view quantity);
+
 /// Whether `quantity` is an accepted series quantity for a case with walls named `wall_names`
 /// (the outlet and flow-meter quantities are checked against their names by the reader).
 bool is_series_quantity(std::string_view quantity, const std::vector<std::string>& wall_names);
