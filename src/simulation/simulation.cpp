@@ -47,6 +47,17 @@ RadiusDistribution to_distribution(const config::SizeDistribution& s) {
   return d;
 }
 
+/// The index of the entry of a named list (outlets, flow meters, regions) that the series
+/// quantity `quantity` = prefix + name is about (the reader checked that it exists).
+template <class List>
+std::size_t named(const List& list, const std::string& quantity, std::string_view prefix) {
+  const std::string_view name = std::string_view(quantity).substr(prefix.size());
+  std::size_t k = 0;
+  while (k < list.size() && list[k].name != name) ++k;
+  REQUIRE(k < list.size(), "no {} in the case", quantity);
+  return k;
+}
+
 FillRegion to_region(const config::Region& r) {
   FillRegion g;
   g.kind = r.kind == config::Region::Kind::Box ? FillRegion::Kind::Box : FillRegion::Kind::Cylinder;
@@ -1365,11 +1376,7 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       row.push_back(static_cast<double>(particles_.size()));
     } else if (const auto meter_prefix = input::flow_meter_series_prefix(name);
                !meter_prefix.empty()) {
-      const std::string meter = name.substr(meter_prefix.size());
-      std::size_t k = 0;
-      while (k < cfg_.flow_meters.size() && cfg_.flow_meters[k].name != meter) ++k;
-      REQUIRE(k < cfg_.flow_meters.size(), "no flow meter named '{}'", meter);
-      const FlowMeterTally& t = meter_tallies_[k];
+      const FlowMeterTally& t = meter_tallies_[named(cfg_.flow_meters, name, meter_prefix)];
       const double span = time() - t.time_at_row;
       row.push_back(meter_prefix == "flow_mass."    ? t.mass
                     : meter_prefix == "flow_count." ? static_cast<double>(t.count)
@@ -1377,12 +1384,9 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
                                                     : 0.0);
     } else if (const auto region_prefix = input::region_series_prefix(name);
                !region_prefix.empty()) {
-      const std::string region = name.substr(region_prefix.size());
-      std::size_t k = 0;
-      while (k < cfg_.regions.size() && cfg_.regions[k].name != region) ++k;
-      REQUIRE(k < cfg_.regions.size(), "no region named '{}'", region);
       // The free grains whose centres lie in it (serial: the same sum at any thread count).
-      const FillRegion where = to_region(cfg_.regions[k].region);
+      const FillRegion where =
+          to_region(cfg_.regions[named(cfg_.regions, name, region_prefix)].region);
       const std::int32_t* fixed = particles_.fixed();
       double count = 0, mass = 0;
       for (std::size_t i = 0; i < particles_.size(); ++i) {
@@ -1393,10 +1397,7 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       }
       row.push_back(region_prefix == "region_count." ? count : mass);
     } else if (const auto prefix = input::outlet_series_prefix(name); !prefix.empty()) {
-      const std::string outlet = name.substr(prefix.size());
-      std::size_t k = 0;
-      while (k < cfg_.outlets.size() && cfg_.outlets[k].name != outlet) ++k;
-      REQUIRE(k < cfg_.outlets.size(), "no outlet named '{}'", outlet);
+      const std::size_t k = named(cfg_.outlets, name, prefix);
       row.push_back(prefix == "outlet_mass." ? outlet_tallies_[k].mass
                                              : static_cast<double>(outlet_tallies_[k].count));
     } else if (name == "coordination_number") {
