@@ -324,14 +324,13 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
     const auto time_at_row = h.read_double("flow_meters/time_at_row");
     if (count.size() != meter_tallies_.size() || mass.size() != count.size() ||
         mass_at_row.size() != count.size() || time_at_row.size() != count.size())
-      throw InputError(fmt::format("{}: checkpoint has {} flow meters, the case {}",
-                                   file.string(), count.size(), meter_tallies_.size()));
+      throw InputError(fmt::format("{}: checkpoint has {} flow meters, the case {}", file.string(),
+                                   count.size(), meter_tallies_.size()));
     for (std::size_t k = 0; k < count.size(); ++k)
       meter_tallies_[k] = {count[k], mass[k], mass_at_row[k], time_at_row[k]};
   }
   meter_x_.clear();
-  if (!meter_tallies_.empty())
-    meter_x_.assign(particles_.x(), particles_.x() + particles_.size());
+  if (!meter_tallies_.empty()) meter_x_.assign(particles_.x(), particles_.x() + particles_.size());
   // The next inlet grain's id (older checkpoints: after the largest id present).
   next_id_ = 1;
   for (std::size_t i = 0; i < particles_.size(); ++i)
@@ -346,7 +345,7 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
     const auto batches = h.read_int64("inlets/batches");
     // (checkpoints written before mass rates: none, and no inlet with a mass rate then)
     const auto mass = h.exists("inlets/inserted_mass") ? h.read_double("inlets/inserted_mass")
-                                                        : std::vector<double>(inserted.size());
+                                                       : std::vector<double>(inserted.size());
     if (inserted.size() != inlets_.size() || batches.size() != inlets_.size() ||
         mass.size() != inlets_.size())
       throw InputError(fmt::format("{}: checkpoint has {} inlets, the case {}", file.string(),

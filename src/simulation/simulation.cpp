@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "analysis/measures.hpp"
+#include "analysis/mixing.hpp"
 #include "boundaries/fill.hpp"
 #include "contact/pair_forces.hpp"
 #include "contact/registry.hpp"
@@ -776,6 +777,29 @@ void Simulation::count_meter_crossings() {
   std::copy(x, x + n, meter_x_.begin());
 }
 
+analysis::LaceyIndex Simulation::lacey_index() const {
+  REQUIRE(cfg_.analysis.mixing.has_value(), "lacey_index needs analysis.mixing");
+  const config::Mixing& m = *cfg_.analysis.mixing;
+  // The kind of each grain: 0 and 1 for the two materials, -1 for others and fixed grains.
+  int mat[2] = {-1, -1};
+  for (std::size_t k = 0; k < materials_.size(); ++k)
+    for (int s = 0; s < 2; ++s)
+      if (materials_[k].name == m.materials[static_cast<std::size_t>(s)])
+        mat[s] = static_cast<int>(k);
+  const std::size_t n = particles_.size();
+  mixing_kind_.resize(n);
+  const std::int32_t* fixed = particles_.fixed();
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int32_t mi = particles_.material()[i];
+    mixing_kind_[i] = (fixed != nullptr && fixed[i] != 0) ? -1
+                      : mi == mat[0]                      ? 0
+                      : mi == mat[1]                      ? 1
+                                                          : -1;
+  }
+  return analysis::lacey_index(particles_.x(), mixing_kind_.data(), n, domain_.lo, domain_.hi,
+                               m.cell, two_d_ ? 2 : 3, m.min_grains);
+}
+
 void Simulation::series_row_written() {
   reset_wall_means(WallMeans::Series);
   for (auto& t : meter_tallies_) {
@@ -1374,6 +1398,8 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       row.push_back(static_cast<double>(n_wall_contacts_));
     } else if (name == "particle_count") {
       row.push_back(static_cast<double>(particles_.size()));
+    } else if (name == "lacey_index") {
+      row.push_back(lacey_index().index);
     } else if (const auto meter_prefix = input::flow_meter_series_prefix(name);
                !meter_prefix.empty()) {
       const FlowMeterTally& t = meter_tallies_[named(cfg_.flow_meters, name, meter_prefix)];

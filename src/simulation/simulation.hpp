@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "analysis/mixing.hpp"
 #include "analysis/rheology.hpp"
 #include "boundaries/fill.hpp"
 #include "boundaries/wall.hpp"
@@ -122,6 +123,8 @@ class Simulation {
     double mass_at_row = 0, time_at_row = 0;
   };
   std::span<const FlowMeterTally> flow_meter_tallies() const { return meter_tallies_; }
+  /// The Lacey mixing index of analysis.mixing's two materials now (free grains only).
+  analysis::LaceyIndex lacey_index() const;
 
   /// Why this case cannot run its steps on the CUDA back end (`grainflow run --device cuda`,
   /// docs/gpu.md): what it has that the back end lacks; empty when it can.
@@ -256,13 +259,14 @@ class Simulation {
   /// The grains' centres at the last crossing count (the store's order; set anew after every
   /// list build, which may re-order, remove or insert grains, and at a restart).
   std::vector<Vec3> meter_x_;
+  mutable std::vector<std::int32_t> mixing_kind_;  ///< scratch of lacey_index()
   /// A particle group's inlet (config::Inlet) and what it has done.
   struct InletState {
     std::size_t group = 0;
     FillRegion region;
     int material = 0;
     double rate = 0, start = 0, stop = 0, every = 0;  ///< stop: infinity without one
-    double mass_rate = 0;  ///< kg/s (0: `rate` grains per second)
+    double mass_rate = 0;                             ///< kg/s (0: `rate` grains per second)
     Vec3 velocity;
     std::int64_t inserted = 0, batches = 0;
     double inserted_mass = 0;  ///< kg

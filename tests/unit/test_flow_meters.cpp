@@ -27,7 +27,9 @@ config::FlowMeter& add_meter(config::Case& c, const std::string& name, Vec3 poin
   return c.flow_meters.back();
 }
 
-double sphere_mass(double r, double rho) { return rho * 4.0 / 3.0 * M_PI * r * r * r; }
+double sphere_mass(double r, double rho) {
+  return rho * 4.0 / 3.0 * M_PI * r * r * r;
+}
 
 /// 3D, no walls: a 5 x 5 square of spheres (r 1 mm, 10 mm apart, never touching) at z = 0.05
 /// falls freely through the horizontal planes of the meters.

@@ -334,6 +334,10 @@ const BadCase bad_cases[] = {
     {"outlet_reinsert_overlaps.yaml", 16, "outlets[0].reinsert.box", "would be taken again"},
     {"outlet_reinsert_too_small.yaml", 16, "outlets[0].reinsert",
      "0.008 m across at its narrowest, less than the largest grain (0.01 m across)"},
+    // Mixing index.
+    {"mixing_one_material.yaml", 14, "analysis.mixing.materials", "two material names"},
+    {"mixing_unknown_material.yaml", 14, "analysis.mixing.materials[1]", "a declared material"},
+    {"lacey_without_mixing.yaml", 14, "output.series.quantities[1]", "needs analysis.mixing"},
     // Regions.
     {"region_outside_domain.yaml", 14, "regions[0].box",
      "region 'pit' lies outside the domain [0, 0] - [0.1, 0.1]: it would never hold a grain"},
@@ -605,6 +609,41 @@ output:
   ASSERT_TRUE(again.particles[2].inlet);
   EXPECT_EQ(again.particles[2].inlet->mass_rate, 0.002);
   EXPECT_EQ(again.particles[2].inlet->rate, 0);
+  EXPECT_EQ(again.output.quantities, c.output.quantities);
+}
+
+TEST(InputEcho, MixingRoundTrip) {
+  const auto c = input::load_case_text(R"(time: {step: 1.0e-5, end: 0.1}
+domain: {min: [0, 0, 0], max: [0.1, 0.1, 0.1]}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+  red: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+  - {between: [red, red], model: hertz_mindlin, restitution: 0.5}
+  - {between: [red, glass], model: hertz_mindlin, restitution: 0.5}
+particles:
+  - radius: 0.005
+    material: glass
+    positions: [[0.05, 0.05, 0.05]]
+  - radius: 0.005
+    material: red
+    positions: [[0.02, 0.05, 0.05]]
+analysis:
+  mixing: {materials: [red, glass], cell: 0.02, min_grains: 3}
+output:
+  series: {every: 0.01, quantities: [lacey_index]}
+)",
+                                       "mixing.yaml");
+  ASSERT_TRUE(c.analysis.mixing);
+  EXPECT_EQ(c.analysis.mixing->materials, (std::vector<std::string>{"red", "glass"}));
+  EXPECT_EQ(c.analysis.mixing->cell, 0.02);
+  EXPECT_EQ(c.analysis.mixing->min_grains, 3);
+  const auto again = input::load_case_text(input::echo_yaml(c, "1"), "echo.yaml");
+  ASSERT_TRUE(again.analysis.mixing);
+  EXPECT_EQ(again.analysis.mixing->materials, c.analysis.mixing->materials);
+  EXPECT_EQ(again.analysis.mixing->cell, c.analysis.mixing->cell);
+  EXPECT_EQ(again.analysis.mixing->min_grains, 3);
   EXPECT_EQ(again.output.quantities, c.output.quantities);
 }
 

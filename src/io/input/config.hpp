@@ -189,12 +189,12 @@ struct Motion {
 /// time t inserts the grains due by t + every (so the first one, at `start`, rate x every).
 struct Inlet {
   Region region;
-  double rate = 0;                 ///< grains per second (0 with a mass_rate)
+  double rate = 0;                  ///< grains per second (0 with a mass_rate)
   std::optional<double> mass_rate;  ///< kg/s instead of a count: grains until the mass is due
-  Vec3 velocity;               ///< m/s
-  double start = 0;            ///< s
-  std::optional<double> stop;  ///< s; none: to the end of the run
-  double every = 0.01;         ///< s between batches
+  Vec3 velocity;                    ///< m/s
+  double start = 0;                 ///< s
+  std::optional<double> stop;       ///< s; none: to the end of the run
+  double every = 0.01;              ///< s between batches
   SourceLoc loc, rate_loc;
 };
 
@@ -293,8 +293,18 @@ struct Rheology {
   SourceLoc loc;
 };
 
+/// The Lacey mixing index of two kinds of grains (analysis/mixing.hpp), for the series
+/// quantity lacey_index: the grains of `materials[0]` against those of `materials[1]`.
+struct Mixing {
+  std::vector<std::string> materials;  ///< two material names
+  double cell = 0;                     ///< m, side of the cubic (2D: square) cells
+  int min_grains = 5;                  ///< cells with fewer grains are not counted
+  SourceLoc loc;
+};
+
 struct Analysis {
   std::optional<Rheology> rheology;
+  std::optional<Mixing> mixing;
 };
 
 /// A sweep over volume fractions and shear rates (grainflow sweep): every combination runs as

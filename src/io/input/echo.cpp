@@ -493,16 +493,26 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     out << YAML::Key << "initial_profile" << YAML::Value << sh.initial_profile;
     out << YAML::EndMap << YAML::Comment("rate in 1/s");
   }
-  if (c.analysis.rheology) {
-    const auto& r = *c.analysis.rheology;
+  if (c.analysis.rheology || c.analysis.mixing) {
     out << YAML::Key << "analysis" << YAML::Value << YAML::BeginMap;
-    out << YAML::Key << "rheology" << YAML::Value << YAML::Flow << YAML::BeginMap;
-    key_interval(out, r.every, r.every_strain);
-    out << YAML::Key << "bins" << YAML::Value << r.bins;
-    if (r.margin) key_number(out, "margin", *r.margin);
-    if (r.start) key_number(out, "start", *r.start);
-    out << YAML::EndMap;
-    if (!r.margin) out << YAML::Comment("margin: one grain length next to walls");
+    if (c.analysis.rheology) {
+      const auto& r = *c.analysis.rheology;
+      out << YAML::Key << "rheology" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      key_interval(out, r.every, r.every_strain);
+      out << YAML::Key << "bins" << YAML::Value << r.bins;
+      if (r.margin) key_number(out, "margin", *r.margin);
+      if (r.start) key_number(out, "start", *r.start);
+      out << YAML::EndMap;
+      if (!r.margin) out << YAML::Comment("margin: one grain length next to walls");
+    }
+    if (c.analysis.mixing) {
+      const auto& m = *c.analysis.mixing;
+      out << YAML::Key << "mixing" << YAML::Value << YAML::Flow << YAML::BeginMap;
+      out << YAML::Key << "materials" << YAML::Value << YAML::Flow << m.materials;
+      key_number(out, "cell", m.cell);
+      out << YAML::Key << "min_grains" << YAML::Value << m.min_grains;
+      out << YAML::EndMap;
+    }
     out << YAML::EndMap;
   }
   if (c.sweep) {

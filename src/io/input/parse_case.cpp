@@ -277,7 +277,30 @@ void Reader::read_shear(const YamlMap& root) {
 void Reader::read_analysis(const YamlMap& root) {
   auto an = root.find("analysis");
   if (!an) return;
-  YamlMap am(*an, {"rheology"});
+  YamlMap am(*an, {"rheology", "mixing"});
+  if (auto mn = am.find("mixing")) {
+    YamlMap mm(*mn, {"materials", "cell", "min_grains"});
+    config::Mixing x;
+    x.loc = mn->loc();
+    const YamlNode mats = mm.at("materials");
+    const auto list = mats.as_list();
+    if (list.size() != 2) mats.fail_expected("two material names, [A, B]");
+    for (const auto& m : list) {
+      const std::string name = m.as_string();
+      if (std::none_of(c.materials.begin(), c.materials.end(),
+                       [&](const config::Material& d) { return d.name == name; }))
+        m.fail_expected("a declared material");
+      x.materials.push_back(name);
+    }
+    if (x.materials[0] == x.materials[1]) mats.fail_expected("two different materials");
+    x.cell = mm.number("cell", Range::positive());
+    if (auto g = mm.find("min_grains")) {
+      const auto v = g->as_integer();
+      if (v < 2) g->fail_expected("an integer >= 2");
+      x.min_grains = static_cast<int>(v);
+    }
+    c.analysis.mixing = std::move(x);
+  }
   if (auto rn = am.find("rheology")) {
     if (two_d()) rn->fail("rheology measurements are available in 3D cases only");
     YamlMap rm(*rn, {"every", "every_strain", "bins", "margin", "start"});
@@ -732,8 +755,7 @@ config::Region Reader::read_region(const YamlMap& m) const {
 }
 
 config::Inlet Reader::read_inlet(const YamlNode& node) const {
-  YamlMap im(node,
-             {"box", "cylinder", "rate", "mass_rate", "velocity", "start", "stop", "every"});
+  YamlMap im(node, {"box", "cylinder", "rate", "mass_rate", "velocity", "start", "stop", "every"});
   config::Inlet in;
   in.loc = node.loc();
   in.region = read_region(im);
@@ -1552,11 +1574,12 @@ std::string Reader::read_entry_name(const YamlMap& m, std::map<std::string, int>
   const YamlNode name = m.at("name");
   std::string text = name.as_string();
   if (!is_column_name(text))
-    name.fail_expected(fmt::format(
-        "a{} {} name of letters, digits, '_' and '-', starting with a letter or '_'",
-        what.front() == 'o' ? "n" : "", what));
+    name.fail_expected(
+        fmt::format("a{} {} name of letters, digits, '_' and '-', starting with a letter or '_'",
+                    what.front() == 'o' ? "n" : "", what));
   if (auto it = names.find(text); it != names.end())
-    name.fail(fmt::format("duplicate {} name '{}' (first used at line {})", what, text, it->second));
+    name.fail(
+        fmt::format("duplicate {} name '{}' (first used at line {})", what, text, it->second));
   names.emplace(text, name.line());
   return text;
 }
@@ -1792,17 +1815,16 @@ void Reader::read_output(const YamlMap& root) {
           for (const auto& o : list) names.push_back(o.name);
           if (std::find(names.begin(), names.end(), object) == names.end())
             item.fail(fmt::format("unknown {} '{}' in '{}'; {}", what, object, name,
-                                  names.empty() ? fmt::format("no {}s are declared", what)
-                                                : fmt::format("declared {}s: {}", what,
-                                                              join(names))));
+                                  names.empty()
+                                      ? fmt::format("no {}s are declared", what)
+                                      : fmt::format("declared {}s: {}", what, join(names))));
         };
         if (const auto outlet_prefix = outlet_series_prefix(name); !outlet_prefix.empty()) {
           named(outlet_prefix, c.outlets, "outlet");
         } else if (const auto meter_prefix = flow_meter_series_prefix(name);
                    !meter_prefix.empty()) {
           named(meter_prefix, c.flow_meters, "flow meter");
-        } else if (const auto region_prefix = region_series_prefix(name);
-                   !region_prefix.empty()) {
+        } else if (const auto region_prefix = region_series_prefix(name); !region_prefix.empty()) {
           named(region_prefix, c.regions, "region");
         } else if (!is_series_quantity(name, walls)) {
           for (std::string_view prefix : wall_series_prefixes()) {
@@ -1831,6 +1853,15 @@ void Reader::read_output(const YamlMap& root) {
         if (!c.fluid && (name.rfind("fluid_", 0) == 0 || name == "superficial_velocity" ||
                          name == "min_fluid_fraction"))
           item.fail(fmt::format("series quantity '{}' needs a fluid: block", name));
+        // (the analysis block is read after the output: its rheology intervals are checked
+        // against the series')
+        bool mixing = false;
+        if (auto an = root.find("analysis"); an && an->is_map())
+          mixing = YamlMap(*an).has("mixing");
+        if (name == "lacey_index" && !mixing)
+          item.fail(
+              "series quantity 'lacey_index' needs analysis.mixing: {materials: [A, B], cell: "
+              "side of the cells in m}");
         if (name.starts_with("fixed_force") &&
             std::none_of(c.particles.begin(), c.particles.end(),
                          [](const config::ParticleGroup& g) { return g.fixed; }))
@@ -1907,10 +1938,10 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   config::Case c;
   c.file = file;
   Reader r{file.parent_path(), c, {}, {}, {}, {}, {}};
-  YamlMap rm(root, {"name", "dimension", "time", "domain", "gravity", "integrator", "materials",
-                    "contacts", "particles", "walls", "outlets", "flow_meters", "regions",
-                    "output", "neighbor", "shear",
-                    "analysis", "sweep", "fluid", "coupling"});
+  YamlMap rm(root, {"name",       "dimension",   "time",     "domain",    "gravity",
+                    "integrator", "materials",   "contacts", "particles", "walls",
+                    "outlets",    "flow_meters", "regions",  "output",    "neighbor",
+                    "shear",      "analysis",    "sweep",    "fluid",     "coupling"});
   if (auto n = rm.find("name")) {
     c.name = n->as_string();
     if (c.name.empty()) n->fail_expected("a case name");
@@ -1968,7 +1999,8 @@ const std::vector<std::string>& series_quantity_names() {
                                               "fluid_pressure_drop",
                                               "superficial_velocity",
                                               "fluid_kinetic_energy",
-                                              "min_fluid_fraction"};
+                                              "min_fluid_fraction",
+                                              "lacey_index"};
   return names;
 }
 
