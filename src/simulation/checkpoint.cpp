@@ -102,20 +102,17 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
     }
 
     if (!meter_tallies_.empty()) {
-      // The flow meters' net tallies, and their marks at the last series row (flow_rate).
+      // The flow meters' net tallies, and their marks at the last series row (flow_rate): per
+      // meter the mass, the mass and time at that row and the rate it showed.
       h.create_group("flow_meters");
       std::vector<std::int64_t> count;
-      std::vector<double> mass, mass_at_row, time_at_row;
+      std::vector<double> state;
       for (const auto& t : meter_tallies_) {
         count.push_back(t.count);
-        mass.push_back(t.mass);
-        mass_at_row.push_back(t.mass_at_row);
-        time_at_row.push_back(t.time_at_row);
+        state.insert(state.end(), {t.mass, t.mass_at_row, t.time_at_row, t.rate_at_row});
       }
       h.write("flow_meters/count", std::span<const std::int64_t>(count));
-      h.write("flow_meters/mass", std::span<const double>(mass));
-      h.write("flow_meters/mass_at_row", std::span<const double>(mass_at_row));
-      h.write("flow_meters/time_at_row", std::span<const double>(time_at_row));
+      h.write("flow_meters/state", std::span<const double>(state));
     }
 
     h.set_attribute("/", "next_id", next_id_);
@@ -319,15 +316,13 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
   for (auto& t : meter_tallies_) t.time_at_row = time();
   if (!meter_tallies_.empty() && h.exists("flow_meters/count")) {
     const auto count = h.read_int64("flow_meters/count");
-    const auto mass = h.read_double("flow_meters/mass");
-    const auto mass_at_row = h.read_double("flow_meters/mass_at_row");
-    const auto time_at_row = h.read_double("flow_meters/time_at_row");
-    if (count.size() != meter_tallies_.size() || mass.size() != count.size() ||
-        mass_at_row.size() != count.size() || time_at_row.size() != count.size())
+    const auto state = h.read_double("flow_meters/state");
+    if (count.size() != meter_tallies_.size() || state.size() != 4 * count.size())
       throw InputError(fmt::format("{}: checkpoint has {} flow meters, the case {}", file.string(),
                                    count.size(), meter_tallies_.size()));
     for (std::size_t k = 0; k < count.size(); ++k)
-      meter_tallies_[k] = {count[k], mass[k], mass_at_row[k], time_at_row[k]};
+      meter_tallies_[k] = {count[k], state[4 * k], state[4 * k + 1], state[4 * k + 2],
+                           state[4 * k + 3]};
   }
   meter_x_.clear();
   if (!meter_tallies_.empty()) meter_x_.assign(particles_.x(), particles_.x() + particles_.size());

@@ -803,6 +803,7 @@ analysis::LaceyIndex Simulation::lacey_index() const {
 void Simulation::series_row_written() {
   reset_wall_means(WallMeans::Series);
   for (auto& t : meter_tallies_) {
+    t.rate_at_row = t.rate(time());
     t.mass_at_row = t.mass;
     t.time_at_row = time();
   }
@@ -1403,11 +1404,9 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
     } else if (const auto meter_prefix = input::flow_meter_series_prefix(name);
                !meter_prefix.empty()) {
       const FlowMeterTally& t = meter_tallies_[named(cfg_.flow_meters, name, meter_prefix)];
-      const double span = time() - t.time_at_row;
       row.push_back(meter_prefix == "flow_mass."    ? t.mass
                     : meter_prefix == "flow_count." ? static_cast<double>(t.count)
-                    : span > 0                      ? (t.mass - t.mass_at_row) / span
-                                                    : 0.0);
+                                                    : t.rate(time()));
     } else if (const auto region_prefix = input::region_series_prefix(name);
                !region_prefix.empty()) {
       // The free grains whose centres lie in it (serial: the same sum at any thread count).

@@ -116,11 +116,18 @@ class Simulation {
   std::int64_t inserted_grains() const;
   /// What each flow meter (the case's flow_meters, in order) has counted so far: the net number
   /// and mass of grains that crossed its plane along its normal; and the mass and time at the
-  /// previous series row (flow_rate: the net mass per time since then).
+  /// previous series row (flow_rate: the net mass per time since then), and the rate that row
+  /// showed (a run continued from a checkpoint of that step writes the row again).
   struct FlowMeterTally {
     std::int64_t count = 0;
     double mass = 0;  ///< kg
     double mass_at_row = 0, time_at_row = 0;
+    double rate_at_row = 0;  ///< kg/s
+    /// flow_rate now: the net mass per time since the previous row; at that row's time, the rate
+    /// it showed.
+    double rate(double now) const {
+      return now > time_at_row ? (mass - mass_at_row) / (now - time_at_row) : rate_at_row;
+    }
   };
   std::span<const FlowMeterTally> flow_meter_tallies() const { return meter_tallies_; }
   /// The Lacey mixing index of analysis.mixing's two materials now (free grains only).
