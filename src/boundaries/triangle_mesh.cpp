@@ -394,7 +394,17 @@ double TriangleMesh::segment_distance_bound(std::int32_t tri, const Vec3& p0,
 }
 
 double TriangleMesh::distance_bound(std::int32_t tri, const Vec3& x) const {
-  return segment_distance_bound(tri, x, x);
+  // segment_distance_bound for a segment of one point, without the segment's projection (this
+  // one runs for every candidate triangle of every grain at each wall-list build).
+  const auto tu = static_cast<std::size_t>(tri);
+  const auto& tr = tris_[tu];
+  const Vec3& a = points_[static_cast<std::size_t>(tr[0])];
+  const Vec3 centroid = (1.0 / 3.0) * (a + points_[static_cast<std::size_t>(tr[1])] +
+                                       points_[static_cast<std::size_t>(tr[2])]);
+  double bound = norm(centroid - x) - bound_radius_[tu];
+  const double h = dot(x - a, normals_[tu]);
+  if (h != 0) bound = std::max(bound, std::abs(h));
+  return bound * (1 - 1e-12) - eps_;
 }
 
 double TriangleMesh::segment_distance(std::int32_t tri, const Vec3& p0, const Vec3& p1) const {
