@@ -86,6 +86,11 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
       h.write(fmt::format("walls/{}_force_sum", name), std::span<const Vec3>(fs));
       h.write(fmt::format("walls/{}_torque_sum", name), std::span<const Vec3>(ts));
       h.set_attribute("walls", fmt::format("{}_sum_steps", name), s->steps);
+      if (s->closed_force.size() == walls_.size()) {  // (none before the first interval closed)
+        h.write(fmt::format("walls/{}_closed_force", name), std::span<const Vec3>(s->closed_force));
+        h.write(fmt::format("walls/{}_closed_torque", name),
+                std::span<const Vec3>(s->closed_torque));
+      }
     }
 
     if (!outlet_tallies_.empty()) {
@@ -288,10 +293,21 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
         "{}: the checkpoint has a fluid state but the case has no fluid: block", file.string()));
   }
   // Wall means of the series interval in progress (absent in checkpoints of older builds: the
-  // interval restarts here).
+  // interval restarts here), and of the one closed last (absent in those of older builds and
+  // before the first closed: a row written again at this step shows the current force).
   for (auto [s, name] :
        {std::pair{&wall_sums_[0], "series"}, std::pair{&wall_sums_[1], "rheology"}}) {
     s->clear(walls_.size());
+    s->closed_force.clear();
+    s->closed_torque.clear();
+    if (h.exists(fmt::format("walls/{}_closed_force", name))) {
+      s->closed_force = h.read_vec3(fmt::format("walls/{}_closed_force", name));
+      s->closed_torque = h.read_vec3(fmt::format("walls/{}_closed_torque", name));
+      if (s->closed_force.size() != walls_.size() || s->closed_torque.size() != walls_.size())
+        throw InputError(
+            fmt::format("{}: checkpoint has closed wall means for {} walls, the case {}",
+                        file.string(), s->closed_force.size(), walls_.size()));
+    }
     if (!h.exists(fmt::format("walls/{}_force_sum", name))) continue;
     s->force = h.read_vec3(fmt::format("walls/{}_force_sum", name));
     s->torque = h.read_vec3(fmt::format("walls/{}_torque_sum", name));

@@ -1281,12 +1281,14 @@ std::vector<std::string> Simulation::series_columns() const {
 
 Vec3 Simulation::wall_mean_force(WallMeans who, std::size_t k) const {
   const WallSums& s = wall_sums_[static_cast<int>(who)];
-  return s.steps > 0 ? (1.0 / static_cast<double>(s.steps)) * s.force[k] : walls_[k].force;
+  if (s.steps > 0) return (1.0 / static_cast<double>(s.steps)) * s.force[k];
+  return k < s.closed_force.size() ? s.closed_force[k] : walls_[k].force;
 }
 
 Vec3 Simulation::wall_mean_torque(WallMeans who, std::size_t k) const {
   const WallSums& s = wall_sums_[static_cast<int>(who)];
-  return s.steps > 0 ? (1.0 / static_cast<double>(s.steps)) * s.torque[k] : walls_[k].torque;
+  if (s.steps > 0) return (1.0 / static_cast<double>(s.steps)) * s.torque[k];
+  return k < s.closed_torque.size() ? s.closed_torque[k] : walls_[k].torque;
 }
 
 double Simulation::quantity(const std::string& name) const {

@@ -149,12 +149,13 @@ class Simulation {
   /// series (wall_force_mean, wall_torque_mean; interval: since the previous row) and the
   /// rheology samples (wall tractions; since the previous sample).
   enum class WallMeans { Series, Rheology };
-  /// Mean force (torque) on wall k over the steps of `who`'s interval so far; the current one
-  /// when the interval has no step yet.
+  /// Mean force (torque) on wall k over the steps of `who`'s interval so far; when the interval
+  /// has no step yet, the mean of the interval the reset at this step closed (a row written
+  /// again at a restart's step shows what it showed), else (no interval yet) the current one.
   Vec3 wall_mean_force(WallMeans who, std::size_t k) const;
   Vec3 wall_mean_torque(WallMeans who, std::size_t k) const;
-  /// Starts `who`'s next interval.
-  void reset_wall_means(WallMeans who) { wall_sums_[static_cast<int>(who)].clear(walls_.size()); }
+  /// Closes `who`'s interval and starts the next.
+  void reset_wall_means(WallMeans who) { wall_sums_[static_cast<int>(who)].close(walls_.size()); }
   /// A series row was written now: the interval quantities (wall_force_mean, wall_torque_mean,
   /// flow_rate) start their next interval.
   void series_row_written();
@@ -315,15 +316,31 @@ class Simulation {
   bool collect_contacts_ = false;
   std::int64_t contacts_step_ = -1;  ///< the step whose force stage recorded contact_records_
   std::vector<contact::ContactRecord> contact_records_, wall_records_;
-  /// Sums of each wall's force and torque over the steps of an interval, and their number (one
-  /// per WallMeans reader; kept in checkpoints).
+  /// Sums of each wall's force and torque over the steps of an interval, and their number, and
+  /// the means of the interval closed last (empty before the first); one per WallMeans reader,
+  /// kept in checkpoints.
   struct WallSums {
     std::vector<Vec3> force, torque;
     std::int64_t steps = 0;
+    std::vector<Vec3> closed_force, closed_torque;
     void clear(std::size_t n) {
       force.assign(n, Vec3{});
       torque.assign(n, Vec3{});
       steps = 0;
+    }
+    /// Keeps the interval's means (unless it had no step: then those of the one before) and
+    /// starts the next.
+    void close(std::size_t n) {
+      if (steps > 0) {
+        const double w = 1.0 / static_cast<double>(steps);
+        closed_force.resize(force.size());
+        closed_torque.resize(torque.size());
+        for (std::size_t k = 0; k < force.size(); ++k) {
+          closed_force[k] = w * force[k];
+          closed_torque[k] = w * torque[k];
+        }
+      }
+      clear(n);
     }
   };
   std::array<WallSums, 2> wall_sums_;

@@ -343,7 +343,8 @@ TEST(ContactsOutput, RunWritesWallContactsAndTheVtkNetwork) {
 // The walls' interval means (series wall_force_mean / wall_torque_mean, rheology wall
 // tractions) are the means of the forces and torques the steps applied: against a sum taken
 // here over 700 steps (to round-off of the same sums), each reader with its own interval; an
-// interval without steps reports the current force.
+// interval without steps reports the means of the interval its reset closed (the row written at
+// that step, written again by a restart from there), before the first reset the current force.
 TEST(WallMeans, AreTheMeansOfTheStepsSinceTheReset) {
   const auto cfg =
       rheology_case("shear_box_spheres/case.yaml", {{"particles[0].fill.volume_fraction", "0.3"},
@@ -353,14 +354,26 @@ TEST(WallMeans, AreTheMeansOfTheStepsSinceTheReset) {
                                                     {"time.step", "1.0e-6"}});
   using M = Simulation::WallMeans;
   Simulation sim(cfg);
-  for (int k = 0; k < 3000; ++k) sim.step();
   const std::size_t n = sim.walls().size();
   ASSERT_EQ(n, 2u);
-  sim.reset_wall_means(M::Series);
-  for (std::size_t w = 0; w < n; ++w) {
+  for (std::size_t w = 0; w < n; ++w)
     EXPECT_EQ(sim.wall_mean_force(M::Series, w), sim.walls()[w].force);
-    EXPECT_EQ(sim.wall_mean_torque(M::Series, w), sim.walls()[w].torque);
+  std::vector<Vec3> f0(n), t0(n);
+  for (int k = 0; k < 3000; ++k) {
+    sim.step();
+    for (std::size_t w = 0; w < n; ++w) {
+      f0[w] += sim.walls()[w].force;
+      t0[w] += sim.walls()[w].torque;
+    }
   }
+  sim.reset_wall_means(M::Series);
+  sim.reset_wall_means(M::Series);  // (a second reset at the same step closes nothing)
+  ASSERT_GT(norm(f0[0]), 0.0);
+  for (std::size_t w = 0; w < n; ++w) {
+    EXPECT_LE(norm(sim.wall_mean_force(M::Series, w) - (1.0 / 3000) * f0[w]), 1e-13 * norm(f0[w]));
+    EXPECT_LE(norm(sim.wall_mean_torque(M::Series, w) - (1.0 / 3000) * t0[w]), 1e-13 * norm(t0[w]));
+  }
+  EXPECT_NE(sim.wall_mean_force(M::Series, 0), sim.walls()[0].force);  // (the top: no contact)
   std::vector<Vec3> f(n), t(n), f_late(n);
   for (int k = 0; k < 700; ++k) {
     if (k == 300) sim.reset_wall_means(M::Rheology);
