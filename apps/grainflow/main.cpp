@@ -15,6 +15,7 @@
 #include <string>
 #include <utility>
 
+#include "contact/conduction.hpp"
 #include "contact/registry.hpp"
 #include "continuum/ktgf.hpp"
 #include "continuum/rheology_registry.hpp"
@@ -50,6 +51,9 @@ int list_models() {
              "velocity Verlet for translation and rotation (second order, symplectic)", "gear5",
              "Gear predictor-corrector with 6 values, translation and rotation (spheres, disks, "
              "polygons)");
+  fmt::print("heat conduction models (heat.model):\n");
+  for (const auto& m : gf::contact::conduction_infos())
+    fmt::print("  {:<18} {}\n", m.key, m.summary);
   fmt::print("drag laws (coupling.drag, two_fluid drag):\n");
   for (const auto& d : gf::cfd_dem::drag_infos()) fmt::print("  {:<18} {}\n", d.key, d.summary);
   fmt::print("continuum rheologies (continuum.rheology.model):\n");
@@ -133,6 +137,15 @@ int describe(const std::string& key) {
                  k->summary, k->equation, k->reference, kind);
       print_params(k->params);
     }
+  if (const auto* h = gf::contact::find_conduction(key)) {
+    next();
+    fmt::print(
+        "{} — heat conduction model: {}\n\nequation:\n  {}\n\nreference:\n  {}\n\n"
+        "parameters: heat.temperature [K] (initial); per material (materials:) "
+        "thermal_conductivity [W/(m K)], heat_capacity [J/(kg K)]; particles[].temperature, "
+        "walls[].temperature [K]\n",
+        h->key, h->summary, h->equation, h->reference);
+  }
   if (const auto* d = gf::cfd_dem::find_drag(key)) {
     next();
     fmt::print(
@@ -156,6 +169,7 @@ int describe(const std::string& key) {
   for (const auto& i : gf::continuum::particle_pressure_model_infos())
     keys += fmt::format(" {}", i.key);
   for (const auto& i : gf::cfd_dem::drag_infos()) keys += fmt::format(" {}", i.key);
+  for (const auto& i : gf::contact::conduction_infos()) keys += fmt::format(" {}", i.key);
   fmt::print(stderr, "error: unknown model key '{}'; known keys:{}\n", key, keys);
   return kExitInput;
 }

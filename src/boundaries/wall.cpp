@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "contact/batch_columns.hpp"
+#include "contact/conduction.hpp"
 #include "contact/pair_forces.hpp"
 #include "contact/registry.hpp"
 #include "contact/shape_forces.hpp"
@@ -639,27 +640,64 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
   return active;
 }
 
-double wall_elastic_energy(const ParticleStore& p, std::span<const Wall> walls,
-                           const WallContactList& list,
-                           const PairTable<contact::PairCoeffs>& pairs) {
+namespace {
+
+/// Calls f(k, slot, geometry) for every touching slot of every entry of the list, in entry order.
+template <class F>
+void for_each_wall_touch(const ParticleStore& p, std::span<const Wall> walls,
+                         const WallContactList& list, F&& f) {
   std::optional<contact::ShapeView> shapes;
   if (p.has_shapes()) shapes.emplace(p);
   const contact::ShapeView* sv = shapes ? &*shapes : nullptr;
-  const std::int32_t* mat = p.material();
-  double e = 0;
-  for (const auto& entry : list.entries()) {
+  const auto entries = list.entries();
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    const auto& entry = entries[k];
     const int i = entry.particle;
     const Wall& w = walls[static_cast<std::size_t>(entry.wall)];
-    const contact::PairCoeffs& c = pairs(mat[i], w.material);
     for (int slot = 0; slot < list.slots(); ++slot) {
       WallGeometry g;
-      if (!wall_slot_geometry(w, entry.element, sv, i, p.x()[i], p.radius()[i], slot, g)) continue;
-      e += g.force_scale * dispatch_index(contact::ContactModels{}, c.model, [&]<class M>() {
-             return M::Law::elastic_energy(c, g.overlap, g.r_eff);
-           });
+      if (wall_slot_geometry(w, entry.element, sv, i, p.x()[i], p.radius()[i], slot, g))
+        f(k, slot, g);
     }
   }
+}
+
+}  // namespace
+
+double wall_elastic_energy(const ParticleStore& p, std::span<const Wall> walls,
+                           const WallContactList& list,
+                           const PairTable<contact::PairCoeffs>& pairs) {
+  const std::int32_t* mat = p.material();
+  const auto entries = list.entries();
+  double e = 0;
+  for_each_wall_touch(p, walls, list, [&](std::size_t k, int, const WallGeometry& g) {
+    const int i = entries[k].particle;
+    const contact::PairCoeffs& c =
+        pairs(mat[i], walls[static_cast<std::size_t>(entries[k].wall)].material);
+    e += g.force_scale * dispatch_index(contact::ContactModels{}, c.model, [&]<class M>() {
+           return M::Law::elastic_energy(c, g.overlap, g.r_eff);
+         });
+  });
   return e;
+}
+
+void wall_heat_flows(const ParticleStore& p, std::span<Wall> walls, const WallContactList& list,
+                     int model, const PairTable<double>& k_series, const double* temperature,
+                     double* q, double* h) {
+  const std::int32_t* mat = p.material();
+  const auto entries = list.entries();
+  for (auto& w : walls) w.heat_flow = 0;
+  for_each_wall_touch(p, walls, list, [&](std::size_t k, int, const WallGeometry& g) {
+    Wall& w = walls[static_cast<std::size_t>(entries[k].wall)];
+    if (std::isnan(w.temperature)) return;
+    const int i = entries[k].particle;
+    const double hc = g.force_scale * contact::contact_conductance(model, g.overlap, g.r_eff,
+                                                                   k_series(mat[i], w.material));
+    const double flow = hc * (w.temperature - temperature[i]);
+    q[i] += flow;
+    h[i] += hc;
+    w.heat_flow -= flow;
+  });
 }
 
 }  // namespace gf

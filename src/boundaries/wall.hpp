@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -55,6 +56,10 @@ struct Wall {
   /// Normal stiffness of the wall's contacts, sum of dF_n/d(delta) <= 1.5 F_n/delta (Hertz's
   /// exponent; exact for Hertz, 1.5 x for linear springs), N/m: the servo's gain.
   double contact_stiffness = 0;
+  /// Temperature of the wall's surface, K (heat: block); NaN: adiabatic (no heat exchanged).
+  double temperature = std::numeric_limits<double>::quiet_NaN();
+  /// Heat flow from the grains into the wall at the last heat step, W (wall_heat_flows).
+  double heat_flow = 0;
 
   void update_geometry(double t) {
     point = motion.point_at(point0, t) + servo_offset;
@@ -178,5 +183,13 @@ std::int64_t compute_wall_forces(ParticleStore& p, std::span<Wall> walls, WallCo
 double wall_elastic_energy(const ParticleStore& p, std::span<const Wall> walls,
                            const WallContactList& list,
                            const PairTable<contact::PairCoeffs>& pairs);
+
+/// Heat exchanged with the walls that have a temperature (the others are adiabatic): for each
+/// touching grain i adds H (T_w - T_i) to q[i] (W) and H to h[i] (W/K), with the conductance H
+/// of conduction model `model` (contact/conduction.hpp) of the grain's and the wall's material
+/// (`k_series` per material pair, W/(m K)); sets each wall's heat_flow, summed in entry order.
+void wall_heat_flows(const ParticleStore& p, std::span<Wall> walls, const WallContactList& list,
+                     int model, const PairTable<double>& k_series, const double* temperature,
+                     double* q, double* h);
 
 }  // namespace gf

@@ -98,25 +98,14 @@ double shape_pair_elastic_energy(const ParticleStore& p, const Domain& domain,
   const std::int32_t* mat = p.material();
   // Serial: the sum is then in list order whatever the thread count (output only).
   double e = 0;
-  const ShapeView s(p);
-  const Vec3* x = p.x();
-  const auto off = list.offsets();
-  const auto nb = list.neighbors();
-  for (std::size_t i = 0; i < list.n_particles(); ++i) {
-    ConvexPolygon poly_i;
-    if (s.code(static_cast<std::int64_t>(i)) == ShapeCode::Polygon)
-      poly_i = s.world_polygon(static_cast<std::int64_t>(i), x[i]);
-    for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
-      const std::int32_t j = nb[k];
-      const Vec3 xj = x[i] - domain.delta(x[i], x[j]);
-      ShapeGeometry g;
-      if (!shape_pair_geometry(s, static_cast<std::int64_t>(i), j, x[i], xj, &poly_i, g)) continue;
-      const PairCoeffs& c = pairs(mat[i], mat[j]);
-      e += g.force_scale * dispatch_index(ContactModels{}, c.model, [&]<class M>() {
-             return M::Law::elastic_energy(c, g.overlap, g.r_eff);
-           });
-    }
-  }
+  for_each_touching_pair(
+      p, domain, list,
+      [&](std::size_t i, std::int32_t j, double overlap, double r_eff, double scale, std::int64_t) {
+        const PairCoeffs& c = pairs(mat[i], mat[j]);
+        e += scale * dispatch_index(ContactModels{}, c.model, [&]<class M>() {
+               return M::Law::elastic_energy(c, overlap, r_eff);
+             });
+      });
   return e;
 }
 

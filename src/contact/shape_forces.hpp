@@ -30,6 +30,7 @@
 #include "contact/laws/contact_io.hpp"
 #include "contact/pair_forces.hpp"
 #include "core/domain.hpp"
+#include "core/exec.hpp"
 #include "neighbor/verlet_list.hpp"
 #include "particles/material.hpp"
 #include "particles/particle_store.hpp"
@@ -183,6 +184,64 @@ std::int64_t compute_shape_pair_forces(ParticleStore& p, const Domain& domain, V
                                        const PairTable<PairCoeffs>& pairs, double dt,
                                        const ContactSink* report = nullptr,
                                        const PairSkip* skip = nullptr);
+
+/// Calls f(i, j, overlap, r_eff, scale, k) for every touching pair of the list (k its entry):
+/// spheres and disks by sphere_sphere, a store with shapes by shape_pair_geometry, `scale` the
+/// polygons' force scale (1 for other shapes). Serially in list order (rows, then their
+/// entries), or with `parallel_rows` the rows spread over the threads (f must then write only
+/// what belongs to its entry k).
+template <class F>
+void for_each_touching_pair(const ParticleStore& p, const Domain& domain, const VerletList& list,
+                            F&& f, bool parallel_rows = false) {
+  const Vec3* x = p.x();
+  const auto off = list.offsets();
+  const auto nb = list.neighbors();
+  const auto rows = static_cast<exec::index_t>(list.n_particles());
+  auto run = [&](auto&& row) {
+    if (parallel_rows)
+      exec::parallel_for(rows, row);
+    else
+      for (exec::index_t i = 0; i < rows; ++i) row(i);
+  };
+  if (!p.has_shapes()) {
+    // The minimum image only where some axis is periodic, the sheared images only in a sheared
+    // box (as the force loop): the general delta costs several times the test itself.
+    const double* r = p.radius();
+    auto rows_with = [&](auto delta) {
+      run([&](exec::index_t ii) {
+        const auto i = static_cast<std::size_t>(ii);
+        for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
+          const std::int32_t j = nb[k];
+          const Vec3 d = delta(x[i], x[j]);
+          const double dist2 = norm2(d), rs = r[i] + r[j];
+          if (dist2 >= rs * rs) continue;
+          f(i, j, rs - std::sqrt(dist2), r[i] * r[j] / rs, 1.0, k);
+        }
+      });
+    };
+    if (domain.sheared())
+      rows_with([&](const Vec3& a, const Vec3& b) { return domain.delta(a, b); });
+    else if (domain.any_periodic())
+      rows_with([&](const Vec3& a, const Vec3& b) { return domain.min_image(a - b); });
+    else
+      rows_with([](const Vec3& a, const Vec3& b) { return a - b; });
+    return;
+  }
+  const ShapeView s(p);
+  run([&](exec::index_t ii) {
+    const auto i = static_cast<std::size_t>(ii);
+    ConvexPolygon poly_i;
+    if (s.code(static_cast<std::int64_t>(i)) == ShapeCode::Polygon)
+      poly_i = s.world_polygon(static_cast<std::int64_t>(i), x[i]);
+    for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
+      const std::int32_t j = nb[k];
+      const Vec3 xj = x[i] - domain.delta(x[i], x[j]);
+      ShapeGeometry g;
+      if (shape_pair_geometry(s, static_cast<std::int64_t>(i), j, x[i], xj, &poly_i, g))
+        f(i, j, g.overlap, g.r_eff, g.force_scale, k);
+    }
+  });
+}
 
 /// Elastic energy stored in all contacts of a store with shapes, J.
 double shape_pair_elastic_energy(const ParticleStore& p, const Domain& domain,

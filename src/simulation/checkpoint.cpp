@@ -76,6 +76,11 @@ void Simulation::save_checkpoint(const std::filesystem::path& file) const {
     }
     h.write("walls/servo_offset", std::span<const Vec3>(so));
     h.write("walls/servo_velocity", std::span<const Vec3>(sv));
+    if (heat_model_ >= 0) {  // (the heat flows of the last step, for a row written again)
+      std::vector<double> hf;
+      for (const auto& w : walls_) hf.push_back(w.heat_flow);
+      h.write("walls/heat_flow", std::span<const double>(hf));
+    }
     // The series' wall means of the interval in progress (a continued run writes the row that
     // an uninterrupted one would).
     for (const auto& [s, name] :
@@ -367,7 +372,15 @@ void Simulation::load_checkpoint(const std::filesystem::path& file) {
       inlets_[k].inserted_mass = mass[k];
     }
   }
+  std::vector<double> heat_flow(walls_.size(), 0.0);
+  if (heat_model_ >= 0 && h.exists("walls/heat_flow")) {
+    heat_flow = h.read_double("walls/heat_flow");
+    if (heat_flow.size() != walls_.size())
+      throw InputError(fmt::format("{}: checkpoint has heat flows for {} walls, the case {}",
+                                   file.string(), heat_flow.size(), walls_.size()));
+  }
   for (std::size_t w = 0; w < walls_.size(); ++w) {
+    walls_[w].heat_flow = heat_flow[w];
     walls_[w].servo_offset = so[w];
     walls_[w].servo_velocity = sv[w];
     walls_[w].update_geometry(time());

@@ -21,6 +21,7 @@ std::string Simulation::device_unsupported() const {
   if (!cfg_.outlets.empty())
     return fmt::format("the case has outlets ('{}': the CUDA back end keeps every grain)",
                        cfg_.outlets.front().name);
+  if (cfg_.heat) return "the case has a heat: block (heat conduction runs on the host only)";
   if (!cfg_.flow_meters.empty())
     return fmt::format("the case has flow meters ('{}': counted on the host only)",
                        cfg_.flow_meters.front().name);

@@ -121,6 +121,13 @@ std::int32_t ShapeBuilder::make_polygon(ParticleStore& p, double radius) {
 
 std::size_t ShapeBuilder::add(ParticleStore& p, std::int64_t id, int material, double radius,
                               const Vec3& x, const Vec3& v, const Vec3& omega, const Quat& q) {
+  const std::size_t i = add_body(p, id, material, radius, x, v, omega, q);
+  if (const int f = p.find_field("temperature"); f >= 0) p.get<double>(f)[i] = temperature_;
+  return i;
+}
+
+std::size_t ShapeBuilder::add_body(ParticleStore& p, std::int64_t id, int material, double radius,
+                                   const Vec3& x, const Vec3& v, const Vec3& omega, const Quat& q) {
   const double rho = density_;
   switch (g_.kind) {
     case Shape::Sphere: {

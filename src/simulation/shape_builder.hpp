@@ -31,11 +31,17 @@ class ShapeBuilder {
   std::size_t add(ParticleStore& p, std::int64_t id, int material, double radius, const Vec3& x,
                   const Vec3& v, const Vec3& omega, const Quat& q);
 
+  /// The temperature (K) of the grains `add` makes, in a store with the field "temperature"
+  /// (heat conduction).
+  void set_temperature(double kelvin) { temperature_ = kelvin; }
+
   /// Uniformly random orientation: 3D uniform on SO(3) (normalised Gaussian quaternion), 2D a
   /// uniform angle about z.
   static Quat random_orientation(Rng& rng, bool two_d);
 
  private:
+  std::size_t add_body(ParticleStore& p, std::int64_t id, int material, double radius,
+                       const Vec3& x, const Vec3& v, const Vec3& omega, const Quat& q);
   /// Adds the polygon outline (equal-area radius `radius`) to the table; returns its index.
   std::int32_t make_polygon(ParticleStore& p, double radius);
 
@@ -45,6 +51,7 @@ class ShapeBuilder {
   double circum_factor_ = 1;          ///< polygon circumradius / equal-area radius (bound)
   std::int32_t shared_polygon_ = -1;  ///< table entry shared by all grains, when there is one
   std::mt19937_64 poly_rng_;
+  double temperature_ = 0;
 };
 
 }  // namespace gf

@@ -12,6 +12,7 @@
 #include "analysis/measures.hpp"
 #include "analysis/mixing.hpp"
 #include "boundaries/fill.hpp"
+#include "contact/conduction.hpp"
 #include "contact/pair_forces.hpp"
 #include "contact/registry.hpp"
 #include "contact/shape_forces.hpp"
@@ -163,9 +164,53 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
       break;
     }
   rng_ = Rng(seed);
+  if (cfg.heat) {
+    // (the reader refuses these with the line; a case built in code is checked here too)
+    if (cfg.dimension == 2)
+      throw InputError(fmt::format("{}: heat conduction is for 3D cases", where(cfg.heat->loc)));
+    heat_model_ = contact::conduction_index(cfg.heat->model);
+    if (heat_model_ < 0)
+      throw InputError(
+          fmt::format("{}: unknown conduction model '{}'", where(cfg.heat->loc), cfg.heat->model));
+    f_temperature_ =
+        particles_.add_field("temperature", FieldType::Real, "K", kRestart | kOutput | kGhost);
+  }
   build_particles();
   build_materials_and_pairs();
   build_walls();
+  if (cfg.heat) {
+    std::vector<double> conductivity;
+    for (const auto& m : cfg.materials) {
+      conductivity.push_back(m.thermal_conductivity.value_or(0.0));
+      heat_capacity_.push_back(m.heat_capacity.value_or(0.0));
+    }
+    const int nm = static_cast<int>(conductivity.size());
+    k_series_ = PairTable<double>(nm);
+    for (int a = 0; a < nm; ++a)
+      for (int b = 0; b < nm; ++b)
+        if (conductivity[static_cast<std::size_t>(a)] > 0 &&
+            conductivity[static_cast<std::size_t>(b)] > 0)
+          k_series_(a, b) = contact::series_conductivity(conductivity[static_cast<std::size_t>(a)],
+                                                         conductivity[static_cast<std::size_t>(b)]);
+    std::vector<bool> used(materials_.size(), false);
+    for (std::size_t i = 0; i < particles_.size(); ++i)
+      used[static_cast<std::size_t>(particles_.material()[i])] = true;
+    for (const auto& in : cfg.particles)
+      for (std::size_t m = 0; m < materials_.size(); ++m)
+        if (materials_[m].name == in.material) used[m] = true;
+    for (std::size_t m = 0; m < materials_.size(); ++m)
+      if (used[m] && !(conductivity[m] > 0 && heat_capacity_[m] > 0))
+        throw InputError(fmt::format(
+            "{}: material '{}' of particles needs thermal_conductivity and heat_capacity for heat "
+            "conduction",
+            where(cfg.materials[m].loc), cfg.materials[m].name));
+    for (const auto& w : walls_)
+      if (!std::isnan(w.temperature) && !(conductivity[static_cast<std::size_t>(w.material)] > 0))
+        throw InputError(fmt::format(
+            "{}: wall '{}' has a temperature but its material '{}' no "
+            "thermal_conductivity",
+            cfg.file.string(), w.name, materials_[static_cast<std::size_t>(w.material)].name));
+  }
   for (const auto& o : cfg.outlets) {
     outlet_regions_.push_back(to_region(o.region));
     outlet_reinsert_.push_back(o.reinsert ? std::optional(to_region(*o.reinsert)) : std::nullopt);
@@ -319,6 +364,7 @@ void Simulation::build_particles() {
     const RadiusDistribution dist = to_distribution(g.radius);
     const std::uint64_t seed = g.fill ? g.fill->seed : 1 + gi;
     ShapeBuilder builder(g, rho, cfg_.domain.thickness, seed);
+    if (cfg_.heat) builder.set_temperature(g.temperature.value_or(cfg_.heat->temperature));
     const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
     if (g.motion && !g.fixed)
       throw InputError(
@@ -505,6 +551,7 @@ void Simulation::build_walls() {
     w.group = wc.name;
     w.material = it->second;
     w.motion = rigid_motion(wc.motion);
+    if (wc.temperature) w.temperature = *wc.temperature;
     if (wc.servo) {
       w.servo = true;
       w.servo_max_velocity = wc.servo->max_velocity;
@@ -954,6 +1001,7 @@ std::size_t Simulation::insert_inlet_grains() {
     ShapeBuilder builder(
         g, rho, cfg_.domain.thickness,
         (1 + in.group) * 0x9e3779b97f4a7c15ull + static_cast<std::uint64_t>(in.batches));
+    if (cfg_.heat) builder.set_temperature(g.temperature.value_or(cfg_.heat->temperature));
     const RadiusDistribution dist = to_distribution(g.radius);
     const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
     // Spherocylinders are placed by a sphere that holds any of them, as a fill places them.
@@ -1143,6 +1191,50 @@ void Simulation::compute_forces() {
   if (cfd_) cfd_->add_forces(particles_);
 }
 
+template <class In>
+Vec3 Simulation::heat_sums(In&& in) const {
+  const auto& t = particles_.get<double>(f_temperature_);
+  const double* m = particles_.mass();
+  const std::int32_t* mat = particles_.material();
+  const Vec3* x = particles_.x();
+  Vec3 s{};
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (!in(x[i])) continue;
+    const double cap = m[i] * heat_capacity_[static_cast<std::size_t>(mat[i])];
+    s.x += cap;
+    s.y += cap * t[i];
+  }
+  return s;
+}
+
+void Simulation::conduct_heat() {
+  StageTimers::Scope timer(timers_, Stage::Force);
+  const std::size_t n = particles_.size();
+  heat_q_.assign(n, 0.0);
+  heat_h_.assign(n, 0.0);
+  double* temp = particles_.get<double>(f_temperature_).data();
+  contact::pair_heat_flows(particles_, domain_, nlist_, heat_model_, k_series_, temp,
+                           heat_q_.data(), heat_h_.data(), heat_entry_h_);
+  if (!walls_.empty())
+    wall_heat_flows(particles_, walls_, wlist_, heat_model_, k_series_, temp, heat_q_.data(),
+                    heat_h_.data());
+  // Explicit Euler, m c dT/dt = Q: stable while dt sum(H) / (m c) <= 1 for every grain (the
+  // rows of the conduction matrix by Gershgorin's discs), which a DEM step keeps by orders of
+  // magnitude for real materials; a step that breaks it stops the run with the numbers.
+  const double* m = particles_.mass();
+  const std::int32_t* mat = particles_.material();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double cap = m[i] * heat_capacity_[static_cast<std::size_t>(mat[i])];
+    if (dt_ * heat_h_[i] > cap)
+      throw Error(fmt::format(
+          "heat conduction is unstable at t = {} s: grain {} has dt sum(H) / (m c) = {:.3g} > 1 "
+          "(contact conductances {:.3g} W/K, heat capacity {:.3g} J/K); reduce time.step or "
+          "check thermal_conductivity / heat_capacity",
+          time(), particles_.id()[i], dt_ * heat_h_[i] / cap, heat_h_[i], cap));
+    temp[i] += dt_ * heat_q_[i] / cap;
+  }
+}
+
 void Simulation::complete_step() {
   if (!kick_pending_) return;
   StageTimers::Scope timer(timers_, Stage::Integrate);
@@ -1192,6 +1284,7 @@ void Simulation::step(bool defer_kick) {
   update_neighbors(false);
   compute_forces();
   update_servos();
+  if (heat_model_ >= 0) conduct_heat();
   if (!walls_.empty()) {
     for (auto& s : wall_sums_) {
       s.force.resize(walls_.size());
@@ -1403,6 +1496,23 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       row.push_back(static_cast<double>(particles_.size()));
     } else if (name == "lacey_index") {
       row.push_back(lacey_index().index);
+    } else if (name == "temperature_mean" || name == "thermal_energy") {
+      // The heat-capacity weighted mean: the temperature the grains would share if isolated.
+      const Vec3 h = heat_sums([](const Vec3&) { return true; });
+      row.push_back(name == "thermal_energy" ? h.y : h.y / h.x);
+    } else if (name == "temperature_min" || name == "temperature_max") {
+      const auto& t = particles_.get<double>(f_temperature_);
+      const bool lo = name == "temperature_min";
+      double v =
+          lo ? std::numeric_limits<double>::infinity() : -std::numeric_limits<double>::infinity();
+      for (const double ti : t) v = lo ? std::min(v, ti) : std::max(v, ti);
+      row.push_back(t.empty() ? std::numeric_limits<double>::quiet_NaN() : v);
+    } else if (name.starts_with("wall_heat_flow.")) {
+      const std::string_view wall = std::string_view(name).substr(15);
+      double q = 0;
+      for (const auto& w : walls_)
+        if (w.group == wall || w.name == wall) q += w.heat_flow;
+      row.push_back(q);
     } else if (const auto meter_prefix = input::flow_meter_series_prefix(name);
                !meter_prefix.empty()) {
       const FlowMeterTally& t = meter_tallies_[named(cfg_.flow_meters, name, meter_prefix)];
@@ -1414,6 +1524,11 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       // The free grains whose centres lie in it (serial: the same sum at any thread count).
       const FillRegion where =
           to_region(cfg_.regions[named(cfg_.regions, name, region_prefix)].region);
+      if (region_prefix == "region_temperature.") {
+        const Vec3 h = heat_sums([&](const Vec3& x) { return where.contains(x, 0, two_d_); });
+        row.push_back(h.x > 0 ? h.y / h.x : std::numeric_limits<double>::quiet_NaN());
+        continue;
+      }
       const std::int32_t* fixed = particles_.fixed();
       double count = 0, mass = 0;
       for (std::size_t i = 0; i < particles_.size(); ++i) {

@@ -344,6 +344,22 @@ class Simulation {
     }
   };
   std::array<WallSums, 2> wall_sums_;
+  // Heat conduction (heat:): the conduction model's index (-1: none), the series conductivity
+  // per material pair (W/(m K)) and the heat capacity per material (J/(kg K)), the grains'
+  // temperature field, and per-grain sums of the heat flows (W) and conductances (W/K) of the
+  // step (and per list entry, the conductances).
+  int heat_model_ = -1;
+  PairTable<double> k_series_;
+  std::vector<double> heat_capacity_;
+  int f_temperature_ = -1;
+  std::vector<double> heat_q_, heat_h_, heat_entry_h_;
+  /// Heat flows through the contacts of this step's positions, then the explicit step of the
+  /// grains' temperatures.
+  void conduct_heat();
+  /// Sums over the grains whose centre `in(x)` accepts: x: heat capacity m c (J/K), y: thermal
+  /// energy m c T (J).
+  template <class In>
+  Vec3 heat_sums(In&& in) const;
   // Set by the drift of this step (VelocityVerlet with DriftExtras): the forces are already
   // m g, and the largest squared displacement since the last list build (< 0: not measured).
   bool forces_reset_ = false;

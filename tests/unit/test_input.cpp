@@ -352,6 +352,19 @@ const BadCase bad_cases[] = {
      "unknown flow meter 'nek' in 'flow_mass.nek'; declared flow meters: neck"},
     {"flow_meter_zero_normal.yaml", 14, "flow_meters[0].normal", "non-zero vector"},
     {"flow_meter_negative_radius.yaml", 14, "flow_meters[0].radius", "a number > 0"},
+    // Heat conduction.
+    {"heat_temperature_without_block.yaml", 12, "particles[0].temperature",
+     "a temperature needs heat conduction"},
+    {"heat_material_without_conductivity.yaml", 6, "materials.glass",
+     "needs thermal_conductivity (W/(m K)) and heat_capacity"},
+    {"heat_unknown_model.yaml", 9, "heat.model",
+     "a conduction model: batchelor_obrien, intersection_area, found 'batchelor'"},
+    {"heat_in_2d.yaml", 9, "heat", "heat conduction is for 3D cases"},
+    {"heat_series_without_block.yaml", 14, "output.series.quantities[1]",
+     "'temperature_mean' needs heat conduction"},
+    {"heat_wall_material_without_conductivity.yaml", 7, "materials.steel",
+     "of wall 'floor', which has a temperature"},
+    {"heat_without_temperature.yaml", 9, "heat.temperature", "missing required key"},
 };
 
 class InputBadCases : public ::testing::TestWithParam<BadCase> {};

@@ -15,6 +15,7 @@
 #include <set>
 #include <tuple>
 
+#include "contact/conduction.hpp"
 #include "contact/registry.hpp"
 #include "core/error.hpp"
 #include "core/names.hpp"
@@ -166,6 +167,10 @@ struct Reader {
   void read_fluid(const YamlMap& root);
   void read_coupling(const YamlMap& root);
   void check_pairs() const;
+  void read_heat(const YamlMap& root);
+  /// A `temperature:` of a particle group or wall: needs the heat: block.
+  std::optional<double> read_temperature(const YamlMap& m) const;
+  void check_heat() const;
   /// time.end / time.step fits the step counters (InputError at `step` otherwise).
   void check_step_count(const YamlNode& step) const;
 };
@@ -579,10 +584,13 @@ void Reader::read_materials(const YamlMap& root) {
     config::Material mat;
     mat.name = key.as_string();
     if (mat.name.empty()) key.fail_expected("a material name");
-    YamlMap mm(value, {"density", "youngs_modulus", "poisson_ratio"});
+    YamlMap mm(value, {"density", "youngs_modulus", "poisson_ratio", "thermal_conductivity",
+                       "heat_capacity"});
     mat.density = mm.number("density", Range::positive());
     mat.youngs_modulus = mm.number("youngs_modulus", Range::positive());
     mat.poisson_ratio = mm.number("poisson_ratio", Range{-1.0, 0.5, true, true});
+    mat.thermal_conductivity = mm.optional_number("thermal_conductivity", Range::positive());
+    mat.heat_capacity = mm.optional_number("heat_capacity", Range::positive());
     mat.loc = value.loc();
     c.materials.push_back(mat);
   }
@@ -1260,9 +1268,10 @@ config::PolygonSpec Reader::read_polygon(const YamlNode& node) const {
 config::ParticleGroup Reader::read_group(const YamlNode& node) {
   YamlMap gm(node, {"shape", "radius", "equivalent_diameter", "length", "aspect_ratio", "polygon",
                     "material", "fill", "positions", "velocities", "angular_velocities", "axes",
-                    "angles", "file", "fixed", "inlet"});
+                    "angles", "file", "fixed", "inlet", "temperature"});
   config::ParticleGroup g;
   g.loc = node.loc();
+  g.temperature = read_temperature(gm);
   if (auto fx = gm.find("fixed")) read_fixed(*fx, g);
   read_shape(gm, g);
   if (g.kind == config::Shape::Polygon) g.polygon = read_polygon(gm.at("polygon"));
@@ -1615,9 +1624,11 @@ void Reader::read_walls(const YamlMap& root) {
   if (!wn) return;
   std::map<std::string, int> names;  // name -> line
   for (const auto& item : wn->as_list()) {
-    YamlMap wm(item, {"name", "plane", "box", "cylinder", "mesh", "material", "motion", "servo"});
+    YamlMap wm(item, {"name", "plane", "box", "cylinder", "mesh", "material", "motion", "servo",
+                      "temperature"});
     config::Wall w;
     w.loc = item.loc();
+    w.temperature = read_temperature(wm);
     const YamlNode name = wm.at("name");
     w.name = name.as_string();
     if (!is_column_name(w.name))
@@ -1826,6 +1837,12 @@ void Reader::read_output(const YamlMap& root) {
           named(meter_prefix, c.flow_meters, "flow meter");
         } else if (const auto region_prefix = region_series_prefix(name); !region_prefix.empty()) {
           named(region_prefix, c.regions, "region");
+        } else if (name.starts_with("wall_heat_flow.")) {
+          const std::string wall = name.substr(15);
+          if (std::find(walls.begin(), walls.end(), wall) == walls.end())
+            item.fail(fmt::format("unknown wall '{}' in '{}'; {}", wall, name,
+                                  walls.empty() ? std::string("no walls are declared")
+                                                : fmt::format("declared walls: {}", join(walls))));
         } else if (!is_series_quantity(name, walls)) {
           for (std::string_view prefix : wall_series_prefixes()) {
             if (name.starts_with(prefix)) {
@@ -1847,9 +1864,15 @@ void Reader::read_output(const YamlMap& root) {
               "wall_force_mean.WALL, wall_torque_mean.WALL, wall_position.WALL (these, "
               "fixed_force and fixed_torque optionally with .x, .y or .z), outlet_mass.OUTLET, "
               "outlet_count.OUTLET, flow_mass.METER, flow_count.METER, flow_rate.METER, "
-              "region_count.REGION, region_mass.REGION",
+              "region_count.REGION, region_mass.REGION, region_temperature.REGION, "
+              "wall_heat_flow.WALL",
               name, hint, join(series_quantity_names())));
         }
+        if (!c.heat &&
+            (name.starts_with("temperature_") || name == "thermal_energy" ||
+             name.starts_with("wall_heat_flow.") || name.starts_with("region_temperature.")))
+          item.fail(fmt::format(
+              "series quantity '{}' needs heat conduction: a top-level heat: block", name));
         if (!c.fluid && (name.rfind("fluid_", 0) == 0 || name == "superficial_velocity" ||
                          name == "min_fluid_fraction"))
           item.fail(fmt::format("series quantity '{}' needs a fluid: block", name));
@@ -1934,14 +1957,69 @@ void Reader::check_pairs() const {
     for (const auto& pm : particle_materials) require(pm, wm, loc);
 }
 
+void Reader::read_heat(const YamlMap& root) {
+  auto hn = root.find("heat");
+  if (!hn) return;
+  YamlMap hm(*hn, {"model", "temperature"});
+  config::Heat h;
+  h.loc = hn->loc();
+  if (two_d())
+    hn->fail(
+        "heat conduction is for 3D cases (spheres and spherocylinders); a 2D contact's "
+        "conductance per unit depth has no finite constriction resistance");
+  if (auto m = hm.find("model")) {
+    h.model = m->as_string();
+    if (contact::conduction_index(h.model) < 0) {
+      std::vector<std::string> keys;
+      for (const auto& info : contact::conduction_infos()) keys.emplace_back(info.key);
+      m->fail_expected(fmt::format("a conduction model: {}", fmt::join(keys, ", ")));
+    }
+  }
+  h.temperature = hm.number("temperature", Range::positive());
+  c.heat = h;
+}
+
+std::optional<double> Reader::read_temperature(const YamlMap& m) const {
+  auto t = m.find("temperature");
+  if (!t) return std::nullopt;
+  if (!c.heat)
+    t->fail(
+        "a temperature needs heat conduction: add a top-level 'heat: {temperature: ...}' block "
+        "(and thermal_conductivity, heat_capacity to the materials)");
+  return t->as_number(Range::positive());
+}
+
+void Reader::check_heat() const {
+  if (!c.heat) return;
+  auto material = [&](const std::string& name) -> const config::Material& {
+    for (const auto& m : c.materials)
+      if (m.name == name) return m;
+    throw Error(fmt::format("unknown material '{}'", name));  // (material_ref checked it)
+  };
+  for (const auto& name : particle_materials) {
+    const config::Material& m = material(name);
+    if (!m.thermal_conductivity || !m.heat_capacity)
+      throw_input_error(
+          m.loc, fmt::format("material '{}' of particles needs thermal_conductivity (W/(m K)) and "
+                             "heat_capacity (J/(kg K)) for the heat: block",
+                             name));
+  }
+  for (const auto& w : c.walls)
+    if (w.temperature && !material(w.material).thermal_conductivity)
+      throw_input_error(material(w.material).loc,
+                        fmt::format("material '{}' of wall '{}', which has a temperature, needs "
+                                    "thermal_conductivity (W/(m K))",
+                                    w.material, w.name));
+}
+
 config::Case parse(const YamlNode& root, const fs::path& file) {
   config::Case c;
   c.file = file;
   Reader r{file.parent_path(), c, {}, {}, {}, {}, {}};
-  YamlMap rm(root, {"name",       "dimension",   "time",     "domain",    "gravity",
-                    "integrator", "materials",   "contacts", "particles", "walls",
-                    "outlets",    "flow_meters", "regions",  "output",    "neighbor",
-                    "shear",      "analysis",    "sweep",    "fluid",     "coupling"});
+  YamlMap rm(root, {"name",      "dimension", "time",      "domain", "gravity",  "integrator",
+                    "materials", "contacts",  "particles", "walls",  "outlets",  "flow_meters",
+                    "regions",   "output",    "neighbor",  "shear",  "analysis", "sweep",
+                    "fluid",     "coupling",  "heat"});
   if (auto n = rm.find("name")) {
     c.name = n->as_string();
     if (c.name.empty()) n->fail_expected("a case name");
@@ -1959,6 +2037,7 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
   c.gravity = r.vec_or(rm, "gravity", c.dimension == 2 ? Vec3{0, -9.81, 0} : Vec3{0, 0, -9.81});
   if (auto i = rm.find("integrator")) c.integrator = i->as_choice({"velocity_verlet", "gear5"});
   r.read_materials(rm);
+  r.read_heat(rm);
   r.read_contacts(rm);
   r.read_particles(rm);
   r.read_walls(rm);
@@ -1976,6 +2055,7 @@ config::Case parse(const YamlNode& root, const fs::path& file) {
     c.neighbor.skin = nm.optional_number("skin", Range::positive());
   }
   r.check_pairs();
+  r.check_heat();
   return c;
 }
 
@@ -2000,7 +2080,11 @@ const std::vector<std::string>& series_quantity_names() {
                                               "superficial_velocity",
                                               "fluid_kinetic_energy",
                                               "min_fluid_fraction",
-                                              "lacey_index"};
+                                              "lacey_index",
+                                              "temperature_mean",
+                                              "temperature_min",
+                                              "temperature_max",
+                                              "thermal_energy"};
   return names;
 }
 
@@ -2022,7 +2106,7 @@ std::string_view outlet_series_prefix(std::string_view quantity) {
 }
 
 std::string_view region_series_prefix(std::string_view quantity) {
-  for (std::string_view prefix : {"region_count.", "region_mass."})
+  for (std::string_view prefix : {"region_count.", "region_mass.", "region_temperature."})
     if (quantity.starts_with(prefix)) return prefix;
   return {};
 }
