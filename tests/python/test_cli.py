@@ -108,6 +108,12 @@ with tempfile.TemporaryDirectory() as TMP:
     check(r.returncode == 0 and "particles" in r.stdout, "check of a good case prints derived numbers")
     r = run("describe", "nope")
     check(r.returncode == 2, "describe of an unknown key exits 2")
+    r = run("describe", "intersection_area")
+    check(r.returncode == 0 and "heat conduction model" in r.stdout and "LIGGGHTS" in r.stdout,
+          "describe of a conduction model")
+    r = run("list-models")
+    check(r.returncode == 0 and "heat conduction models (heat.model)" in r.stdout
+          and "batchelor_obrien" in r.stdout, "list-models lists the conduction models")
     r = run("run")
     check(r.returncode == 2, "missing argument exits 2")
     r = run("--version")

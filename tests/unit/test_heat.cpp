@@ -175,6 +175,32 @@ TEST(HeatConduction, TheHeatAHotFloorGivesIsTheHeatTheGrainsGain) {
   EXPECT_LE(sim.quantity("temperature_max"), 500.0);
 }
 
+// Grains an inlet inserts take their group's temperature (here not the heat block's default).
+TEST(HeatConduction, InletGrainsTakeTheirGroupsTemperature) {
+  auto c = bed_case();
+  config::ParticleGroup g;
+  g.material = "glass";
+  g.radius.value = 0.001;
+  g.temperature = 450;
+  config::Inlet in;
+  in.region = test::box_region({0, 0, 0.03}, {0.02, 0.02, 0.04});
+  in.rate = 2000;
+  in.every = 0.01;
+  g.inlet = in;
+  c.particles.push_back(g);
+  Simulation sim(c);
+  for (int s = 0; s < 10; ++s) sim.step();
+  const auto& p = sim.particles();
+  const auto& temp = p.get<double>(p.find_field("temperature"));
+  int inserted = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.id()[i] > 64) {
+      ++inserted;
+      EXPECT_EQ(temp[i], 450.0) << "grain " << p.id()[i];
+    }
+  EXPECT_GT(inserted, 10);
+}
+
 // Spherocylinders conduct through the contacts of their capsules (and with walls): a bed of
 // rods conserves its heat too and its temperatures mix.
 TEST(HeatConduction, RodsConductThroughTheirContacts) {
