@@ -7,7 +7,7 @@ The case mirrors cases/dem/heated_bed and is built for both codes by this script
 plane wall with `temperature`, LIGGGHTS `fix wall/gran ... primitive type 2 zplane 0.0
 temperature 373`). N glass beads (default 4000; radii uniform in [1.4, 1.6] mm, seeded;
 2500 kg/m^3, E 1e7 Pa, nu 0.3, e 0.5, mu 0.5, Hertz-Mindlin with tangential history, the floor
-too) start at 293 K at rest on the N lowest sites of a simple cubic lattice (spacing 3.3 mm,
+too) start at 293 K at rest on the N lowest sites of a simple cubic lattice (spacing 3.5 mm,
 from z = 2 mm up, each site shifted by a seeded horizontal offset of at most 0.1 mm); both codes
 read these exact positions and radii. Thermal properties: beads k = 1 W/(m K), c = 0.084
 J/(kg K) (glass's 840 scaled down 10^4 times, as in the shipped case), floor k = 16 W/(m K).
@@ -66,7 +66,7 @@ T0, T_FLOOR = 293.0, 373.0                     # K
 GRAVITY = 9.81
 DT = 1.5e-5
 SKIN = 0.00075
-SPACING, Z0, JITTER = 0.0033, 0.002, 0.0001    # lattice, m
+SPACING, Z0, JITTER = 0.0035, 0.002, 0.0001    # lattice, m (gap >= 0.1 mm)
 SERIES_EVERY = 0.01                            # s
 
 
