@@ -31,6 +31,9 @@ inline double bytes_per_grain(config::Shape kind) {
   }
   return 1100;
 }
+/// Heat conduction (heat:) adds per grain its temperature and the step's two sums (24 B) and the
+/// conductance of each of its neighbour-list entries (8 B each, ~5-10 entries): 100 B.
+inline constexpr double kBytesPerGrainHeat = 100;
 inline constexpr double kBytesPerLatticeSite = 32;     ///< a lattice fill's candidate site
 inline constexpr double kBytesPerNeighbourCell = 16;   ///< a cell of neighbor::CellList
 inline constexpr double kBytesPerSphParticle = 800;    ///< an SPH particle (fluid or wall)

@@ -221,6 +221,10 @@ class Validator {
   }
   config::SourceLoc particle_loc(std::size_t g, std::size_t i) const;
   std::string text(const Vec3& v) const { return vec_text(v, dim_); }
+  /// Bytes of one grain of the group at a run's peak (memory_budget.hpp), heat conduction's too.
+  double grain_bytes(const config::ParticleGroup& group) const {
+    return bytes_per_grain(group.kind) + (c_.heat ? kBytesPerGrainHeat : 0.0);
+  }
   /// Mass of a grain of group g with radius r (kg); 2D grains have the domain's thickness.
   double mass(std::size_t g, double r) const {
     const auto& group = c_.particles[g];
@@ -927,10 +931,10 @@ void Validator::estimate_counts() {
                                    fmt::format("{:.0f}", n));
       total += n;
       n_grains_ += n;
-      memory_.push_back({at(in.rate_loc, fmt::format("particles[{}].inlet.{}", g,
-                                                     in.mass_rate ? "mass_rate" : "rate")),
-                         fmt::format("the {:.0f} grains of particles[{}]", n, g),
-                         n * bytes_per_grain(group.kind)});
+      memory_.push_back(
+          {at(in.rate_loc,
+              fmt::format("particles[{}].inlet.{}", g, in.mass_rate ? "mass_rate" : "rate")),
+           fmt::format("the {:.0f} grains of particles[{}]", n, g), n * grain_bytes(group)});
     } else if (group.explicit_particles) {
       const auto& ex = *group.explicit_particles;
       const double n = static_cast<double>(ex.positions.size());
@@ -941,7 +945,7 @@ void Validator::estimate_counts() {
       total += n;
       n_grains_ += n;
       memory_.push_back({group_loc(g), fmt::format("the {:.0f} grains of particles[{}]", n, g),
-                         n * bytes_per_grain(group.kind)});
+                         n * grain_bytes(group)});
     }
     if (group.kind != config::Shape::Sphere) {
       const double r = group.explicit_particles && !group.explicit_particles->radii.empty()
@@ -988,7 +992,7 @@ void Validator::check_fill_memory(std::size_t g, const config::Fill& f, double e
                   sites > 0 ? fmt::format(" (and the {} lattice sites they are picked from)",
                                           number_text(std::round(sites)))
                             : std::string());
-  const double bytes = est * bytes_per_grain(c_.particles[g].kind) + sites * kBytesPerLatticeSite;
+  const double bytes = est * grain_bytes(c_.particles[g]) + sites * kBytesPerLatticeSite;
   check_memory_use(loc, grains, bytes);  // throws above the limit (the total warns)
   memory_.push_back({loc, fmt::format("the {} of particles[{}]", grains, g), bytes});
 }
