@@ -856,6 +856,30 @@ void Simulation::series_row_written() {
   }
 }
 
+void Simulation::compact_polygon_table() {
+  if (!particles_.has_shapes()) return;
+  auto& table = particles_.polygons();
+  // Only once most of the table is garbage (outlines of grains an outlet took): each entry is
+  // then moved a bounded number of times on average, and short runs keep their indices.
+  if (table.size() < 256) return;
+  std::int32_t* poly = particles_.polygon();
+  const std::size_t n = particles_.size();
+  std::vector<std::int32_t> remap(table.size(), -1);
+  for (std::size_t i = 0; i < n; ++i)
+    if (poly[i] >= 0) remap[static_cast<std::size_t>(poly[i])] = 0;
+  std::size_t used = 0;
+  for (auto& r : remap)
+    if (r == 0) r = static_cast<std::int32_t>(used++);
+  if (2 * used > table.size()) return;
+  std::vector<PolygonShape> kept;
+  kept.reserve(used);
+  for (std::size_t k = 0; k < table.size(); ++k)
+    if (remap[k] >= 0) kept.push_back(table[k]);
+  table = std::move(kept);
+  for (std::size_t i = 0; i < n; ++i)
+    if (poly[i] >= 0) poly[i] = remap[static_cast<std::size_t>(poly[i])];
+}
+
 std::vector<std::int64_t> Simulation::take_outlet_grains() {
   if (outlet_regions_.empty()) return {};
   const std::size_t n = particles_.size();
@@ -1074,6 +1098,7 @@ void Simulation::update_neighbors(bool force) {
   // Grains reach the outlets between builds; they are taken at the next build (within the
   // skin's travel of any grain), where the lists are made anew anyway.
   auto previous = take_outlet_grains();
+  if (!previous.empty()) compact_polygon_table();
   const std::size_t kept = particles_.size();
   if (const std::size_t added = insert_inlet_grains(); added > 0) {
     // The new grains had no index at the last build.

@@ -200,6 +200,9 @@ class Simulation {
   /// removal, -1 for a grain put back (new to the list build: no contact history); empty when
   /// none was removed or put back (the indices are unchanged).
   std::vector<std::int64_t> take_outlet_grains();
+  /// Drops the outlines no grain refers to any more (those of grains the outlets took) once they
+  /// are most of the table, and renumbers the grains' `polygon` indices (order kept).
+  void compact_polygon_table();
   /// Counts the free grains whose centres crossed a flow meter's plane (within its radius)
   /// since the last count, at each step after the drift (before any list build changes the
   /// store): the displacement from meter_x_ (minimum image: a wrap through a periodic boundary
