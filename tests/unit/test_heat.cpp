@@ -134,7 +134,9 @@ TEST(HeatConduction, PairAndWallFlowsMatchABruteForce) {
   EXPECT_EQ(on_floor, 16);
   EXPECT_NEAR(walls[floor].heat_flow, into_floor, 1e-12 * std::abs(into_floor));
   for (std::size_t w = 0; w < walls.size(); ++w)
-    if (w != floor) EXPECT_EQ(walls[w].heat_flow, 0.0) << walls[w].name << " is adiabatic";
+    if (w != floor) {
+      EXPECT_EQ(walls[w].heat_flow, 0.0) << walls[w].name << " is adiabatic";
+    }
 }
 
 // Adiabatic walls: the grains' thermal energy sum m c T stays (each contact's two flows are one
