@@ -123,6 +123,7 @@ std::size_t ShapeBuilder::add(ParticleStore& p, std::int64_t id, int material, d
                               const Vec3& x, const Vec3& v, const Vec3& omega, const Quat& q) {
   const std::size_t i = add_body(p, id, material, radius, x, v, omega, q);
   if (const int f = p.find_field("temperature"); f >= 0) p.get<double>(f)[i] = temperature_;
+  if (const int f = p.find_field("heat_source"); f >= 0) p.get<double>(f)[i] = heat_source_;
   return i;
 }
 

@@ -34,6 +34,8 @@ class ShapeBuilder {
   /// The temperature (K) of the grains `add` makes, in a store with the field "temperature"
   /// (heat conduction).
   void set_temperature(double kelvin) { temperature_ = kelvin; }
+  /// The heat source (W) of the grains `add` makes, in a store with the field "heat_source".
+  void set_heat_source(double watts) { heat_source_ = watts; }
 
   /// Uniformly random orientation: 3D uniform on SO(3) (normalised Gaussian quaternion), 2D a
   /// uniform angle about z.
@@ -51,7 +53,7 @@ class ShapeBuilder {
   double circum_factor_ = 1;          ///< polygon circumradius / equal-area radius (bound)
   std::int32_t shared_polygon_ = -1;  ///< table entry shared by all grains, when there is one
   std::mt19937_64 poly_rng_;
-  double temperature_ = 0;
+  double temperature_ = 0, heat_source_ = 0;
 };
 
 }  // namespace gf

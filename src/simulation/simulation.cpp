@@ -174,6 +174,12 @@ Simulation::Simulation(const config::Case& cfg) : cfg_(cfg) {
           fmt::format("{}: unknown conduction model '{}'", where(cfg.heat->loc), cfg.heat->model));
     f_temperature_ =
         particles_.add_field("temperature", FieldType::Real, "K", kRestart | kOutput | kGhost);
+    // The net heat flow into each grain at the last step (contacts, walls, source), W.
+    f_heat_flow_ = particles_.add_field("heat_flow", FieldType::Real, "W", kRestart | kOutput);
+    if (std::any_of(cfg.particles.begin(), cfg.particles.end(),
+                    [](const config::ParticleGroup& g) { return g.heat_source.has_value(); }))
+      f_heat_source_ =
+          particles_.add_field("heat_source", FieldType::Real, "W", kRestart | kOutput);
   }
   build_particles();
   build_materials_and_pairs();
@@ -364,7 +370,10 @@ void Simulation::build_particles() {
     const RadiusDistribution dist = to_distribution(g.radius);
     const std::uint64_t seed = g.fill ? g.fill->seed : 1 + gi;
     ShapeBuilder builder(g, rho, cfg_.domain.thickness, seed);
-    if (cfg_.heat) builder.set_temperature(g.temperature.value_or(cfg_.heat->temperature));
+    if (cfg_.heat) {
+      builder.set_temperature(g.temperature.value_or(cfg_.heat->temperature));
+      builder.set_heat_source(g.heat_source.value_or(0.0));
+    }
     const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
     if (g.motion && !g.fixed)
       throw InputError(
@@ -1025,7 +1034,10 @@ std::size_t Simulation::insert_inlet_grains() {
     ShapeBuilder builder(
         g, rho, cfg_.domain.thickness,
         (1 + in.group) * 0x9e3779b97f4a7c15ull + static_cast<std::uint64_t>(in.batches));
-    if (cfg_.heat) builder.set_temperature(g.temperature.value_or(cfg_.heat->temperature));
+    if (cfg_.heat) {
+      builder.set_temperature(g.temperature.value_or(cfg_.heat->temperature));
+      builder.set_heat_source(g.heat_source.value_or(0.0));
+    }
     const RadiusDistribution dist = to_distribution(g.radius);
     const bool round = g.kind == config::Shape::Sphere || g.kind == config::Shape::Disk;
     // Spherocylinders are placed by a sphere that holds any of them, as a fill places them.
@@ -1235,13 +1247,19 @@ Vec3 Simulation::heat_sums(In&& in) const {
 void Simulation::conduct_heat() {
   StageTimers::Scope timer(timers_, Stage::Force);
   const std::size_t n = particles_.size();
-  heat_q_.assign(n, 0.0);
+  const std::span<double> q = particles_.get<double>(f_heat_flow_);
+  if (f_heat_source_ >= 0) {
+    const std::span<double> source = particles_.get<double>(f_heat_source_);
+    std::copy(source.begin(), source.end(), q.begin());
+  } else {
+    std::fill(q.begin(), q.end(), 0.0);
+  }
   heat_h_.assign(n, 0.0);
   double* temp = particles_.get<double>(f_temperature_).data();
-  contact::pair_heat_flows(particles_, domain_, nlist_, heat_model_, k_series_, temp,
-                           heat_q_.data(), heat_h_.data(), heat_entry_h_);
+  contact::pair_heat_flows(particles_, domain_, nlist_, heat_model_, k_series_, temp, q.data(),
+                           heat_h_.data(), heat_entry_h_);
   if (!walls_.empty())
-    wall_heat_flows(particles_, walls_, wlist_, heat_model_, k_series_, temp, heat_q_.data(),
+    wall_heat_flows(particles_, walls_, wlist_, heat_model_, k_series_, temp, q.data(),
                     heat_h_.data());
   // Explicit Euler, m c dT/dt = Q: stable while dt sum(H) / (m c) <= 1 for every grain (the
   // rows of the conduction matrix by Gershgorin's discs), which a DEM step keeps by orders of
@@ -1256,7 +1274,7 @@ void Simulation::conduct_heat() {
           "(contact conductances {:.3g} W/K, heat capacity {:.3g} J/K); reduce time.step or "
           "check thermal_conductivity / heat_capacity",
           time(), particles_.id()[i], dt_ * heat_h_[i] / cap, heat_h_[i], cap));
-    temp[i] += dt_ * heat_q_[i] / cap;
+    temp[i] += dt_ * q[i] / cap;
   }
 }
 

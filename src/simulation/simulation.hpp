@@ -349,13 +349,13 @@ class Simulation {
   std::array<WallSums, 2> wall_sums_;
   // Heat conduction (heat:): the conduction model's index (-1: none), the series conductivity
   // per material pair (W/(m K)) and the heat capacity per material (J/(kg K)), the grains'
-  // temperature field, and per-grain sums of the heat flows (W) and conductances (W/K) of the
-  // step (and per list entry, the conductances).
+  // fields of temperature, net heat flow of the last step (W) and heat source (W; -1: none),
+  // and the step's per-grain sums of the conductances (W/K) and per-entry conductances.
   int heat_model_ = -1;
   PairTable<double> k_series_;
   std::vector<double> heat_capacity_;
-  int f_temperature_ = -1;
-  std::vector<double> heat_q_, heat_h_, heat_entry_h_;
+  int f_temperature_ = -1, f_heat_flow_ = -1, f_heat_source_ = -1;
+  std::vector<double> heat_h_, heat_entry_h_;
   /// Heat flows through the contacts of this step's positions, then the explicit step of the
   /// grains' temperatures.
   void conduct_heat();

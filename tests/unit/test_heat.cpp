@@ -177,6 +177,34 @@ TEST(HeatConduction, TheHeatAHotFloorGivesIsTheHeatTheGrainsGain) {
   EXPECT_LE(sim.quantity("temperature_max"), 500.0);
 }
 
+// A heat source heats an isolated grain linearly, m c dT/dt = P, which the explicit steps give
+// exactly (to the rounding of the sums); the field heat_flow shows each grain's net flow.
+TEST(HeatConduction, AHeatSourceHeatsAnIsolatedGrainLinearly) {
+  auto c = test::base_case(1e-5, 1.0, {-0.01, -0.01, -0.01}, {0.01, 0.01, 0.01});
+  test::add_material(c, "glass", 2500, 1e7, 0.3);
+  c.materials.back().thermal_conductivity = 1.0;
+  c.materials.back().heat_capacity = 840;
+  test::add_contact(c, "glass", "glass", "hertz_mindlin", {{"restitution", 0.5}});
+  test::add_spheres(c, "glass", 0.001, {{-0.005, 0, 0}});
+  c.particles.back().heat_source = 2e-3;
+  test::add_spheres(c, "glass", 0.001, {{0.005, 0, 0}});  // (no source: stays)
+  config::Heat h;
+  h.temperature = 300;
+  c.heat = h;
+  Simulation sim(c);
+  const auto& p = sim.particles();
+  const double cap = p.mass()[0] * 840;
+  for (int s = 0; s < 1000; ++s) sim.step();
+  const auto& temp = p.get<double>(p.find_field("temperature"));
+  const auto& flow = p.get<double>(p.find_field("heat_flow"));
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const bool source = p.id()[i] == 1;
+    EXPECT_NEAR(temp[i], source ? 300 + 2e-3 * 0.01 / cap : 300.0, 1e-12 * 300) << i;
+    EXPECT_EQ(flow[i], source ? 2e-3 : 0.0) << i;
+  }
+  EXPECT_NEAR(sim.quantity("thermal_energy"), 2 * cap * 300 + 2e-3 * 0.01, 1e-12 * 600 * cap);
+}
+
 // Grains an inlet inserts take their group's temperature (here not the heat block's default).
 TEST(HeatConduction, InletGrainsTakeTheirGroupsTemperature) {
   auto c = bed_case();

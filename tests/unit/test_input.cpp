@@ -365,6 +365,8 @@ const BadCase bad_cases[] = {
     {"heat_wall_material_without_conductivity.yaml", 7, "materials.steel",
      "of wall 'floor', which has a temperature"},
     {"heat_without_temperature.yaml", 9, "heat.temperature", "missing required key"},
+    {"heat_source_without_block.yaml", 12, "particles[0].heat_source",
+     "a heat source needs heat conduction"},
 };
 
 class InputBadCases : public ::testing::TestWithParam<BadCase> {};

@@ -228,6 +228,8 @@ struct ParticleGroup {
   std::optional<Motion> motion;
   /// Initial temperature of the group's grains, K (heat: block; default heat.temperature).
   std::optional<double> temperature;
+  /// Heat each grain of the group produces, W (heat: block; negative: a sink); none: 0.
+  std::optional<double> heat_source;
   SourceLoc fixed_loc;  ///< where the value of `fixed:` is (empty without the key)
   SourceLoc loc;
 };

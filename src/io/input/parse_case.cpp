@@ -1268,10 +1268,17 @@ config::PolygonSpec Reader::read_polygon(const YamlNode& node) const {
 config::ParticleGroup Reader::read_group(const YamlNode& node) {
   YamlMap gm(node, {"shape", "radius", "equivalent_diameter", "length", "aspect_ratio", "polygon",
                     "material", "fill", "positions", "velocities", "angular_velocities", "axes",
-                    "angles", "file", "fixed", "inlet", "temperature"});
+                    "angles", "file", "fixed", "inlet", "temperature", "heat_source"});
   config::ParticleGroup g;
   g.loc = node.loc();
   g.temperature = read_temperature(gm);
+  if (auto hs = gm.find("heat_source")) {
+    if (!c.heat)
+      hs->fail(
+          "a heat source needs heat conduction: add a top-level 'heat: {temperature: ...}' block "
+          "(and thermal_conductivity, heat_capacity to the materials)");
+    g.heat_source = hs->as_number();
+  }
   if (auto fx = gm.find("fixed")) read_fixed(*fx, g);
   read_shape(gm, g);
   if (g.kind == config::Shape::Polygon) g.polygon = read_polygon(gm.at("polygon"));
