@@ -445,26 +445,4 @@ std::int64_t compute_pair_forces(ParticleStore& p, const Domain& domain, VerletL
                    });
 }
 
-double pair_elastic_energy(const ParticleStore& p, const Domain& domain, const VerletList& list,
-                           const PairTable<PairCoeffs>& pairs) {
-  const Vec3* x = p.x();
-  const double* r = p.radius();
-  const std::int32_t* mat = p.material();
-  const auto off = list.offsets();
-  const auto nb = list.neighbors();
-  double e = 0;
-  for (std::size_t i = 0; i < list.n_particles(); ++i)
-    for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
-      const std::int32_t j = nb[k];
-      ContactKinematics kin;
-      double ai, aj;
-      if (!sphere_sphere(domain, x[i], x[j], r[i], r[j], kin, ai, aj)) continue;
-      const PairCoeffs& c = pairs(mat[i], mat[j]);
-      e += dispatch_index(ContactModels{}, c.model, [&]<class M>() {
-        return M::Law::elastic_energy(c, kin.overlap, kin.r_eff);
-      });
-    }
-  return e;
-}
-
 }  // namespace gf::contact

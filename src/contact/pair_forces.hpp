@@ -133,8 +133,4 @@ void use_baseline_kernels(bool on);
 /// use_baseline_kernels is off); the wall loop asks too.
 bool avx2_kernels();
 
-/// Elastic energy stored in all contacts (J), for energy balances.
-double pair_elastic_energy(const ParticleStore& p, const Domain& domain, const VerletList& list,
-                           const PairTable<PairCoeffs>& pairs);
-
 }  // namespace gf::contact

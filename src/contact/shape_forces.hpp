@@ -204,27 +204,17 @@ void for_each_touching_pair(const ParticleStore& p, const Domain& domain, const 
       for (exec::index_t i = 0; i < rows; ++i) row(i);
   };
   if (!p.has_shapes()) {
-    // The minimum image only where some axis is periodic, the sheared images only in a sheared
-    // box (as the force loop): the general delta costs several times the test itself.
     const double* r = p.radius();
-    auto rows_with = [&](auto delta) {
-      run([&](exec::index_t ii) {
-        const auto i = static_cast<std::size_t>(ii);
-        for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
-          const std::int32_t j = nb[k];
-          const Vec3 d = delta(x[i], x[j]);
-          const double dist2 = norm2(d), rs = r[i] + r[j];
-          if (dist2 >= rs * rs) continue;
-          f(i, j, rs - std::sqrt(dist2), r[i] * r[j] / rs, 1.0, k);
-        }
-      });
-    };
-    if (domain.sheared())
-      rows_with([&](const Vec3& a, const Vec3& b) { return domain.delta(a, b); });
-    else if (domain.any_periodic())
-      rows_with([&](const Vec3& a, const Vec3& b) { return domain.min_image(a - b); });
-    else
-      rows_with([](const Vec3& a, const Vec3& b) { return a - b; });
+    run([&](exec::index_t ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
+        const std::int32_t j = nb[k];
+        ContactKinematics kin;
+        double ai, aj;
+        if (sphere_sphere(domain, x[i], x[j], r[i], r[j], kin, ai, aj))
+          f(i, j, kin.overlap, kin.r_eff, 1.0, k);
+      }
+    });
     return;
   }
   const ShapeView s(p);
@@ -243,7 +233,8 @@ void for_each_touching_pair(const ParticleStore& p, const Domain& domain, const 
   });
 }
 
-/// Elastic energy stored in all contacts of a store with shapes, J.
+/// Elastic energy stored in all contacts of a store (with or without shapes), J, for energy
+/// balances; summed in list order.
 double shape_pair_elastic_energy(const ParticleStore& p, const Domain& domain,
                                  const VerletList& list, const PairTable<PairCoeffs>& pairs);
 

@@ -1441,9 +1441,7 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
   };
   auto elastic_energy = [&] {
     if (!elastic)
-      elastic = (particles_.has_shapes()
-                     ? contact::shape_pair_elastic_energy(particles_, domain_, nlist_, pairs_)
-                     : contact::pair_elastic_energy(particles_, domain_, nlist_, pairs_)) +
+      elastic = contact::shape_pair_elastic_energy(particles_, domain_, nlist_, pairs_) +
                 wall_elastic_energy(particles_, walls_, wlist_, pairs_);
     return *elastic;
   };
