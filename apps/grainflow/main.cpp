@@ -25,6 +25,7 @@
 #include "core/stop.hpp"
 #include "core/version.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
+#include "coupling/cfd_dem/heat_transfer.hpp"
 #include "io/input/parse_case.hpp"
 #include "io/input/validate.hpp"
 #include "simulation/continuum_case.hpp"
@@ -56,6 +57,9 @@ int list_models() {
     fmt::print("  {:<18} {}\n", m.key, m.summary);
   fmt::print("drag laws (coupling.drag, two_fluid drag):\n");
   for (const auto& d : gf::cfd_dem::drag_infos()) fmt::print("  {:<18} {}\n", d.key, d.summary);
+  fmt::print("grain-fluid heat transfer correlations (coupling.heat_transfer):\n");
+  for (const auto& h : gf::cfd_dem::heat_transfer_infos())
+    fmt::print("  {:<18} {}\n", h.key, h.summary);
   fmt::print("continuum rheologies (continuum.rheology.model):\n");
   for (const auto& m : gf::continuum::rheology_infos())
     fmt::print("  {:<16} {}\n", m.key, m.summary);
@@ -154,6 +158,15 @@ int describe(const std::string& key) {
         d->key, d->summary, d->equation, d->reference, d->validity);
     print_params(d->params);
   }
+  if (const auto* h = gf::cfd_dem::find_heat_transfer(key)) {
+    next();
+    fmt::print(
+        "{} — grain-fluid heat transfer: {}\n\nequation:\n  {}\n\nreference:\n  {}\n\n"
+        "validity:\n  {}\n\nparameters: none; the fluid's heat_capacity [J/(kg K)], "
+        "thermal_conductivity [W/(m K)], temperature [K] and the inlets' temperatures (fluid:), "
+        "the grains' temperatures (heat:)\n",
+        h->key, h->summary, h->equation, h->reference, h->validity);
+  }
   if (const auto* m = gf::contact::find_model(key)) {
     next();
     describe_contact_model(*m);
@@ -170,6 +183,7 @@ int describe(const std::string& key) {
     keys += fmt::format(" {}", i.key);
   for (const auto& i : gf::cfd_dem::drag_infos()) keys += fmt::format(" {}", i.key);
   for (const auto& i : gf::contact::conduction_infos()) keys += fmt::format(" {}", i.key);
+  for (const auto& i : gf::cfd_dem::heat_transfer_infos()) keys += fmt::format(" {}", i.key);
   fmt::print(stderr, "error: unknown model key '{}'; known keys:{}\n", key, keys);
   return kExitInput;
 }

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: GPL-3.0-or-later
-# Runs the heat conduction validation tests with curve output on and plots them against their
-# closed forms (docs/models/heat.md).
+# Runs the heat validation tests with curve output on and plots them against their closed forms
+# and correlations: conduction through contacts (docs/models/heat.md) and grain-fluid heat
+# transfer in CFD-DEM (docs/models/cfd_dem.md).
 """Usage: /usr/bin/python3 docs/validation/make_heat_plots.py [--out DIR] [BUILD_DIR]
 (BUILD_DIR default build/release)
 
-Writes docs/validation/dem_heat.png (or into DIR). Uses Debian's python3-numpy and
+Writes docs/validation/dem_heat.png and cfd_dem_heat.png (or into DIR). Uses Debian's python3-numpy and
 python3-matplotlib."""
 import os
 import sys
@@ -55,5 +56,40 @@ def plot(folder, out):
     fig.savefig(os.path.join(out, "dem_heat.png"), dpi=120)
 
 
+def plot_fluid(folder, out):
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    for law, marker in (("ranz_marshall", "o"), ("gunn", "s")):
+        w = load(os.path.join(folder, f"cfd_dem_heat_bead_water_{law}.csv"))
+        ax[0].plot(w["t"], w["temperature"], marker, mfc="none", ms=4, markevery=4,
+                   label=f"grainflow, {law}")
+    ax[0].plot(w["t"], w["exact"], "k-", lw=0.8, label="300 K + 100 K exp(-t / tau), Nu = 2")
+    ax[0].set_xlabel("time (s)")
+    ax[0].set_ylabel("bead temperature (K)")
+    ax[0].set_title("glass bead (d = 2 mm) at 400 K in still water at 300 K", fontsize=9)
+    ax[0].legend(fontsize=8)
+
+    a = load(os.path.join(folder, "cfd_dem_heat_bead_air.csv"))
+    re = np.logspace(0, 3.2, 100)
+    pr = 1005 * 1.8e-5 / 0.026
+    ax[1].plot(re, 2 + 0.6 * np.sqrt(re) * np.cbrt(pr), "k-", lw=0.8,
+               label="Ranz-Marshall 2 + 0.6 Re^1/2 Pr^1/3")
+    eps = 1.0
+    gunn = ((7 - 10 * eps + 5 * eps**2) * (1 + 0.7 * re**0.2 * np.cbrt(pr))
+            + (1.33 - 2.4 * eps + 1.2 * eps**2) * re**0.7 * np.cbrt(pr))
+    ax[1].plot(re, gunn, "k--", lw=0.8, label="Gunn (1978), eps = 1")
+    for code, law, marker in ((0, "ranz_marshall", "o"), (1, "gunn", "s")):
+        sel = np.isclose(a["law"], code)
+        ax[1].loglog(a["re"][sel], a["nu"][sel], marker, mfc="none",
+                     label=f"grainflow, {law}: from the bead's cooling rate")
+    ax[1].set_xlabel("Re = rho_f |u_f - v| d / mu")
+    ax[1].set_ylabel("Nu")
+    ax[1].set_title("the bead in an air stream (Pr = 0.70)", fontsize=9)
+    ax[1].legend(fontsize=8)
+    fig.suptitle("grain-fluid heat transfer in CFD-DEM (docs/models/cfd_dem.md)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "cfd_dem_heat.png"), dpi=120)
+
+
 if __name__ == "__main__":
-    validation_run.plot_main(__doc__, "ValidationHeat.*", [plot])
+    validation_run.plot_main(__doc__, "ValidationHeat.*:CfdDemHeatValidation.*",
+                             [plot, plot_fluid])

@@ -8,11 +8,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/vtk_xml.hpp"
+#include "coupling/cfd_dem/heat_transfer.hpp"
 #include "coupling/cfd_dem/hydro_torque.hpp"
 #include "coupling/cfd_dem/shape_factors.hpp"
 #include "particles/particle_store.hpp"
@@ -124,6 +126,35 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
     f_strain_off_ =
         particles.add_field("fluid_strain_rate_shear", FieldType::Vec3, "1/s", kRestart);
   }
+  if (!cp.heat_transfer.empty()) {
+    heat_law_ = cfd_dem::heat_transfer_index(cp.heat_transfer);
+    REQUIRE(heat_law_ >= 0, "unknown heat transfer correlation '{}'", cp.heat_transfer);
+    f_temperature_ = particles.find_field("temperature");
+    if (f_temperature_ < 0 || !cfg.heat)
+      throw InputError(
+          fmt::format("{}: coupling.heat_transfer needs the grains' temperatures: a "
+                      "heat: block",
+                      cfg.file.string()));
+    fluid::HeatSettings hs;
+    hs.heat_capacity = f.heat_capacity;
+    hs.thermal_conductivity = f.thermal_conductivity;
+    for (int face = 0; face < 6; ++face)
+      hs.boundary_temperature[face] =
+          f.boundary[face].temperature.value_or(std::numeric_limits<double>::quiet_NaN());
+    try {
+      heat_ = std::make_unique<fluid::FluidHeat>(*fluid_, hs,
+                                                 f.temperature.value_or(cfg.heat->temperature));
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      throw InputError(fmt::format("{}: fluid: {}", cfg.file.string(), e.what()));
+    }
+    k_f_ = f.thermal_conductivity;
+    prandtl_ = f.heat_capacity * mu_f_ / k_f_;
+    f_conductance_ =
+        particles.add_field("fluid_heat_conductance", FieldType::Real, "W/K", kRestart | kOutput);
+    f_tf_ = particles.add_field("fluid_temperature", FieldType::Real, "K", kRestart | kOutput);
+  }
 }
 
 void CfdDemCoupling::fluid_step(ParticleStore& particles) {
@@ -222,9 +253,17 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
                                 std::span<const Vec3>(u_p_), std::span<const Vec3>(cell_u_),
                                 s_explicit_, k_);
 
+  if (heat_) exchange_heat(particles, geo);
+
   fluid_->set_fluid_fraction(eps_, eps_rate_);
   fluid_->set_momentum_source(s_explicit_, k_);
   fluid_->step(dt_fluid_);
+  if (heat_) {
+    // The fluid's temperature over the same step, carried by the new velocities; the grains
+    // read it until the next fluid step.
+    heat_report_ = heat_->step(dt_fluid_, *fluid_);
+    cfd_dem::interpolate_at(grid_, stencils_, heat_->temperature(), particles.get<double>(f_tf_));
+  }
   std::copy(eps_.begin(), eps_.end(), eps_prev_.begin());
   first_ = false;
 
@@ -262,6 +301,54 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   seconds_ += seconds_since(t0);
 }
 
+void CfdDemCoupling::exchange_heat(ParticleStore& particles, const cfd_dem::ParticleGeometry& geo) {
+  const std::size_t n = geo.size();
+  const auto nc = static_cast<std::size_t>(grid_.cell_count());
+  heat_value_.resize(n);
+  heat_q_.assign(nc, 0.0);
+  heat_k_.assign(nc, 0.0);
+  const auto cond = particles.get<double>(f_conductance_);
+  const auto tf = particles.get<double>(f_tf_);
+  const double* temp = std::as_const(particles).get<double>(f_temperature_).data();
+  const Vec3* v = particles.v();
+  // The fluid's temperature before this step at the grains' positions now: what the grains
+  // felt over the last interval, and what the deposit below is consistent with.
+  cfd_dem::interpolate_at(grid_, stencils_, heat_->temperature(), tf);
+  exec::parallel_for(static_cast<exec::index_t>(n), [&](exec::index_t i) {
+    const auto k = static_cast<std::size_t>(i);
+    const double l = 2.0 * geo.half(k), r = geo.radius[k];
+    const double d_v = cfd_dem::volume_equivalent_diameter(cfd_dem::spherocylinder_volume(r, l));
+    const double re = rho_f_ * norm(u_p_[k] - v[k]) * d_v / mu_f_;
+    const double nu = cfd_dem::nusselt(heat_law_, re, prandtl_, eps_p_[k]);
+    cond[k] = cfd_dem::fluid_conductance(nu, k_f_, d_v, cfd_dem::spherocylinder_surface(r, l));
+    heat_value_[k] = cond[k] * (temp[k] - tf[k]);  // into the fluid, W
+  });
+  // Q = sum w h A (T_p - T_seen) / V + K T_c - K T: the heat the grains give at the fluid's
+  // present temperature, implicit in its change over the step (the form of
+  // drag_exchange_source, so that a grain at the temperature it reads exchanges nothing).
+  const double inv_v = 1.0 / grid_.cell_volume();
+  cfd_dem::deposit(footprints_, std::span<const double>(heat_value_), std::span<double>(heat_q_),
+                   inv_v);
+  cfd_dem::deposit(footprints_, std::span<const double>(cond.data(), n), std::span<double>(heat_k_),
+                   inv_v);
+  const auto tc = heat_->temperature();
+  for (std::size_t c = 0; c < nc; ++c) heat_q_[c] += heat_k_[c] * tc[c];
+  heat_->set_source(heat_q_, heat_k_);
+}
+
+void CfdDemCoupling::add_heat(const ParticleStore& particles, const double* temperature, double* q,
+                              double* h) const {
+  if (!heat_) return;
+  const auto t0 = Clock::now();
+  const double* cond = particles.get<double>(f_conductance_).data();
+  const double* tf = particles.get<double>(f_tf_).data();
+  exec::parallel_for(static_cast<exec::index_t>(particles.size()), [&](exec::index_t i) {
+    q[i] += cond[i] * (tf[i] - temperature[i]);
+    h[i] += cond[i];
+  });
+  force_seconds_ += seconds_since(t0);
+}
+
 fluid::VolumeAveragedNS::State CfdDemCoupling::state() const {
   auto st = fluid_->state();
   std::vector<double> prev(eps_prev_);
@@ -270,12 +357,16 @@ fluid::VolumeAveragedNS::State CfdDemCoupling::state() const {
   std::vector<double> rate(eps_rate_);
   rate.resize(static_cast<std::size_t>(grid_.cell_count()), 0.0);
   st.arrays.emplace_back("coupling_eps_rate", std::move(rate));  // the relaxed flux rate
+  if (heat_)
+    st.arrays.emplace_back("fluid_temperature", std::vector<double>(heat_->temperature().begin(),
+                                                                    heat_->temperature().end()));
   return st;
 }
 
 void CfdDemCoupling::restore(const fluid::VolumeAveragedNS::State& st) {
   fluid_->restore(st);
   const auto nc = static_cast<std::size_t>(grid_.cell_count());
+  bool restored_temperature = false;
   for (const auto& [name, v] : st.arrays)
     if (name == "coupling_eps_prev") {
       REQUIRE(v.size() == nc, "coupling restore: {} fluid fractions for {} cells", v.size(), nc);
@@ -283,7 +374,14 @@ void CfdDemCoupling::restore(const fluid::VolumeAveragedNS::State& st) {
     } else if (name == "coupling_eps_rate") {
       REQUIRE(v.size() == nc, "coupling restore: {} rates for {} cells", v.size(), nc);
       eps_rate_ = v;  // absent in older checkpoints: the relaxation restarts from zero
+    } else if (name == "fluid_temperature" && heat_) {
+      REQUIRE(v.size() == nc, "coupling restore: {} temperatures for {} cells", v.size(), nc);
+      heat_->set_temperature(v);
+      restored_temperature = true;
     }
+  REQUIRE(!heat_ || restored_temperature,
+          "coupling restore: the checkpoint has no fluid temperature (written without "
+          "coupling.heat_transfer)");
   REQUIRE(eps_prev_.size() == nc, "coupling restore: no fluid fraction of the last fluid step");
   first_ = st.n_steps == 0;
 }
@@ -350,8 +448,11 @@ void CfdDemCoupling::write_vti(std::ostream& out) const {
   const std::string p_tag = vtk::AppendedArrays::tag(arrays.add("pressure", 1, fluid_->pressure()));
   const std::string u_tag =
       vtk::AppendedArrays::tag(arrays.add("velocity", std::span<const Vec3>(u)));
-  vtk::write_image_data(out, g.n, g.lo, g.h, arrays,
-                        "        " + eps_tag + "\n        " + p_tag + "\n        " + u_tag + "\n",
+  std::string tags = "        " + eps_tag + "\n        " + p_tag + "\n        " + u_tag + "\n";
+  if (heat_)
+    tags += "        " +
+            vtk::AppendedArrays::tag(arrays.add("temperature", 1, heat_->temperature())) + "\n";
+  vtk::write_image_data(out, g.n, g.lo, g.h, arrays, tags,
                         " Scalars=\"fluid_fraction\" Vectors=\"velocity\"");
 }
 

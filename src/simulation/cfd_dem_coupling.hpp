@@ -12,6 +12,7 @@
 #include "coupling/cfd_dem/drag_registry.hpp"
 #include "coupling/cfd_dem/fluid_fraction.hpp"
 #include "coupling/cfd_dem/mapping.hpp"
+#include "fluid/fv/heat_transport.hpp"
 #include "fluid/fv/navier_stokes.hpp"
 #include "io/input/config.hpp"
 
@@ -37,6 +38,14 @@ class ParticleStore;
 ///
 /// The per-grain values live in ParticleStore fields (fluid_beta, fluid_velocity,
 /// fluid_pressure_gradient), so the re-ordering at neighbour rebuilds and checkpoints carry them.
+///
+/// With coupling.heat_transfer the fluid also has a temperature (fluid/fv/heat_transport.hpp),
+/// exchanged with the grains like the momentum: in step 2 each grain's conductance h_i A_i from
+/// the Nusselt correlation (its slip, the fluid fraction at it); in step 3 the heat the grains
+/// take, h_i A_i (T_f,i - T_i) with the T_f,i they read, spread over the cells with the implicit
+/// part K = sum w h A / V; after the flow step one step of the fluid's temperature, read back
+/// at the grains (field fluid_temperature). On every DEM step add_heat() gives each grain
+/// h_i A_i (T_f,i - T_i) with its current temperature.
 class CfdDemCoupling {
  public:
   /// Builds the grid over the domain box and the fluid solver; registers the particle fields.
@@ -47,6 +56,18 @@ class CfdDemCoupling {
   /// Adds drag and pressure-gradient forces to the particles' force column (and, with
   /// coupling.torque: rotational, the hydrodynamic torque to their torque column).
   void add_forces(ParticleStore& particles) const;
+  /// With coupling.heat_transfer: adds each grain's heat from the fluid, h A (T_f - T) [W], to q
+  /// and its conductance h A [W/K] to h (the stability sum of the explicit update); `temperature`
+  /// per grain [K]. A no-op without.
+  void add_heat(const ParticleStore& particles, const double* temperature, double* q,
+                double* h) const;
+  [[nodiscard]] bool has_heat() const { return heat_ != nullptr; }
+  /// The fluid's temperature (null without coupling.heat_transfer).
+  [[nodiscard]] const fluid::FluidHeat* heat() const { return heat_.get(); }
+  /// Heat flow from the grains into the fluid over the last fluid step [W] (negative: the fluid
+  /// heats the grains), and through the box faces into the fluid [W].
+  [[nodiscard]] double grain_heat_to_fluid() const { return heat_report_.particle_heat; }
+  [[nodiscard]] double boundary_heat_to_fluid() const { return heat_report_.boundary_heat; }
   /// Whether DEM step number `step` (after it was taken) is due a fluid step.
   [[nodiscard]] bool due(std::int64_t step) const { return step % interval_ == 0; }
 
@@ -79,6 +100,8 @@ class CfdDemCoupling {
   /// f(Re_R) R (Omega_f + lambda a x (E a) - omega) on every grain
   /// (coupling/cfd_dem/hydro_torque.hpp).
   void add_torques(ParticleStore& particles) const;
+  /// Step 2-3 of the heat exchange: the grains' conductances and the fluid's source.
+  void exchange_heat(ParticleStore& particles, const cfd_dem::ParticleGeometry& geo);
 
   fluid::Grid grid_;
   std::unique_ptr<fluid::VolumeAveragedNS> fluid_;
@@ -113,6 +136,16 @@ class CfdDemCoupling {
   std::vector<double> eps_, eps_prev_, eps_rate_, k_, eps_p_;
   std::vector<Vec3> s_explicit_, cell_u_, cell_gradp_, u_p_, gradp_p_;
   std::vector<cfd_dem::LerpStencil> stencils_;  // the grains' interpolation stencils this step
+
+  // coupling.heat_transfer: the correlation, the fluid's temperature and its properties, the
+  // grains' fields (conductance h A [W/K], fluid temperature read at the grain [K], temperature)
+  // and per-cell sources.
+  int heat_law_ = -1;
+  std::unique_ptr<fluid::FluidHeat> heat_;
+  fluid::HeatStepReport heat_report_;
+  double k_f_ = 0, prandtl_ = 0;
+  int f_conductance_ = -1, f_tf_ = -1, f_temperature_ = -1;
+  std::vector<double> heat_q_, heat_k_, heat_value_;
 };
 
 }  // namespace gf

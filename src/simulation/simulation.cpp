@@ -1261,6 +1261,7 @@ void Simulation::conduct_heat() {
   if (!walls_.empty())
     wall_heat_flows(particles_, walls_, wlist_, heat_model_, k_series_, temp, q.data(),
                     heat_h_.data());
+  if (cfd_) cfd_->add_heat(particles_, temp, q.data(), heat_h_.data());
   // Explicit Euler, m c dT/dt = Q: stable while dt sum(H) / (m c) <= 1 for every grain (the
   // rows of the conduction matrix by Gershgorin's discs), which a DEM step keeps by orders of
   // magnitude for real materials; a step that breaks it stops the run with the numbers.
@@ -1271,7 +1272,8 @@ void Simulation::conduct_heat() {
     if (dt_ * heat_h_[i] > cap)
       throw Error(fmt::format(
           "heat conduction is unstable at t = {} s: grain {} has dt sum(H) / (m c) = {:.3g} > 1 "
-          "(contact conductances {:.3g} W/K, heat capacity {:.3g} J/K); reduce time.step or "
+          "(conductances to contacts, walls and fluid {:.3g} W/K, heat capacity {:.3g} J/K); "
+          "reduce time.step or "
           "check thermal_conductivity / heat_capacity",
           time(), particles_.id()[i], dt_ * heat_h_[i] / cap, heat_h_[i], cap));
     temp[i] += dt_ * q[i] / cap;
@@ -1593,6 +1595,14 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       row.push_back(cfd_->fluid().kinetic_energy());
     } else if (cfd_ && name == "min_fluid_fraction") {
       row.push_back(cfd_->min_fluid_fraction());
+    } else if (cfd_ && cfd_->has_heat() && name == "fluid_temperature_mean") {
+      row.push_back(cfd_->heat()->mean_temperature(cfd_->fluid()));
+    } else if (cfd_ && cfd_->has_heat() && name == "fluid_thermal_energy") {
+      row.push_back(cfd_->heat()->energy(cfd_->fluid()));
+    } else if (cfd_ && cfd_->has_heat() && name == "fluid_heat_from_grains") {
+      row.push_back(cfd_->grain_heat_to_fluid());
+    } else if (cfd_ && cfd_->has_heat() && name == "fluid_boundary_heat_flow") {
+      row.push_back(cfd_->boundary_heat_to_fluid());
     } else {
       throw InputError(fmt::format("unknown series quantity '{}'", name));
     }

@@ -367,6 +367,17 @@ const BadCase bad_cases[] = {
     {"heat_without_temperature.yaml", 9, "heat.temperature", "missing required key"},
     {"heat_source_without_block.yaml", 12, "particles[0].heat_source",
      "a heat source needs heat conduction"},
+    {"fluid_heat_transfer_without_heat.yaml", 16, "coupling.heat_transfer",
+     "needs the grains' temperatures"},
+    {"fluid_heat_transfer_unknown.yaml", 17, "coupling.heat_transfer",
+     "none, ranz_marshall, gunn"},
+    {"fluid_heat_without_capacity.yaml", 14, "fluid.heat_capacity", "needs the fluid's"},
+    {"fluid_inlet_without_temperature.yaml", 21, "fluid.boundary.zmin",
+     "needs the temperature of its inflow"},
+    {"fluid_heat_capacity_without_exchange.yaml", 18, "fluid.heat_capacity",
+     "set coupling.heat_transfer"},
+    {"fluid_series_temperature_without_exchange.yaml", 18, "output.series.quantities[1]",
+     "needs the fluid's temperature"},
 };
 
 class InputBadCases : public ::testing::TestWithParam<BadCase> {};

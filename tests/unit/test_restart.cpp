@@ -435,6 +435,28 @@ TEST(Restart, CfdDemContinuesBitIdentically) {
   EXPECT_THROW(c.load_checkpoint(r->file), InputError);
 }
 
+TEST(Restart, CfdDemHeatTransferContinuesBitIdentically) {
+  // The heated bed: the grains' temperatures and conductances travel as particle fields, the
+  // fluid's temperature in the coupling's state.
+  const auto cfg = input::load_case(std::string(GF_SOURCE_DIR) +
+                                    "/cases/cfd_dem/fluidized_bed_heating/case.yaml");
+  const auto r = run_restarted(cfg, "cfd_heat", 510, 500);
+  const Simulation& a = *r->a;
+  const Simulation& b = *r->b;
+  test::expect_same_state(a, b);
+  ASSERT_TRUE(a.cfd_dem() && b.cfd_dem() && a.cfd_dem()->heat() && b.cfd_dem()->heat());
+  const auto ta = a.cfd_dem()->heat()->temperature(), tb = b.cfd_dem()->heat()->temperature();
+  ASSERT_EQ(ta.size(), tb.size());
+  EXPECT_EQ(0, std::memcmp(ta.data(), tb.data(), ta.size() * sizeof(double)));
+  EXPECT_GT(*std::max_element(ta.begin(), ta.end()), 300.0);  // the hot air came in (373 K)
+  for (const char* field : {"temperature", "fluid_temperature", "fluid_heat_conductance"}) {
+    const auto fa = a.particles().get<double>(a.particles().find_field(field));
+    const auto fb = b.particles().get<double>(b.particles().find_field(field));
+    ASSERT_EQ(fa.size(), fb.size());
+    EXPECT_EQ(0, std::memcmp(fa.data(), fb.data(), fa.size() * sizeof(double))) << field;
+  }
+}
+
 namespace {
 
 // The shared channel case with automatic BDF order, adaptive steps and the chord method (the

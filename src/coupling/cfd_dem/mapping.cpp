@@ -685,4 +685,11 @@ void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
                      [&](exec::index_t i) { out[i] = interpolate(s[i], field.data()); });
 }
 
+void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
+                    std::span<const double> field, std::span<double> out) {
+  check_interpolation(g, field, s.size(), out.size());
+  exec::parallel_for(static_cast<exec::index_t>(s.size()),
+                     [&](exec::index_t i) { out[i] = interpolate(s[i], field.data()); });
+}
+
 }  // namespace gf::cfd_dem

@@ -207,5 +207,7 @@ void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
 /// One field at the points of stencils s.
 void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
                     std::span<const Vec3> field, std::span<Vec3> out);
+void interpolate_at(const fluid::Grid& g, std::span<const LerpStencil> s,
+                    std::span<const double> field, std::span<double> out);
 
 }  // namespace gf::cfd_dem

@@ -331,6 +331,10 @@ struct FluidBoundary {
   Vec3 velocity;        ///< moving_wall: wall velocity; velocity_inlet: superficial velocity, m/s
   double pressure = 0;  ///< pressure_outlet: static pressure, Pa
   bool given = false;   ///< written in the case (else the default: periodic or no_slip)
+  /// With coupling.heat_transfer: the inflow's temperature (inlets, required), the wall's
+  /// (walls; none: adiabatic) or the back-flow's (outlets; none: the cell's), K
+  std::optional<double> temperature;
+  SourceLoc loc;  ///< the face's entry, when given
 };
 
 /// The interstitial fluid of unresolved CFD-DEM (src/fluid/fv): a uniform Cartesian grid over
@@ -344,6 +348,11 @@ struct Fluid {
   std::array<FluidBoundary, 6> boundary{};
   Vec3 initial_velocity;                ///< m/s
   std::string convection = "van_leer";  ///< van_leer | central | upwind
+  /// The fluid's temperature (with coupling.heat_transfer): c_p [J/(kg K)], k [W/(m K)] (0: not
+  /// given) and the initial temperature [K] (none: heat.temperature)
+  double heat_capacity = 0, thermal_conductivity = 0;
+  std::optional<double> temperature;
+  std::optional<SourceLoc> thermal_loc;  ///< the first of these keys given, for errors
   SourceLoc loc;
   SourceLoc cells_loc;  ///< the value of `cells`
 };
@@ -370,6 +379,9 @@ struct Coupling {
   /// (viscous resistance to rotating relative to the fluid's curl(u) / 2; Stokes with Dennis et
   /// al.'s inertia factor, coupling/cfd_dem/hydro_torque.hpp)
   std::string torque = "none";
+  /// Convective heat exchange of grains and fluid: a Nusselt correlation of
+  /// coupling/cfd_dem/heat_transfer.hpp, or empty (none; the fluid has no temperature)
+  std::string heat_transfer;
   SourceLoc loc;
 };
 

@@ -546,18 +546,26 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
           out << "periodic";
           break;
         case K::NoSlip:
-          out << "no_slip";
+          if (!b.temperature) {
+            out << "no_slip";
+            break;
+          }
+          out << YAML::Flow << YAML::BeginMap << YAML::Key << "no_slip" << YAML::Value << true;
+          key_number(out, "temperature", *b.temperature);
+          out << YAML::EndMap;
           break;
         case K::MovingWall:
         case K::VelocityInlet:
           out << YAML::Flow << YAML::BeginMap;
           key_vec(out, b.kind == K::MovingWall ? "moving_wall" : "velocity_inlet", b.velocity,
                   c.dimension);
+          if (b.temperature) key_number(out, "temperature", *b.temperature);
           out << YAML::EndMap;
           break;
         case K::PressureOutlet:
           out << YAML::Flow << YAML::BeginMap;
           key_number(out, "pressure_outlet", b.pressure);
+          if (b.temperature) key_number(out, "temperature", *b.temperature);
           out << YAML::EndMap;
           break;
       }
@@ -566,6 +574,12 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     out << YAML::EndMap;
     key_vec(out, "initial_velocity", f.initial_velocity, c.dimension);
     out << YAML::Key << "convection" << YAML::Value << f.convection;
+    if (c.coupling && !c.coupling->heat_transfer.empty()) {
+      key_number(out, "heat_capacity", f.heat_capacity);
+      key_number(out, "thermal_conductivity", f.thermal_conductivity);
+      key_number(out, "temperature", f.temperature ? *f.temperature : c.heat->temperature);
+      if (!f.temperature) out << YAML::Comment("heat.temperature");
+    }
     out << YAML::EndMap;
   }
   if (c.coupling) {
@@ -584,6 +598,8 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     out << YAML::Key << "pressure_gradient_force" << YAML::Value << cp.pressure_gradient_force;
     out << YAML::Key << "interpolation" << YAML::Value << cp.interpolation;
     out << YAML::Key << "torque" << YAML::Value << cp.torque;
+    out << YAML::Key << "heat_transfer" << YAML::Value
+        << (cp.heat_transfer.empty() ? std::string("none") : cp.heat_transfer);
     out << YAML::EndMap << YAML::Comment("fluid dt = interval x time.step");
   }
 

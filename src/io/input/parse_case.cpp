@@ -20,6 +20,7 @@
 #include "core/error.hpp"
 #include "core/names.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
+#include "coupling/cfd_dem/heat_transfer.hpp"
 #include "io/input/model_block.hpp"
 #include "io/input/stl.hpp"
 #include "io/input/validate.hpp"
@@ -166,6 +167,9 @@ struct Reader {
   void read_sweep(const YamlMap& root);
   void read_fluid(const YamlMap& root);
   void read_coupling(const YamlMap& root);
+  /// coupling.heat_transfer and what it needs of the fluid block (heat capacity, conductivity,
+  /// inflow temperatures) and of the case (the heat: block).
+  void read_fluid_heat(const YamlMap& cm, config::Coupling& cp) const;
   void check_pairs() const;
   void read_heat(const YamlMap& root);
   /// A `temperature:` of a particle group or wall: needs the heat: block.
@@ -390,7 +394,8 @@ void Reader::read_sweep(const YamlMap& root) {
 void Reader::read_fluid(const YamlMap& root) {
   auto fn = root.find("fluid");
   if (!fn) return;
-  YamlMap fm(*fn, {"density", "viscosity", "cells", "boundary", "initial_velocity", "convection"});
+  YamlMap fm(*fn, {"density", "viscosity", "cells", "boundary", "initial_velocity", "convection",
+                   "heat_capacity", "thermal_conductivity", "temperature"});
   config::Fluid f;
   f.loc = fn->key_loc();  // the `fluid:` line, for errors about the block as a whole
   // The coupling maps spheres and spherocylinders onto a 3D grid; 2D grains (disks, polygons)
@@ -430,12 +435,17 @@ void Reader::read_fluid(const YamlMap& root) {
       } else {
         if (!v->is_map())
           v->fail_expected(
-              "periodic, no_slip, {moving_wall: [vx, vy, vz]}, {velocity_inlet: [vx, vy, vz]} or "
-              "{pressure_outlet: p}");
-        YamlMap m(*v, {"moving_wall", "velocity_inlet", "pressure_outlet"});
+              "periodic, no_slip, {moving_wall: [vx, vy, vz]}, {velocity_inlet: [vx, vy, vz]}, "
+              "{pressure_outlet: p} or {no_slip: true}, each map with an optional temperature");
+        YamlMap m(*v,
+                  {"moving_wall", "velocity_inlet", "pressure_outlet", "no_slip", "temperature"});
         const std::string kind =
-            m.exactly_one_of({"moving_wall", "velocity_inlet", "pressure_outlet"});
-        if (kind == "pressure_outlet") {
+            m.exactly_one_of({"moving_wall", "velocity_inlet", "pressure_outlet", "no_slip"});
+        b.temperature = read_temperature(m);
+        if (kind == "no_slip") {
+          if (!m.at("no_slip").as_bool()) m.at("no_slip").fail_expected("true");
+          b.kind = config::FluidBoundary::Kind::NoSlip;
+        } else if (kind == "pressure_outlet") {
           b.kind = config::FluidBoundary::Kind::PressureOutlet;
           b.pressure = m.number("pressure_outlet");
         } else {
@@ -450,6 +460,7 @@ void Reader::read_fluid(const YamlMap& root) {
           }
         }
       }
+      b.loc = v->loc();
       const bool periodic = b.kind == config::FluidBoundary::Kind::Periodic;
       if (periodic != per[face / 2])
         v->fail(periodic ? fmt::format("face {} is periodic but the domain is not periodic along "
@@ -499,6 +510,11 @@ void Reader::read_fluid(const YamlMap& root) {
   f.initial_velocity = vec_or(fm, "initial_velocity", Vec3{});
   if (auto cv = fm.find("convection"))
     f.convection = cv->as_choice({"van_leer", "central", "upwind"});
+  f.heat_capacity = fm.number_or("heat_capacity", 0.0, Range::positive());
+  f.thermal_conductivity = fm.number_or("thermal_conductivity", 0.0, Range::non_negative());
+  f.temperature = read_temperature(fm);
+  for (const char* key : {"heat_capacity", "thermal_conductivity", "temperature"})
+    if (auto n = fm.find(key); n && !f.thermal_loc) f.thermal_loc = n->loc();
   c.fluid = std::move(f);
 }
 
@@ -517,7 +533,8 @@ void Reader::read_coupling(const YamlMap& root) {
   if (!c.fluid)
     cn->fail("a coupling: block needs a fluid: block (density, viscosity, cells, boundary)");
   YamlMap cm(*cn, {"drag", "fluid_fraction", "interval", "min_fraction", "fluid_fraction_rate",
-                   "rate_relaxation", "pressure_gradient_force", "interpolation", "torque"});
+                   "rate_relaxation", "pressure_gradient_force", "interpolation", "torque",
+                   "heat_transfer"});
   config::Coupling cp;
   cp.loc = cn->loc();
   {
@@ -541,7 +558,62 @@ void Reader::read_coupling(const YamlMap& root) {
   cp.pressure_gradient_force = cm.boolean_or("pressure_gradient_force", true);
   if (auto ip = cm.find("interpolation")) cp.interpolation = ip->as_choice({"trilinear", "cell"});
   if (auto tq = cm.find("torque")) cp.torque = tq->as_choice({"none", "rotational"});
+  read_fluid_heat(cm, cp);
   c.coupling = std::move(cp);
+}
+
+void Reader::read_fluid_heat(const YamlMap& cm, config::Coupling& cp) const {
+  const config::Fluid& f = *c.fluid;
+  const auto fluid_loc = [&](const char* key) {
+    config::SourceLoc loc = f.loc;
+    loc.key_path = fmt::format("fluid.{}", key);
+    return loc;
+  };
+  if (auto ht = cm.find("heat_transfer")) {
+    const std::string key = ht->as_string();
+    if (key != "none") {
+      if (cfd_dem::heat_transfer_index(key) < 0) {
+        std::vector<std::string> keys{"none"};
+        for (const auto& info : cfd_dem::heat_transfer_infos()) keys.emplace_back(info.key);
+        ht->fail_expected(fmt::format("a heat transfer correlation: {}", fmt::join(keys, ", ")));
+      }
+      if (!c.heat)
+        ht->fail(
+            "heat transfer between grains and fluid needs the grains' temperatures: add a "
+            "top-level 'heat: {temperature: ...}' block (and thermal_conductivity, heat_capacity "
+            "to the materials)");
+      cp.heat_transfer = key;
+    }
+  }
+  if (cp.heat_transfer.empty()) {
+    // Thermal keys without the exchange would be silently ignored: say what they need.
+    std::optional<config::SourceLoc> loc = f.thermal_loc;
+    for (const auto& b : f.boundary)
+      if (!loc && b.temperature) loc = b.loc;
+    if (loc)
+      throw_input_error(*loc,
+                        "the fluid's heat_capacity, thermal_conductivity, temperature and boundary "
+                        "temperatures are used only with a heat exchange between grains and "
+                        "fluid: set coupling.heat_transfer (e.g. gunn)");
+    return;
+  }
+  if (!(f.heat_capacity > 0))
+    throw_input_error(fluid_loc("heat_capacity"),
+                      "coupling.heat_transfer needs the fluid's heat_capacity (J/(kg K), e.g. "
+                      "1005 for air, 4182 for water)");
+  if (!(f.thermal_conductivity > 0))
+    throw_input_error(fluid_loc("thermal_conductivity"),
+                      "coupling.heat_transfer needs the fluid's thermal_conductivity (W/(m K), "
+                      "e.g. 0.026 for air, 0.6 for water)");
+  static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+  for (int face = 0; face < 6; ++face) {
+    const auto& b = f.boundary[face];
+    if (b.kind == config::FluidBoundary::Kind::VelocityInlet && !b.temperature)
+      throw_input_error(b.loc, fmt::format("with coupling.heat_transfer the velocity inlet {} "
+                                           "needs the temperature of its inflow: "
+                                           "{{velocity_inlet: [vx, vy, vz], temperature: T}}",
+                                           faces[face]));
+  }
 }
 
 void Reader::read_domain(const YamlMap& root) {
@@ -1883,6 +1955,14 @@ void Reader::read_output(const YamlMap& root) {
         if (!c.fluid && (name.rfind("fluid_", 0) == 0 || name == "superficial_velocity" ||
                          name == "min_fluid_fraction"))
           item.fail(fmt::format("series quantity '{}' needs a fluid: block", name));
+        if (c.fluid &&
+            (name == "fluid_temperature_mean" || name == "fluid_thermal_energy" ||
+             name == "fluid_heat_from_grains" || name == "fluid_boundary_heat_flow") &&
+            (!c.coupling || c.coupling->heat_transfer.empty()))
+          item.fail(
+              fmt::format("series quantity '{}' needs the fluid's temperature: "
+                          "coupling.heat_transfer (e.g. gunn)",
+                          name));
         // (the analysis block is read after the output: its rheology intervals are checked
         // against the series')
         bool mixing = false;
@@ -2087,6 +2167,10 @@ const std::vector<std::string>& series_quantity_names() {
                                               "superficial_velocity",
                                               "fluid_kinetic_energy",
                                               "min_fluid_fraction",
+                                              "fluid_temperature_mean",
+                                              "fluid_thermal_energy",
+                                              "fluid_heat_from_grains",
+                                              "fluid_boundary_heat_flow",
                                               "lacey_index",
                                               "temperature_mean",
                                               "temperature_min",

@@ -18,6 +18,7 @@
 #include "contact/geometry/polygon2d.hpp"
 #include "contact/registry.hpp"
 #include "core/error.hpp"
+#include "coupling/cfd_dem/heat_transfer.hpp"
 #include "io/input/memory_budget.hpp"
 #include "io/input/yaml_reader.hpp"
 
@@ -1301,13 +1302,15 @@ void Validator::check_fluid() {
   // The largest grain (volume-equivalent diameter) sets the worst cell-to-grain ratio; its
   // material the Stokes number.
   double d = 0, rho_p = 0;
+  const config::Material* material_p = nullptr;  // of the largest grain
   for (std::size_t g = 0; g < c_.particles.size(); ++g) {
     const auto& group = c_.particles[g];
     const double r = group.radius.largest();
     const double dv = std::cbrt(6.0 * grain_measure(group, r) / std::numbers::pi);
     if (dv > d) {
       d = dv;
-      rho_p = materials_.at(group.material)->density;
+      material_p = materials_.at(group.material);
+      rho_p = material_p->density;
     }
   }
   // Reference speed: the fastest inlet (superficial), else the initial fluid speed, else the
@@ -1377,6 +1380,25 @@ void Validator::check_fluid() {
             "time.step",
             tau_rot, tau_rot / c_.time.step));
     }
+  }
+  if (!cp.heat_transfer.empty() && d > 0) {
+    // The grains' thermal response to the fluid, m c / (h A) = rho_p c_p d^2 / (6 Nu k_f) for
+    // the largest (slowest) grain at the reference slip in clear fluid, and the fluid's own
+    // diffusion time across a cell.
+    const int law = cfd_dem::heat_transfer_index(cp.heat_transfer);
+    const double pr = f.heat_capacity * f.viscosity / f.thermal_conductivity;
+    const double nu = cfd_dem::nusselt(law, f.density * u * d / f.viscosity, pr, 1.0);
+    report_.derived.emplace_back("fluid Prandtl number c_p mu / k", fmt::format("{:.3g}", pr));
+    const double c_p = material_p->heat_capacity.value_or(0.0);
+    if (c_p > 0) {
+      const double tau = rho_p * c_p * d * d / (6.0 * nu * f.thermal_conductivity);
+      report_.derived.emplace_back(
+          fmt::format("grain thermal response to the fluid m c / (h A) ({})", cp.heat_transfer),
+          fmt::format("{:.3g} s (Nu = {:.3g}, d = {:.3g} m)", tau, nu, d));
+    }
+    const double alpha = f.thermal_conductivity / (f.density * f.heat_capacity);
+    report_.derived.emplace_back("fluid thermal diffusion time over a cell h^2 / alpha",
+                                 fmt::format("{:.3g} s", h_min * h_min / alpha));
   }
   const double courant = std::max(u, u_courant) * dt_f / h_min;
   report_.derived.emplace_back("fluid time step (interval x time.step)",
