@@ -52,4 +52,26 @@ void pair_heat_flows(const ParticleStore& p, const Domain& domain, const VerletL
     }
 }
 
+void pair_heat_flows_from_overlaps(const ParticleStore& p, const VerletList& list, int model,
+                                   const PairTable<double>& k_series, const double* temperature,
+                                   const double* overlaps, double* q, double* h) {
+  const std::int32_t* mat = p.material();
+  const double* r = p.radius();
+  const auto off = list.offsets();
+  const auto nb = list.neighbors();
+  for (std::size_t i = 0; i < list.n_particles(); ++i)
+    for (std::int64_t k = off[i]; k < off[i + 1]; ++k) {
+      const double overlap = overlaps[k];
+      if (!(overlap > 0.0)) continue;
+      const std::int32_t j = nb[k];
+      const double r_eff = r[i] * r[j] / (r[i] + r[j]);  // as sphere_sphere's
+      const double hc = contact_conductance(model, overlap, r_eff, k_series(mat[i], mat[j]));
+      const double flow = hc * (temperature[j] - temperature[i]);
+      q[i] += flow;
+      q[j] -= flow;
+      h[i] += hc;
+      h[j] += hc;
+    }
+}
+
 }  // namespace gf::contact

@@ -96,5 +96,11 @@ const ConductionInfo* find_conduction(std::string_view key);
 void pair_heat_flows(const ParticleStore& p, const Domain& domain, const VerletList& list,
                      int model, const PairTable<double>& k_series, const double* temperature,
                      double* q, double* h, std::vector<double>& entry_h);
+/// The same for spheres from the overlap of each list entry that the force loop recorded
+/// (ContactSink::overlaps; 0 when apart): no second pass over the neighbours' positions, and the
+/// same bits as pair_heat_flows (the same overlaps, R* and order of the sums).
+void pair_heat_flows_from_overlaps(const ParticleStore& p, const VerletList& list, int model,
+                                   const PairTable<double>& k_series, const double* temperature,
+                                   const double* overlaps, double* q, double* h);
 
 }  // namespace gf::contact

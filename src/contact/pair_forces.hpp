@@ -89,6 +89,9 @@ struct ContactSink {
   Mat3* rows = nullptr;
   Mat3* normals = nullptr;
   ContactRecord* contacts = nullptr;
+  /// Per list entry: the overlap of each touching pair (spheres; entries apart are left as the
+  /// caller set them), for heat conduction, which then needs no second pass over the list.
+  double* overlaps = nullptr;
   int axis = 2;
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();
@@ -106,6 +109,7 @@ struct ContactSink {
       if (normals != nullptr) normals[i] = normals[i] + outer(n, n);
     }
     if (contacts != nullptr) contacts[k] = ContactRecord{i, j, point, n, f, d, overlap};
+    if (overlaps != nullptr) overlaps[k] = overlap;
   }
 };
 

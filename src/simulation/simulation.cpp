@@ -1188,6 +1188,12 @@ void Simulation::compute_forces() {
       }
       report = &sink;
     }
+    if (heat_model_ >= 0 && !particles_.has_shapes()) {
+      // The contacts' overlaps for conduct_heat: the force loop finds the touching pairs anyway.
+      heat_overlap_.assign(nlist_.neighbors().size(), 0.0);
+      sink.overlaps = heat_overlap_.data();
+      report = &sink;
+    }
     if (collect_contacts_) {
       contact_records_.assign(nlist_.neighbors().size(), contact::ContactRecord{});
       sink.contacts = contact_records_.data();
@@ -1256,8 +1262,12 @@ void Simulation::conduct_heat() {
   }
   heat_h_.assign(n, 0.0);
   double* temp = particles_.get<double>(f_temperature_).data();
-  contact::pair_heat_flows(particles_, domain_, nlist_, heat_model_, k_series_, temp, q.data(),
-                           heat_h_.data(), heat_entry_h_);
+  if (!particles_.has_shapes() && heat_overlap_.size() == nlist_.neighbors().size())
+    contact::pair_heat_flows_from_overlaps(particles_, nlist_, heat_model_, k_series_, temp,
+                                           heat_overlap_.data(), q.data(), heat_h_.data());
+  else
+    contact::pair_heat_flows(particles_, domain_, nlist_, heat_model_, k_series_, temp, q.data(),
+                             heat_h_.data(), heat_entry_h_);
   if (!walls_.empty())
     wall_heat_flows(particles_, walls_, wlist_, heat_model_, k_series_, temp, q.data(),
                     heat_h_.data());

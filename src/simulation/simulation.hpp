@@ -356,6 +356,9 @@ class Simulation {
   std::vector<double> heat_capacity_;
   int f_temperature_ = -1, f_heat_flow_ = -1, f_heat_source_ = -1;
   std::vector<double> heat_h_, heat_entry_h_;
+  // Spheres: each list entry's overlap, recorded by the force loop for conduct_heat (sized to
+  // the list at the step's compute_forces; empty with shapes, which take the visitor).
+  std::vector<double> heat_overlap_;
   /// Heat flows through the contacts of this step's positions, then the explicit step of the
   /// grains' temperatures.
   void conduct_heat();

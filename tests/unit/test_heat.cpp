@@ -12,6 +12,7 @@
 #include "boundaries/wall.hpp"
 #include "case_builder.hpp"
 #include "contact/conduction.hpp"
+#include "contact/pair_forces.hpp"
 #include "core/error.hpp"
 #include "input_error.hpp"
 #include "simulation/simulation.hpp"
@@ -112,6 +113,25 @@ TEST(HeatConduction, PairAndWallFlowsMatchABruteForce) {
   for (std::size_t i = 0; i < n; ++i) {
     EXPECT_NEAR(q[i], q_ref[i], 1e-12 * h_ref[i] * 100) << i;
     EXPECT_NEAR(h[i], h_ref[i], 1e-12 * h_ref[i]) << i;
+  }
+  // The time loop's path: the force loop (its AVX2 and its baseline batch kernel) records each
+  // contact's overlap, and the flows from those are the same bits as the pass above.
+  for (const bool baseline : {false, true}) {
+    contact::use_baseline_kernels(baseline);
+    ParticleStore pc = p;
+    VerletList lc = sim.neighbor_list();
+    std::vector<double> overlaps(lc.neighbors().size(), 0.0);
+    contact::ContactSink sink;
+    sink.overlaps = overlaps.data();
+    contact::compute_pair_forces(pc, sim.domain(), lc, sim.pairs(), 1e-6, &sink);
+    contact::use_baseline_kernels(false);
+    std::vector<double> q2(n), h2(n);
+    contact::pair_heat_flows_from_overlaps(p, sim.neighbor_list(), 0, k, temp.data(),
+                                           overlaps.data(), q2.data(), h2.data());
+    for (std::size_t i = 0; i < n; ++i) {
+      EXPECT_EQ(q2[i], q[i]) << i << (baseline ? " (baseline kernel)" : " (AVX2 kernel)");
+      EXPECT_EQ(h2[i], h[i]) << i;
+    }
   }
   // A floor at 500 K: each grain on it gets 2 k sqrt(r delta) (500 - T).
   std::vector<Wall> walls(sim.walls().begin(), sim.walls().end());
