@@ -154,6 +154,7 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
     f_conductance_ =
         particles.add_field("fluid_heat_conductance", FieldType::Real, "W/K", kRestart | kOutput);
     f_tf_ = particles.add_field("fluid_temperature", FieldType::Real, "K", kRestart | kOutput);
+    f_received_ = particles.add_field("fluid_heat_received", FieldType::Real, "J", kRestart);
   }
 }
 
@@ -262,6 +263,11 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
     // The fluid's temperature over the same step, carried by the new velocities; the grains
     // read it until the next fluid step.
     heat_report_ = heat_->step(dt_fluid_, *fluid_);
+    const auto t_new = heat_->temperature();
+    const double v_dt = grid_.cell_volume() * dt_fluid_;
+    heat_given_.resize(t_new.size());
+    for (std::size_t c = 0; c < t_new.size(); ++c)
+      heat_given_[c] = v_dt * (heat_k_[c] * t_new[c] - heat_qx_[c]);
     cfd_dem::interpolate_at(grid_, stencils_, heat_->temperature(), particles.get<double>(f_tf_));
   }
   std::copy(eps_.begin(), eps_.end(), eps_prev_.begin());
@@ -333,18 +339,43 @@ void CfdDemCoupling::exchange_heat(ParticleStore& particles, const cfd_dem::Part
                    inv_v);
   const auto tc = heat_->temperature();
   for (std::size_t c = 0; c < nc; ++c) heat_q_[c] += heat_k_[c] * tc[c];
+  heat_qx_.assign(heat_q_.begin(), heat_q_.end());
+  // What the fluid gave over its last step that the grains did not take since (they changed
+  // temperature over the interval) returns to it now, cell by cell (deposited with the grains'
+  // footprints now: the sum over cells is exact, the place within a grain's move).
+  const auto received = particles.get<double>(f_received_);
+  if (heat_given_.size() == nc) {
+    heat_received_.assign(nc, 0.0);
+    cfd_dem::deposit(footprints_, std::span<const double>(received.data(), n),
+                     std::span<double>(heat_received_));
+    const double per_step = inv_v / dt_fluid_;
+    for (std::size_t c = 0; c < nc; ++c)
+      heat_q_[c] += (heat_given_[c] - heat_received_[c]) * per_step;
+  }
+  std::fill(received.begin(), received.end(), 0.0);
   heat_->set_source(heat_q_, heat_k_);
 }
 
-void CfdDemCoupling::add_heat(const ParticleStore& particles, const double* temperature, double* q,
-                              double* h) const {
+double CfdDemCoupling::heat_in_transit(const ParticleStore& particles) const {
+  if (!heat_) return 0.0;
+  double given = 0.0, received = 0.0;
+  for (const double g : heat_given_) given += g;
+  for (const double r : particles.get<double>(f_received_)) received += r;
+  return given - received;
+}
+
+void CfdDemCoupling::add_heat(ParticleStore& particles, const double* temperature, double* q,
+                              double* h, double dt) const {
   if (!heat_) return;
   const auto t0 = Clock::now();
-  const double* cond = particles.get<double>(f_conductance_).data();
-  const double* tf = particles.get<double>(f_tf_).data();
+  const double* cond = std::as_const(particles).get<double>(f_conductance_).data();
+  const double* tf = std::as_const(particles).get<double>(f_tf_).data();
+  double* received = particles.get<double>(f_received_).data();
   exec::parallel_for(static_cast<exec::index_t>(particles.size()), [&](exec::index_t i) {
-    q[i] += cond[i] * (tf[i] - temperature[i]);
+    const double flow = cond[i] * (tf[i] - temperature[i]);
+    q[i] += flow;
     h[i] += cond[i];
+    received[i] += dt * flow;
   });
   force_seconds_ += seconds_since(t0);
 }
@@ -357,9 +388,13 @@ fluid::VolumeAveragedNS::State CfdDemCoupling::state() const {
   std::vector<double> rate(eps_rate_);
   rate.resize(static_cast<std::size_t>(grid_.cell_count()), 0.0);
   st.arrays.emplace_back("coupling_eps_rate", std::move(rate));  // the relaxed flux rate
-  if (heat_)
+  if (heat_) {
     st.arrays.emplace_back("fluid_temperature", std::vector<double>(heat_->temperature().begin(),
                                                                     heat_->temperature().end()));
+    std::vector<double> given(heat_given_);
+    given.resize(static_cast<std::size_t>(grid_.cell_count()), 0.0);
+    st.arrays.emplace_back("fluid_heat_given", std::move(given));
+  }
   return st;
 }
 
@@ -378,6 +413,9 @@ void CfdDemCoupling::restore(const fluid::VolumeAveragedNS::State& st) {
       REQUIRE(v.size() == nc, "coupling restore: {} temperatures for {} cells", v.size(), nc);
       heat_->set_temperature(v);
       restored_temperature = true;
+    } else if (name == "fluid_heat_given" && heat_) {
+      REQUIRE(v.size() == nc, "coupling restore: {} heat values for {} cells", v.size(), nc);
+      heat_given_ = v;
     }
   REQUIRE(!heat_ || restored_temperature,
           "coupling restore: the checkpoint has no fluid temperature (written without "

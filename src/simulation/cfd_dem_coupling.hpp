@@ -45,7 +45,12 @@ class ParticleStore;
 /// take, h_i A_i (T_f,i - T_i) with the T_f,i they read, spread over the cells with the implicit
 /// part K = sum w h A / V; after the flow step one step of the fluid's temperature, read back
 /// at the grains (field fluid_temperature). On every DEM step add_heat() gives each grain
-/// h_i A_i (T_f,i - T_i) with its current temperature.
+/// h_i A_i (T_f,i - T_i) with its current temperature, and counts it (field
+/// fluid_heat_received). The fluid took its side at the grains' temperatures of the fluid step;
+/// what it lost that the grains did not receive over the interval (they changed temperature
+/// meanwhile, an error of order dt_f / tau per interval that would add up) goes back into the
+/// fluid's source at the next fluid step, cell by cell, so the energy of grains and fluid is
+/// conserved to one interval's exchange, not only to O(dt_f / tau) of all heat exchanged.
 class CfdDemCoupling {
  public:
   /// Builds the grid over the domain box and the fluid solver; registers the particle fields.
@@ -58,9 +63,10 @@ class CfdDemCoupling {
   void add_forces(ParticleStore& particles) const;
   /// With coupling.heat_transfer: adds each grain's heat from the fluid, h A (T_f - T) [W], to q
   /// and its conductance h A [W/K] to h (the stability sum of the explicit update); `temperature`
-  /// per grain [K]. A no-op without.
-  void add_heat(const ParticleStore& particles, const double* temperature, double* q,
-                double* h) const;
+  /// per grain [K]. A no-op without. Also counts the heat dt h A (T_f - T) of the step into the
+  /// grain's fluid_heat_received [J].
+  void add_heat(ParticleStore& particles, const double* temperature, double* q, double* h,
+                double dt) const;
   [[nodiscard]] bool has_heat() const { return heat_ != nullptr; }
   /// The fluid's temperature (null without coupling.heat_transfer).
   [[nodiscard]] const fluid::FluidHeat* heat() const { return heat_.get(); }
@@ -68,6 +74,10 @@ class CfdDemCoupling {
   /// heats the grains), and through the box faces into the fluid [W].
   [[nodiscard]] double grain_heat_to_fluid() const { return heat_report_.particle_heat; }
   [[nodiscard]] double boundary_heat_to_fluid() const { return heat_report_.boundary_heat; }
+  /// The heat the fluid has given the grains at its last step that they have not taken yet, J
+  /// (they take it over the interval; it is settled at the next fluid step): the energy of
+  /// grains plus fluid plus this is conserved to round-off when nothing crosses the box faces.
+  [[nodiscard]] double heat_in_transit(const ParticleStore& particles) const;
   /// Whether DEM step number `step` (after it was taken) is due a fluid step.
   [[nodiscard]] bool due(std::int64_t step) const { return step % interval_ == 0; }
 
@@ -144,8 +154,12 @@ class CfdDemCoupling {
   std::unique_ptr<fluid::FluidHeat> heat_;
   fluid::HeatStepReport heat_report_;
   double k_f_ = 0, prandtl_ = 0;
-  int f_conductance_ = -1, f_tf_ = -1, f_temperature_ = -1;
+  int f_conductance_ = -1, f_tf_ = -1, f_temperature_ = -1, f_received_ = -1;
   std::vector<double> heat_q_, heat_k_, heat_value_;
+  // Per cell: the heat the fluid gave the grains over its last step, J (dt_f V (K T - q)), and
+  // what the grains received since, J; their difference returns to the fluid next step.
+  std::vector<double> heat_given_, heat_received_;
+  std::vector<double> heat_qx_;  // per cell: the exchange part of the source (no correction)
 };
 
 }  // namespace gf

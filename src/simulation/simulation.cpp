@@ -1271,7 +1271,7 @@ void Simulation::conduct_heat() {
   if (!walls_.empty())
     wall_heat_flows(particles_, walls_, wlist_, heat_model_, k_series_, temp, q.data(),
                     heat_h_.data());
-  if (cfd_) cfd_->add_heat(particles_, temp, q.data(), heat_h_.data());
+  if (cfd_) cfd_->add_heat(particles_, temp, q.data(), heat_h_.data(), dt_);
   // Explicit Euler, m c dT/dt = Q: stable while dt sum(H) / (m c) <= 1 for every grain (the
   // rows of the conduction matrix by Gershgorin's discs), which a DEM step keeps by orders of
   // magnitude for real materials; a step that breaks it stops the run with the numbers.

@@ -16,7 +16,8 @@
 // (bounded; numerical diffusivity |u| h / 2, say so when it matters) and central diffusion,
 // both implicit with backward Euler, so any step is stable and T stays within the range of its
 // initial, boundary and particle temperatures (the matrix is an M-matrix). The non-symmetric
-// system is solved by Eigen's BiCGSTAB with a diagonal preconditioner (diagonally dominant).
+// system, for the change of T over the step, is solved by Eigen's BiCGSTAB with a light
+// incomplete LU (the diagonal alone stalls on convection-dominated periodic rows).
 //
 // Boundaries, per box face, by the flow's condition there: periodic wraps; walls (no_slip,
 // moving_wall) are adiabatic, or held at a temperature (conduction across half a cell); a
