@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <vector>
 
@@ -15,6 +16,8 @@
 #include "contact/pair_forces.hpp"
 #include "core/error.hpp"
 #include "input_error.hpp"
+#include "io/input/echo.hpp"
+#include "io/input/parse_case.hpp"
 #include "simulation/simulation.hpp"
 #include "state_compare.hpp"
 #include "temp_dir.hpp"
@@ -333,4 +336,48 @@ TEST(HeatConduction, CodeBuiltCasesAreCheckedAndTheCudaBackEndRefusesThem) {
             std::string::npos);
   Simulation sim(bed_case());
   EXPECT_NE(sim.device_unsupported().find("heat"), std::string::npos);
+}
+
+// The resolved case (the echo every run writes) keeps every thermal key, and loads back to the
+// same case: the heated bed (materials, heat block, walls' temperatures) and the heated
+// fluidised bed (the fluid's properties, the inlet's temperature, the correlation).
+TEST(HeatConduction, TheResolvedCaseKeepsTheTemperatures) {
+  for (const char* name : {"dem/heated_bed", "cfd_dem/fluidized_bed_heating"}) {
+    const auto file = std::filesystem::path(GF_SOURCE_DIR) / "cases" / name / "case.yaml";
+    const auto c = input::load_case(file);
+    ASSERT_TRUE(c.heat) << name;
+    const std::string text = input::echo_yaml(c, "1");
+    test::TempDir dir;
+    const auto again = input::load_case(dir.write("echo.yaml", text));
+    ASSERT_TRUE(again.heat) << text;
+    EXPECT_EQ(again.heat->model, c.heat->model);
+    EXPECT_EQ(again.heat->temperature, c.heat->temperature);
+    ASSERT_EQ(again.materials.size(), c.materials.size());
+    for (std::size_t m = 0; m < c.materials.size(); ++m) {
+      EXPECT_EQ(again.materials[m].thermal_conductivity, c.materials[m].thermal_conductivity);
+      EXPECT_EQ(again.materials[m].heat_capacity, c.materials[m].heat_capacity);
+    }
+    ASSERT_EQ(again.particles.size(), c.particles.size());
+    for (std::size_t g = 0; g < c.particles.size(); ++g) {
+      EXPECT_EQ(again.particles[g].temperature, c.particles[g].temperature);
+      EXPECT_EQ(again.particles[g].heat_source, c.particles[g].heat_source);
+    }
+    ASSERT_EQ(again.walls.size(), c.walls.size());
+    for (std::size_t w = 0; w < c.walls.size(); ++w)
+      EXPECT_EQ(again.walls[w].temperature, c.walls[w].temperature) << c.walls[w].name;
+    EXPECT_EQ(again.fluid.has_value(), c.fluid.has_value());
+    if (c.fluid) {
+      EXPECT_EQ(again.fluid->heat_capacity, c.fluid->heat_capacity);
+      EXPECT_EQ(again.fluid->thermal_conductivity, c.fluid->thermal_conductivity);
+      EXPECT_EQ(again.fluid->temperature, c.fluid->temperature);
+      for (int face = 0; face < 6; ++face)
+        EXPECT_EQ(again.fluid->boundary[face].temperature, c.fluid->boundary[face].temperature);
+      EXPECT_EQ(again.coupling->heat_transfer, c.coupling->heat_transfer);
+    }
+    // Resolved once, the echo is a fixed point (but for its first line, naming the file read).
+    const std::string second = input::echo_yaml(again, "1");
+    const auto third = input::load_case(dir.write("echo2.yaml", second));
+    const auto body = [](const std::string& e) { return e.substr(e.find('\n') + 1); };
+    EXPECT_EQ(body(input::echo_yaml(third, "1")), body(second)) << name;
+  }
 }

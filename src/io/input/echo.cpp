@@ -235,6 +235,8 @@ void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config
   const bool radius_from_file = g.explicit_particles && !g.explicit_particles->radii.empty();
   emit_size(out, g, radius_from_file);
   out << YAML::Key << "material" << YAML::Value << g.material;
+  if (g.temperature) key_number(out, "temperature", *g.temperature);
+  if (g.heat_source) key_number(out, "heat_source", *g.heat_source);
   const int dim = c.dimension;
   out << YAML::Key << "fixed" << YAML::Value;
   if (g.motion)
@@ -339,6 +341,7 @@ void emit_wall(YAML::Emitter& out, const config::Wall& w, int dim) {
       break;
   }
   out << YAML::Key << "material" << YAML::Value << w.material;
+  if (w.temperature) key_number(out, "temperature", *w.temperature);
   if (!(w.motion.velocity == Vec3{}) || w.motion.rotates) {
     out << YAML::Key << "motion" << YAML::Value;
     emit_motion(out, w.motion, dim);
@@ -411,9 +414,17 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     key_number(out, "density", m.density);
     key_number(out, "youngs_modulus", m.youngs_modulus);
     key_number(out, "poisson_ratio", m.poisson_ratio);
+    if (m.thermal_conductivity) key_number(out, "thermal_conductivity", *m.thermal_conductivity);
+    if (m.heat_capacity) key_number(out, "heat_capacity", *m.heat_capacity);
     out << YAML::EndMap;
   }
   out << YAML::EndMap;
+  if (c.heat) {
+    out << YAML::Key << "heat" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    out << YAML::Key << "model" << YAML::Value << c.heat->model;
+    key_number(out, "temperature", c.heat->temperature);
+    out << YAML::EndMap << YAML::Comment("K");
+  }
 
   out << YAML::Key << "contacts" << YAML::Value << YAML::BeginSeq;
   for (const auto& ct : c.contacts) {
