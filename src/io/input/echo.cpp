@@ -322,7 +322,10 @@ void emit_wall(YAML::Emitter& out, const config::Wall& w, int dim) {
     }
     case config::Wall::Kind::Mesh:
       out << YAML::Key << "mesh" << YAML::Value << YAML::Flow << YAML::BeginMap;
-      out << YAML::Key << "file" << YAML::Value << w.mesh_file.string();
+      // Absolute: the resolved case lives in the output folder, and a relative path is read
+      // relative to the case file's folder.
+      out << YAML::Key << "file" << YAML::Value
+          << std::filesystem::absolute(w.mesh_file).lexically_normal().string();
       out << YAML::Key << "scale" << YAML::Value << w.mesh_scale;
       key_vec(out, "offset", w.mesh_offset, dim);
       out << YAML::EndMap;
