@@ -97,6 +97,12 @@ FluidHeat::FluidHeat(const VolumeAveragedNS& flow, HeatSettings settings,
   // (Eigen's default fill 10) cost more per step than it saved.
   solver_.preconditioner().setFillfactor(1);
   solver_.preconditioner().setDroptol(1e-8);
+  // Eigen 3.4's IncompleteLUT sets its status only in factorize(), and the solver's
+  // analyzePattern() reads it: factorise the preconditioner once first (on the identity, the
+  // step overwrites the values) so that no uninitialised status is read (UBSan caught it).
+  for (const int d : diag_) a_.valuePtr()[d] = 1.0;
+  solver_.preconditioner().analyzePattern(a_);
+  solver_.preconditioner().factorize(a_);
   solver_.analyzePattern(a_);
   solver_.setTolerance(s_.tolerance);
   solver_.setMaxIterations(s_.max_iterations);
