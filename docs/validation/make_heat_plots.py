@@ -57,7 +57,8 @@ def plot(folder, out):
 
 
 def plot_fluid(folder, out):
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, axes = plt.subplots(2, 2, figsize=(11, 8.4))
+    ax = axes[0]
     for law, marker in (("ranz_marshall", "o"), ("gunn", "s")):
         w = load(os.path.join(folder, f"cfd_dem_heat_bead_water_{law}.csv"))
         ax[0].plot(w["t"], w["temperature"], marker, mfc="none", ms=4, markevery=4,
@@ -84,6 +85,36 @@ def plot_fluid(folder, out):
     ax[1].set_xlabel("Re = rho_f |u_f - v| d / mu")
     ax[1].set_ylabel("Nu")
     ax[1].set_title("the bead in an air stream (Pr = 0.70)", fontsize=9)
+    ax[1].legend(fontsize=8)
+
+    # The fluid's temperature alone: van Leer's face values against upwinding.
+    ax = axes[1]
+    p = load(os.path.join(folder, "cfd_dem_heat_pulse.csv"))
+    sel = np.isclose(p["courant"], 0.1)
+    x = p["x"][sel] * 1e3
+    ax[0].plot(x, p["initial"][sel], "k-", lw=0.8, label="exact (the initial profile)")
+    ax[0].plot(x, p["van_leer"][sel], "o", mfc="none", ms=4, label="van_leer (default)")
+    ax[0].plot(x, p["upwind"][sel], "s", mfc="none", ms=4, label="upwind")
+    ax[0].set_xlabel("x (mm)")
+    ax[0].set_ylabel("fluid temperature (K)")
+    ax[0].set_title("a pulse carried once around a periodic box, 40 cells, Courant 0.1",
+                    fontsize=9)
+    ax[0].legend(fontsize=8)
+
+    c = load(os.path.join(folder, "cfd_dem_heat_channel_convergence.csv"))
+    ax[1].loglog(c["cells"], c["van_leer_interior"], "o-", mfc="none",
+                 label="van_leer, all cells but the last three")
+    ax[1].loglog(c["cells"], c["van_leer_outlet"], "^-", mfc="none",
+                 label="van_leer, the last three (zero-gradient outlet)")
+    ax[1].loglog(c["cells"], c["upwind"], "s-", mfc="none", label="upwind")
+    n = c["cells"]
+    ax[1].loglog(n, c["upwind"][0] * (n[0] / n), "k:", lw=0.8, label="slope -1")
+    ax[1].loglog(n, c["van_leer_interior"][0] * (n[0] / n) ** 2, "k--", lw=0.8,
+                 label="slope -2")
+    ax[1].set_xlabel("cells along the channel")
+    ax[1].set_ylabel("max |T - T_exact| at the cell centres (K)")
+    ax[1].set_title("steady channel through a heat-exchanging bed (exponential profile)",
+                    fontsize=9)
     ax[1].legend(fontsize=8)
     fig.suptitle("grain-fluid heat transfer in CFD-DEM (docs/models/cfd_dem.md)")
     fig.tight_layout()

@@ -138,6 +138,8 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
     fluid::HeatSettings hs;
     hs.heat_capacity = f.heat_capacity;
     hs.thermal_conductivity = f.thermal_conductivity;
+    hs.convection = f.temperature_convection == "upwind" ? fluid::Convection::Upwind
+                                                         : fluid::Convection::VanLeer;
     for (int face = 0; face < 6; ++face)
       hs.boundary_temperature[face] =
           f.boundary[face].temperature.value_or(std::numeric_limits<double>::quiet_NaN());

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -120,6 +121,7 @@ TEST(FluidHeat, ExchangeLimitedChannelAndItsEnergyBalance) {
   flow.set_velocity([&](const Vec3&) { return Vec3{u_in, 0, 0}; });
   HeatSettings hs = heat(1000.0, 0.0);
   hs.boundary_temperature[box_face_index(0, 0)] = 350.0;
+  hs.convection = Convection::Upwind;
   FluidHeat fh(flow, hs, 300.0);
   const double rho_c = 1200.0, kx = 2000.0, t_p = 300.0;  // K in W/(m^3 K)
   std::vector<double> q(n, kx * t_p), k(n, kx);
@@ -154,7 +156,9 @@ TEST(FluidHeat, PeriodicAdvectionIsBoundedConservativeAndExact) {
   g.periodic = {true, true, true};
   VolumeAveragedNS flow(g, air_like(g, 0));
   flow.set_velocity([](const Vec3&) { return Vec3{1.0, 0, 0}; });
-  FluidHeat fh(flow, heat(1000.0, 0.0), 300.0);
+  HeatSettings hs = heat(1000.0, 0.0);
+  hs.convection = Convection::Upwind;
+  FluidHeat fh(flow, hs, 300.0);
   std::vector<double> t0(20, 300.0);
   for (int i = 5; i < 9; ++i) t0[i] = 400.0;
   fh.set_temperature(t0);
@@ -182,6 +186,9 @@ TEST(FluidHeat, PeriodicAdvectionIsBoundedConservativeAndExact) {
   EXPECT_NEAR(got.imag(), expect.imag(), 1e-8 * std::abs(m0));
 }
 
+// Van Leer's face temperatures (the default) are validated against the same channel and a
+// carried pulse in tests/validation/test_cfd_dem_heat_validation.cpp.
+
 TEST(FluidHeat, RefusesAnInletWithoutTemperatureAndBadProperties) {
   const Grid g = column(0, 4, 0.4);
   FluidSettings fs = air_like(g, 0);
@@ -194,4 +201,7 @@ TEST(FluidHeat, RefusesAnInletWithoutTemperatureAndBadProperties) {
   EXPECT_NO_THROW(FluidHeat(flow, ok, 300.0));
   EXPECT_THROW(FluidHeat(flow, heat(0.0, 0.02), 300.0), Error);
   EXPECT_THROW(FluidHeat(flow, heat(1000.0, -1.0), 300.0), Error);
+  HeatSettings central = ok;
+  central.convection = Convection::Central;  // unbounded: refused
+  EXPECT_THROW(FluidHeat(flow, central, 300.0), Error);
 }

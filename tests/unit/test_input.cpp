@@ -373,6 +373,8 @@ const BadCase bad_cases[] = {
     {"fluid_heat_without_capacity.yaml", 14, "fluid.heat_capacity", "needs the fluid's"},
     {"fluid_inlet_without_temperature.yaml", 21, "fluid.boundary.zmin",
      "needs the temperature of its inflow"},
+    {"fluid_temperature_convection_central.yaml", 20, "fluid.temperature_convection",
+     "one of van_leer, upwind"},
     {"fluid_heat_capacity_without_exchange.yaml", 18, "fluid.heat_capacity",
      "set coupling.heat_transfer"},
     {"fluid_series_temperature_without_exchange.yaml", 18, "output.series.quantities[1]",

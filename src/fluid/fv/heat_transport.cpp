@@ -9,6 +9,7 @@
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
+#include "fluid/fv/limiter.hpp"
 
 namespace gf::fluid {
 
@@ -28,6 +29,9 @@ FluidHeat::FluidHeat(const VolumeAveragedNS& flow, HeatSettings settings,
   REQUIRE(s_.thermal_conductivity >= 0,
           "fluid heat: thermal conductivity must be >= 0 W/(m K), got {}", s_.thermal_conductivity);
   REQUIRE(std::isfinite(initial_temperature), "fluid heat: the initial temperature is not finite");
+  REQUIRE(s_.convection != Convection::Central,
+          "fluid heat: central convection of the temperature is unbounded at cell Peclet "
+          "numbers above 2; use van_leer or upwind");
   rho_c_ = flow.settings().density * s_.heat_capacity;
   for (int f = 0; f < 6; ++f) {
     kinds_[f] = flow.settings().boundary[f].kind;
@@ -131,8 +135,13 @@ HeatStepReport FluidHeat::step(double dt, const VolumeAveragedNS& flow) {
   double* values = a_.valuePtr();
   const int* outer = a_.outerIndexPtr();
   const auto nc = static_cast<exec::index_t>(t_.size());
+  const bool limited = s_.convection == Convection::VanLeer;
   // Row c: eps rho c / dt T_c + sum over the faces of (diffusion D + inflow rho c m) (T_c - T_nb)
   // + K T_c = eps rho c / dt T_c^n + q_c, per unit volume; a box face's T_nb is its temperature.
+  // With van Leer, each interior face adds - rho c m_out (T_f - T_f,upwind) at T^n to the right
+  // side (m_out: the face's outward eps u / h; T_f: the limited value from the far-upwind,
+  // upwind and downwind cells; beyond an inlet the far-upwind value mirrors the inflow
+  // temperature, beyond other box faces there is no correction).
   exec::parallel_for(nc, [&](exec::index_t c) {
     std::fill(values + outer[c], values + outer[c + 1], 0.0);
     const double eps_c = eps[c], inertia = eps_c * rho_c_ / dt;
@@ -147,6 +156,7 @@ HeatStepReport FluidHeat::step(double dt, const VolumeAveragedNS& flow) {
         const double w = eps_f * k_f / (h * h) + rho_c_ * inflow;
         diag += w;
         values[l.entry] -= w;
+        if (limited) rhs -= rho_c_ * convection_correction(c, m, l.side * eps_f * u[a][l.face] / h);
         continue;
       }
       if (l.box_face < 0) continue;  // a periodic axis of one cell
@@ -210,6 +220,34 @@ HeatStepReport FluidHeat::step(double dt, const VolumeAveragedNS& flow) {
     }
   }
   return r;
+}
+
+double FluidHeat::convection_correction(std::int64_t c, int m, double out) const {
+  if (out == 0.0) return 0.0;
+  const std::size_t per_cell = 2 * static_cast<std::size_t>(dim_);
+  const Link& l = links_[static_cast<std::size_t>(c) * per_cell + static_cast<std::size_t>(m)];
+  std::int64_t up = c, down = l.neighbor;
+  const Link* far = nullptr;  // the upwind cell's link away from the face
+  if (out > 0) {
+    far = &links_[static_cast<std::size_t>(c) * per_cell + static_cast<std::size_t>(m ^ 1)];
+  } else {
+    up = l.neighbor;
+    down = c;
+    far = &links_[static_cast<std::size_t>(up) * per_cell + static_cast<std::size_t>(m)];
+  }
+  const double tu = t_[static_cast<std::size_t>(up)];
+  double t_far = 0.0;
+  if (far->neighbor >= 0) {
+    t_far = t_[static_cast<std::size_t>(far->neighbor)];
+  } else if (far->box_face >= 0 && kinds_[far->box_face] == BcKind::VelocityInlet) {
+    // The inflow's temperature, half a cell away: the mirror value 2 T_b - T_u gives the
+    // slope over a whole cell (the face next to an inlet would otherwise be first order and
+    // offset the whole profile downstream by O(h)).
+    t_far = 2.0 * s_.boundary_temperature[far->box_face] - tu;
+  } else {
+    return 0.0;
+  }
+  return out * (van_leer(t_far, tu, t_[static_cast<std::size_t>(down)]) - tu);
 }
 
 double FluidHeat::energy(const VolumeAveragedNS& flow) const {

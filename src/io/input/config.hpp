@@ -351,6 +351,7 @@ struct Fluid {
   /// The fluid's temperature (with coupling.heat_transfer): c_p [J/(kg K)], k [W/(m K)] (0: not
   /// given) and the initial temperature [K] (none: heat.temperature)
   double heat_capacity = 0, thermal_conductivity = 0;
+  std::string temperature_convection = "van_leer";  ///< van_leer | upwind
   std::optional<double> temperature;
   std::optional<SourceLoc> thermal_loc;  ///< the first of these keys given, for errors
   SourceLoc loc;

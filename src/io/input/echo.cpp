@@ -591,6 +591,7 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
     if (c.coupling && !c.coupling->heat_transfer.empty()) {
       key_number(out, "heat_capacity", f.heat_capacity);
       key_number(out, "thermal_conductivity", f.thermal_conductivity);
+      out << YAML::Key << "temperature_convection" << YAML::Value << f.temperature_convection;
       key_number(out, "temperature", f.temperature ? *f.temperature : c.heat->temperature);
       if (!f.temperature) out << YAML::Comment("heat.temperature");
     }

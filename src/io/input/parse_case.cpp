@@ -395,7 +395,8 @@ void Reader::read_fluid(const YamlMap& root) {
   auto fn = root.find("fluid");
   if (!fn) return;
   YamlMap fm(*fn, {"density", "viscosity", "cells", "boundary", "initial_velocity", "convection",
-                   "heat_capacity", "thermal_conductivity", "temperature"});
+                   "heat_capacity", "thermal_conductivity", "temperature",
+                   "temperature_convection"});
   config::Fluid f;
   f.loc = fn->key_loc();  // the `fluid:` line, for errors about the block as a whole
   // The coupling maps spheres and spherocylinders onto a 3D grid; 2D grains (disks, polygons)
@@ -513,7 +514,10 @@ void Reader::read_fluid(const YamlMap& root) {
   f.heat_capacity = fm.number_or("heat_capacity", 0.0, Range::positive());
   f.thermal_conductivity = fm.number_or("thermal_conductivity", 0.0, Range::non_negative());
   f.temperature = read_temperature(fm);
-  for (const char* key : {"heat_capacity", "thermal_conductivity", "temperature"})
+  if (auto tc = fm.find("temperature_convection"))
+    f.temperature_convection = tc->as_choice({"van_leer", "upwind"});
+  for (const char* key :
+       {"heat_capacity", "thermal_conductivity", "temperature", "temperature_convection"})
     if (auto n = fm.find(key); n && !f.thermal_loc) f.thermal_loc = n->loc();
   c.fluid = std::move(f);
 }
@@ -592,8 +596,8 @@ void Reader::read_fluid_heat(const YamlMap& cm, config::Coupling& cp) const {
       if (!loc && b.temperature) loc = b.loc;
     if (loc)
       throw_input_error(*loc,
-                        "the fluid's heat_capacity, thermal_conductivity, temperature and boundary "
-                        "temperatures are used only with a heat exchange between grains and "
+                        "the fluid's heat_capacity, thermal_conductivity, temperature, "
+                        "temperature_convection and boundary temperatures are used only with a heat exchange between grains and "
                         "fluid: set coupling.heat_transfer (e.g. gunn)");
     return;
   }
