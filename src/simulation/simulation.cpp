@@ -1613,6 +1613,8 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       row.push_back(cfd_->grain_heat_to_fluid());
     } else if (cfd_ && cfd_->has_heat() && name == "fluid_boundary_heat_flow") {
       row.push_back(cfd_->boundary_heat_to_fluid());
+    } else if (cfd_ && cfd_->has_heat() && name == "fluid_heat_in_transit") {
+      row.push_back(cfd_->heat_in_transit(particles_));
     } else {
       throw InputError(fmt::format("unknown series quantity '{}'", name));
     }

@@ -1961,7 +1961,8 @@ void Reader::read_output(const YamlMap& root) {
           item.fail(fmt::format("series quantity '{}' needs a fluid: block", name));
         if (c.fluid &&
             (name == "fluid_temperature_mean" || name == "fluid_thermal_energy" ||
-             name == "fluid_heat_from_grains" || name == "fluid_boundary_heat_flow") &&
+             name == "fluid_heat_from_grains" || name == "fluid_boundary_heat_flow" ||
+             name == "fluid_heat_in_transit") &&
             (!c.coupling || c.coupling->heat_transfer.empty()))
           item.fail(
               fmt::format("series quantity '{}' needs the fluid's temperature: "
@@ -2175,6 +2176,7 @@ const std::vector<std::string>& series_quantity_names() {
                                               "fluid_thermal_energy",
                                               "fluid_heat_from_grains",
                                               "fluid_boundary_heat_flow",
+                                              "fluid_heat_in_transit",
                                               "lacey_index",
                                               "temperature_mean",
                                               "temperature_min",
