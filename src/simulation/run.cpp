@@ -133,8 +133,13 @@ RunSummary Simulation::run(const RunOptions& opts) {
                        : std::make_unique<io::PvdSeries>(dir / name);
   };
 
-  write_atomically(dir / "resolved_case.yaml",
-                   [&](std::ostream& o) { o << input::echo_yaml(cfg_, version_string); });
+  // The resolved case, and beside it the CSV files of its long particle lists (written first:
+  // the case names them).
+  std::vector<input::EchoFile> echo_files;
+  const std::string resolved = input::echo_yaml(cfg_, version_string, &echo_files);
+  for (const auto& f : echo_files)
+    write_atomically(dir / f.name, [&](std::ostream& o) { o << f.text; });
+  write_atomically(dir / "resolved_case.yaml", [&](std::ostream& o) { o << resolved; });
 
   const std::int64_t first = step_;
   const std::int64_t builds_before = nlist_.n_builds();  // a restart carries the count over

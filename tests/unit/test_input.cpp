@@ -742,6 +742,130 @@ TEST(InputEcho, LongParticleListsAreSummarised) {
   EXPECT_EQ(echo.find("0.098"), std::string::npos) << echo;
 }
 
+namespace {
+
+/// Echoes `c` with its long particle lists as files, writes them into a fresh folder and loads
+/// the resolved case back from there.
+config::Case echo_and_reload(const config::Case& c, TempDir& dir, std::size_t expect_files) {
+  std::vector<input::EchoFile> files;
+  const std::string echo = input::echo_yaml(c, "1", &files);
+  EXPECT_EQ(files.size(), expect_files) << echo;
+  for (const auto& f : files) dir.write(f.name, f.text);
+  return input::load_case(dir.write("resolved_case.yaml", echo));
+}
+
+}  // namespace
+
+// A run's resolved case puts long particle lists into CSV files beside it (the folder a run
+// writes both to): the resolved case loads back into the same particles, velocities and
+// orientations (3D rods with axes, 2D polygons with angles and spins), so every resolved case
+// runs again as it is.
+TEST(InputEcho, LongParticleListsGoToFilesThatLoadBack) {
+  std::string text = header_3d +
+                     "particles:\n  - radius: 0.001\n    material: glass\n"
+                     "    positions:\n";
+  std::string vel = "    velocities:\n", spin = "    angular_velocities:\n";
+  for (int i = 0; i < 25; ++i) {
+    text += fmt::format("      - [{}, 0.05, 0.05]\n", 0.002 + i * 0.004);
+    vel += fmt::format("      - [0.1, {}, -0.3]\n", 0.01 * i);
+    spin += fmt::format("      - [{}, 0, 1]\n", 2.5 * i);
+  }
+  text += vel + spin;
+  // A second group of rods, tilted one by one, and a short list that stays inline.
+  text +=
+      "  - {shape: spherocylinder, radius: 0.0005, length: 0.002, material: glass,\n"
+      "     positions: [";
+  std::string axes = "axes: [";
+  for (int i = 0; i < 22; ++i) {
+    text += fmt::format("{}[{}, 0.02, 0.08]", i ? ", " : "", 0.003 + i * 0.0042);
+    axes += fmt::format("{}[{}, 0.3, 1]", i ? ", " : "", 0.1 * i - 1.0);
+  }
+  text += "],\n     " + axes + "]}\n";
+  text += "  - {radius: 0.001, material: glass, positions: [[0.05, 0.05, 0.09]]}\n";
+  const auto c = input::load_case_text(text, "long.yaml");
+  input::validate(c);
+  TempDir dir;
+  const auto again = echo_and_reload(c, dir, 2);
+  ASSERT_EQ(again.particles.size(), 3u);
+  for (std::size_t g = 0; g < 3; ++g) {
+    const auto& a = *c.particles[g].explicit_particles;
+    const auto& b = *again.particles[g].explicit_particles;
+    ASSERT_EQ(b.positions.size(), a.positions.size()) << g;
+    EXPECT_EQ(b.velocities.size(), a.velocities.size()) << g;
+    EXPECT_EQ(b.angular_velocities.size(), a.angular_velocities.size()) << g;
+    ASSERT_EQ(b.orientations.size(), a.orientations.size()) << g;
+    for (std::size_t i = 0; i < a.positions.size(); ++i) {
+      EXPECT_EQ(norm(b.positions[i] - a.positions[i]), 0.0) << g << " " << i;
+      if (!a.velocities.empty()) {
+        EXPECT_EQ(norm(b.velocities[i] - a.velocities[i]), 0.0);
+      }
+      if (!a.angular_velocities.empty()) {
+        EXPECT_EQ(norm(b.angular_velocities[i] - a.angular_velocities[i]), 0.0);
+      }
+      if (!a.orientations.empty()) {
+        const Quat &p = a.orientations[i], &q = b.orientations[i];
+        EXPECT_NEAR(std::abs(p.w * q.w + p.x * q.x + p.y * q.y + p.z * q.z), 1.0, 1e-15) << i;
+      }
+    }
+  }
+  EXPECT_EQ(again.particles[1].kind, config::Shape::Spherocylinder);
+  EXPECT_TRUE(again.particles[2].explicit_particles->file.empty());  // short: inline
+  // The reloaded case reads its grains from the CSV files; its echo copies them again (a run's
+  // folder holds everything it ran from), with the same data.
+  TempDir dir2;
+  const auto third = echo_and_reload(again, dir2, 2);
+  for (std::size_t g = 0; g < 2; ++g) {
+    const auto& a = *c.particles[g].explicit_particles;
+    const auto& b = *third.particles[g].explicit_particles;
+    ASSERT_EQ(b.positions.size(), a.positions.size());
+    for (std::size_t i = 0; i < a.positions.size(); ++i)
+      EXPECT_EQ(norm(b.positions[i] - a.positions[i]), 0.0) << g << " " << i;
+  }
+  // Without a list of files (a sweep's plan), a CSV source is named by its absolute path.
+  const std::string digest = input::echo_yaml(again, "1");
+  EXPECT_NE(digest.find((dir / "resolved_particles_0.csv").lexically_normal().string()),
+            std::string::npos)
+      << digest;
+}
+
+TEST(InputEcho, LongPolygonListsIn2DGoToFilesThatLoadBack) {
+  std::string text = R"(dimension: 2
+time: {step: 1.0e-5, end: 0.1}
+domain: {min: [0, 0], max: [0.2, 0.1]}
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+particles:
+  - shape: polygon
+    polygon: {regular: 5}
+    radius: 0.002
+    material: glass
+)";
+  std::string pos = "    positions: [", ang = "    angles: [", spin = "    angular_velocities: [";
+  for (int i = 0; i < 30; ++i) {
+    pos += fmt::format("{}[{}, 0.05]", i ? ", " : "", 0.005 + i * 0.0062);
+    ang += fmt::format("{}{}", i ? ", " : "", 0.1 * i);
+    spin += fmt::format("{}{}", i ? ", " : "", -3.0 + i);
+  }
+  text += pos + "]\n" + ang + "]\n" + spin + "]\n";
+  const auto c = input::load_case_text(text, "poly.yaml");
+  input::validate(c);
+  TempDir dir;
+  const auto again = echo_and_reload(c, dir, 1);
+  const auto& a = *c.particles[0].explicit_particles;
+  const auto& b = *again.particles[0].explicit_particles;
+  ASSERT_EQ(b.positions.size(), 30u);
+  ASSERT_EQ(b.orientations.size(), 30u);
+  ASSERT_EQ(b.angular_velocities.size(), 30u);
+  for (std::size_t i = 0; i < 30; ++i) {
+    EXPECT_EQ(norm(b.positions[i] - a.positions[i]), 0.0) << i;
+    EXPECT_EQ(b.angular_velocities[i].z, a.angular_velocities[i].z) << i;
+    EXPECT_NEAR(b.orientations[i].z, a.orientations[i].z, 1e-15) << i;
+    EXPECT_NEAR(b.orientations[i].w, a.orientations[i].w, 1e-15) << i;
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Shapes
 

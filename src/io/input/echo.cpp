@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <span>
@@ -229,7 +230,53 @@ void emit_motion(YAML::Emitter& out, const config::Motion& m, int dim) {
   out << YAML::EndMap;
 }
 
-void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config::Case& c) {
+/// The CSV text (`particles[].file` columns) of a group's explicit particles.
+std::string particles_csv(const config::ParticleGroup& g, int dim) {
+  const auto& ex = *g.explicit_particles;
+  const bool two_d = dim == 2;
+  const bool v = !ex.velocities.empty(), w = !ex.angular_velocities.empty();
+  const bool r = !ex.radii.empty(), q = !ex.orientations.empty();
+  const bool rod = g.kind == config::Shape::Spherocylinder;
+  fmt::memory_buffer text;
+  auto out = std::back_inserter(text);
+  fmt::format_to(out, "# {} particles of group '{}' ({}), written by grainflow\n",
+                 ex.positions.size(), g.shape, g.material);
+  fmt::format_to(out, "{}{}{}{}{}\n", two_d ? "x,y" : "x,y,z",
+                 v ? (two_d ? ",vx,vy" : ",vx,vy,vz") : "", w ? (two_d ? ",wz" : ",wx,wy,wz") : "",
+                 r ? ",radius" : "", q ? (rod ? ",qw,qx,qy,qz" : ",angle") : "");
+  const auto number = [&](double x, bool first = false) {
+    fmt::format_to(out, "{}{}", first ? "" : ",", number_text(x));
+  };
+  const auto vec = [&](const Vec3& a, bool first = false) {
+    number(a.x, first);
+    number(a.y);
+    if (!two_d) number(a.z);
+  };
+  for (std::size_t i = 0; i < ex.positions.size(); ++i) {
+    vec(ex.positions[i], true);
+    if (v) vec(ex.velocities[i]);
+    if (w) {
+      if (two_d)
+        number(ex.angular_velocities[i].z);
+      else
+        vec(ex.angular_velocities[i]);
+    }
+    if (r) number(ex.radii[i]);
+    if (q) {
+      const Quat& o = ex.orientations[i];
+      if (rod) {
+        for (const double c : {o.w, o.x, o.y, o.z}) number(c);
+      } else {
+        number(angle_of(o));
+      }
+    }
+    fmt::format_to(out, "\n");
+  }
+  return fmt::to_string(text);
+}
+
+void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config::Case& c,
+                std::size_t index, std::vector<EchoFile>* files) {
   out << YAML::BeginMap;
   out << YAML::Key << "shape" << YAML::Value << g.shape;
   const bool radius_from_file = g.explicit_particles && !g.explicit_particles->radii.empty();
@@ -261,7 +308,17 @@ void emit_group(YAML::Emitter& out, const config::ParticleGroup& g, const config
   if (g.explicit_particles) {
     const auto& ex = *g.explicit_particles;
     const std::size_t n = ex.positions.size();
-    if (!ex.file.empty()) {
+    if (files && (!ex.file.empty() || n > echo_max_listed_particles)) {
+      // A copy beside the resolved case: the run's folder then holds everything it ran from,
+      // whatever becomes of the source file later.
+      const std::string name = fmt::format("resolved_particles_{}.csv", index);
+      files->push_back({name, particles_csv(g, dim)});
+      out << YAML::Key << "file" << YAML::Value << name;
+      out << YAML::Comment(fmt::format(
+          "{} particles{}, from {}", n, radius_from_file ? " with their radii" : "",
+          (ex.file.empty() ? c.file : std::filesystem::absolute(ex.file).lexically_normal())
+              .string()));
+    } else if (!ex.file.empty()) {
       out << YAML::Key << "file" << YAML::Value
           << std::filesystem::absolute(ex.file).lexically_normal().string();
       out << YAML::Comment(fmt::format(
@@ -384,7 +441,8 @@ void emit_every(YAML::Emitter& out, const char* key, const config::OutputEvery& 
 
 }  // namespace
 
-std::string echo_yaml(const config::Case& c, std::string_view program_version) {
+std::string echo_yaml(const config::Case& c, std::string_view program_version,
+                      std::vector<EchoFile>* files) {
   YAML::Emitter out;
   out.SetIndent(2);
   out << YAML::BeginMap;
@@ -452,7 +510,7 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version) {
   out << YAML::EndSeq;
 
   out << YAML::Key << "particles" << YAML::Value << YAML::BeginSeq;
-  for (const auto& g : c.particles) emit_group(out, g, c);
+  for (std::size_t i = 0; i < c.particles.size(); ++i) emit_group(out, c.particles[i], c, i, files);
   out << YAML::EndSeq;
 
   // The shear walls are not echoed: the shear block makes them again.
