@@ -6,7 +6,8 @@
 """Usage: /usr/bin/python3 docs/validation/make_heat_plots.py [--out DIR] [BUILD_DIR]
 (BUILD_DIR default build/release)
 
-Writes docs/validation/dem_heat.png and cfd_dem_heat.png (or into DIR). Uses Debian's python3-numpy and
+Writes docs/validation/dem_heat.png, cfd_dem_heat.png and cfd_dem_natural_convection.png (or
+into DIR). Uses Debian's python3-numpy and
 python3-matplotlib."""
 import os
 import sys
@@ -119,6 +120,37 @@ def plot_fluid(folder, out):
     fig.suptitle("grain-fluid heat transfer in CFD-DEM (docs/models/cfd_dem.md)")
     fig.tight_layout()
     fig.savefig(os.path.join(out, "cfd_dem_heat.png"), dpi=120)
+    plot_cavity(folder, out)
+
+
+def plot_cavity(folder, out):
+    c = load(os.path.join(folder, "cfd_dem_heat_cavity.csv"))
+    ref_ra = np.array([1e3, 1e4, 1e5])
+    ref_nu = np.array([1.1178, 2.24475, 4.52164])  # Hortmann, Peric & Scheuerer (1990)
+    ref_u = np.array([3.649, 16.178, 34.73])  # de Vahl Davis (1983), u_max and v_max
+    ref_v = np.array([3.697, 19.617, 68.59])
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.2))
+    ax[0].loglog(ref_ra, ref_nu, "k*", ms=10, label="mesh-converged (Hortmann et al. 1990)")
+    for n, marker in ((20, "s"), (40, "o")):
+        sel = np.isclose(c["cells"], n)
+        ax[0].loglog(c["ra"][sel], c["nu"][sel], marker, mfc="none", label=f"grainflow, {n} x {n} cells")
+    ax[0].set_xlabel("Ra = g beta dT L^3 / (nu alpha)")
+    ax[0].set_ylabel("Nu of the hot wall")
+    ax[0].set_title("differentially heated square cavity, Pr = 0.71", fontsize=9)
+    ax[0].legend(fontsize=8)
+    sel = np.isclose(c["cells"], 40)
+    ax[1].loglog(ref_ra, ref_u, "k*", ms=10, label="de Vahl Davis (1983): u_max, v_max")
+    ax[1].loglog(ref_ra, ref_v, "k*", ms=10)
+    ax[1].loglog(c["ra"][sel], c["u_max"][sel], "o", mfc="none",
+                 label="grainflow, 40 x 40: u_max on the vertical mid-line")
+    ax[1].loglog(c["ra"][sel], c["v_max"][sel], "s", mfc="none",
+                 label="grainflow, 40 x 40: v_max on the horizontal mid-line")
+    ax[1].set_xlabel("Ra")
+    ax[1].set_ylabel("velocity maximum (alpha / L)")
+    ax[1].legend(fontsize=8)
+    fig.suptitle("Boussinesq buoyancy of the CFD-DEM fluid (fluid.thermal_expansion)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "cfd_dem_natural_convection.png"), dpi=120)
 
 
 if __name__ == "__main__":

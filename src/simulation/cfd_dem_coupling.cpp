@@ -140,6 +140,9 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
     hs.thermal_conductivity = f.thermal_conductivity;
     hs.convection = f.temperature_convection == "upwind" ? fluid::Convection::Upwind
                                                          : fluid::Convection::VanLeer;
+    hs.thermal_expansion = f.thermal_expansion;
+    hs.reference_temperature =
+        f.reference_temperature.value_or(f.temperature.value_or(cfg.heat->temperature));
     for (int face = 0; face < 6; ++face)
       hs.boundary_temperature[face] =
           f.boundary[face].temperature.value_or(std::numeric_limits<double>::quiet_NaN());
@@ -256,7 +259,10 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
                                 std::span<const Vec3>(u_p_), std::span<const Vec3>(cell_u_),
                                 s_explicit_, k_);
 
-  if (heat_) exchange_heat(particles, geo);
+  if (heat_) {
+    exchange_heat(particles, geo);
+    heat_->add_buoyancy(*fluid_, s_explicit_);  // with the temperatures before the step
+  }
 
   fluid_->set_fluid_fraction(eps_, eps_rate_);
   fluid_->set_momentum_source(s_explicit_, k_);

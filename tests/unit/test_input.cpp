@@ -375,6 +375,8 @@ const BadCase bad_cases[] = {
      "needs the temperature of its inflow"},
     {"fluid_temperature_convection_central.yaml", 20, "fluid.temperature_convection",
      "one of van_leer, upwind"},
+    {"fluid_reference_temperature_without_expansion.yaml", 20, "fluid.reference_temperature",
+     "needs the fluid's thermal_expansion"},
     {"fluid_heat_capacity_without_exchange.yaml", 18, "fluid.heat_capacity",
      "set coupling.heat_transfer"},
     {"fluid_series_temperature_without_exchange.yaml", 18, "output.series.quantities[1]",

@@ -29,6 +29,10 @@ FluidHeat::FluidHeat(const VolumeAveragedNS& flow, HeatSettings settings,
   REQUIRE(s_.thermal_conductivity >= 0,
           "fluid heat: thermal conductivity must be >= 0 W/(m K), got {}", s_.thermal_conductivity);
   REQUIRE(std::isfinite(initial_temperature), "fluid heat: the initial temperature is not finite");
+  REQUIRE(s_.thermal_expansion >= 0 && std::isfinite(s_.thermal_expansion),
+          "fluid heat: thermal expansion must be >= 0 1/K, got {}", s_.thermal_expansion);
+  REQUIRE(s_.thermal_expansion == 0 || std::isfinite(s_.reference_temperature),
+          "fluid heat: buoyancy needs a finite reference temperature");
   REQUIRE(s_.convection != Convection::Central,
           "fluid heat: central convection of the temperature is unbounded at cell Peclet "
           "numbers above 2; use van_leer or upwind");
@@ -255,6 +259,17 @@ double FluidHeat::energy(const VolumeAveragedNS& flow) const {
   double e = 0.0;
   for (std::size_t c = 0; c < t_.size(); ++c) e += eps[c] * t_[c];
   return e * rho_c_ * grid_.cell_volume();
+}
+
+void FluidHeat::add_buoyancy(const VolumeAveragedNS& flow, std::span<Vec3> s) const {
+  REQUIRE(s.size() == t_.size(), "fluid heat: buoyancy into {} values for {} cells", s.size(),
+          t_.size());
+  if (s_.thermal_expansion == 0) return;
+  const auto eps = flow.fluid_fraction();
+  const Vec3 g = flow.settings().gravity;
+  const double rho_beta = flow.settings().density * s_.thermal_expansion;
+  for (std::size_t c = 0; c < t_.size(); ++c)
+    s[c] += (-eps[c] * rho_beta * (t_[c] - s_.reference_temperature)) * g;
 }
 
 double FluidHeat::mean_temperature(const VolumeAveragedNS& flow) const {

@@ -56,6 +56,10 @@ struct HeatSettings {
   /// step, second order where smooth) or Upwind (first order). Central is refused: unbounded
   /// once u h / alpha exceeds 2, which the fluids here (alpha ~ 1e-7-1e-5 m^2/s) always do.
   Convection convection = Convection::VanLeer;
+  /// Boussinesq buoyancy: the fluid's density varies as rho (1 - beta (T - T_ref)) in the
+  /// gravity term only; beta [1/K] (0: none; 1/T for an ideal gas, 2.1e-4 for water at 20 C).
+  double thermal_expansion = 0.0;
+  double reference_temperature = 0.0;  ///< T_ref [K]
   double tolerance = 1e-12;  ///< relative residual of each solve
   int max_iterations = 1000;
 };
@@ -91,6 +95,10 @@ class FluidHeat {
   [[nodiscard]] double energy(const VolumeAveragedNS& flow) const;
   /// Fluid-volume-weighted mean temperature sum(eps T V) / sum(eps V) [K].
   [[nodiscard]] double mean_temperature(const VolumeAveragedNS& flow) const;
+  /// Adds the Boussinesq buoyancy of the current temperatures to a momentum source per cell
+  /// (VolumeAveragedNS::set_momentum_source's s_explicit): s_c += -eps_c rho beta (T_c - T_ref) g,
+  /// with the flow's density, fluid fraction and gravity. Nothing without thermal_expansion.
+  void add_buoyancy(const VolumeAveragedNS& flow, std::span<Vec3> s) const;
 
  private:
   using Matrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;

@@ -352,6 +352,10 @@ struct Fluid {
   /// given) and the initial temperature [K] (none: heat.temperature)
   double heat_capacity = 0, thermal_conductivity = 0;
   std::string temperature_convection = "van_leer";  ///< van_leer | upwind
+  /// Boussinesq buoyancy: beta [1/K] (0: none) about the reference temperature [K] (none: the
+  /// fluid's initial temperature)
+  double thermal_expansion = 0;
+  std::optional<double> reference_temperature;
   std::optional<double> temperature;
   std::optional<SourceLoc> thermal_loc;  ///< the first of these keys given, for errors
   SourceLoc loc;

@@ -652,6 +652,10 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version,
       out << YAML::Key << "temperature_convection" << YAML::Value << f.temperature_convection;
       key_number(out, "temperature", f.temperature ? *f.temperature : c.heat->temperature);
       if (!f.temperature) out << YAML::Comment("heat.temperature");
+      key_number(out, "thermal_expansion", f.thermal_expansion);
+      if (f.thermal_expansion > 0)
+        key_number(out, "reference_temperature",
+                   f.reference_temperature.value_or(f.temperature.value_or(c.heat->temperature)));
     }
     out << YAML::EndMap;
   }

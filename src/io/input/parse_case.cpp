@@ -395,8 +395,8 @@ void Reader::read_fluid(const YamlMap& root) {
   auto fn = root.find("fluid");
   if (!fn) return;
   YamlMap fm(*fn, {"density", "viscosity", "cells", "boundary", "initial_velocity", "convection",
-                   "heat_capacity", "thermal_conductivity", "temperature",
-                   "temperature_convection"});
+                   "heat_capacity", "thermal_conductivity", "temperature", "temperature_convection",
+                   "thermal_expansion", "reference_temperature"});
   config::Fluid f;
   f.loc = fn->key_loc();  // the `fluid:` line, for errors about the block as a whole
   // The coupling maps spheres and spherocylinders onto a 3D grid; 2D grains (disks, polygons)
@@ -516,8 +516,14 @@ void Reader::read_fluid(const YamlMap& root) {
   f.temperature = read_temperature(fm);
   if (auto tc = fm.find("temperature_convection"))
     f.temperature_convection = tc->as_choice({"van_leer", "upwind"});
-  for (const char* key :
-       {"heat_capacity", "thermal_conductivity", "temperature", "temperature_convection"})
+  f.thermal_expansion = fm.number_or("thermal_expansion", 0.0, Range::non_negative());
+  f.reference_temperature = fm.optional_number("reference_temperature", Range::positive());
+  if (auto rt = fm.find("reference_temperature"); rt && !(f.thermal_expansion > 0))
+    rt->fail(
+        "a reference temperature is the one of the Boussinesq buoyancy: it needs the fluid's "
+        "thermal_expansion (1/K, e.g. 2.1e-4 for water, 1/T for a gas)");
+  for (const char* key : {"heat_capacity", "thermal_conductivity", "temperature",
+                          "temperature_convection", "thermal_expansion", "reference_temperature"})
     if (auto n = fm.find(key); n && !f.thermal_loc) f.thermal_loc = n->loc();
   c.fluid = std::move(f);
 }
@@ -595,10 +601,12 @@ void Reader::read_fluid_heat(const YamlMap& cm, config::Coupling& cp) const {
     for (const auto& b : f.boundary)
       if (!loc && b.temperature) loc = b.loc;
     if (loc)
-      throw_input_error(*loc,
-                        "the fluid's heat_capacity, thermal_conductivity, temperature, "
-                        "temperature_convection and boundary temperatures are used only with a heat exchange between grains and "
-                        "fluid: set coupling.heat_transfer (e.g. gunn)");
+      throw_input_error(
+          *loc,
+          "the fluid's heat_capacity, thermal_conductivity, temperature, "
+          "temperature_convection, thermal_expansion, reference_temperature and "
+          "boundary temperatures are used only with a heat exchange between grains and "
+          "fluid: set coupling.heat_transfer (e.g. gunn)");
     return;
   }
   if (!(f.heat_capacity > 0))
