@@ -60,7 +60,7 @@ struct HeatSettings {
   /// gravity term only; beta [1/K] (0: none; 1/T for an ideal gas, 2.1e-4 for water at 20 C).
   double thermal_expansion = 0.0;
   double reference_temperature = 0.0;  ///< T_ref [K]
-  double tolerance = 1e-12;  ///< relative residual of each solve
+  double tolerance = 1e-12;            ///< relative residual of each solve
   int max_iterations = 1000;
 };
 
