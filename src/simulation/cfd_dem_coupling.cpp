@@ -270,7 +270,7 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   if (heat_) {
     // The fluid's temperature over the same step, carried by the new velocities; the grains
     // read it until the next fluid step.
-    heat_report_ = heat_->step(dt_fluid_, *fluid_);
+    heat_report_ = heat_->step(dt_fluid_, *fluid_, eps_prev_);
     const auto t_new = heat_->temperature();
     const double v_dt = grid_.cell_volume() * dt_fluid_;
     heat_given_.resize(t_new.size());

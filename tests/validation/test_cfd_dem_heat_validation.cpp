@@ -29,6 +29,7 @@
 
 #include "dump.hpp"
 #include "fluid/fv/heat_transport.hpp"
+#include "io/input/echo.hpp"
 #include "io/input/parse_case.hpp"
 #include "io/input/validate.hpp"
 #include "simulation/cfd_dem_coupling.hpp"
@@ -491,6 +492,11 @@ coupling: {drag: schiller_naumann, interval: 1, heat_transfer: ranz_marshall}
 )";
     auto cfg = input::load_case_text(text, "cavity.yaml");
     input::validate(cfg);
+    // The resolved case keeps the buoyancy's keys.
+    const auto again = input::load_case_text(input::echo_yaml(cfg, "1"), "echo.yaml");
+    EXPECT_EQ(again.fluid->thermal_expansion, cfg.fluid->thermal_expansion);
+    EXPECT_EQ(again.fluid->reference_temperature.value_or(300.5),
+              cfg.fluid->reference_temperature.value_or(300.5));
     Simulation sim(cfg);
     while (sim.time() < 0.8 - 1e-9) sim.step();
     const auto t = sim.cfd_dem()->heat()->temperature();
@@ -506,4 +512,61 @@ coupling: {drag: schiller_naumann, interval: 1, heat_transfer: ranz_marshall}
   std::printf("without expansion: Nu %.6f, fluid kinetic energy %.4g J\n", nu0, ke0);
   EXPECT_NEAR(nu0, 1.0, 1e-3);  // pure conduction: a linear profile, Nu = 1
   EXPECT_LT(ke0, 1e-12 * ke);
+}
+
+// Hot glass beads (353 K, a cubic lattice of 2 mm beads) collapsing onto the floor of a closed
+// box of water at 293 K, 0.15 s: the grains move through the cells while they give the water
+// most of their heat. The fluid's temperature step takes the fluid fraction at its start in
+// its inertia, so with `fluid_fraction_rate: difference` (continuity with the change of the
+// deposited fluid fraction itself) grains + water + the heat in transit keep their energy to
+// round-off: measured -8e-11 J of the 66 J exchanged (tolerance 1e-9 of it: the pressure
+// solve's relative tolerance 1e-10 per step bounds the continuity residual). With the default
+// `flux` rate (the divergence of the grains' solid flux, smoothed), the flow's continuity and
+// the deposited fluid fraction disagree while the lattice collapses, and the heat of the fluid
+// volume they disagree on is not kept: measured +2.9 J of 67 J (4.3 %), said in
+// docs/models/cfd_dem.md; the bound of 10 % only guards against a change going unnoticed.
+TEST(CfdDemHeatValidation, HotBeadsCollapsingInWaterKeepTheEnergy) {
+  const auto run = [](const std::string& rate) {
+    const std::string text = R"(time: {step: 1.0e-5, end: 0.15}
+domain: {min: [0, 0, 0], max: [0.018, 0.012, 0.03]}
+gravity: [0, 0, -9.81]
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3, thermal_conductivity: 1,
+          heat_capacity: 840}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5, friction: 0.3}
+heat: {temperature: 353}
+particles:
+  - shape: sphere
+    radius: 0.001
+    material: glass
+    fill: {box: {min: [0, 0, 0], max: [0.018, 0.012, 0.0126]}, lattice: cubic, spacing: 0.0021,
+           velocity_jitter: 0.001, seed: 5}
+walls:
+  - {name: box, box: {min: [0, 0, 0], max: [0.018, 0.012, 0.03]}, material: glass}
+fluid: {density: 1000, viscosity: 1.0e-3, cells: [3, 2, 5], heat_capacity: 4182,
+        thermal_conductivity: 0.6, temperature: 293, thermal_expansion: 3.0e-4}
+coupling: {drag: di_felice, interval: 50, heat_transfer: gunn, fluid_fraction_rate: )" +
+                             rate + "}\n";
+    auto cfg = input::load_case_text(text, "collapse.yaml");
+    input::validate(cfg);
+    Simulation sim(cfg);
+    const auto energy = [&] {
+      return sim.quantity("thermal_energy") + sim.quantity("fluid_thermal_energy") +
+             sim.quantity("fluid_heat_in_transit");
+    };
+    const double e0 = energy(), grains0 = sim.quantity("thermal_energy");
+    const double z0 = sim.quantity("mean_z");
+    while (sim.time() < 0.15 - 1e-9) sim.step();
+    const double exchanged = grains0 - sim.quantity("thermal_energy");
+    std::printf("%s: mean z %.5f -> %.5f m, heat exchanged %.4f J, energy change %.3g J\n",
+                rate.c_str(), z0, sim.quantity("mean_z"), exchanged, energy() - e0);
+    EXPECT_LT(sim.quantity("mean_z"), z0 - 5e-4) << rate;  // the lattice collapsed
+    return std::pair{energy() - e0, exchanged};
+  };
+  const auto [drift, exchanged] = run("difference");
+  EXPECT_GT(exchanged, 5.0);
+  EXPECT_LT(std::abs(drift), 1e-9 * exchanged);
+  const auto [drift_flux, exchanged_flux] = run("flux");
+  EXPECT_LT(std::abs(drift_flux), 0.1 * exchanged_flux);
 }

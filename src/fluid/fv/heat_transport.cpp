@@ -129,9 +129,19 @@ void FluidHeat::set_temperature(std::span<const double> t) {
   std::copy(t.begin(), t.end(), t_.begin());
 }
 
-HeatStepReport FluidHeat::step(double dt, const VolumeAveragedNS& flow) {
+HeatStepReport FluidHeat::step(double dt, const VolumeAveragedNS& flow,
+                               std::span<const double> eps_start) {
   REQUIRE(dt > 0, "fluid heat: step {} s", dt);
   const auto eps = flow.fluid_fraction();
+  REQUIRE(eps_start.empty() || eps_start.size() == eps.size(),
+          "fluid heat: {} start fluid fractions for {} cells", eps_start.size(), eps.size());
+  // The inertia takes the fluid fraction at the step's start: eps^n (T^{n+1} - T^n) / dt +
+  // sum_f F_f (T_f - T_c^{n+1}) is the conservative (eps^{n+1} T^{n+1} - eps^n T^n) / dt +
+  // sum_f F_f T_f exactly when continuity holds discretely (eps^{n+1} - eps^n = -dt sum_f F_f),
+  // and a uniform temperature stays uniform whatever it holds. With eps^{n+1} instead, moving
+  // grains would create or destroy (eps^{n+1} - eps^n)(T^n - T^{n+1}) per step (a bed of hot
+  // beads collapsing in water: 0.02 % of the heat it gave).
+  const std::span<const double> eps0 = eps_start.empty() ? eps : eps_start;
   const std::array<std::span<const double>, 3> u{flow.face_velocity(0), flow.face_velocity(1),
                                                  flow.face_velocity(2)};
   const double k_f = s_.thermal_conductivity;
@@ -148,7 +158,7 @@ HeatStepReport FluidHeat::step(double dt, const VolumeAveragedNS& flow) {
   // temperature, beyond other box faces there is no correction).
   exec::parallel_for(nc, [&](exec::index_t c) {
     std::fill(values + outer[c], values + outer[c + 1], 0.0);
-    const double eps_c = eps[c], inertia = eps_c * rho_c_ / dt;
+    const double eps_c = eps[c], inertia = eps0[c] * rho_c_ / dt;
     double diag = inertia + k_[c], rhs = inertia * t_[c] + q_[c];
     for (int m = 0; m < per_cell; ++m) {
       const Link& l = links_[static_cast<std::size_t>(c) * per_cell + m];

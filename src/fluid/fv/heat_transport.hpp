@@ -85,8 +85,13 @@ class FluidHeat {
   void set_temperature(std::span<const double> t);
 
   /// Advances T by dt [s] with the flow's current face velocities and fluid fraction (those at
-  /// the end of its last step). gf::Error when the solve does not converge.
-  HeatStepReport step(double dt, const VolumeAveragedNS& flow);
+  /// the end of its last step). `eps_start`: the fluid fraction per cell at the start of the
+  /// step (none: the flow's current one, grains at rest). With it the heat stored changes
+  /// exactly by what crosses the faces and comes from the particles, to the extent that the
+  /// flow's continuity held eps_end - eps_start = -dt div(eps u) (see the .cpp).
+  /// gf::Error when the solve does not converge.
+  HeatStepReport step(double dt, const VolumeAveragedNS& flow,
+                      std::span<const double> eps_start = {});
 
   [[nodiscard]] std::span<const double> temperature() const { return t_; }
   [[nodiscard]] const HeatSettings& settings() const { return s_; }
