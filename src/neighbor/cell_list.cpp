@@ -9,16 +9,27 @@
 
 namespace gf {
 
-void CellList::build(const Domain& domain, const Vec3* x, std::size_t n, double cutoff) {
-  domain_ = domain;
-  const Vec3 L = domain.length();
+std::array<int, 3> CellList::grid(const Vec3& length, double cutoff, std::size_t n) {
+  std::array<int, 3> nc{1, 1, 1};
   for (int k = 0; k < 3; ++k) {
     // Cap the grid so that memory stays bounded even with a tiny cutoff in a huge box.
     // (clamped as a double: a ratio beyond INT_MAX must not reach the cast)
-    const double n = std::floor(L[k] / cutoff);
-    nc_[k] = n >= 1.0 ? static_cast<int>(std::min(n, 1024.0)) : 1;
-    inv_size_[k] = nc_[k] / L[k];
+    const double m = std::floor(length[k] / cutoff);
+    nc[k] = m >= 1.0 ? static_cast<int>(std::min(m, 1024.0)) : 1;
   }
+  const double cap = std::max(1048576.0, 8.0 * static_cast<double>(n));
+  while (static_cast<double>(nc[0]) * nc[1] * nc[2] > cap) {
+    int& largest = *std::max_element(nc.begin(), nc.end());
+    largest = std::max(1, largest / 2);
+  }
+  return nc;
+}
+
+void CellList::build(const Domain& domain, const Vec3* x, std::size_t n, double cutoff) {
+  domain_ = domain;
+  const Vec3 L = domain.length();
+  nc_ = grid(L, cutoff, n);
+  for (int k = 0; k < 3; ++k) inv_size_[k] = nc_[k] / L[k];
   // Slab axis: the one with the most layers (most parallel slabs); ties keep the later axis.
   // With Lees-Edwards images, pairs across the gradient boundary are shifted along the flow
   // axis, so slabs across the flow axis would not bound which slabs a row writes to: the flow

@@ -21,6 +21,13 @@ class CellList {
   /// the domain in non-periodic directions go to the border cells (correct, just slower).
   void build(const Domain& domain, const Vec3* x, std::size_t n, double cutoff);
 
+  /// The grid build() uses for n particles in a box of edge lengths `length`: per axis
+  /// floor(L / cutoff) cells (at least 1, at most 1024), then, while there are more than
+  /// max(2^20, 8 n) cells, the axis with the most cells halved (cells stay >= cutoff). Cells
+  /// beyond a few per particle only cost memory and the time to clear them: one 0.1 mm grain
+  /// in a 1 m box had 2.1e8 cells, 3.3 GB and 11 s of set-up.
+  static std::array<int, 3> grid(const Vec3& length, double cutoff, std::size_t n);
+
   int n_cells() const { return nc_[0] * nc_[1] * nc_[2]; }
   /// Particles of cell c are order()[begin(c) .. begin(c+1)).
   std::int64_t begin(int c) const { return start_[static_cast<std::size_t>(c)]; }

@@ -169,25 +169,30 @@ TEST(InputLimits, MoreGrainsThan32BitIndicesAreRefused) {
 }
 
 TEST(InputLimits, NeighbourGridOfAHugeDomainIsCounted) {
-  // 10 m box, 2 mm grains: the grid is capped at 1024^3 cells of 16 B, 17 GB
-  const std::string ten = dem_case("positions: [[1, 1, 1]]");
+  // 10 m box, 2 mm grains (cut-off 5 mm: 2000 cells per axis, capped at 1024): with 1e8 grains
+  // the grid may have 8e8 cells, so it is 512 x 1024 x 1024 cells of 16 B, 8.6 GB, next to the
+  // grains' 40 GB; refused with the grains' part named first.
+  {
+    MemoryLimit limit("1000G");
+    const auto report = input::validate(input::load_case_text(
+        dem_case("fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}, lattice: random, count: 1e8}"),
+        "t.yaml"));
+    EXPECT_TRUE(report.warnings.empty());
+  }
   {
     MemoryLimit limit("8G");
-    const std::string m = dem_error(ten);
-    EXPECT_THAT(m, HasSubstr("t.yaml:2:"));
-    EXPECT_THAT(m, HasSubstr("found that the neighbour search's 1073741824 cells"));
-    EXPECT_THAT(m, HasSubstr("need about 17.2 GB"));
+    const std::string m = dem_error(
+        dem_case("fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}, lattice: random, count: 1e8}"));
+    EXPECT_THAT(m, HasSubstr("found that 1e+08 grains need about 40 GB"));
   }
+  // One grain in that box: cells beyond 8 per grain only cost memory (and the time to clear
+  // them), so the grid has 2^20 cells (17 MB), not 1024^3 (17 GB).
+  EXPECT_DOUBLE_EQ(input::neighbour_cells({10, 10, 10}, 0.005, 3, 1), 1048576.0);
+  EXPECT_DOUBLE_EQ(input::neighbour_cells({10, 10, 10}, 0.005, 3, 1e8), 512.0 * 1024 * 1024);
   {
-    MemoryLimit limit("20G");  // above half: allowed, with a warning
-    const auto report = input::validate(input::load_case_text(ten, "t.yaml"));
-    ASSERT_EQ(report.warnings.size(), 1u);
-    EXPECT_THAT(report.warnings[0], HasSubstr("domain: "));
-    EXPECT_THAT(report.warnings[0], HasSubstr("more than half"));
-  }
-  {
-    MemoryLimit limit("100G");
-    const auto report = input::validate(input::load_case_text(ten, "t.yaml"));
+    MemoryLimit limit("1G");
+    const auto report =
+        input::validate(input::load_case_text(dem_case("positions: [[1, 1, 1]]"), "t.yaml"));
     EXPECT_TRUE(report.warnings.empty());
   }
 }
@@ -197,9 +202,11 @@ TEST(InputLimits, NeighbourGridOfAHugeDomainIsCounted) {
 // of one layer, 1.3 GB measured where the estimate said 16.8 MB).
 TEST(InputLimits, TwoDimensionalGridCountsItsCellsAlongZ) {
   const double cutoff = 2.5e-5;
-  EXPECT_DOUBLE_EQ(input::neighbour_cells({1, 1, 0}, cutoff, 2), 1024.0 * 1024.0 * 80.0);
-  EXPECT_DOUBLE_EQ(input::neighbour_cells({1, 1, 0}, 0.01, 2), 100.0 * 100.0 * 2.0);
-  EXPECT_DOUBLE_EQ(input::neighbour_cells({1, 1, 1}, 0.01, 3), 1.0e6);
+  EXPECT_DOUBLE_EQ(input::neighbour_cells({1, 1, 0}, cutoff, 2, 1e8), 1024.0 * 1024.0 * 80.0);
+  EXPECT_DOUBLE_EQ(input::neighbour_cells({1, 1, 0}, 0.01, 2, 2), 100.0 * 100.0 * 2.0);
+  EXPECT_DOUBLE_EQ(input::neighbour_cells({1, 1, 1}, 0.01, 3, 2), 1.0e6);
+  // Two disks alone: the grid coarsens to at most 2^20 cells.
+  EXPECT_LE(input::neighbour_cells({1, 1, 0}, cutoff, 2, 2), 1048576.0);
 }
 
 // Bytes per grain by shape (measured slopes of peak RSS: polygons ~1050 B, each with its own
@@ -212,12 +219,11 @@ TEST(InputLimits, GrainMemoryDependsOnTheShape) {
 }
 
 TEST(InputLimits, PartsThatFitAloneAreRefusedTogether) {
-  MemoryLimit limit("20G");
-  // 3e7 grains (12 GB) and the 10 m box's neighbour grid (17 GB)
+  MemoryLimit limit("13G");
+  // 3e7 grains (12 GB) and the 10 m box's neighbour grid for them (512^3 cells: 2.1 GB)
   const std::string m = dem_error(
       dem_case("fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}, lattice: random, count: 3e7}"));
-  EXPECT_THAT(m, HasSubstr("domain: "));
-  EXPECT_THAT(m, HasSubstr("together, need about 29.2 GB"));
+  EXPECT_THAT(m, HasSubstr("together, need about 14.1 GB"));
 }
 
 TEST(InputLimits, CfdDemFluidCellsAreCounted) {

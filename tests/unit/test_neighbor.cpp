@@ -74,6 +74,27 @@ TEST(Neighbor, SmallPeriodicBoxWithFewCells) {
   EXPECT_EQ(list_pairs(l), brute_force_pairs(d, c.x.data(), c.r.data(), c.x.size(), 0.01));
 }
 
+// A sparse cloud in a big box (cut-off ~5 mm in a 4 m box: 800^3 cells by the cut-off): the grid
+// is coarsened to at most max(2^20, 8 n) cells, whose edges stay above the cut-off, and the
+// list still equals the oracle (periodic and not).
+TEST(Neighbor, SparseCloudInAHugeBoxGetsACoarserGridAndTheSamePairs) {
+  for (const bool periodic : {false, true}) {
+    Domain d{{0, 0, 0}, {4.0, 4.0, 4.0}, {periodic, periodic, periodic}};
+    Cloud c = random_cloud(d, 2000, 0.002, 0.002, 11);
+    // clusters of touching grains, so that there are pairs to find
+    for (int i = 0; i < 2000; i += 4)
+      for (int k = 1; k < 4 && i + k < 2000; ++k) c.x[i + k] = c.x[i] + Vec3{0.0045 * k, 0, 0};
+    VerletList l;
+    l.build(d, c.x.data(), c.r.data(), c.x.size(), 0.001);
+    const auto expected = brute_force_pairs(d, c.x.data(), c.r.data(), c.x.size(), 0.001);
+    ASSERT_GT(expected.size(), 1000u);
+    EXPECT_EQ(list_pairs(l), expected) << periodic;
+    const auto nc = CellList::grid(d.length(), 0.005, c.x.size());
+    EXPECT_LE(static_cast<double>(nc[0]) * nc[1] * nc[2], 1048576.0);
+    for (int k = 0; k < 3; ++k) EXPECT_GE(4.0 / nc[k], 0.005);
+  }
+}
+
 // The cell stencil against geometry: every cell with an image (periodic, Lees-Edwards shifted)
 // closer than the cutoff to cell c must be in c's stencil, which is ascending and without
 // repeats, for grids of 1-5 cells per axis (folds onto the same cell), with and without

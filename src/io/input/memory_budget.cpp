@@ -13,8 +13,8 @@
 //    polygons: bytes_per_grain (memory_budget.hpp).
 //  - neighbour cell: the same box, 2 m wide, holding 10 grains of radius 2 mm (cutoff 5 mm: 400^3
 //    = 6.4e7 cells): 1.04 GB -> 16 B per cell, CellList's two 64-bit arrays (start_, fill_).
-//    The grid is capped at 1024 cells per axis, so this is at most 17 GB, but that is reached by
-//    a 10 m box of 2 mm grains.
+//    The grid is capped at 1024 cells per axis and, since 2026-12-05, at max(2^20, 8 per grain)
+//    cells in all (CellList::grid): those 10 grains now get 2^20 cells, 17 MB.
 //  - lattice site: a lattice fill that picks a volume_fraction's grains at random among its
 //    sites first lists every site (a Vec3, 24 B) and shuffles their indices (8 B):
 //    boundaries/fill.cpp. 32 B.
@@ -42,6 +42,7 @@
 #include <utility>
 
 #include "io/input/yaml_reader.hpp"
+#include "neighbor/cell_list.hpp"
 
 namespace gf::input {
 
@@ -113,15 +114,13 @@ std::string bytes_text(double bytes) {
   return fmt::format("{:.3g} {}", bytes, units[u]);
 }
 
-double neighbour_cells(const Vec3& length, double cutoff, int dimension) {
+double neighbour_cells(const Vec3& length, double cutoff, int dimension, double particles) {
   Vec3 l = length;
   if (dimension == 2) l.z = 2.0 * std::max(cutoff, 1e-3);
-  double cells = 1;
-  for (int k = 0; k < 3; ++k) {
-    const double n = cutoff > 0 ? std::floor(l[k] / cutoff) : 1024.0;
-    cells *= std::clamp(std::isfinite(n) ? n : 1024.0, 1.0, 1024.0);
-  }
-  return cells;
+  if (!(cutoff > 0)) return 1024.0 * 1024.0 * 1024.0;
+  const double n = std::clamp(std::isfinite(particles) ? particles : 0.0, 0.0, kMaxIndexed);
+  const auto nc = CellList::grid(l, cutoff, static_cast<std::size_t>(n));
+  return static_cast<double>(nc[0]) * nc[1] * nc[2];
 }
 
 std::optional<std::string> check_memory_use(const config::SourceLoc& loc, std::string_view what,

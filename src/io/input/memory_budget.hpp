@@ -55,11 +55,12 @@ double memory_limit_bytes();
 /// "350 GB", "1.2 MB", "512 B" (powers of 1000).
 std::string bytes_text(double bytes);
 
-/// Cells of the neighbour search's grid (neighbor::CellList) over a box of edge lengths `length`
-/// with cells of edge >= `cutoff`: per axis max(1, floor(L / cutoff)), at most 1024 (as
-/// CellList::build); in 2D along z over the slab a 2D run gives the grid, z in +-max(cutoff,
-/// 1 mm) (Simulation: at least 2 cells, more for grains much smaller than 1 mm).
-double neighbour_cells(const Vec3& length, double cutoff, int dimension);
+/// Cells of the neighbour search's grid (CellList::grid) for about `particles` particles over a
+/// box of edge lengths `length` with cells of edge >= `cutoff`: per axis max(1, floor(L /
+/// cutoff)), at most 1024, and in all at most max(2^20, 8 particles); in 2D along z over the
+/// slab a 2D run gives the grid, z in +-max(cutoff, 1 mm) (Simulation: at least 2 cells, more
+/// for grains much smaller than 1 mm).
+double neighbour_cells(const Vec3& length, double cutoff, int dimension, double particles);
 
 /// Compares an estimate with memory_limit_bytes(). Above it: throws gf::InputError at `loc`,
 /// "WHAT need about X of memory; this machine has Y" (or "...; GRAINFLOW_MEMORY_LIMIT is Y").

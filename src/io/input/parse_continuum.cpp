@@ -117,7 +117,7 @@ void check_sph_memory(ContinuumCase& c, const YamlNode& spacing) {
                     "walls {}",
                     kMaxIndexed, count_text(n), at_spacing));
   const double cells =
-      neighbour_cells(s.domain.hi - s.domain.lo, 2.0 * s.smoothing_ratio * dx, dim);
+      neighbour_cells(s.domain.hi - s.domain.lo, 2.0 * s.smoothing_ratio * dx, dim, n);
   const double bytes = n * kBytesPerSphParticle + cells * kBytesPerNeighbourCell;
   if (auto w = check_memory_use(
           spacing.loc(),

@@ -304,6 +304,7 @@ class Validator {
   void check_fill_memory(std::size_t g, const config::Fill& f, double est, double sites);
   /// The whole case's memory (grains, neighbour grid, fluid cells) against the machine's.
   void check_memory();
+  double grains_estimate_ = 0;  ///< grains at the start (estimate_counts), for the memory check
   void check_time_step();
   /// The resting overlap under sjkr cohesion of the pair (a, b) or of a on walls (wall), with its
   /// warning when large; called by check_time_step for each pair that may touch.
@@ -970,6 +971,7 @@ void Validator::estimate_counts() {
     }
   }
   report_.derived.emplace_back("grains in total", fmt::format("~{:.0f}", total));
+  grains_estimate_ = total;
 }
 
 void Validator::check_fill_memory(std::size_t g, const config::Fill& f, double est, double sites) {
@@ -1001,11 +1003,12 @@ void Validator::check_fill_memory(std::size_t g, const config::Fill& f, double e
 void Validator::check_memory() {
   // The neighbour search's grid over the domain (as check_periodic: cut-off 2 r_max + skin).
   if (const double cutoff = neighbor_cutoff(); cutoff > 0) {
-    const double cells = neighbour_cells(c_.domain.max - c_.domain.min, cutoff, dim_);
+    const double cells =
+        neighbour_cells(c_.domain.max - c_.domain.min, cutoff, dim_, grains_estimate_);
     config::SourceLoc loc = at(c_.domain.loc, "domain");
     const std::string what = fmt::format(
         "the neighbour search's {} cells (of at least the cut-off {:.3g} m, at most 1024 per "
-        "axis, over the domain)",
+        "axis and max(2^20, 8 per grain) in all, over the domain)",
         number_text(cells), cutoff);
     check_memory_use(loc, what, cells * kBytesPerNeighbourCell);
     memory_.push_back({loc, what, cells * kBytesPerNeighbourCell});
