@@ -831,22 +831,15 @@ TEST(InputEcho, LongParticleListsGoToFilesThatLoadBack) {
 }
 
 TEST(InputEcho, LongPolygonListsIn2DGoToFilesThatLoadBack) {
-  std::string text = R"(dimension: 2
-time: {step: 1.0e-5, end: 0.1}
-domain: {min: [0, 0], max: [0.2, 0.1]}
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3}
-contacts:
-  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
-particles:
+  std::string text = header_2d + R"(particles:
   - shape: polygon
     polygon: {regular: 5}
     radius: 0.002
     material: glass
 )";
   std::string pos = "    positions: [", ang = "    angles: [", spin = "    angular_velocities: [";
-  for (int i = 0; i < 30; ++i) {
-    pos += fmt::format("{}[{}, 0.05]", i ? ", " : "", 0.005 + i * 0.0062);
+  for (int i = 0; i < 30; ++i) {  // two rows of 15
+    pos += fmt::format("{}[{}, {}]", i ? ", " : "", 0.005 + (i % 15) * 0.006, i < 15 ? 0.03 : 0.06);
     ang += fmt::format("{}{}", i ? ", " : "", 0.1 * i);
     spin += fmt::format("{}{}", i ? ", " : "", -3.0 + i);
   }

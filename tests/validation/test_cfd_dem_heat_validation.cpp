@@ -41,6 +41,13 @@ using gf::test::Dump;
 namespace {
 
 constexpr double pi = std::numbers::pi;
+/// Glass of 2500 kg/m^3 with k = 1 W/(m K), c = 800 J/(kg K), and its Hertz-Mindlin contact.
+const std::string kGlass = R"(materials:
+  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3, thermal_conductivity: 1,
+          heat_capacity: 800}
+contacts:
+  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
+)";
 constexpr double d = 0.002, rho_p = 2500, c_p = 800;
 const double mc = rho_p * pi * d * d * d / 6 * c_p;  // J/K
 
@@ -49,13 +56,7 @@ const double mc = rho_p * pi * d * d * d / 6 * c_p;  // J/K
 config::Case bead_case(const std::string& box, const std::string& fluid, const std::string& law,
                        double t_end) {
   const std::string text = "time: {step: 1.0e-4, end: " + std::to_string(t_end) + "}\n" + box +
-                           R"(gravity: [0, 0, 0]
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3, thermal_conductivity: 1,
-          heat_capacity: 800}
-contacts:
-  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
-heat: {temperature: 400}
+                           "gravity: [0, 0, 0]\n" + kGlass + R"(heat: {temperature: 400}
 particles:
   - {shape: sphere, radius: 0.001, material: glass, fixed: true, positions: [[0.05, 0.03, 0.03]]}
 )" + fluid + "coupling: {drag: schiller_naumann, interval: 10, heat_transfer: " +
@@ -470,12 +471,7 @@ TEST(CfdDemHeatValidation, NaturalConvectionThroughACaseFile) {
 domain: {min: [0, 0, 0], max: [1, 0.05, 1], periodic: [false, true, false]}
 gravity: [0, 0, -1]
 neighbor: {skin: 0.02}
-materials:
-  glass: {density: 2500, youngs_modulus: 1.0e7, poisson_ratio: 0.3, thermal_conductivity: 1,
-          heat_capacity: 800}
-contacts:
-  - {between: [glass, glass], model: hertz_mindlin, restitution: 0.5}
-heat: {temperature: 300.5}
+)" + kGlass + R"(heat: {temperature: 300.5}
 particles:
   - {shape: sphere, radius: 1.0e-4, material: glass, fixed: true, positions: [[0.01, 0.025, 0.99]]}
 fluid:
