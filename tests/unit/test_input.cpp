@@ -2076,3 +2076,29 @@ TEST(InputAudit, AFolderIsNotACaseFile) {
         << e.what();
   }
 }
+
+// Boussinesq buoyancy: `check` states beta x the span of the case's temperatures and warns when
+// it is not small (air heated from 293 to 373 K with beta = 1/293 K: 0.27), or when there is no
+// gravity to act on.
+TEST(InputValidate, BuoyancyStatesItsDensityChangeAndWarnsWhenLarge) {
+  auto c = input::load_case(std::filesystem::path(GF_SOURCE_DIR) / "cases" / "cfd_dem" /
+                            "fluidized_bed_heating" / "case.yaml");
+  const auto has = [](const std::vector<std::string>& list, const std::string& part) {
+    return std::any_of(list.begin(), list.end(),
+                       [&](const std::string& w) { return w.find(part) != std::string::npos; });
+  };
+  auto report = input::validate(c);
+  EXPECT_TRUE(derived(report, "buoyancy").empty());  // no thermal_expansion, no line
+  c.fluid->thermal_expansion = 1.0 / 293.0;
+  report = input::validate(c);
+  EXPECT_EQ(derived(report, "buoyancy: beta"), "0.273 (293 - 373 K)");
+  EXPECT_TRUE(
+      has(report.warnings, "fluid.thermal_expansion: beta x the temperature span 293 - 373"));
+  c.fluid->thermal_expansion = 2.1e-4;
+  report = input::validate(c);
+  EXPECT_EQ(derived(report, "buoyancy: beta"), "0.0168 (293 - 373 K)");
+  EXPECT_FALSE(has(report.warnings, "fluid.thermal_expansion"));
+  c.gravity = Vec3{};
+  report = input::validate(c);
+  EXPECT_TRUE(has(report.warnings, "the case has no gravity, so the buoyancy does nothing"));
+}

@@ -304,6 +304,7 @@ class Validator {
   void check_fill_memory(std::size_t g, const config::Fill& f, double est, double sites);
   /// The whole case's memory (grains, neighbour grid, fluid cells) against the machine's.
   void check_memory();
+  void check_buoyancy(const config::Fluid& f);  ///< beta dT and gravity, with thermal_expansion
   double grains_estimate_ = 0;  ///< grains at the start (estimate_counts), for the memory check
   void check_time_step();
   /// The resting overlap under sjkr cohesion of the pair (a, b) or of a on walls (wall), with its
@@ -1000,6 +1001,35 @@ void Validator::check_fill_memory(std::size_t g, const config::Fill& f, double e
   memory_.push_back({loc, fmt::format("the {} of particles[{}]", grains, g), bytes});
 }
 
+void Validator::check_buoyancy(const config::Fluid& f) {
+  // The span of the temperatures the case sets (fluid, its boundaries, grains, walls): the
+  // Boussinesq buoyancy takes the density change beta dT as small.
+  const double base = c_.heat ? c_.heat->temperature : 0.0;
+  double lo = f.temperature.value_or(base), hi = lo;
+  const auto take = [&](double t) {
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+  };
+  if (f.reference_temperature) take(*f.reference_temperature);
+  for (const auto& b : f.boundary)
+    if (b.temperature) take(*b.temperature);
+  for (const auto& g : c_.particles) take(g.temperature.value_or(base));
+  for (const auto& w : c_.walls)
+    if (w.temperature) take(*w.temperature);
+  const double beta_dt = f.thermal_expansion * (hi - lo);
+  report_.derived.emplace_back("buoyancy: beta x the case's temperature span",
+                               fmt::format("{:.3g} ({:.4g} - {:.4g} K)", beta_dt, lo, hi));
+  if (beta_dt > 0.1)
+    report_.warnings.push_back(fmt::format(
+        "fluid.thermal_expansion: beta x the temperature span {:.4g} - {:.4g} K is {:.3g}; the "
+        "Boussinesq buoyancy assumes density changes well below 10 % (the flow stays "
+        "incompressible, and the heated fluid keeps its density elsewhere)",
+        lo, hi, beta_dt));
+  if (norm(c_.gravity) == 0)
+    report_.warnings.push_back(
+        "fluid.thermal_expansion: the case has no gravity, so the buoyancy does nothing");
+}
+
 void Validator::check_memory() {
   // The neighbour search's grid over the domain (as check_periodic: cut-off 2 r_max + skin).
   if (const double cutoff = neighbor_cutoff(); cutoff > 0) {
@@ -1402,6 +1432,7 @@ void Validator::check_fluid() {
     const double alpha = f.thermal_conductivity / (f.density * f.heat_capacity);
     report_.derived.emplace_back("fluid thermal diffusion time over a cell h^2 / alpha",
                                  fmt::format("{:.3g} s", h_min * h_min / alpha));
+    if (f.thermal_expansion > 0) check_buoyancy(f);
   }
   const double courant = std::max(u, u_courant) * dt_f / h_min;
   report_.derived.emplace_back("fluid time step (interval x time.step)",
