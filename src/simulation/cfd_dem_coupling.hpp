@@ -74,6 +74,10 @@ class CfdDemCoupling {
   /// heats the grains), and through the box faces into the fluid [W].
   [[nodiscard]] double grain_heat_to_fluid() const { return heat_report_.particle_heat; }
   [[nodiscard]] double boundary_heat_to_fluid() const { return heat_report_.boundary_heat; }
+  /// The same through one box face (fluid::box_face_index) [W].
+  [[nodiscard]] double boundary_heat_to_fluid(int face) const {
+    return heat_report_.face_heat[static_cast<std::size_t>(face)];
+  }
   /// The heat the fluid has given the grains at its last step that they have not taken yet, J
   /// (they take it over the interval; it is settled at the next fluid step): the energy of
   /// grains plus fluid plus this is conserved to round-off when nothing crosses the box faces.

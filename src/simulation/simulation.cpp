@@ -1613,6 +1613,12 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
       row.push_back(cfd_->grain_heat_to_fluid());
     } else if (cfd_ && cfd_->has_heat() && name == "fluid_boundary_heat_flow") {
       row.push_back(cfd_->boundary_heat_to_fluid());
+    } else if (cfd_ && cfd_->has_heat() && name.starts_with("fluid_boundary_heat_flow.")) {
+      static constexpr std::array<std::string_view, 6> faces = {"xmin", "xmax", "ymin",
+                                                                "ymax", "zmin", "zmax"};
+      const auto it = std::find(faces.begin(), faces.end(), std::string_view(name).substr(25));
+      REQUIRE(it != faces.end(), "unknown box face in series quantity '{}'", name);
+      row.push_back(cfd_->boundary_heat_to_fluid(static_cast<int>(it - faces.begin())));
     } else if (cfd_ && cfd_->has_heat() && name == "fluid_heat_in_transit") {
       row.push_back(cfd_->heat_in_transit(particles_));
     } else {

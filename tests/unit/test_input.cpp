@@ -375,6 +375,8 @@ const BadCase bad_cases[] = {
      "needs the temperature of its inflow"},
     {"fluid_temperature_convection_central.yaml", 20, "fluid.temperature_convection",
      "one of van_leer, upwind"},
+    {"fluid_series_unknown_face.yaml", 23, "output.series.quantities[0]",
+     "unknown box face 'top' in 'fluid_boundary_heat_flow.top'; expected one of xmin, xmax"},
     {"fluid_reference_temperature_without_expansion.yaml", 20, "fluid.reference_temperature",
      "needs the fluid's thermal_expansion"},
     {"fluid_heat_capacity_without_exchange.yaml", 18, "fluid.heat_capacity",

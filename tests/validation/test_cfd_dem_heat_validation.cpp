@@ -499,6 +499,10 @@ coupling: {drag: schiller_naumann, interval: 1, heat_transfer: ranz_marshall}
     double nu = 0;
     for (int k = 0; k < 20; ++k)
       nu += 2.0 * (301.0 - t[static_cast<std::size_t>(20 * k)]);  // x = 0
+    // The series quantity of the hot wall's heat flow: Nu k dT / L times its area 0.05 m^2 (to
+    // 1e-8: the wall's conduction takes eps of its cells, and the grain fills 3e-8 of one).
+    EXPECT_NEAR(sim.quantity("fluid_boundary_heat_flow.xmin") / 0.05, nu, 1e-8 * nu);
+    EXPECT_NEAR(sim.quantity("fluid_boundary_heat_flow.xmax") / 0.05, -nu, 1e-5 * nu);  // steady
     return std::pair{nu, sim.quantity("fluid_kinetic_energy")};
   };
   const auto [nu, ke] = run("  thermal_expansion: 7100\n  reference_temperature: 300.5");

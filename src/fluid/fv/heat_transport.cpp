@@ -225,12 +225,15 @@ HeatStepReport FluidHeat::step(double dt, const VolumeAveragedNS& flow,
       const BcKind kind = kinds_[l.box_face];
       const double t_b = s_.boundary_temperature[l.box_face];
       const double into = -l.side * eps[c] * u[a][l.face] * area;  // m^3/s entering the box
+      double q = 0.0;
       if (kind == BcKind::VelocityInlet || kind == BcKind::PressureOutlet) {
         const double t_in = std::isfinite(t_b) ? t_b : t_[c];
-        r.boundary_heat += rho_c_ * into * (into > 0 ? t_in : t_[c]);
+        q += rho_c_ * into * (into > 0 ? t_in : t_[c]);
       }
       if ((kind == BcKind::VelocityInlet || is_wall(kind)) && std::isfinite(t_b))
-        r.boundary_heat += 2.0 * eps[c] * k_f / h * area * (t_b - t_[c]);
+        q += 2.0 * eps[c] * k_f / h * area * (t_b - t_[c]);
+      r.face_heat[static_cast<std::size_t>(l.box_face)] += q;
+      r.boundary_heat += q;
     }
   }
   return r;

@@ -66,9 +66,10 @@ struct HeatSettings {
 
 /// What one step did.
 struct HeatStepReport {
-  int iterations = 0;        ///< BiCGSTAB iterations
-  double boundary_heat = 0;  ///< heat flow into the fluid through the box faces [W]
-  double particle_heat = 0;  ///< heat flow from the particles, sum(q_explicit - K T) V [W]
+  int iterations = 0;                 ///< BiCGSTAB iterations
+  double boundary_heat = 0;           ///< heat flow into the fluid through the box faces [W]
+  std::array<double, 6> face_heat{};  ///< the same per box face (box_face_index) [W]
+  double particle_heat = 0;           ///< heat flow from the particles, sum(q_explicit - K T) V [W]
 };
 
 /// The fluid's temperature on the cells of a VolumeAveragedNS's grid. Typical use, after each

@@ -1934,6 +1934,13 @@ void Reader::read_output(const YamlMap& root) {
             item.fail(fmt::format("unknown wall '{}' in '{}'; {}", wall, name,
                                   walls.empty() ? std::string("no walls are declared")
                                                 : fmt::format("declared walls: {}", join(walls))));
+        } else if (name.starts_with("fluid_boundary_heat_flow.")) {
+          static const std::vector<std::string> faces = {"xmin", "xmax", "ymin",
+                                                         "ymax", "zmin", "zmax"};
+          const std::string face = name.substr(25);
+          if (std::find(faces.begin(), faces.end(), face) == faces.end())
+            item.fail(fmt::format("unknown box face '{}' in '{}'; expected one of {}", face, name,
+                                  join(faces)));
         } else if (!is_series_quantity(name, walls)) {
           for (std::string_view prefix : wall_series_prefixes()) {
             if (name.starts_with(prefix)) {
@@ -1956,7 +1963,7 @@ void Reader::read_output(const YamlMap& root) {
               "fixed_force and fixed_torque optionally with .x, .y or .z), outlet_mass.OUTLET, "
               "outlet_count.OUTLET, flow_mass.METER, flow_count.METER, flow_rate.METER, "
               "region_count.REGION, region_mass.REGION, region_temperature.REGION, "
-              "wall_heat_flow.WALL",
+              "wall_heat_flow.WALL, fluid_boundary_heat_flow.FACE",
               name, hint, join(series_quantity_names())));
         }
         if (!c.heat &&
@@ -1969,7 +1976,7 @@ void Reader::read_output(const YamlMap& root) {
           item.fail(fmt::format("series quantity '{}' needs a fluid: block", name));
         if (c.fluid &&
             (name == "fluid_temperature_mean" || name == "fluid_thermal_energy" ||
-             name == "fluid_heat_from_grains" || name == "fluid_boundary_heat_flow" ||
+             name == "fluid_heat_from_grains" || name.starts_with("fluid_boundary_heat_flow") ||
              name == "fluid_heat_in_transit") &&
             (!c.coupling || c.coupling->heat_transfer.empty()))
           item.fail(
