@@ -79,8 +79,19 @@ def hindered(folder, out):
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.plot(eps, eps ** n, "k-", lw=1, label="Richardson-Zaki eps^n, n = %.3f" % n)
     ax.fill_between(eps, 0.85 * eps ** n, 1.15 * eps ** n, color="0.88", label="+- 15 %")
-    ax.plot(d["eps"], d["v"] / d["vt"], "o", color="tab:blue", label="grainflow")
-    for r in d:
+    # scheme: 0 divided deposit with the flux rate (the default), 1 trilinear and 2 smoothed
+    # with their time derivative (older tables have no column: all divided).
+    scheme = d["scheme"] if "scheme" in d.dtype.names else np.zeros(len(d), dtype=int)
+    styles = [("o", "tab:blue", "grainflow, divided + flux (default)"),
+              ("^", "tab:orange", "trilinear + derivative"),
+              ("s", "tab:green", "smoothed + derivative")]
+    for k, (marker, color, label) in enumerate(styles):
+        rows = d[scheme == k]
+        if len(rows) == 0:
+            continue
+        ax.plot(rows["eps"], rows["v"] / rows["vt"], marker, color=color, mfc="none", ms=7 + 2 * k,
+                label=label)
+    for r in d[scheme == 0]:
         ax.annotate("%+.1f %%" % (100 * (r["v"] / r["rz"] - 1)), (r["eps"], r["v"] / r["vt"]),
                     textcoords="offset points", xytext=(6, -10), fontsize=8)
     ax.set_xlabel("fluid fraction eps")

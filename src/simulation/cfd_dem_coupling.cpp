@@ -93,10 +93,13 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   law_ = cfd_dem::drag_index(cp.drag);
   REQUIRE(law_ >= 0, "unknown drag law '{}'", cp.drag);
   drag_params_ = cfd_dem::prepare_drag(cp.drag, cp.drag_params);
-  ff_options_.scheme = cp.fluid_fraction == "centre" ? cfd_dem::DepositScheme::CentreInCell
-                                                     : cfd_dem::DepositScheme::Divided;
+  ff_options_.scheme = cp.fluid_fraction == "centre"      ? cfd_dem::DepositScheme::CentreInCell
+                       : cp.fluid_fraction == "smoothed"  ? cfd_dem::DepositScheme::Smoothed
+                       : cp.fluid_fraction == "trilinear" ? cfd_dem::DepositScheme::Trilinear
+                                                          : cfd_dem::DepositScheme::Divided;
   ff_options_.min_fraction = cp.min_fraction;
-  rate_from_flux_ = cp.fluid_fraction_rate == "flux";
+  rate_from_flux_ = cp.fluid_fraction_rate != "difference";
+  rate_from_derivative_ = cp.fluid_fraction_rate == "derivative";
   rate_relaxation_ = cp.rate_relaxation;
   pressure_gradient_force_ = cp.pressure_gradient_force;
   point_read_ =
@@ -207,9 +210,22 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
     // in water at phi = 0.4: the fluid's energy grew 4x per 0.2 ms) it diverges; relaxing by a
     // keeps the loop stable up to a gain of 2 / a - 1 (a = 0.3: 5.7) and delays the rate by
     // ~1/a fluid steps, short against a grain's response time.
+    // With a continuous deposit the rate can instead be its exact time derivative (deposited
+    // with the same shares): it integrates to the deposited fraction itself, where the
+    // face-averaged flux spreads each grain's change over one cell more and its integral
+    // drifts from the deposit.
     rate_new_.resize(nc);
-    cfd_dem::fluid_fraction_rate_from_flux(
-        grid_, footprints_, std::span<const Vec3>(particles.v(), n), rate_new_, solid_flux_);
+    if (rate_from_derivative_) {
+      cfd_dem::footprint_rates(grid_, geo, ff_options_.scheme,
+                               std::span<const Vec3>(particles.v(), n),
+                               std::span<const Vec3>(particles.omega(), n), rate_fp_);
+      std::fill(rate_new_.begin(), rate_new_.end(), 0.0);
+      cfd_dem::deposit(rate_fp_, std::span<const double>(rate_fp_.volume), rate_new_,
+                       -1.0 / grid_.cell_volume());
+    } else {
+      cfd_dem::fluid_fraction_rate_from_flux(
+          grid_, footprints_, std::span<const Vec3>(particles.v(), n), rate_new_, solid_flux_);
+    }
     const double a = first_ ? 1.0 : rate_relaxation_;
     exec::parallel_for(static_cast<exec::index_t>(nc),
                        [&](exec::index_t c) { eps_rate_[c] += a * (rate_new_[c] - eps_rate_[c]); });

@@ -1838,6 +1838,30 @@ TEST(InputCfdDem, BlocksNeedEachOtherAndValidValues) {
   EXPECT_NE(message.find("coupling.fluid_fraction_rate"), std::string::npos) << message;
   EXPECT_NE(message.find("difference"), std::string::npos) << message;
 
+  // The time derivative of the deposit only for the continuous ones.
+  for (const char* scheme : {"trilinear", "smoothed"}) {
+    const auto c =
+        input::load_case_text(case_with_coupling(std::string("fluid_fraction: ") + scheme +
+                                                 ", fluid_fraction_rate: derivative"),
+                              "t.yaml");
+    EXPECT_EQ(c.coupling->fluid_fraction, scheme);
+    EXPECT_EQ(c.coupling->fluid_fraction_rate, "derivative");
+    const auto again = input::load_case_text(input::echo_yaml(c, "1"), "echo.yaml");
+    EXPECT_EQ(again.coupling->fluid_fraction, scheme);
+    EXPECT_EQ(again.coupling->fluid_fraction_rate, "derivative");
+  }
+  for (const char* scheme : {"divided", "centre"}) {
+    message = error_of(case_with_coupling(std::string("fluid_fraction: ") + scheme +
+                                          ", fluid_fraction_rate: derivative"));
+    EXPECT_NE(message.find("coupling.fluid_fraction_rate"), std::string::npos) << message;
+    EXPECT_NE(message.find("'derivative' needs 'fluid_fraction: smoothed' or 'trilinear'"),
+              std::string::npos)
+        << message;
+    EXPECT_NE(message.find(scheme), std::string::npos) << message;
+  }
+  message = error_of(case_with_coupling("fluid_fraction: smooth"));
+  EXPECT_NE(message.find("smoothed"), std::string::npos) << message;
+
   message = error_of(case_with_coupling("rate_relaxation: 0"));
   EXPECT_NE(message.find("coupling.rate_relaxation"), std::string::npos) << message;
   EXPECT_NE(message.find("(0, 1]"), std::string::npos) << message;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "core/error.hpp"
 #include "core/exec.hpp"
@@ -116,6 +117,17 @@ void complete_basis(const Vec3& u, Vec3& e1, Vec3& e2) {
   const double b = u.x * u.y * a;
   e1 = {1.0 + sign * u.x * u.x * a, sign * b, -sign * u.x};
   e2 = {b, sign + u.y * u.y * a, -u.y};
+}
+
+/// The time derivatives of complete_basis's e1, e2 for an axis u turning at du/dt (the same
+/// branch on the sign of u.z).
+void basis_rates(const Vec3& u, const Vec3& du, Vec3& de1, Vec3& de2) {
+  const double sign = std::copysign(1.0, u.z);
+  const double a = -1.0 / (sign + u.z);
+  const double da = a * a * du.z;  // d/dt of -1 / (sign + u.z)
+  const double db = (du.x * u.y + u.x * du.y) * a + u.x * u.y * da;
+  de1 = {sign * (2.0 * u.x * du.x * a + u.x * u.x * da), sign * db, -sign * du.x};
+  de2 = {db, 2.0 * u.y * du.y * a + u.y * u.y * da, -du.y};
 }
 
 constexpr std::size_t kBlock = 8192;  // particles per footprint block (> 4096: threaded)
@@ -397,6 +409,188 @@ int cylinder_slabs(double r, double half_length) {
   return n < 1 ? 1 : (n > kMaxSlabs ? kMaxSlabs : static_cast<int>(n));
 }
 
+namespace {
+
+/// Calls f(x, w, l) for every sample point x of particle i's divided footprint with its share w
+/// (the shares sum to 1) and, for a spherocylinder, its coordinates l in the frame (e1, e2, u)
+/// of complete_basis: x = c + l.x e1 + l.y e2 + l.z u (spheres: l = 0).
+template <class F>
+void for_each_sample_point(const ParticleGeometry& p, std::size_t i, F&& f) {
+  const Vec3 c = p.x[i];
+  const double r = p.radius[i], h = p.half(i);
+  const int n_slabs = cylinder_slabs(r, h);
+  if (n_slabs == 0) {  // a sphere: the turned set in the world frame
+    const double w = 1.0 / kSpherePoints;
+    for (const Vec3& s : sphere_points_turned()) f(c + r * s, w, Vec3{0, 0, 0});
+    return;
+  }
+  Vec3 e1, e2;
+  const Vec3 u = p.axis[i];
+  complete_basis(u, e1, e2);
+  // Shares of the volume: the caps make one sphere, the cylinder pi r^2 l.
+  const double v_sphere = 4.0 / 3.0 * kPi * r * r * r, v_cyl = kPi * r * r * 2.0 * h;
+  const double v_total = v_sphere + v_cyl;
+  const double w_sphere = v_sphere / kSpherePoints / v_total;
+  for (const Vec3& s : sphere_points()) {   // in the rod's frame: bands split at the equator
+    const double shift = s.z > 0 ? h : -h;  // the upper half of the set goes to the upper cap
+    const Vec3 l{r * s.x, r * s.y, r * s.z + shift};
+    f(c + l.x * e1 + l.y * e2 + l.z * u, w_sphere, l);
+  }
+  const double w_cyl = v_cyl / (n_slabs * kDiskPoints) / v_total;
+  // Slab j is cut into 8 thin sub-slabs along the axis, one point each at the sub-slab's
+  // mid-plane and at one of the 8 cross-section centroids: every point has its own axial
+  // position (a rod moving along its axis moves one point at a time across a face) and each
+  // slab still samples the whole cross-section.
+  const double dz = 2.0 * h / (n_slabs * kDiskPoints);
+  for (int j = 0; j < n_slabs; ++j) {
+    const DiskSet& disk = disk_points()[j % kDiskVariants];
+    for (int m = 0; m < kDiskPoints; ++m) {
+      const Vec3& d = disk[kDiskOrder[m]];
+      const double z = -h + (j * kDiskPoints + m + 0.5) * dz;
+      const Vec3 l{r * d.x, r * d.y, z};
+      f(c + l.x * e1 + l.y * e2 + l.z * u, w_cyl, l);
+    }
+  }
+}
+
+/// The block of unfolded cell indices along axis a that the trilinear stencils of points
+/// within `reach` of coordinate c can touch: [base, base + extent), from floor(s) at c - reach
+/// to floor(s) + 1 at c + reach (s the position in cells from centre 0). The points lie
+/// strictly inside the reach (centroids of pieces of the body); positions far off the grid are
+/// clamped (every index folds to the boundary there, and the conversion to int stays defined).
+void smoothed_axis_block(const fluid::Grid& g, int a, double c, double reach, int& base,
+                         int& extent) {
+  const double lo = std::clamp((c - reach - g.lo[a]) / g.h[a] - 0.5, -1e9, 1e9);
+  const double hi = std::clamp((c + reach - g.lo[a]) / g.h[a] - 0.5, -1e9, 1e9);
+  base = static_cast<int>(std::floor(lo));
+  extent = static_cast<int>(std::floor(hi)) + 2 - base;
+}
+
+/// Room for particle i's smoothed pairs: the product over the axes of its block's extent, at
+/// most the axis' cell count (distinct cells after folding).
+int smoothed_size_bound(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i) {
+  int total = 1;
+  const int dims = g.dimension == 2 ? 2 : 3;
+  for (int a = 0; a < dims; ++a) {
+    int base = 0, extent = 0;
+    smoothed_axis_block(g, a, p.x[i][a], p.radius[i] + p.half(i), base, extent);
+    total *= std::min(extent, g.n[a]);
+  }
+  return total;
+}
+
+/// Adds weight w to cell c in the list out[0 .. m) (appending a new pair); returns the new m.
+int add_share(CellShare* out, int m, std::int64_t c, double w) {
+  for (int q = m - 1; q >= 0; --q)
+    if (out[q].cell == c) {
+      out[q].weight += w;
+      return m;
+    }
+  out[m] = {c, w};
+  return m + 1;
+}
+
+/// Accumulates one grain's smoothed shares (or their time derivatives) on the block of cells
+/// its points' trilinear stencils can reach, indexed without folding (index floor(s) and
+/// floor(s) + 1 along each axis, s the position in cells from centre 0); emit() folds the
+/// indices onto the grid (wrapped across periodic faces, clamped at walls: a stencil beyond the
+/// outermost centres then lands wholly in the boundary cell, as trilinear_stencil's does, and
+/// its derivative cancels there) and merges the pairs that land in one cell.
+class SmoothedBlock {
+ public:
+  /// copies: interleaved copies of the block (see add; 1 for a single point).
+  SmoothedBlock(const fluid::Grid& g, const Vec3& c, double reach, std::size_t copies = 4)
+      : g_(g), copies_(copies) {
+    dims_ = g.dimension == 2 ? 2 : 3;
+    for (int a = 0; a < 3; ++a) {
+      inv_h_[a] = 1.0 / g.h[a];
+      if (a >= dims_) {
+        base_[a] = 0;
+        extent_[a] = 1;
+        continue;
+      }
+      smoothed_axis_block(g, a, c[a], reach, base_[a], extent_[a]);
+    }
+    // One buffer per thread, kept: no allocation once it has grown to the largest grain.
+    thread_local std::vector<double> storage;
+    size_ = static_cast<std::size_t>(extent_[0]) * extent_[1] * extent_[2];
+    storage.assign(copies_ * size_, 0.0);
+    acc_ = storage.data();
+  }
+
+  /// Adds w times point x's trilinear weights; with a velocity vx (rates), w times the rate of
+  /// change of those weights, grad(weight) . vx.
+  void add(const Vec3& x, double w, const Vec3* vx = nullptr) {
+    int i[3] = {0, 0, 0};
+    double t[3] = {0, 0, 0}, dt[3] = {0, 0, 0};
+    for (int a = 0; a < dims_; ++a) {
+      // Clamped as in smoothed_axis_block; add() keeps the index inside the block anyway.
+      const double s = std::clamp((x[a] - g_.lo[a]) * inv_h_[a] - 0.5, -1e9, 1e9);
+      // floor(s) by truncation (std::floor is a library call without SSE4.1, three per point).
+      int f = static_cast<int>(s);
+      f -= static_cast<int>(s < f);
+      i[a] = std::clamp(f - base_[a], 0, extent_[a] - 2);
+      t[a] = s - f;
+      if (vx) dt[a] = (*vx)[a] * inv_h_[a];
+    }
+    // Consecutive points mostly hit the same cells: adding them to interleaved copies of the
+    // block breaks the chain of dependent additions.
+    const std::size_t copy = (n_added_++ % copies_) * size_;
+    const int nk = dims_ == 3 ? 2 : 1;
+    for (int c = 0; c < nk; ++c) {
+      const double wk = dims_ == 3 ? (c ? t[2] : 1.0 - t[2]) : 1.0;
+      const double dk = dims_ == 3 ? (c ? dt[2] : -dt[2]) : 0.0;
+      for (int b = 0; b < 2; ++b) {
+        const double wj = b ? t[1] : 1.0 - t[1], dj = b ? dt[1] : -dt[1];
+        double* row = &acc_[copy + index(i[0], i[1] + b, i[2] + c)];
+        for (int d = 0; d < 2; ++d) {
+          const double wi = d ? t[0] : 1.0 - t[0], di = d ? dt[0] : -dt[0];
+          row[d] += vx ? w * (di * wj * wk + wi * dj * wk + wi * wj * dk) : w * wi * wj * wk;
+        }
+      }
+    }
+  }
+
+  /// Writes the non-zero sums as (cell, value) pairs, one per cell; returns their number.
+  int emit(CellShare* out) const {
+    int m = 0;
+    for (int k = 0; k < extent_[2]; ++k)
+      for (int j = 0; j < extent_[1]; ++j)
+        for (int i = 0; i < extent_[0]; ++i) {
+          const std::size_t at = index(i, j, k);
+          double v = 0.0;
+          for (std::size_t q = 0; q < copies_; ++q) v += acc_[q * size_ + at];
+          if (v == 0.0) continue;
+          const std::int64_t cell = g_.index(g_.fold(0, base_[0] + i), g_.fold(1, base_[1] + j),
+                                             dims_ == 3 ? g_.fold(2, base_[2] + k) : 0);
+          m = add_share(out, m, cell, v);
+        }
+    return m;
+  }
+
+ private:
+  [[nodiscard]] std::size_t index(int i, int j, int k) const {
+    return (static_cast<std::size_t>(k) * extent_[1] + j) * extent_[0] + i;
+  }
+  const fluid::Grid& g_;
+  int dims_ = 3;
+  int base_[3] = {0, 0, 0}, extent_[3] = {1, 1, 1};
+  double inv_h_[3] = {1, 1, 1};
+  std::size_t copies_ = 4, size_ = 0, n_added_ = 0;
+  double* acc_ = nullptr;  // copies_ x extent_[0] x extent_[1] x extent_[2] sums, x fastest
+};
+
+/// Particle i's smoothed footprint, compacted, into out (room for smoothed_size_bound); returns
+/// the number of pairs.
+int smoothed_footprint(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i,
+                       CellShare* out) {
+  SmoothedBlock block(g, p.x[i], p.radius[i] + p.half(i));
+  for_each_sample_point(p, i, [&](const Vec3& x, double w, const Vec3&) { block.add(x, w); });
+  return block.emit(out);
+}
+
+}  // namespace
+
 int footprint_size(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i,
                    DepositScheme scheme) {
   switch (scheme) {
@@ -406,6 +600,8 @@ int footprint_size(const fluid::Grid& g, const ParticleGeometry& p, std::size_t 
       return g.dimension == 2 ? 4 : 8;
     case DepositScheme::Divided:
       return kSpherePoints + kDiskPoints * cylinder_slabs(p.radius[i], p.half(i));
+    case DepositScheme::Smoothed:
+      return smoothed_size_bound(g, p, i);
   }
   return 0;
 }
@@ -422,47 +618,27 @@ void footprint(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i, D
     for (int q = 0; q < s.n; ++q) out[q] = {s.cell[q], s.weight[q]};
     return;
   }
-  const double r = p.radius[i], h = p.half(i);
-  const int n_slabs = cylinder_slabs(r, h);
-  const NearCell cell_of_point(g, c, r + h);
-  if (n_slabs == 0) {  // a sphere: the turned set in the world frame
-    const double w = 1.0 / kSpherePoints;
-    int q = 0;
-    for (const Vec3& s : sphere_points_turned()) out[q++] = {cell_of_point(c + r * s), w};
+  if (scheme == DepositScheme::Smoothed) {
+    // Compacted already; the rest of the room repeats the first cell with no weight.
+    const int m = smoothed_footprint(g, p, i, out);
+    const int size = footprint_size(g, p, i, scheme);
+    for (int q = m; q < size; ++q) out[q] = {out[0].cell, 0.0};
     return;
   }
-  Vec3 e1, e2;
-  const Vec3 u = p.axis[i];
-  complete_basis(u, e1, e2);
-  // Shares of the volume: the caps make one sphere, the cylinder pi r^2 l.
-  const double v_sphere = 4.0 / 3.0 * kPi * r * r * r, v_cyl = kPi * r * r * 2.0 * h;
-  const double v_total = v_sphere + v_cyl;
-  const double w_sphere = v_sphere / kSpherePoints / v_total;
+  const NearCell cell_of_point(g, c, p.radius[i] + p.half(i));
   int q = 0;
-  for (const Vec3& s : sphere_points()) {   // in the rod's frame: bands split at the equator
-    const double shift = s.z > 0 ? h : -h;  // the upper half of the set goes to the upper cap
-    const Vec3 x = c + (r * s.x) * e1 + (r * s.y) * e2 + (r * s.z + shift) * u;
-    out[q++] = {cell_of_point(x), w_sphere};
-  }
-  const double w_cyl = v_cyl / (n_slabs * kDiskPoints) / v_total;
-  // Slab j is cut into 8 thin sub-slabs along the axis, one point each at the sub-slab's
-  // mid-plane and at one of the 8 cross-section centroids: every point has its own axial
-  // position (a rod moving along its axis moves one point at a time across a face) and each
-  // slab still samples the whole cross-section.
-  const double dz = 2.0 * h / (n_slabs * kDiskPoints);
-  for (int j = 0; j < n_slabs; ++j) {
-    const DiskSet& disk = disk_points()[j % kDiskVariants];
-    for (int m = 0; m < kDiskPoints; ++m) {
-      const Vec3& d = disk[kDiskOrder[m]];
-      const double z = -h + (j * kDiskPoints + m + 0.5) * dz;
-      const Vec3 x = c + (r * d.x) * e1 + (r * d.y) * e2 + z * u;
-      out[q++] = {cell_of_point(x), w_cyl};
-    }
-  }
+  for_each_sample_point(p, i, [&](const Vec3& x, double w, const Vec3&) {
+    out[q++] = {cell_of_point(x), w};
+  });
 }
 
-void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
-                        Footprints& fp) {
+namespace {
+
+/// Builds fp block by block: size(k) bounds particle k's pairs, fill(k, out) writes them
+/// (compacted: one per cell) and returns their number.
+template <class Size, class Fill>
+void build_footprints(const fluid::Grid& g, const ParticleGeometry& p, Footprints& fp, Size&& size,
+                      Fill&& fill) {
   check_geometry(g, p);
   const std::size_t n = p.size();
   fp.n_cells = g.cell_count();
@@ -476,31 +652,14 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
     auto& off = fp.raw_offsets;
     off.resize(nb + 1);
     off[0] = 0;
-    for (std::size_t i = 0; i < nb; ++i)
-      off[i + 1] = off[i] + footprint_size(g, p, start + i, scheme);
+    for (std::size_t i = 0; i < nb; ++i) off[i + 1] = off[i] + size(start + i);
     fp.raw.resize(static_cast<std::size_t>(off[nb]));
     fp.counts.resize(nb);
     CellShare* raw = fp.raw.data();
     exec::parallel_for(static_cast<exec::index_t>(nb), [&](exec::index_t i) {
-      CellShare* f = raw + off[i];
       const std::size_t k = start + static_cast<std::size_t>(i);
       fp.volume[k] = p.volume(k);
-      if (scheme == DepositScheme::Divided && p.half(k) == 0.0) {
-        // A sphere inside one cell comes out as the single pair (cell, 1) here too.
-        const double r = p.radius[k];
-        const int m = sphere_footprint_binned(NearCell(g, p.x[k], r), p.x[k], r, f);
-        if (m > 0) {
-          fp.counts[i] = m;
-          return;
-        }
-      }
-      if (scheme == DepositScheme::Divided && inside_one_cell(g, p, k)) {
-        f[0] = {cell_containing(g, p.x[k]), 1.0};
-        fp.counts[i] = 1;
-        return;
-      }
-      footprint(g, p, k, scheme, f);
-      fp.counts[i] = compact_footprint(f, static_cast<int>(off[i + 1] - off[i]));
+      fp.counts[i] = fill(k, raw + off[i]);
     });
     // Compaction: offsets by a running sum, then one copy per particle into place (a vector
     // insert per particle cost more than the footprints of grains inside one cell).
@@ -513,6 +672,66 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
       std::copy(raw + off[i], raw + off[i] + fp.counts[i], shares + dst[i]);
     });
   }
+}
+
+}  // namespace
+
+void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                        Footprints& fp) {
+  build_footprints(
+      g, p, fp, [&](std::size_t k) { return footprint_size(g, p, k, scheme); },
+      [&](std::size_t k, CellShare* f) {
+        if (scheme == DepositScheme::Smoothed) return smoothed_footprint(g, p, k, f);
+        if (scheme == DepositScheme::Divided && p.half(k) == 0.0) {
+          // A sphere inside one cell comes out as the single pair (cell, 1) here too.
+          const double r = p.radius[k];
+          const int m = sphere_footprint_binned(NearCell(g, p.x[k], r), p.x[k], r, f);
+          if (m > 0) return m;
+        }
+        if (scheme == DepositScheme::Divided && inside_one_cell(g, p, k)) {
+          f[0] = {cell_containing(g, p.x[k]), 1.0};
+          return 1;
+        }
+        footprint(g, p, k, scheme, f);
+        return compact_footprint(f, footprint_size(g, p, k, scheme));
+      });
+}
+
+void footprint_rates(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                     std::span<const Vec3> v, std::span<const Vec3> omega, Footprints& rates) {
+  REQUIRE(scheme == DepositScheme::Smoothed || scheme == DepositScheme::Trilinear,
+          "footprint rates: only the trilinear and smoothed deposits have a time derivative");
+  REQUIRE(v.size() == p.size() && (omega.empty() || omega.size() == p.size()),
+          "footprint rates: {} velocities and {} angular velocities for {} particles", v.size(),
+          omega.size(), p.size());
+  if (scheme == DepositScheme::Trilinear) {  // one point, the centre, moving at v
+    build_footprints(
+        g, p, rates, [&](std::size_t) { return g.dimension == 2 ? 4 : 8; },
+        [&](std::size_t k, CellShare* f) {
+          SmoothedBlock block(g, p.x[k], 0.0, 1);
+          block.add(p.x[k], 1.0, &v[k]);
+          return block.emit(f);
+        });
+    return;
+  }
+  build_footprints(
+      g, p, rates, [&](std::size_t k) { return smoothed_size_bound(g, p, k); },
+      [&](std::size_t k, CellShare* f) {
+        // A sphere's points are fixed in the world frame (they translate with it); a rod's
+        // follow its frame (e1, e2, u), which turns with the axis (the spin about it moves
+        // none): v + l.x de1/dt + l.y de2/dt + l.z du/dt.
+        Vec3 de1{0, 0, 0}, de2{0, 0, 0}, du{0, 0, 0};
+        if (p.half(k) > 0 && !omega.empty()) {
+          du = cross(omega[k], p.axis[k]);
+          basis_rates(p.axis[k], du, de1, de2);
+        }
+        SmoothedBlock block(g, p.x[k], p.radius[k] + p.half(k));
+        for_each_sample_point(p, k, [&](const Vec3& x, double w, const Vec3& l) {
+          const Vec3 vs = v[k] + l.x * de1 + l.y * de2 + l.z * du;
+          block.add(x, w, &vs);
+        });
+        return block.emit(f);
+      });
 }
 
 void deposit(const Footprints& fp, std::span<const double> value, std::span<double> per_cell,

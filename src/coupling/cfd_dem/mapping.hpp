@@ -28,6 +28,10 @@ enum class DepositScheme {
   CentreInCell,  ///< everything into the cell containing the centre (jumps when it crosses)
   Divided,       ///< fixed sample points filling the body, each with its share (see below)
   Trilinear,     ///< the centre's trilinear stencil (the adjoint of `interpolate`)
+  /// Divided's sample points, each spread over its trilinear stencil between cell centres: the
+  /// weights are continuous, piecewise linear functions of the grains' positions (no steps as
+  /// points cross faces), so their time derivative exists (smoothed_footprint_rates).
+  Smoothed,
 };
 
 /// Particles as plain arrays: spheres (half_length / axis empty) or spherocylinders.
@@ -127,6 +131,17 @@ void footprint(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i, D
 /// single pair (cell, 1) without placing its sample points: every point would fall there.
 void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
                         Footprints& fp);
+
+/// The time derivatives dw_pc/dt (1/s) of the Smoothed or Trilinear footprints (the others
+/// move in steps: gf::Error) of grains moving at v (and, for spherocylinders, turning at
+/// omega; empty: not turning), in the layout of Footprints (each particle's pairs sum to
+/// zero; volume filled). A point at x moving at v_s changes its weights by grad(w) . v_s:
+/// exact while the points stay between the same cell centres, so the deposited fraction
+/// changes over a step by dt times the deposit of these rates up to O(dt^2) (the weights are
+/// linear in each point's coordinates there). Sphere points translate with the sphere; a rod's
+/// turn with its axis (the spin about it moves none); Trilinear's one point is the centre.
+void footprint_rates(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                     std::span<const Vec3> v, std::span<const Vec3> omega, Footprints& rates);
 
 /// per_cell[c] += scale * sum_p w_pc value[p] with footprints built by compute_footprints
 /// (adds; the caller zeroes). value has one entry per particle, per_cell one per cell.

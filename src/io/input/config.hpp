@@ -366,11 +366,12 @@ struct Fluid {
 struct Coupling {
   std::string drag;  ///< drag registry key (coupling/cfd_dem/drag_registry)
   std::map<std::string, double> drag_params;  ///< the law's parameters as given (defaults: none)
-  std::string fluid_fraction = "divided";     ///< centre | divided
+  std::string fluid_fraction = "divided";     ///< centre | divided | trilinear | smoothed
   int interval = 100;                         ///< DEM steps per fluid step
   double min_fraction = 0.3;                  ///< lower clamp of the fluid fraction
-  /// d eps/dt in the fluid's continuity: "flux" (divergence of the grains' solid volume flux)
-  /// or "difference" (change of the deposited eps over the fluid step)
+  /// d eps/dt in the fluid's continuity: "flux" (divergence of the grains' solid volume flux),
+  /// "difference" (change of the deposited eps over the fluid step) or "derivative" (the time
+  /// derivative of a continuous deposit; fluid_fraction: trilinear or smoothed only)
   std::string fluid_fraction_rate = "flux";
   /// Under-relaxation a of the flux rate between fluid steps: rate = rate_prev + a (new - prev)
   double rate_relaxation = 0.3;

@@ -559,11 +559,19 @@ void Reader::read_coupling(const YamlMap& root) {
       dn.fail(e.what());
     }
   }
-  if (auto ff = cm.find("fluid_fraction")) cp.fluid_fraction = ff->as_choice({"centre", "divided"});
+  if (auto ff = cm.find("fluid_fraction"))
+    cp.fluid_fraction = ff->as_choice({"centre", "divided", "trilinear", "smoothed"});
   if (auto in = cm.find("interval")) cp.interval = static_cast<int>(in->as_integer({1, 1e6}));
   cp.min_fraction = cm.number_or("min_fraction", 0.3, Range{0.0, 1.0, true, false});
-  if (auto r = cm.find("fluid_fraction_rate"))
-    cp.fluid_fraction_rate = r->as_choice({"flux", "difference"});
+  if (auto r = cm.find("fluid_fraction_rate")) {
+    cp.fluid_fraction_rate = r->as_choice({"flux", "difference", "derivative"});
+    if (cp.fluid_fraction_rate == "derivative" && cp.fluid_fraction != "smoothed" &&
+        cp.fluid_fraction != "trilinear")
+      r->fail(fmt::format(
+          "'derivative' needs 'fluid_fraction: smoothed' or 'trilinear' (the {} deposit moves in "
+          "steps and has no time derivative); use 'flux' or 'difference' with it",
+          cp.fluid_fraction));
+  }
   cp.rate_relaxation = cm.number_or("rate_relaxation", 0.3, Range{0.0, 1.0, true, false});
   cp.pressure_gradient_force = cm.boolean_or("pressure_gradient_force", true);
   if (auto ip = cm.find("interpolation")) cp.interpolation = ip->as_choice({"trilinear", "cell"});
