@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Fluid (void) fraction per cell from the particles: eps_c = 1 - V_solid,c / V_cell, with the
 // solid volume deposited by one of the schemes of mapping.hpp (centre-in-cell, divided,
-// trilinear or smoothed). Volume is conserved before clamping: sum_c (1 - eps_c) V_cell = sum_p V_p.
+// trilinear or smoothed). Volume is conserved before clamping:
+// sum_c (1 - eps_c) V_cell = sum_p V_p.
 #pragma once
 
 #include <cstdint>
