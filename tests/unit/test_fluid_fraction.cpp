@@ -364,37 +364,17 @@ TEST(FluidFractionRate, ContinuousDepositsRateIsTheirTimeDerivative) {
     }
 }
 
-// The smoothed deposit has no steps: a sphere (r = 0.4 h) moved along each axis in steps of
-// h/1000 changes the solid volume of a cell by at most |grad w| h/1000 V_p <= 3e-3 V_p per step
-// (the sum of its points' weight changes, each <= 1/1000 of the point's share per axis, three
-// of the cell's eight stencil factors moving).
-TEST(FluidFraction, SmoothedIsContinuous) {
-  const auto g = box_grid({4, 4, 4}, {0, 0, 0}, {1, 1, 1}, {false, false, false});
-  const double r = 0.4, vp = 4.0 / 3 * kPiD * r * r * r;
-  for (int axis = 0; axis < 3; ++axis) {
-    Particles p;
-    p.x = {{1.5, 1.5, 1.5}};
-    p.radius = {r};
-    double prev = -1, max_jump = 0;
-    for (int step = 0; step <= 1400; ++step) {
-      p.x[0][axis] = 1.3 + step * 1e-3;
-      const double s = solid_volume(g, p.view(), DepositScheme::Smoothed)[g.index(1, 1, 1)];
-      if (step > 0) max_jump = std::max(max_jump, std::abs(s - prev));
-      prev = s;
-    }
-    EXPECT_LE(max_jump, 1.001e-3 * vp) << axis;  // measured: the point shares' slope, h/1000
-    EXPECT_GT(max_jump, 0.0) << axis;
-  }
-}
-
 // A sphere (r = 0.4 h) moving along x, y or z across a cell face in steps of h/1000 (0.0025 r).
 // Centre-in-cell: eps of the cell it leaves jumps once by V_p / V_cell = 0.268. Divided: the
 // turned 48-point set has no two points closer than 0.0016 r along an axis, so one step moves at
 // most two points: jump <= 2 V_p / 48 / V_cell = 0.0112 (measured: one point, 0.0056). The
 // volume beyond the face follows the exact spherical cap within 0.1 V_p (a 48-point quadrature
 // of a step function; measured 0.056-0.073 along the axes, 0.099 the worst of 65 directions in
-// the design study, see sphere_sample_points).
-TEST(FluidFraction, DividedIsContinuousCentreInCellJumps) {
+// the design study, see sphere_sample_points). Smoothed has no steps at all: a step moves every
+// point's stencil weights by at most 1/1000 of its share, so the cell's solid volume changes by
+// at most V_p / 1000 per step (measured: that, where the whole sphere is between the same
+// centres along the other axes).
+TEST(FluidFraction, DividedAndSmoothedAreContinuousCentreInCellJumps) {
   const auto g = box_grid({4, 4, 4}, {0, 0, 0}, {1, 1, 1}, {false, false, false});
   const double r = 0.4, vp = 4.0 / 3 * kPiD * r * r * r;
   for (int axis = 0; axis < 3; ++axis) {
@@ -403,6 +383,7 @@ TEST(FluidFraction, DividedIsContinuousCentreInCellJumps) {
     p.radius = {r};
     std::vector<double> eps(g.cell_count());
     double prev_c = -1, prev_d = -1, max_jump_c = 0, max_jump_d = 0, max_cap_err = 0;
+    double prev_s = -1, max_jump_s = 0;
     int jumps_c = 0;
     for (int step = 0; step <= 1400; ++step) {
       p.x[0][axis] = 1.3 + step * 1e-3;
@@ -410,12 +391,15 @@ TEST(FluidFraction, DividedIsContinuousCentreInCellJumps) {
       const double ec = eps[g.index(1, 1, 1)];
       fluid_fraction(g, p.view(), {DepositScheme::Divided, 0.3}, eps);
       const double ed = eps[g.index(1, 1, 1)];
+      fluid_fraction(g, p.view(), {DepositScheme::Smoothed, 0.3}, eps);
+      const double es = eps[g.index(1, 1, 1)];
       if (step > 0) {
         max_jump_c = std::max(max_jump_c, std::abs(ec - prev_c));
         if (ec != prev_c) ++jumps_c;
         max_jump_d = std::max(max_jump_d, std::abs(ed - prev_d));
+        max_jump_s = std::max(max_jump_s, std::abs(es - prev_s));
       }
-      prev_c = ec, prev_d = ed;
+      prev_c = ec, prev_d = ed, prev_s = es;
       // Exact solid volume beyond the face (a cap of height hc) = what left cell (1, 1, 1).
       const double hc = std::clamp(p.x[0][axis] + r - 2.0, 0.0, 2 * r);
       const double beyond = kPiD * hc * hc * (3 * r - hc) / 3;
@@ -425,6 +409,8 @@ TEST(FluidFraction, DividedIsContinuousCentreInCellJumps) {
     EXPECT_NEAR(max_jump_c, vp, 1e-12) << axis;
     EXPECT_LE(max_jump_d, 2 * vp / 48 + 1e-12) << axis;
     EXPECT_LT(max_cap_err, 0.1) << axis;
+    EXPECT_LE(max_jump_s, 1.001e-3 * vp) << axis;  // V_cell = 1
+    EXPECT_GT(max_jump_s, 0.0) << axis;
     RecordProperty("divided_max_jump_over_vp_axis" + std::to_string(axis),
                    std::to_string(max_jump_d / vp));
     RecordProperty("divided_max_cap_error_over_vp_axis" + std::to_string(axis),
