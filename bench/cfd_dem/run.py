@@ -32,12 +32,14 @@ def machine():
     return model, cores
 
 
-def run(grainflow, case, folder, steps, threads):
+def run(grainflow, case, folder, steps, threads, sets=()):
     path = os.path.join(folder, "case.yaml")
     with open(path, "w") as f:
         yaml.safe_dump(case, f)
     env = dict(os.environ, OMP_NUM_THREADS=str(threads))
     cmd = [grainflow, "run", path, "--steps", str(steps), "--set", f"output.directory={folder}/out"]
+    for s in sets:
+        cmd += ["--set", s]
     try:
         subprocess.run(cmd, check=True, capture_output=True, env=env, cwd=folder)
         with open(os.path.join(folder, "out", "summary.json")) as f:
@@ -53,6 +55,8 @@ def main():
     ap.add_argument("--case", default=os.path.join(ROOT, "cases/cfd_dem/fluidized_bed/case.yaml"))
     ap.add_argument("--steps", type=int, default=10000, help="DEM steps per run (default 10000 = 0.1 s)")
     ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="override of the coupled run (repeatable), e.g. coupling.fluid_fraction=smoothed")
     ap.add_argument("--append", action="store_true", help="append a section to bench/RESULTS-cfd_dem.md")
     a = ap.parse_args()
     a.grainflow = os.path.abspath(a.grainflow)
@@ -77,7 +81,7 @@ def main():
     load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as t:
         os.makedirs(f"{t}/c"), os.makedirs(f"{t}/d")
-        sc = run(a.grainflow, coupled, f"{t}/c", a.steps, a.threads)
+        sc = run(a.grainflow, coupled, f"{t}/c", a.steps, a.threads, a.set)
         sd = run(a.grainflow, dem, f"{t}/d", a.steps, a.threads)
     load1 = os.getloadavg()[0]
     model, cores = machine()
@@ -111,10 +115,12 @@ def main():
         f"stage / DEM-only loop: **{added:.2f}**; fluid stage / DEM part of the coupled loop: "
         f"**{own:.2f}** (target < 0.5 for both: {both}); fluid grid "
         f"{'x'.join(map(str, coupled['fluid']['cells']))} = {cells} cells, one fluid step every "
-        f"{interval} DEM steps; threads {a.threads}; load average {load0:.2f} -> {load1:.2f}\n")
+        f"{interval} DEM steps; threads {a.threads}; load average {load0:.2f} -> {load1:.2f}"
+        + (f"; coupled run with {', '.join(a.set)}" if a.set else "") + "\n")
     print(text)
     if a.append:
-        head = (f"\n## {datetime.date.today().isoformat()}: fluidized_bed, {a.steps} steps\n\n"
+        variant = f" ({', '.join(a.set)})" if a.set else ""
+        head = (f"\n## {datetime.date.today().isoformat()}: fluidized_bed, {a.steps} steps{variant}\n\n"
                 f"Machine: {model}, {cores} CPUs (shared machine), "
                 f"grainflow {a.grainflow}. Peer: see vs_openfoam.py.\n\n")
         res = os.path.join(ROOT, "bench/RESULTS-cfd_dem.md")

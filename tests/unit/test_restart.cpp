@@ -435,6 +435,21 @@ TEST(Restart, CfdDemContinuesBitIdentically) {
   EXPECT_THROW(c.load_checkpoint(r->file), InputError);
 }
 
+TEST(Restart, CfdDemDerivativeRateContinuesBitIdentically) {
+  // The smoothed deposit with its time derivative as the rate: the rate is rebuilt from the
+  // grains every fluid step and only its relaxed value is state, kept like the flux rate's.
+  const std::vector<input::Override> sets = {{"coupling.fluid_fraction", "smoothed"},
+                                             {"coupling.fluid_fraction_rate", "derivative"}};
+  const auto cfg =
+      input::load_case(std::string(GF_SOURCE_DIR) + "/cases/cfd_dem/fluidized_bed/case.yaml", sets);
+  ASSERT_EQ(cfg.coupling->fluid_fraction_rate, "derivative");
+  const auto r = run_restarted(cfg, "cfd_derivative", 510, 500);
+  test::expect_same_state(*r->a, *r->b);
+  const auto pa = r->a->cfd_dem()->fluid().pressure(), pb = r->b->cfd_dem()->fluid().pressure();
+  ASSERT_EQ(pa.size(), pb.size());
+  EXPECT_EQ(0, std::memcmp(pa.data(), pb.data(), pa.size() * sizeof(double)));
+}
+
 TEST(Restart, CfdDemHeatTransferContinuesBitIdentically) {
   // The heated bed: the grains' temperatures and conductances travel as particle fields, the
   // fluid's temperature in the coupling's state.
