@@ -98,7 +98,7 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
                        : cp.fluid_fraction == "trilinear" ? cfd_dem::DepositScheme::Trilinear
                                                           : cfd_dem::DepositScheme::Divided;
   ff_options_.min_fraction = cp.min_fraction;
-  rate_from_flux_ = cp.fluid_fraction_rate != "difference";
+  rate_from_motion_ = cp.fluid_fraction_rate != "difference";
   rate_from_derivative_ = cp.fluid_fraction_rate == "derivative";
   rate_relaxation_ = cp.rate_relaxation;
   pressure_gradient_force_ = cp.pressure_gradient_force;
@@ -199,7 +199,7 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   cfd_dem::compute_footprints(grid_, geo, ff_options_.scheme, footprints_);
   cfd_dem::fluid_fraction(grid_, footprints_, ff_options_.min_fraction, eps_);
   if (first_) std::copy(eps_.begin(), eps_.end(), eps_prev_.begin());
-  if (rate_from_flux_) {
+  if (rate_from_motion_) {
     // The divergence of the grains' solid volume flux: smooth, where the deposited eps moves in
     // steps as sample points cross faces (a lattice suspension crossing faces together sees
     // no return flow between the crossings with the difference).

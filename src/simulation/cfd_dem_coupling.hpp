@@ -134,9 +134,11 @@ class CfdDemCoupling {
 
   // Reused between fluid steps (sized on the first one).
   cfd_dem::StoreGeometry geo_buffers_;
-  bool rate_from_flux_ = true;  // d eps/dt from the solid flux (else from the eps difference)
-  bool rate_from_derivative_ = false;  // ... or from the continuous deposit's time derivative
-  cfd_dem::Footprints rate_fp_;        // the footprints' rates (derivative only)
+  // d eps/dt from the grains' motion (else from the eps difference): the solid flux, or with
+  // rate_from_derivative_ the continuous deposit's time derivative
+  bool rate_from_motion_ = true;
+  bool rate_from_derivative_ = false;
+  cfd_dem::Footprints rate_fp_;  // the footprints' rates (derivative only)
   cfd_dem::SolidFluxScratch solid_flux_;
   double rate_relaxation_ = 0.3;         // under-relaxation of the flux rate between fluid steps
   bool pressure_gradient_force_ = true;  // grains feel -V grad p (else drag only)
