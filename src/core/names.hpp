@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The rule for names that head CSV columns and series quantities (walls, fluid_fem bodies).
+// The rule for names that head CSV columns and series quantities (walls, fluid_fem bodies), and
+// the names of a box's faces.
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <string_view>
 
 namespace gf {
@@ -16,5 +18,10 @@ inline bool is_column_name(std::string_view name) {
            return letter(ch) || (ch >= '0' && ch <= '9') || ch == '_' || ch == '-';
          });
 }
+
+/// The faces of an axis-aligned box as the case file and the series name them (a box wall's
+/// NAME.xmin, fluid.boundary's keys, fluid_boundary_heat_flow.FACE), index 2 axis + side.
+inline constexpr std::array<std::string_view, 6> kBoxFaceNames = {"xmin", "xmax", "ymin",
+                                                                  "ymax", "zmin", "zmax"};
 
 }  // namespace gf

@@ -19,6 +19,7 @@
 #include "core/error.hpp"
 #include "core/exec.hpp"
 #include "core/log.hpp"
+#include "core/names.hpp"
 #include "integrators/gear5.hpp"
 #include "integrators/rigid_bodies.hpp"
 #include "integrators/velocity_verlet.hpp"
@@ -615,13 +616,13 @@ void Simulation::build_walls() {
         break;
       }
       case config::Wall::Kind::Box: {
-        static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+        const auto& faces = kBoxFaceNames;
         for (int f = 0; f < 6; ++f) {
           if (std::find(wc.open.begin(), wc.open.end(), faces[f]) != wc.open.end()) continue;
           if (two_d_ && f >= 4) continue;  // 2D: the grains lie in z = 0, no z faces
           Wall p = w;
           p.kind = WallKind::Plane;
-          p.name = wc.name + "." + faces[f];
+          p.name = wc.name + "." + std::string(faces[f]);
           const int axis = f / 2;
           const bool lo = (f % 2) == 0;
           p.point0 = lo ? wc.min : wc.max;
@@ -1614,8 +1615,7 @@ std::vector<double> Simulation::series_row(const std::vector<std::string>& colum
     } else if (cfd_ && cfd_->has_heat() && name == "fluid_boundary_heat_flow") {
       row.push_back(cfd_->boundary_heat_to_fluid());
     } else if (cfd_ && cfd_->has_heat() && name.starts_with("fluid_boundary_heat_flow.")) {
-      static constexpr std::array<std::string_view, 6> faces = {"xmin", "xmax", "ymin",
-                                                                "ymax", "zmin", "zmax"};
+      const auto& faces = kBoxFaceNames;
       const auto it = std::find(faces.begin(), faces.end(), std::string_view(name).substr(25));
       REQUIRE(it != faces.end(), "unknown box face in series quantity '{}'", name);
       row.push_back(cfd_->boundary_heat_to_fluid(static_cast<int>(it - faces.begin())));

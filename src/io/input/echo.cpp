@@ -16,6 +16,7 @@
 #include "contact/registry.hpp"
 #include "continuum/ktgf.hpp"
 #include "continuum/rheology_registry.hpp"
+#include "core/names.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
 #include "io/input/validate.hpp"
 #include "io/input/yaml_reader.hpp"
@@ -606,12 +607,11 @@ std::string echo_yaml(const config::Case& c, std::string_view program_version,
     out << YAML::Key << "cells" << YAML::Value << YAML::Flow << YAML::BeginSeq << f.cells[0]
         << f.cells[1] << f.cells[2] << YAML::EndSeq;
     out << YAML::Key << "boundary" << YAML::Value << YAML::BeginMap;
-    static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
     const bool shear_walls = c.shear && c.shear->boundary == config::Shear::Boundary::Walls;
     for (int face = 0; face < 6; ++face) {
       if (shear_walls && face >= 4) continue;  // the shear walls (shear: block)
       const auto& b = f.boundary[static_cast<std::size_t>(face)];
-      out << YAML::Key << faces[face] << YAML::Value;
+      out << YAML::Key << std::string(kBoxFaceNames[static_cast<std::size_t>(face)]) << YAML::Value;
       using K = config::FluidBoundary::Kind;
       switch (b.kind) {
         case K::Periodic:

@@ -414,11 +414,11 @@ void Reader::read_fluid(const YamlMap& root) {
   if (cells > 2.0e7)
     cn.fail_expected(fmt::format("at most 2e7 cells in all, found {}", number_text(cells)));
   const auto& per = c.domain.periodic;
-  static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+  const auto& faces = kBoxFaceNames;
   for (int face = 0; face < 6; ++face)
     if (per[face / 2]) f.boundary[face].kind = config::FluidBoundary::Kind::Periodic;
   if (auto bn = fm.find("boundary")) {
-    YamlMap bm(*bn, {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"});
+    YamlMap bm(*bn, std::vector<std::string>(faces.begin(), faces.end()));
     for (int face = 0; face < 6; ++face) {
       auto v = bm.find(faces[face]);
       if (!v) continue;
@@ -625,7 +625,7 @@ void Reader::read_fluid_heat(const YamlMap& cm, config::Coupling& cp) const {
     throw_input_error(fluid_loc("thermal_conductivity"),
                       "coupling.heat_transfer needs the fluid's thermal_conductivity (W/(m K), "
                       "e.g. 0.026 for air, 0.6 for water)");
-  static const char* faces[6] = {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"};
+  const auto& faces = kBoxFaceNames;
   for (int face = 0; face < 6; ++face) {
     const auto& b = f.boundary[face];
     if (b.kind == config::FluidBoundary::Kind::VelocityInlet && !b.temperature)
@@ -1911,9 +1911,9 @@ void Reader::read_output(const YamlMap& root) {
       walls.push_back(w.name);
       // The faces of a box report on their own too: NAME.xmin ... NAME.zmax.
       if (w.kind == config::Wall::Kind::Box)
-        for (const char* face : {"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"})
+        for (const std::string_view face : kBoxFaceNames)
           if (std::find(w.open.begin(), w.open.end(), face) == w.open.end())
-            walls.push_back(w.name + "." + face);
+            walls.push_back(w.name + "." + std::string(face));
     }
     if (auto q = sm.find("quantities")) {
       for (const auto& item : q->as_list()) {
@@ -1943,8 +1943,7 @@ void Reader::read_output(const YamlMap& root) {
                                   walls.empty() ? std::string("no walls are declared")
                                                 : fmt::format("declared walls: {}", join(walls))));
         } else if (name.starts_with("fluid_boundary_heat_flow.")) {
-          static const std::vector<std::string> faces = {"xmin", "xmax", "ymin",
-                                                         "ymax", "zmin", "zmax"};
+          static const std::vector<std::string> faces(kBoxFaceNames.begin(), kBoxFaceNames.end());
           const std::string face = name.substr(25);
           if (std::find(faces.begin(), faces.end(), face) == faces.end())
             item.fail(fmt::format("unknown box face '{}' in '{}'; expected one of {}", face, name,
