@@ -311,7 +311,7 @@ TEST(FluidFractionRate, ConservesSolidVolumeAndVanishesForUniformFlux) {
 // and rods (radii
 // 0.1-0.9 cells, rods up to 4 cells long, some across periodic faces and some beyond the
 // outermost centres at walls, where the stencil is constant) moving at random v and turning at
-// random omega, the deposit of smoothed_footprint_rates equals the central difference of the
+// random omega, the deposit of footprint_rates equals the central difference of the
 // deposited solid volume over t +- delta (centres x +- v delta, axes turned by +- delta omega),
 // cell by cell. The weights are linear in each point's coordinates between cell centres, so the
 // difference is exact but for the axis' turn (O(delta^2)), round-off (1e-16 V / delta: delta =

@@ -30,7 +30,7 @@ enum class DepositScheme {
   Trilinear,     ///< the centre's trilinear stencil (the adjoint of `interpolate`)
   /// Divided's sample points, each spread over its trilinear stencil between cell centres: the
   /// weights are continuous, piecewise linear functions of the grains' positions (no steps as
-  /// points cross faces), so their time derivative exists (smoothed_footprint_rates).
+  /// points cross faces), so their time derivative exists (footprint_rates).
   Smoothed,
 };
 
