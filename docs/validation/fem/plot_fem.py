@@ -14,7 +14,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from st_analysis import analyse_2d2, analyse_2d3, load  # noqa: E402
+from st_analysis import FEATFLOW_2D2_L6, analyse_2d2, analyse_2d3, load  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -41,7 +41,10 @@ def plot_2d1(path):
 def plot_2d2(path):
     d = load(path)
     r = analyse_2d2(d)
-    fig, axs = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
+    fig = plt.figure(figsize=(7, 9))
+    gs = fig.add_gridspec(4, 1)
+    axs = [fig.add_subplot(gs[0])]
+    axs += [fig.add_subplot(gs[i], sharex=axs[0]) for i in (1, 2)] + [fig.add_subplot(gs[3])]
     m = d["t"] >= d["t"][-1] - 1.0
     for ax, q, lo, hi, lab in ((axs[0], "cd", 3.22, 3.24, "C_D"), (axs[1], "cl", 0.99, 1.01, "C_L"),
                                (axs[2], "dp", 2.46, 2.50, "dp")):
@@ -50,11 +53,27 @@ def plot_2d2(path):
             ax.axhspan(lo, hi, color="C1", alpha=0.3, label=f"reference max {lo}-{hi}")
         else:
             ax.axhspan(lo, hi, color="C1", alpha=0.3, label=f"reference dp(t0 + T/2) {lo}-{hi}")
+        if q + "_max" in FEATFLOW_2D2_L6:
+            ax.axhline(FEATFLOW_2D2_L6[q + "_max"], color="k", lw=0.8, ls="--",
+                       label=f"FEATFLOW 2014, level 6: max {FEATFLOW_2D2_L6[q + '_max']}")
         ax.set_ylabel(lab)
         ax.legend(fontsize=7, loc="lower right")
+    # one lift maximum against both references, magnified (the last in the window)
+    tm = d["t"][m][np.argmax(np.where(d["t"][m] > d["t"][-1] - 0.4, d["cl"][m], -np.inf))]
+    near = np.abs(d["t"] - tm) < 0.04
+    axs[3].plot(d["t"][near], d["cl"][near], label="grainflow")
+    axs[3].axhspan(0.99, 1.01, color="C1", alpha=0.3, label="reference max 0.99-1.01")
+    axs[3].axhline(FEATFLOW_2D2_L6["cl_max"], color="k", lw=0.8, ls="--", label="FEATFLOW 2014, level 6")
+    axs[3].set_ylim(0.97, 1.015)
+    axs[3].set_ylabel("C_L near a maximum")
+    axs[3].legend(fontsize=7, loc="lower right")
     axs[0].set_title(f"2D-2 (Re = 100): St = {r['St']:.4f} (ref 0.295-0.305), C_D,max = {r['cd_max']:.4f}, "
-                     f"C_L,max = {r['cl_max']:.4f}, dp = {r['dp_half']:.4f}", fontsize=8)
+                     f"C_L,max = {r['cl_max']:.4f}, dp = {r['dp_half']:.4f}\n"
+                     f"against FEATFLOW level 6: period {100 * (r['period'] / FEATFLOW_2D2_L6['period'] - 1):+.2f} %, "
+                     f"C_D,max {100 * (r['cd_max'] / FEATFLOW_2D2_L6['cd_max'] - 1):+.3f} %, "
+                     f"C_L,max {100 * (r['cl_max'] / FEATFLOW_2D2_L6['cl_max'] - 1):+.2f} %", fontsize=8)
     axs[2].set_xlabel("t [s]")
+    axs[3].set_xlabel("t [s]")
     fig.tight_layout()
     fig.savefig(os.path.join(HERE, "st_2d2.png"), dpi=120)
     return r
