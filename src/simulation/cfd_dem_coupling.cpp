@@ -93,10 +93,9 @@ CfdDemCoupling::CfdDemCoupling(const config::Case& cfg, ParticleStore& particles
   law_ = cfd_dem::drag_index(cp.drag);
   REQUIRE(law_ >= 0, "unknown drag law '{}'", cp.drag);
   drag_params_ = cfd_dem::prepare_drag(cp.drag, cp.drag_params);
-  ff_options_.scheme = cp.fluid_fraction == "centre"      ? cfd_dem::DepositScheme::CentreInCell
-                       : cp.fluid_fraction == "smoothed"  ? cfd_dem::DepositScheme::Smoothed
-                       : cp.fluid_fraction == "trilinear" ? cfd_dem::DepositScheme::Trilinear
-                                                          : cfd_dem::DepositScheme::Divided;
+  const auto scheme = cfd_dem::deposit_scheme(cp.fluid_fraction);
+  REQUIRE(scheme.has_value(), "unknown fluid-fraction scheme '{}'", cp.fluid_fraction);
+  ff_options_.scheme = *scheme;
   ff_options_.min_fraction = cp.min_fraction;
   rate_from_motion_ = cp.fluid_fraction_rate != "difference";
   rate_from_derivative_ = cp.fluid_fraction_rate == "derivative";
@@ -195,8 +194,14 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
   gradp_p_.resize(n);
   stencils_.resize(n);
 
-  // The grains stay put during this call: one set of footprints serves every deposit.
-  cfd_dem::compute_footprints(grid_, geo, ff_options_.scheme, footprints_);
+  // The grains stay put during this call: one set of footprints serves every deposit. With the
+  // derivative rate the footprints' time derivatives come from the same walk over the points.
+  if (rate_from_derivative_)
+    cfd_dem::footprints_with_rates(
+        grid_, geo, ff_options_.scheme, std::span<const Vec3>(particles.v(), n),
+        std::span<const Vec3>(particles.omega(), n), footprints_, rate_fp_);
+  else
+    cfd_dem::compute_footprints(grid_, geo, ff_options_.scheme, footprints_);
   cfd_dem::fluid_fraction(grid_, footprints_, ff_options_.min_fraction, eps_);
   if (first_) std::copy(eps_.begin(), eps_.end(), eps_prev_.begin());
   if (rate_from_motion_) {
@@ -216,9 +221,6 @@ void CfdDemCoupling::fluid_step(ParticleStore& particles) {
     // drifts from the deposit.
     rate_new_.resize(nc);
     if (rate_from_derivative_) {
-      cfd_dem::footprint_rates(grid_, geo, ff_options_.scheme,
-                               std::span<const Vec3>(particles.v(), n),
-                               std::span<const Vec3>(particles.omega(), n), rate_fp_);
       std::fill(rate_new_.begin(), rate_new_.end(), 0.0);
       cfd_dem::deposit(rate_fp_, std::span<const double>(rate_fp_.volume), rate_new_,
                        -1.0 / grid_.cell_volume());

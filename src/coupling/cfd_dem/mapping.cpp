@@ -498,8 +498,10 @@ int add_share(CellShare* out, int m, std::int64_t c, double w) {
 /// its derivative cancels there) and merges the pairs that land in one cell.
 class SmoothedBlock {
  public:
-  /// copies: interleaved copies of the block (see add; 1 for a single point).
-  SmoothedBlock(const fluid::Grid& g, const Vec3& c, double reach, std::size_t copies = 4)
+  /// copies: interleaved copies of the block (see add; 1 for a single point); sets: 2 to keep
+  /// the weights and their rates side by side (add_both).
+  SmoothedBlock(const fluid::Grid& g, const Vec3& c, double reach, std::size_t copies = 4,
+                std::size_t sets = 1)
       : g_(g), copies_(copies) {
     dims_ = g.dimension == 2 ? 2 : 3;
     for (int a = 0; a < 3; ++a) {
@@ -514,13 +516,46 @@ class SmoothedBlock {
     // One buffer per thread, kept: no allocation once it has grown to the largest grain.
     thread_local std::vector<double> storage;
     size_ = static_cast<std::size_t>(extent_[0]) * extent_[1] * extent_[2];
-    storage.assign(copies_ * size_, 0.0);
+    storage.assign(sets * copies_ * size_, 0.0);
     acc_ = storage.data();
   }
 
   /// Adds w times point x's trilinear weights; with a velocity vx (rates), w times the rate of
   /// change of those weights, grad(weight) . vx.
   void add(const Vec3& x, double w, const Vec3* vx = nullptr) {
+    if (vx)
+      accumulate<kRates>(x, w, *vx);
+    else
+      accumulate<kWeights>(x, w, Vec3{0, 0, 0});
+  }
+  /// Both at once, in a block built with sets = 2: the weights into the first set, the rates
+  /// into the second (each the same sums as add's).
+  void add_both(const Vec3& x, double w, const Vec3& vx) { accumulate<kBoth>(x, w, vx); }
+
+  /// Writes the non-zero sums of set `set` as (cell, value) pairs, one per cell; returns their
+  /// number.
+  int emit(CellShare* out, std::size_t set = 0) const {
+    const double* acc = acc_ + set * copies_ * size_;
+    int m = 0;
+    for (int k = 0; k < extent_[2]; ++k)
+      for (int j = 0; j < extent_[1]; ++j)
+        for (int i = 0; i < extent_[0]; ++i) {
+          const std::size_t at = index(i, j, k);
+          double v = 0.0;
+          for (std::size_t q = 0; q < copies_; ++q) v += acc[q * size_ + at];
+          if (v == 0.0) continue;
+          const std::int64_t cell = g_.index(g_.fold(0, base_[0] + i), g_.fold(1, base_[1] + j),
+                                             dims_ == 3 ? g_.fold(2, base_[2] + k) : 0);
+          m = add_share(out, m, cell, v);
+        }
+    return m;
+  }
+
+ private:
+  enum Mode { kWeights, kRates, kBoth };
+
+  template <Mode mode>
+  void accumulate(const Vec3& x, double w, const Vec3& vx) {
     int i[3] = {0, 0, 0};
     double t[3] = {0, 0, 0}, dt[3] = {0, 0, 0};
     for (int a = 0; a < dims_; ++a) {
@@ -531,44 +566,38 @@ class SmoothedBlock {
       f -= static_cast<int>(s < f);
       i[a] = std::clamp(f - base_[a], 0, extent_[a] - 2);
       t[a] = s - f;
-      if (vx) dt[a] = (*vx)[a] * inv_h_[a];
+      if constexpr (mode != kWeights) dt[a] = vx[a] * inv_h_[a];
     }
     // Consecutive points mostly hit the same cells: adding them to interleaved copies of the
     // block breaks the chain of dependent additions.
     const std::size_t copy = (n_added_++ % copies_) * size_;
+    const std::size_t second = copies_ * size_;  // the rates' set (kBoth)
     const int nk = dims_ == 3 ? 2 : 1;
     for (int c = 0; c < nk; ++c) {
       const double wk = dims_ == 3 ? (c ? t[2] : 1.0 - t[2]) : 1.0;
       const double dk = dims_ == 3 ? (c ? dt[2] : -dt[2]) : 0.0;
       for (int b = 0; b < 2; ++b) {
         const double wj = b ? t[1] : 1.0 - t[1], dj = b ? dt[1] : -dt[1];
+        // The row's factors along y and z: the share a = w wj wk and its rate r = w d(wj wk)/dt;
+        // a corner along x adds wi a and d(wi a)/dt = di a + wi r.
+        const double a = w * (wj * wk);
+        const double r = mode == kWeights ? 0.0 : w * (dj * wk + wj * dk);
         double* row = &acc_[copy + index(i[0], i[1] + b, i[2] + c)];
         for (int d = 0; d < 2; ++d) {
           const double wi = d ? t[0] : 1.0 - t[0], di = d ? dt[0] : -dt[0];
-          row[d] += vx ? w * (di * wj * wk + wi * dj * wk + wi * wj * dk) : w * wi * wj * wk;
+          if constexpr (mode == kWeights) {
+            row[d] += wi * a;
+          } else if constexpr (mode == kRates) {
+            row[d] += di * a + wi * r;
+          } else {
+            row[d] += wi * a;
+            row[second + d] += di * a + wi * r;
+          }
         }
       }
     }
   }
 
-  /// Writes the non-zero sums as (cell, value) pairs, one per cell; returns their number.
-  int emit(CellShare* out) const {
-    int m = 0;
-    for (int k = 0; k < extent_[2]; ++k)
-      for (int j = 0; j < extent_[1]; ++j)
-        for (int i = 0; i < extent_[0]; ++i) {
-          const std::size_t at = index(i, j, k);
-          double v = 0.0;
-          for (std::size_t q = 0; q < copies_; ++q) v += acc_[q * size_ + at];
-          if (v == 0.0) continue;
-          const std::int64_t cell = g_.index(g_.fold(0, base_[0] + i), g_.fold(1, base_[1] + j),
-                                             dims_ == 3 ? g_.fold(2, base_[2] + k) : 0);
-          m = add_share(out, m, cell, v);
-        }
-    return m;
-  }
-
- private:
   [[nodiscard]] std::size_t index(int i, int j, int k) const {
     return (static_cast<std::size_t>(k) * extent_[1] + j) * extent_[0] + i;
   }
@@ -634,44 +663,95 @@ void footprint(const fluid::Grid& g, const ParticleGeometry& p, std::size_t i, D
 
 namespace {
 
-/// Builds fp block by block: size(k) bounds particle k's pairs, fill(k, out) writes them
-/// (compacted: one per cell) and returns their number.
-template <class Size, class Fill>
-void build_footprints(const fluid::Grid& g, const ParticleGeometry& p, Footprints& fp, Size&& size,
-                      Fill&& fill) {
+/// Builds N footprint sets block by block, particle k's pairs of every set bounded by size(k):
+/// fill(k, out) writes them (compacted: one per cell) to out[0..N) and returns their numbers.
+template <std::size_t N, class Size, class Fill>
+void build_footprint_sets(const fluid::Grid& g, const ParticleGeometry& p,
+                          const std::array<Footprints*, N>& fps, Size&& size, Fill&& fill) {
   check_geometry(g, p);
   const std::size_t n = p.size();
-  fp.n_cells = g.cell_count();
-  fp.cell_volume = g.cell_volume();
-  fp.offsets.resize(n + 1);
-  fp.offsets[0] = 0;
-  fp.volume.resize(n);
-  fp.shares.clear();
+  for (Footprints* fp : fps) {
+    fp->n_cells = g.cell_count();
+    fp->cell_volume = g.cell_volume();
+    fp->offsets.resize(n + 1);
+    fp->offsets[0] = 0;
+    fp->volume.resize(n);
+    fp->shares.clear();
+  }
   for (std::size_t start = 0; start < n; start += kBlock) {
     const std::size_t nb = std::min(kBlock, n - start);
-    auto& off = fp.raw_offsets;
+    auto& off = fps[0]->raw_offsets;  // the bounds, shared by the sets
     off.resize(nb + 1);
     off[0] = 0;
     for (std::size_t i = 0; i < nb; ++i) off[i + 1] = off[i] + size(start + i);
-    fp.raw.resize(static_cast<std::size_t>(off[nb]));
-    fp.counts.resize(nb);
-    CellShare* raw = fp.raw.data();
+    std::array<CellShare*, N> raw;
+    for (std::size_t s = 0; s < N; ++s) {
+      fps[s]->raw.resize(static_cast<std::size_t>(off[nb]));
+      fps[s]->counts.resize(nb);
+      raw[s] = fps[s]->raw.data();
+    }
     exec::parallel_for(static_cast<exec::index_t>(nb), [&](exec::index_t i) {
       const std::size_t k = start + static_cast<std::size_t>(i);
-      fp.volume[k] = p.volume(k);
-      fp.counts[i] = fill(k, raw + off[i]);
+      std::array<CellShare*, N> out;
+      for (std::size_t s = 0; s < N; ++s) out[s] = raw[s] + off[i];
+      const std::array<int, N> counts = fill(k, out);
+      const double volume = p.volume(k);
+      for (std::size_t s = 0; s < N; ++s) {
+        fps[s]->volume[k] = volume;
+        fps[s]->counts[i] = counts[s];
+      }
     });
     // Compaction: offsets by a running sum, then one copy per particle into place (a vector
     // insert per particle cost more than the footprints of grains inside one cell).
-    for (std::size_t i = 0; i < nb; ++i)
-      fp.offsets[start + i + 1] = fp.offsets[start + i] + fp.counts[i];
-    fp.shares.resize(static_cast<std::size_t>(fp.offsets[start + nb]));
-    CellShare* shares = fp.shares.data();
-    const std::int64_t* dst = fp.offsets.data() + start;
-    exec::parallel_for(static_cast<exec::index_t>(nb), [&](exec::index_t i) {
-      std::copy(raw + off[i], raw + off[i] + fp.counts[i], shares + dst[i]);
-    });
+    for (std::size_t s = 0; s < N; ++s) {
+      Footprints& fp = *fps[s];
+      for (std::size_t i = 0; i < nb; ++i)
+        fp.offsets[start + i + 1] = fp.offsets[start + i] + fp.counts[i];
+      fp.shares.resize(static_cast<std::size_t>(fp.offsets[start + nb]));
+      CellShare* shares = fp.shares.data();
+      const std::int64_t* dst = fp.offsets.data() + start;
+      const CellShare* from = raw[s];
+      exec::parallel_for(static_cast<exec::index_t>(nb), [&](exec::index_t i) {
+        std::copy(from + off[i], from + off[i] + fp.counts[i], shares + dst[i]);
+      });
+    }
   }
+}
+
+/// One footprint set: fill(k, out) writes particle k's pairs and returns their number.
+template <class Size, class Fill>
+void build_footprints(const fluid::Grid& g, const ParticleGeometry& p, Footprints& fp, Size&& size,
+                      Fill&& fill) {
+  build_footprint_sets<1>(g, p, {&fp}, size,
+                          [&](std::size_t k, const std::array<CellShare*, 1>& out) {
+                            return std::array<int, 1>{fill(k, out[0])};
+                          });
+}
+
+/// The velocities of particle k's sample points, v + l.x de1/dt + l.y de2/dt + l.z du/dt for the
+/// point at l in the frame (e1, e2, u): a sphere's points translate with it (they are fixed in
+/// the world frame); a rod's follow its frame, which turns with the axis (the spin about it moves
+/// none).
+struct PointVelocity {
+  Vec3 v, de1{0, 0, 0}, de2{0, 0, 0}, du{0, 0, 0};
+  PointVelocity(const ParticleGeometry& p, std::size_t k, std::span<const Vec3> vel,
+                std::span<const Vec3> omega)
+      : v(vel[k]) {
+    if (p.half(k) > 0 && !omega.empty()) {
+      du = cross(omega[k], p.axis[k]);
+      basis_rates(p.axis[k], du, de1, de2);
+    }
+  }
+  Vec3 operator()(const Vec3& l) const { return v + l.x * de1 + l.y * de2 + l.z * du; }
+};
+
+void check_rate_inputs(const ParticleGeometry& p, DepositScheme scheme, std::span<const Vec3> v,
+                       std::span<const Vec3> omega) {
+  REQUIRE(has_time_derivative(scheme),
+          "footprint rates: only the trilinear and smoothed deposits have a time derivative");
+  REQUIRE(v.size() == p.size() && (omega.empty() || omega.size() == p.size()),
+          "footprint rates: {} velocities and {} angular velocities for {} particles", v.size(),
+          omega.size(), p.size());
 }
 
 }  // namespace
@@ -699,11 +779,7 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
 
 void footprint_rates(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
                      std::span<const Vec3> v, std::span<const Vec3> omega, Footprints& rates) {
-  REQUIRE(scheme == DepositScheme::Smoothed || scheme == DepositScheme::Trilinear,
-          "footprint rates: only the trilinear and smoothed deposits have a time derivative");
-  REQUIRE(v.size() == p.size() && (omega.empty() || omega.size() == p.size()),
-          "footprint rates: {} velocities and {} angular velocities for {} particles", v.size(),
-          omega.size(), p.size());
+  check_rate_inputs(p, scheme, v, omega);
   if (scheme == DepositScheme::Trilinear) {  // one point, the centre, moving at v
     build_footprints(
         g, p, rates, [&](std::size_t) { return g.dimension == 2 ? 4 : 8; },
@@ -717,20 +793,34 @@ void footprint_rates(const fluid::Grid& g, const ParticleGeometry& p, DepositSch
   build_footprints(
       g, p, rates, [&](std::size_t k) { return smoothed_size_bound(g, p, k); },
       [&](std::size_t k, CellShare* f) {
-        // A sphere's points are fixed in the world frame (they translate with it); a rod's
-        // follow its frame (e1, e2, u), which turns with the axis (the spin about it moves
-        // none): v + l.x de1/dt + l.y de2/dt + l.z du/dt.
-        Vec3 de1{0, 0, 0}, de2{0, 0, 0}, du{0, 0, 0};
-        if (p.half(k) > 0 && !omega.empty()) {
-          du = cross(omega[k], p.axis[k]);
-          basis_rates(p.axis[k], du, de1, de2);
-        }
+        const PointVelocity velocity(p, k, v, omega);
         SmoothedBlock block(g, p.x[k], p.radius[k] + p.half(k));
         for_each_sample_point(p, k, [&](const Vec3& x, double w, const Vec3& l) {
-          const Vec3 vs = v[k] + l.x * de1 + l.y * de2 + l.z * du;
+          const Vec3 vs = velocity(l);
           block.add(x, w, &vs);
         });
         return block.emit(f);
+      });
+}
+
+void footprints_with_rates(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                           std::span<const Vec3> v, std::span<const Vec3> omega, Footprints& fp,
+                           Footprints& rates) {
+  check_rate_inputs(p, scheme, v, omega);
+  if (scheme == DepositScheme::Trilinear) {  // one point: nothing to share
+    compute_footprints(g, p, scheme, fp);
+    footprint_rates(g, p, scheme, v, omega, rates);
+    return;
+  }
+  build_footprint_sets<2>(
+      g, p, {&fp, &rates}, [&](std::size_t k) { return smoothed_size_bound(g, p, k); },
+      [&](std::size_t k, const std::array<CellShare*, 2>& out) {
+        const PointVelocity velocity(p, k, v, omega);
+        SmoothedBlock block(g, p.x[k], p.radius[k] + p.half(k), 4, 2);
+        for_each_sample_point(p, k, [&](const Vec3& x, double w, const Vec3& l) {
+          block.add_both(x, w, velocity(l));
+        });
+        return std::array<int, 2>{block.emit(out[0], 0), block.emit(out[1], 1)};
       });
 }
 

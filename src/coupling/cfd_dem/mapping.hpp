@@ -9,8 +9,11 @@
 // same order whatever the thread count (1 and N threads give bit-identical fields).
 #pragma once
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "core/vec3.hpp"
@@ -33,6 +36,23 @@ enum class DepositScheme {
   /// points cross faces), so their time derivative exists (footprint_rates).
   Smoothed,
 };
+
+/// The schemes' names in the case file (coupling.fluid_fraction), in the enum's order.
+inline constexpr std::array<std::string_view, 4> kDepositSchemeNames = {"centre", "divided",
+                                                                        "trilinear", "smoothed"};
+
+/// The scheme of a name in kDepositSchemeNames; nullopt for any other.
+inline std::optional<DepositScheme> deposit_scheme(std::string_view name) {
+  for (std::size_t k = 0; k < kDepositSchemeNames.size(); ++k)
+    if (kDepositSchemeNames[k] == name) return static_cast<DepositScheme>(k);
+  return std::nullopt;
+}
+
+/// Whether the scheme's weights are continuous in the grains' positions, so that their time
+/// derivative exists (footprint_rates; coupling.fluid_fraction_rate: derivative).
+inline bool has_time_derivative(DepositScheme s) {
+  return s == DepositScheme::Trilinear || s == DepositScheme::Smoothed;
+}
 
 /// Particles as plain arrays: spheres (half_length / axis empty) or spherocylinders.
 struct ParticleGeometry {
@@ -142,6 +162,13 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
 /// turn with its axis (the spin about it moves none); Trilinear's one point is the centre.
 void footprint_rates(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
                      std::span<const Vec3> v, std::span<const Vec3> omega, Footprints& rates);
+
+/// compute_footprints(fp) and footprint_rates(rates) of a continuous scheme at once, bit for bit
+/// the same results: with Smoothed each sample point is placed and its cells found once for
+/// both (the separate calls walk the points twice).
+void footprints_with_rates(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
+                           std::span<const Vec3> v, std::span<const Vec3> omega, Footprints& fp,
+                           Footprints& rates);
 
 /// per_cell[c] += scale * sum_p w_pc value[p] with footprints built by compute_footprints
 /// (adds; the caller zeroes). value has one entry per particle, per_cell one per cell.

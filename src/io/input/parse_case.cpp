@@ -21,6 +21,7 @@
 #include "core/names.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
 #include "coupling/cfd_dem/heat_transfer.hpp"
+#include "coupling/cfd_dem/mapping.hpp"
 #include "io/input/model_block.hpp"
 #include "io/input/stl.hpp"
 #include "io/input/validate.hpp"
@@ -560,13 +561,13 @@ void Reader::read_coupling(const YamlMap& root) {
     }
   }
   if (auto ff = cm.find("fluid_fraction"))
-    cp.fluid_fraction = ff->as_choice({"centre", "divided", "trilinear", "smoothed"});
+    cp.fluid_fraction = ff->as_choice(cfd_dem::kDepositSchemeNames);
   if (auto in = cm.find("interval")) cp.interval = static_cast<int>(in->as_integer({1, 1e6}));
   cp.min_fraction = cm.number_or("min_fraction", 0.3, Range{0.0, 1.0, true, false});
   if (auto r = cm.find("fluid_fraction_rate")) {
     cp.fluid_fraction_rate = r->as_choice({"flux", "difference", "derivative"});
-    if (cp.fluid_fraction_rate == "derivative" && cp.fluid_fraction != "smoothed" &&
-        cp.fluid_fraction != "trilinear")
+    if (cp.fluid_fraction_rate == "derivative" &&
+        !cfd_dem::has_time_derivative(*cfd_dem::deposit_scheme(cp.fluid_fraction)))
       r->fail(fmt::format(
           "'derivative' needs 'fluid_fraction: smoothed' or 'trilinear' (the {} deposit moves in "
           "steps and has no time derivative); use 'flux' or 'difference' with it",

@@ -273,6 +273,10 @@ std::string YamlNode::as_string() const {
 }
 
 std::string YamlNode::as_choice(std::initializer_list<std::string_view> choices) const {
+  return as_choice(std::span<const std::string_view>(choices.begin(), choices.size()));
+}
+
+std::string YamlNode::as_choice(std::span<const std::string_view> choices) const {
   std::vector<std::string> names(choices.begin(), choices.end());
   const std::string what = fmt::format("one of {}", join(names));
   if (!node_.IsScalar()) fail_expected(what);

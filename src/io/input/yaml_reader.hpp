@@ -15,6 +15,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -105,6 +106,8 @@ class YamlNode {
   std::string as_string() const;
   /// A non-empty scalar from `choices`.
   std::string as_choice(std::initializer_list<std::string_view> choices) const;
+  /// The same over a list kept elsewhere (e.g. a model's names next to its enum).
+  std::string as_choice(std::span<const std::string_view> choices) const;
   /// [x, y, z].
   Vec3 as_vec3() const;
   /// [x, y, z], not zero, returned normalised to unit length.
