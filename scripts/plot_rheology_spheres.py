@@ -53,6 +53,12 @@ def plot(folder, out):
     a.axhspan(0.94, 1.06, color="0.85", label="+- 6 % (e = 0.95 test)")
     a.fill_between([-0.4, 0.4], 0.68, 0.86, color="C1", alpha=0.12,
                    label="T window of the e = 0.7 test")
+    # Where first-order theory's T lies against the Grad 13-moment solution of uniform shear, in
+    # the dilute limit where both are exact to their order (docs/models/rheology.md):
+    # T_Grad / T_Lun = 1 - (5/3)(1 - e)/(3 - e).
+    for e, c in ((0.95, "C0"), (0.7, "C1")):
+        a.hlines(1 - 5 / 3 * (1 - e) / (3 - e), -0.38, 0.38, colors=c, linestyles="--", lw=1.2,
+                 label=f"Grad 13 moments / Lun, dilute, e = {e}")
     a.set_xticks(x, QUANTITIES)
     a.set_ylabel("measured / Lun et al. (1984)")
     a.set_title("Homogeneous shear, spheres, phi = 0.1")

@@ -23,5 +23,9 @@ inline bool is_column_name(std::string_view name) {
 /// NAME.xmin, fluid.boundary's keys, fluid_boundary_heat_flow.FACE), index 2 axis + side.
 inline constexpr std::array<std::string_view, 6> kBoxFaceNames = {"xmin", "xmax", "ymin",
                                                                   "ymax", "zmin", "zmax"};
+/// The same faces as the two-fluid block's boundaries spell them; every block that takes a box's
+/// faces as keys accepts both spellings.
+inline constexpr std::array<std::string_view, 6> kBoxFaceAliases = {"x_min", "x_max", "y_min",
+                                                                    "y_max", "z_min", "z_max"};
 
 }  // namespace gf

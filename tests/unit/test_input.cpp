@@ -1820,6 +1820,39 @@ TEST(InputCfdDem, PeriodicFacesMustMatchTheDomain) {
   EXPECT_NE(message.find("must be periodic too"), std::string::npos) << message;
 }
 
+// The two-fluid block's spelling of the faces (x_min ... z_max) names the same faces in
+// fluid.boundary and in a box's `open` list; one face under both spellings is refused at the
+// later key.
+TEST(InputCfdDem, FaceKeysTakeEitherSpelling) {
+  std::string blocks = good_fluid;
+  blocks.replace(blocks.find("{zmin:"), 6, "{z_min:");
+  const auto c = input::load_case_text(cfd_case(blocks), "t.yaml");
+  using K = config::FluidBoundary::Kind;
+  EXPECT_EQ(c.fluid->boundary[4].kind, K::VelocityInlet);
+  EXPECT_EQ(c.fluid->boundary[4].velocity, (Vec3{0, 0, 0.01}));
+  EXPECT_EQ(c.fluid->boundary[5].kind, K::PressureOutlet);
+  // The echo writes the block's own spelling back.
+  EXPECT_NE(input::echo_yaml(c, "test").find("zmin:"), std::string::npos);
+
+  blocks = good_fluid;
+  blocks.replace(blocks.find("{zmin:"), 6, "{z_min: no_slip, zmin:");
+  const std::string message = error_of(cfd_case(blocks));
+  EXPECT_NE(message.find("t.yaml:15:"), std::string::npos) << message;
+  EXPECT_NE(message.find("give only one of zmin, z_min"), std::string::npos) << message;
+  blocks = good_fluid;
+  blocks.replace(blocks.find("{zmin:"), 6, "{z_low:");
+  EXPECT_NE(error_of(cfd_case(blocks)).find("z_low"), std::string::npos);
+
+  std::string text = minimal_case + R"(walls:
+  - {name: box, box: {min: [0, 0, 0], max: [0.1, 0.1, 0.1], open: [z_max, xmin]}, material: glass}
+)";
+  const auto b = input::load_case_text(text, "t.yaml");
+  EXPECT_EQ(b.walls.back().open, (std::vector<std::string>{"zmax", "xmin"}));
+  text.replace(text.find("xmin]"), 4, "zmax");
+  EXPECT_NE(error_of(text).find("face 'zmax' is listed twice"), std::string::npos)
+      << error_of(text);
+}
+
 TEST(InputCfdDem, BlocksNeedEachOtherAndValidValues) {
   const std::string fluid_only = good_fluid.substr(0, good_fluid.find("coupling:"));
   std::string message = error_of(cfd_case(fluid_only));

@@ -209,6 +209,21 @@ TEST(TwoFluidInput, InletsWithoutAnOutletAreRefused) {
             "");
 }
 
+// The other blocks' spelling of the faces (xmin ... ymax) names the same faces here; one face
+// under both spellings is refused.
+TEST(TwoFluidInput, FaceKeysTakeEitherSpelling) {
+  const auto a = parse_text(kCase);
+  const auto b = parse_text(replaced(replaced(kCase, "y_min:", "ymin:"), "x_max:", "xmax:"));
+  for (int f = 0; f < 4; ++f)
+    EXPECT_EQ(a.settings.fluid.boundary[f].kind, b.settings.fluid.boundary[f].kind);
+  EXPECT_TRUE(b.settings.fluid.boundary[2].superficial == a.settings.fluid.boundary[2].superficial);
+  EXPECT_EQ(b.jets.size(), a.jets.size());
+  const auto m = error_of(replaced(kCase, "    y_max: {type: outlet}\n",
+                                   "    y_max: {type: outlet}\n    ymax: {type: outlet}\n"));
+  EXPECT_THAT(m, HasSubstr("give only one of y_max, ymax"));
+  EXPECT_THAT(m, HasSubstr("case.yaml:"));
+}
+
 TEST(TwoFluidCase, RunsAndContinuesBitIdentically) {
   test::TempDir tmp;
   const auto c = parse_text(kCase);

@@ -419,9 +419,11 @@ void Reader::read_fluid(const YamlMap& root) {
   for (int face = 0; face < 6; ++face)
     if (per[face / 2]) f.boundary[face].kind = config::FluidBoundary::Kind::Periodic;
   if (auto bn = fm.find("boundary")) {
-    YamlMap bm(*bn, std::vector<std::string>(faces.begin(), faces.end()));
+    std::vector<std::string> keys(faces.begin(), faces.end());
+    keys.insert(keys.end(), kBoxFaceAliases.begin(), kBoxFaceAliases.end());
+    YamlMap bm(*bn, keys);
     for (int face = 0; face < 6; ++face) {
-      auto v = bm.find(faces[face]);
+      auto v = bm.find_either(faces[face], kBoxFaceAliases[face]);
       if (!v) continue;
       if (c.shear && c.shear->boundary == config::Shear::Boundary::Walls && face >= 4)
         v->fail(
@@ -1757,16 +1759,20 @@ void Reader::read_walls(const YamlMap& root) {
           bm.at("max").fail_expected(
               fmt::format("every component greater than that of min {}", text(w.min)));
       if (auto o = bm.find("open")) {
+        const std::size_t n_faces = two_d() ? 4 : 6;
         for (const auto& face : o->as_list()) {
-          if (two_d() && face.is_scalar() &&
-              (face.raw().Scalar() == "zmin" || face.raw().Scalar() == "zmax"))
+          // x_min ... z_max (the two-fluid block's spelling) name the same faces.
+          std::string f = face.is_scalar() ? face.raw().Scalar() : std::string();
+          for (std::size_t k = 0; k < 6; ++k)
+            if (f == kBoxFaceAliases[k]) f = kBoxFaceNames[k];
+          if (two_d() && (f == "zmin" || f == "zmax"))
             face.fail(fmt::format(
                 "a box in a 2D case (dimension: 2) has no face '{}'; its faces are xmin, xmax, "
                 "ymin, ymax",
                 face.raw().Scalar()));
-          const std::string f =
-              two_d() ? face.as_choice({"xmin", "xmax", "ymin", "ymax"})
-                      : face.as_choice({"xmin", "xmax", "ymin", "ymax", "zmin", "zmax"});
+          if (std::find(kBoxFaceNames.begin(), kBoxFaceNames.begin() + n_faces, f) ==
+              kBoxFaceNames.begin() + n_faces)
+            f = face.as_choice(std::span<const std::string_view>(kBoxFaceNames.data(), n_faces));
           if (std::find(w.open.begin(), w.open.end(), f) != w.open.end())
             face.fail(fmt::format("face '{}' is listed twice", f));
           w.open.push_back(f);

@@ -31,6 +31,7 @@
 #include "continuum/rheology_registry.hpp"
 #include "core/error.hpp"
 #include "core/log.hpp"
+#include "core/names.hpp"
 #include "coupling/cfd_dem/drag_registry.hpp"
 #include "io/input/continuum_input.hpp"
 #include "io/input/memory_budget.hpp"
@@ -39,7 +40,8 @@ namespace gf::input {
 
 namespace {
 
-const char* const kFaceNames[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+// The block's own spelling of the faces (echo, messages); xmin ... zmax are accepted too.
+const auto& kFaceNames = kBoxFaceAliases;
 
 /// An initial region sets the cells whose centres it holds (boundaries included; a region may
 /// reach past the domain, e.g. to say "everything below y = 0.1"). One with max <= min, or one
@@ -221,10 +223,11 @@ TwoFluidCase parse_two_fluid(const YamlNode& block) {
   // Boundaries: every face of the box a wall unless given.
   for (int f = 0; f < 6; ++f) s.fluid.boundary[f] = fluid::BoundaryCondition::no_slip();
   if (auto bn = m.find("boundaries")) {
-    std::vector<std::string> faces(kFaceNames, kFaceNames + 2 * dim);
+    std::vector<std::string> faces(kFaceNames.begin(), kFaceNames.begin() + 2 * dim);
+    faces.insert(faces.end(), kBoxFaceNames.begin(), kBoxFaceNames.begin() + 2 * dim);
     YamlMap b(*bn, faces);
     for (int f = 0; f < 2 * dim; ++f) {
-      auto fn = b.find(kFaceNames[f]);
+      auto fn = b.find_either(kFaceNames[f], kBoxFaceNames[f]);
       if (!fn) continue;
       YamlMap fm(*fn);
       const std::string type = fm.at("type").as_choice({"wall", "inlet", "outlet", "periodic"});

@@ -496,4 +496,9 @@ std::string YamlMap::exactly_one_of(const std::vector<std::string>& keys) const 
   return present.front()->key;
 }
 
+std::optional<YamlNode> YamlMap::find_either(std::string_view key, std::string_view alias) const {
+  if (has(key) && has(alias)) exactly_one_of({std::string(key), std::string(alias)});
+  return has(key) ? find(key) : find(alias);
+}
+
 }  // namespace gf::input

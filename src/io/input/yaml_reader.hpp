@@ -165,6 +165,9 @@ class YamlMap {
   /// Throws "[missing key]" at the map when none or more than one of `keys` is present; returns the
   /// one.
   std::string exactly_one_of(const std::vector<std::string>& keys) const;
+  /// The value of an optional key that may also be spelled `alias` (both must be accepted);
+  /// both present: an error at the later, as exactly_one_of's.
+  std::optional<YamlNode> find_either(std::string_view key, std::string_view alias) const;
 
  private:
   struct Entry {
