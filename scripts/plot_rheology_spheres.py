@@ -62,7 +62,8 @@ def plot(folder, out):
     a.set_xticks(x, QUANTITIES)
     a.set_ylabel("measured / Lun et al. (1984)")
     a.set_title("Homogeneous shear, spheres, phi = 0.1")
-    a.legend(fontsize=7)
+    a.set_ylim(0.65, 1.22)
+    a.legend(fontsize=6, ncol=2, loc="upper center")
 
     # Right: coordination number against omega_Enskog t_c.
     a = ax[1]
