@@ -329,6 +329,11 @@ with validation_run.validation_run(args.build, "Validation*:AllLaws*:Laws*:*/Val
            label="D = 8 d, bed 52 mm (Hagen: same rate)")
     a.plot(line / 0.002, slope * line + icpt, "k-", lw=0.8,
            label=f"Beverloo: C = {c:.2f}, k = {k:.2f}")
+    # The flow meter 2 mm under the floor (flow_meters: in the case file) against the outlet.
+    ratio = r["meter_rate"][full] / r["rate"][full]
+    a.plot(r["D_over_d"][full], r["meter_rate"][full] ** (2 / 3), "x", color="C3", ms=8,
+           label="flow meter under the orifice\n(its rate / the outlet's: "
+                 + " / ".join(f"{v:.4f}" for v in ratio) + ")")
     a.set_xlim(0, None)
     a.set_ylim(0, None)
     a.set_xlabel("orifice D / grain diameter d")

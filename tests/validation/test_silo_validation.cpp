@@ -157,7 +157,7 @@ Discharge discharge(double orifice, std::int64_t count, Dump& curve) {
 // raises it, so the test bounds C to [0.6, 1.4] only.
 TEST(ValidationSilo, DischargeRateFollowsHagenAndBeverloo) {
   Dump curve("silo_discharge", "D_over_d,count,t,mass");
-  Dump table("silo_rates", "D_over_d,count,rate,first,second,solid_fraction,height");
+  Dump table("silo_rates", "D_over_d,count,rate,first,second,solid_fraction,height,meter_rate");
   const std::vector<double> ratios{6, 8, 10, 12};
   std::vector<double> rate;
   double phi = 0;
@@ -168,7 +168,7 @@ TEST(ValidationSilo, DischargeRateFollowsHagenAndBeverloo) {
         "bed %.1f mm\n",
         q, 1e3 * r.rate, 1e3 * r.first, 1e3 * r.second, 1e3 * r.meter_rate, r.solid_fraction,
         1e3 * r.height);
-    table.row(q, 2000, r.rate, r.first, r.second, r.solid_fraction, r.height);
+    table.row(q, 2000, r.rate, r.first, r.second, r.solid_fraction, r.height, r.meter_rate);
     EXPECT_NEAR(r.second / r.first, 1.0, 0.10) << "D = " << q << " d";
     // The flow meter 2 mm under the floor counts the grains the outlet takes 8-28 mm lower,
     // a few milliseconds earlier: in steady flow the two slopes differ only by the change of
@@ -180,7 +180,8 @@ TEST(ValidationSilo, DischargeRateFollowsHagenAndBeverloo) {
   const Discharge low = discharge(8 * kD, 1000, curve);
   std::printf("D =  8 d, half the grains: W = %.4f g/s (bed %.1f mm): %.4f of the full silo's\n",
               1e3 * low.rate, 1e3 * low.height, low.rate / rate[1]);
-  table.row(8, 1000, low.rate, low.first, low.second, low.solid_fraction, low.height);
+  table.row(8, 1000, low.rate, low.first, low.second, low.solid_fraction, low.height,
+            low.meter_rate);
   EXPECT_NEAR(low.rate / rate[1], 1.0, 0.07);
   // W^{2/3} = a D + b: k = -b / (a d), C = a^{3/2} / (rho_b sqrt(g) t).
   const std::size_t n = ratios.size();
