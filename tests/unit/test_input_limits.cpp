@@ -226,6 +226,24 @@ TEST(InputLimits, PartsThatFitAloneAreRefusedTogether) {
   EXPECT_THAT(m, HasSubstr("together, need about 14.1 GB"));
 }
 
+// A sphere in a store that also holds spherocylinders carries their columns (~100 B): 3e7
+// spheres, 12 GB alone (400 B each), need 15 GB beside one rod, refused at their own count.
+TEST(InputLimits, RoundGrainsBesideShapedOnesCountTheShapeColumns) {
+  MemoryLimit limit("13G");
+  const std::string spheres =
+      dem_case("fill: {box: {min: [0, 0, 0], max: [10, 10, 10]}, lattice: random, count: 3e7}");
+  EXPECT_THAT(dem_error(spheres), HasSubstr("together, need about 14.1 GB"));
+  const std::string with_rod = spheres + R"(  - shape: spherocylinder
+    radius: 0.001
+    length: 0.002
+    material: glass
+    positions: [[5, 5, 5.5]]
+)";
+  const std::string m = dem_error(with_rod);
+  EXPECT_THAT(m, HasSubstr("particles[0].fill.count"));
+  EXPECT_THAT(m, HasSubstr("3e+07 grains need about 15 GB"));
+}
+
 TEST(InputLimits, CfdDemFluidCellsAreCounted) {
   MemoryLimit limit("16G");
   const std::string text = dem_case("positions: [[0.05, 0.05, 0.05]]", 0.1, 0.002) +

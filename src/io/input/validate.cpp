@@ -222,9 +222,16 @@ class Validator {
   }
   config::SourceLoc particle_loc(std::size_t g, std::size_t i) const;
   std::string text(const Vec3& v) const { return vec_text(v, dim_); }
-  /// Bytes of one grain of the group at a run's peak (memory_budget.hpp), heat conduction's too.
+  /// Bytes of one grain of the group at a run's peak (memory_budget.hpp), heat conduction's too,
+  /// and the shape columns a round grain carries in a store with shaped grains.
   double grain_bytes(const config::ParticleGroup& group) const {
-    return bytes_per_grain(group.kind) + (c_.heat ? kBytesPerGrainHeat : 0.0);
+    const auto round = [](config::Shape k) {
+      return k == config::Shape::Sphere || k == config::Shape::Disk;
+    };
+    const bool shaped_store = std::any_of(c_.particles.begin(), c_.particles.end(),
+                                          [&](const auto& g) { return !round(g.kind); });
+    return bytes_per_grain(group.kind) + (c_.heat ? kBytesPerGrainHeat : 0.0) +
+           (round(group.kind) && shaped_store ? kBytesPerRoundGrainInShapedStore : 0.0);
   }
   /// Mass of a grain of group g with radius r (kg); 2D grains have the domain's thickness.
   double mass(std::size_t g, double r) const {
