@@ -28,4 +28,11 @@ inline constexpr std::array<std::string_view, 6> kBoxFaceNames = {"xmin", "xmax"
 inline constexpr std::array<std::string_view, 6> kBoxFaceAliases = {"x_min", "x_max", "y_min",
                                                                     "y_max", "z_min", "z_max"};
 
+/// The index (2 axis + side) of a box face named either way; -1 for any other name.
+inline int box_face_index(std::string_view name) {
+  for (int k = 0; k < 6; ++k)
+    if (name == kBoxFaceNames[k] || name == kBoxFaceAliases[k]) return k;
+  return -1;
+}
+
 }  // namespace gf

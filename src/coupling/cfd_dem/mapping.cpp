@@ -806,12 +806,12 @@ void footprint_rates(const fluid::Grid& g, const ParticleGeometry& p, DepositSch
 void footprints_with_rates(const fluid::Grid& g, const ParticleGeometry& p, DepositScheme scheme,
                            std::span<const Vec3> v, std::span<const Vec3> omega, Footprints& fp,
                            Footprints& rates) {
-  check_rate_inputs(p, scheme, v, omega);
   if (scheme == DepositScheme::Trilinear) {  // one point: nothing to share
     compute_footprints(g, p, scheme, fp);
-    footprint_rates(g, p, scheme, v, omega, rates);
+    footprint_rates(g, p, scheme, v, omega, rates);  // (checks the inputs)
     return;
   }
+  check_rate_inputs(p, scheme, v, omega);
   build_footprint_sets<2>(
       g, p, {&fp, &rates}, [&](std::size_t k) { return smoothed_size_bound(g, p, k); },
       [&](std::size_t k, const std::array<CellShare*, 2>& out) {

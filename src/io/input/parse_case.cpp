@@ -1762,17 +1762,15 @@ void Reader::read_walls(const YamlMap& root) {
         const std::size_t n_faces = two_d() ? 4 : 6;
         for (const auto& face : o->as_list()) {
           // x_min ... z_max (the two-fluid block's spelling) name the same faces.
-          std::string f = face.is_scalar() ? face.raw().Scalar() : std::string();
-          for (std::size_t k = 0; k < 6; ++k)
-            if (f == kBoxFaceAliases[k]) f = kBoxFaceNames[k];
-          if (two_d() && (f == "zmin" || f == "zmax"))
+          const int k = face.is_scalar() ? box_face_index(face.raw().Scalar()) : -1;
+          if (two_d() && k >= 4)
             face.fail(fmt::format(
                 "a box in a 2D case (dimension: 2) has no face '{}'; its faces are xmin, xmax, "
                 "ymin, ymax",
                 face.raw().Scalar()));
-          if (std::find(kBoxFaceNames.begin(), kBoxFaceNames.begin() + n_faces, f) ==
-              kBoxFaceNames.begin() + n_faces)
-            f = face.as_choice(std::span<const std::string_view>(kBoxFaceNames.data(), n_faces));
+          const std::string f = k >= 0 ? std::string(kBoxFaceNames[static_cast<std::size_t>(k)])
+                                       : face.as_choice(std::span<const std::string_view>(
+                                             kBoxFaceNames.data(), n_faces));
           if (std::find(w.open.begin(), w.open.end(), f) != w.open.end())
             face.fail(fmt::format("face '{}' is listed twice", f));
           w.open.push_back(f);
