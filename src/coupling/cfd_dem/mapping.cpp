@@ -253,10 +253,24 @@ int popcount64(std::uint64_t x) {
 }
 
 /// Number of sorted points k with c + r s[k] < t (branch-free binary search over 64 slots).
+/// A face the sphere does not reach (most of them when grains are smaller than cells) is
+/// settled by the first or last point alone: the same comparison the search would make there.
 int count_below(const AxisOrder& o, double c, double r, double t) {
+  if (!(c + r * o.s[0] < t)) return 0;
+  if (c + r * o.s[kSpherePoints - 1] < t) return kSpherePoints;
   int k = 0;
   for (int step = 32; step > 0; step >>= 1) k += (c + r * o.s[k + step - 1] < t) ? step : 0;
   return k;
+}
+
+/// count / 48 for every count of sample points (a table instead of a division per cell).
+const std::array<double, kSpherePoints + 1>& point_fractions() {
+  static const auto table = [] {
+    std::array<double, kSpherePoints + 1> t{};
+    for (int q = 0; q <= kSpherePoints; ++q) t[q] = static_cast<double>(q) / kSpherePoints;
+    return t;
+  }();
+  return table;
 }
 
 /// A sphere's divided footprint, compacted, when the face comparisons apply (else -1): the
@@ -272,6 +286,7 @@ int sphere_footprint_binned(const NearCell& near, const Vec3& c, double r, CellS
   if (!near.near()) return -1;
   constexpr std::uint64_t kAll = (std::uint64_t{1} << kSpherePoints) - 1;
   const auto& orders = sphere_axis_orders();
+  const auto& fractions = point_fractions();
   const int dims = near.dimension() == 2 ? 2 : 3;
   std::uint64_t part[3][3];  // part[a][d]: points below (d = 0), inside (1), above (2) along a
   for (int a = 0; a < 3; ++a) {
@@ -296,7 +311,7 @@ int sphere_footprint_binned(const NearCell& near, const Vec3& c, double r, CellS
       for (int d0 = 0; d0 < 3; ++d0) {
         const std::uint64_t set = m12 & part[0][d0];
         if (set == 0) continue;
-        const double w = static_cast<double>(popcount64(set)) / kSpherePoints;
+        const double w = fractions[popcount64(set)];
         const std::int64_t cell = near.cell_at(d0 - 1, d1 - 1, d2 - 1);
         int j = 0;
         while (j < m && out[j].cell != cell) ++j;
