@@ -226,8 +226,8 @@ TEST(InputLimits, PartsThatFitAloneAreRefusedTogether) {
   EXPECT_THAT(m, HasSubstr("together, need about 14.1 GB"));
 }
 
-// A sphere in a store that also holds spherocylinders carries their columns (~100 B): 3e7
-// spheres, 12 GB alone (400 B each), need 15 GB beside one rod, refused at their own count.
+// A sphere in a store that also holds spherocylinders carries their columns (~130 B): 3e7
+// spheres, 12 GB alone (400 B each), need 15.9 GB beside one rod, refused at their own count.
 TEST(InputLimits, RoundGrainsBesideShapedOnesCountTheShapeColumns) {
   MemoryLimit limit("13G");
   const std::string spheres =
@@ -241,7 +241,7 @@ TEST(InputLimits, RoundGrainsBesideShapedOnesCountTheShapeColumns) {
 )";
   const std::string m = dem_error(with_rod);
   EXPECT_THAT(m, HasSubstr("particles[0].fill.count"));
-  EXPECT_THAT(m, HasSubstr("3e+07 grains need about 15 GB"));
+  EXPECT_THAT(m, HasSubstr("3e+07 grains need about 15.9 GB"));
 }
 
 TEST(InputLimits, CfdDemFluidCellsAreCounted) {

@@ -32,9 +32,11 @@ inline double bytes_per_grain(config::Shape kind) {
   return 1100;
 }
 /// A round grain (sphere, disk) in a store that also holds shaped grains (spherocylinders,
-/// polygons) carries their columns too: 281 B per disk alone, 383 B beside 100 polygons (slopes of
-/// peak RSS between 20 000 and 80 000 disks in a 2D drum, 100 steps, 2026-12-05): 100 B.
-inline constexpr double kBytesPerRoundGrainInShapedStore = 100;
+/// polygons) carries their columns too. Slopes of peak RSS: 281 B per disk alone, 383 B beside
+/// 100 polygons (20 000 to 80 000 disks in a 2D drum, 100 steps, 2026-12-05); 214-232 B per
+/// sphere alone, 345-357 B beside 100 spherocylinders (20 000 to 110 000 spheres of a random fill
+/// in a box, 50 steps, 2026-12-05): +102 B in 2D, +125 B in 3D: 130 B.
+inline constexpr double kBytesPerRoundGrainInShapedStore = 130;
 /// Heat conduction (heat:) adds per grain its temperature and the step's two sums (24 B) and the
 /// conductance of each of its neighbour-list entries (8 B each, ~5-10 entries): 100 B.
 inline constexpr double kBytesPerGrainHeat = 100;
