@@ -733,6 +733,44 @@ void build_footprint_sets(const fluid::Grid& g, const ParticleGeometry& p,
   }
 }
 
+/// A spherocylinder's divided footprint, compacted, when the face comparisons apply and no two
+/// neighbour cells it touches fold onto one cell (else -1): the same pairs in the same order,
+/// with the same sums, as footprint() followed by compact_footprint(). Each sample point is
+/// binned by its neighbour offset (27 slots, summed in point order as the compaction sums them)
+/// instead of being folded onto the grid and searched for among the pairs found so far.
+int rod_footprint_binned(const NearCell& near, const ParticleGeometry& p, std::size_t i,
+                         CellShare* out) {
+  if (!near.near()) return -1;
+  const bool flat = near.dimension() == 2;  // cell_at ignores z: one slot for all of it
+  std::array<double, 27> sum;
+  std::array<int, 27> order;
+  std::uint32_t used = 0;
+  int n = 0;
+  const double lo0 = near.lo(0), hi0 = near.hi(0), lo1 = near.lo(1), hi1 = near.hi(1);
+  const double lo2 = near.lo(2), hi2 = near.hi(2);
+  for_each_sample_point(p, i, [&](const Vec3& x, double w, const Vec3&) {
+    const int d0 = static_cast<int>(x.x >= hi0) - static_cast<int>(x.x < lo0);
+    const int d1 = static_cast<int>(x.y >= hi1) - static_cast<int>(x.y < lo1);
+    const int d2 = flat ? 0 : static_cast<int>(x.z >= hi2) - static_cast<int>(x.z < lo2);
+    const int code = (d0 + 1) + 3 * (d1 + 1) + 9 * (d2 + 1);
+    if (used & (std::uint32_t{1} << code)) {
+      sum[code] += w;
+    } else {
+      used |= std::uint32_t{1} << code;
+      sum[code] = w;
+      order[n++] = code;
+    }
+  });
+  for (int k = 0; k < n; ++k) {
+    const int code = order[k];
+    const std::int64_t cell = near.cell_at(code % 3 - 1, code / 3 % 3 - 1, code / 9 - 1);
+    for (int j = 0; j < k; ++j)
+      if (out[j].cell == cell) return -1;  // folded: the generic path sums such cells
+    out[k] = {cell, sum[code]};
+  }
+  return n;
+}
+
 /// One footprint set: fill(k, out) writes particle k's pairs and returns their number.
 template <class Size, class Fill>
 void build_footprints(const fluid::Grid& g, const ParticleGeometry& p, Footprints& fp, Size&& size,
@@ -786,6 +824,10 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
         if (scheme == DepositScheme::Divided && inside_one_cell(g, p, k)) {
           f[0] = {cell_containing(g, p.x[k]), 1.0};
           return 1;
+        }
+        if (scheme == DepositScheme::Divided) {
+          const int m = rod_footprint_binned(NearCell(g, p.x[k], p.radius[k] + p.half(k)), p, k, f);
+          if (m > 0) return m;
         }
         footprint(g, p, k, scheme, f);
         return compact_footprint(f, footprint_size(g, p, k, scheme));
