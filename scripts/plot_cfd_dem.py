@@ -16,6 +16,11 @@ Usage:
       phi_<phi>_rate_<rate>) and writes docs/validation/cfd_dem_shear_box_slip.png: T, the fluid
       temperature T_f and the slip temperature T_s against phi per shear rate (mean of each
       run's later half of windows).
+  /usr/bin/python3 scripts/plot_cfd_dem.py [--out DIR] --coupling DRY.csv WATER.csv CELL.csv
+      reads the dry and water sweep.csv tables and a water sweep run with CFDEMcoupling's
+      coupling choices (cell-value reads, centre-in-cell fluid fraction, its rate from the
+      difference, drag only) and writes docs/validation/cfd_dem_shear_box_water_coupling.png: T
+      against the measured shear rate per phi for both couplings, the dry box as thin lines.
 --out DIR writes the plots into DIR (created if missing) instead of docs/validation.
 Uses Debian's python3-numpy and python3-matplotlib."""
 import os
@@ -191,22 +196,57 @@ def slip(path, out):
     plt.close(fig)
 
 
+def coupling(dry, water, cell, out):
+    runs = [("water, trilinear reads (model A, the case's coupling)", load(water)),
+            ("water, cell reads + centre-in-cell fraction (CFDEMcoupling's choices)", load(cell))]
+    ref = load(dry)
+    phis = sorted(set(float(p) for p in runs[1][1]["volume_fraction_nominal"]))
+    colours = plt.cm.viridis(np.linspace(0, 0.9, len(phis)))
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4.4), sharey=True)
+    for a, (title, d) in zip(ax, runs):
+        for phi, col in zip(phis, colours):
+            r = ref[np.isclose(ref["volume_fraction_nominal"], phi)]
+            r = r[np.argsort(r["shear_rate"])]
+            a.plot(r["shear_rate"], r["granular_temperature"], "-", color=col, lw=0.8, alpha=0.4)
+            s = d[np.isclose(d["volume_fraction_nominal"], phi)]
+            s = s[np.argsort(s["shear_rate"])]
+            a.errorbar(s["shear_rate"], s["granular_temperature"],
+                       yerr=s["granular_temperature_err"], fmt="o-", color=col, capsize=2, ms=4,
+                       label="phi = %.1f" % phi)
+        g = np.array([8.0, 200.0])
+        a.plot(g, 1e-6 * g ** 2, ":", color="0.4", label="slope 2")
+        a.set_xscale("log")
+        a.set_yscale("log")
+        a.set_xlabel("measured shear rate (1/s)")
+        a.set_title(title, fontsize=9)
+        a.legend(fontsize=7)
+    ax[0].set_ylabel("T (m$^2$/s$^2$); thin lines: dry")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "cfd_dem_shear_box_water_coupling.png"), dpi=110)
+    plt.close(fig)
+
+
 def main():
     ap = validation_run.parser(__doc__, out=False)
     mode = ap.add_mutually_exclusive_group()
     mode.add_argument("--shear", nargs=3, metavar=("DRY", "AIR", "WATER"),
                       help="three sweep.csv tables")
     mode.add_argument("--slip", metavar="WINDOWS", help="strain windows of rheology_windows.py")
+    mode.add_argument("--coupling", nargs=3, metavar=("DRY", "WATER", "CELL"),
+                      help="dry and water sweep.csv tables and a water sweep with cell reads")
     validation_run.add_out(ap)
     a = ap.parse_args()
-    if (a.shear or a.slip) and a.build != ap.get_default("build"):
-        ap.error("BUILD_DIR is not used with --shear or --slip")
+    if (a.shear or a.slip or a.coupling) and a.build != ap.get_default("build"):
+        ap.error("BUILD_DIR is not used with --shear, --slip or --coupling")
     os.makedirs(a.out, exist_ok=True)
     if a.slip:
         slip(a.slip, a.out)
         return
     if a.shear:
         shear(*a.shear, a.out)
+        return
+    if a.coupling:
+        coupling(*a.coupling, a.out)
         return
     with validation_run.validation_run(a.build, "CfdDem*") as tmp:
         ergun(tmp, a.out)
