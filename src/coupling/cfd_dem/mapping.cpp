@@ -815,19 +815,24 @@ void compute_footprints(const fluid::Grid& g, const ParticleGeometry& p, Deposit
       g, p, fp, [&](std::size_t k) { return footprint_size(g, p, k, scheme); },
       [&](std::size_t k, CellShare* f) {
         if (scheme == DepositScheme::Smoothed) return smoothed_footprint(g, p, k, f);
-        if (scheme == DepositScheme::Divided && p.half(k) == 0.0) {
-          // A sphere inside one cell comes out as the single pair (cell, 1) here too.
-          const double r = p.radius[k];
-          const int m = sphere_footprint_binned(NearCell(g, p.x[k], r), p.x[k], r, f);
-          if (m > 0) return m;
-        }
-        if (scheme == DepositScheme::Divided && inside_one_cell(g, p, k)) {
-          f[0] = {cell_containing(g, p.x[k]), 1.0};
-          return 1;
-        }
         if (scheme == DepositScheme::Divided) {
-          const int m = rod_footprint_binned(NearCell(g, p.x[k], p.radius[k] + p.half(k)), p, k, f);
-          if (m > 0) return m;
+          // Binned where the face comparisons apply (one NearCell for either shape); a sphere
+          // inside one cell comes out as the single pair (cell, 1) there too, a rod before it.
+          const double r = p.radius[k], h = p.half(k);
+          const NearCell near(g, p.x[k], r + h);
+          const bool rod = h > 0.0;
+          if (!rod) {
+            const int m = sphere_footprint_binned(near, p.x[k], r, f);
+            if (m > 0) return m;
+          }
+          if (inside_one_cell(g, p, k)) {
+            f[0] = {cell_containing(g, p.x[k]), 1.0};
+            return 1;
+          }
+          if (rod) {
+            const int m = rod_footprint_binned(near, p, k, f);
+            if (m > 0) return m;
+          }
         }
         footprint(g, p, k, scheme, f);
         return compact_footprint(f, footprint_size(g, p, k, scheme));
